@@ -1,0 +1,115 @@
+# topodig: plain Make.  Sources are found by folder, so adding a file to
+# src/, scanner/, interp/, src/cli/, tests/ or samples/gen/ needs no edit here.
+#
+#   make demo    install missing Debian packages, build, scan a sample sheet
+#   make test    install missing packages, build, run every test
+#   make check   the tests again under AddressSanitizer + UBSan
+#   make bench   benchmarks (throughput, ratio against anchor tools)
+#   make fuzz    fuzz the file readers for a bounded time (clang libFuzzer)
+
+BUILD   ?= build
+CC      ?= cc
+CXX     ?= c++
+OPT     ?= -O2 -g
+CFLAGS  += -std=c11 $(OPT) -Wall -Wextra -Wshadow -Wno-unused-parameter -MMD -MP
+CXXFLAGS+= -std=c++17 $(OPT) -Wall -Wextra -Wno-unused-parameter -MMD -MP
+CPPFLAGS+= -D_POSIX_C_SOURCE=200809L -Isrc -I. -I/usr/include/geotiff
+CV_CFLAGS = $(shell pkg-config --cflags opencv4 2>/dev/null || echo -I/usr/include/opencv4)
+CV_LIBS   = -lopencv_imgcodecs -lopencv_imgproc -lopencv_core
+LDLIBS  += $(CV_LIBS) -lgeotiff -ltiff -lpng -lz -lstdc++ -lm
+
+# Debian packages the build, tests and benchmarks use.
+DEB_PKGS = gcc g++ make pkg-config libopencv-dev libopencv-contrib-dev \
+           libtiff-dev libpng-dev libgeotiff-dev zlib1g-dev gdal-bin
+
+LIB_C   := $(wildcard src/*.c scanner/*.c interp/*.c)
+LIB_CXX := $(wildcard src/*.cpp)
+CLI_C   := $(wildcard src/cli/*.c)
+GEN_C   := $(filter-out samples/gen/tdgen.c,$(wildcard samples/gen/*.c))
+TUTIL_C := tests/tt.c $(wildcard tests/util/*.c)
+TEST_C  := $(wildcard tests/test_*.c)
+BENCH_C := $(wildcard tests/bench/*.c)
+
+LIB_O   := $(LIB_C:%.c=$(BUILD)/%.o) $(LIB_CXX:%.cpp=$(BUILD)/%.o)
+CLI_O   := $(CLI_C:%.c=$(BUILD)/%.o)
+GEN_O   := $(GEN_C:%.c=$(BUILD)/%.o)
+TUTIL_O := $(TUTIL_C:%.c=$(BUILD)/%.o)
+TESTS   := $(TEST_C:tests/%.c=$(BUILD)/tests/%)
+BENCHES := $(BENCH_C:tests/bench/%.c=$(BUILD)/bench/%)
+
+.PHONY: all deps test check bench demo fuzz clean samples
+all: $(BUILD)/topodig $(BUILD)/libtopodig.a $(BUILD)/tdgen
+
+$(BUILD)/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+
+$(BUILD)/%.o: %.cpp
+	@mkdir -p $(dir $@)
+	$(CXX) $(CPPFLAGS) $(CV_CFLAGS) $(CXXFLAGS) -c $< -o $@
+
+$(BUILD)/libtopodig.a: $(LIB_O)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(BUILD)/libtdgen.a: $(GEN_O)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(BUILD)/topodig: $(CLI_O) $(BUILD)/libtopodig.a
+	$(CC) $(CFLAGS) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+$(BUILD)/tdgen: $(BUILD)/samples/gen/tdgen.o $(BUILD)/libtdgen.a $(BUILD)/libtopodig.a
+	$(CC) $(CFLAGS) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+$(BUILD)/tests/%: $(BUILD)/tests/%.o $(TUTIL_O) $(BUILD)/libtdgen.a $(BUILD)/libtopodig.a
+	$(CC) $(CFLAGS) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+$(BUILD)/bench/%: $(BUILD)/tests/bench/%.o $(TUTIL_O) $(BUILD)/libtdgen.a $(BUILD)/libtopodig.a
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) $(LDFLAGS) $^ $(LDLIBS) -lopencv_ximgproc -o $@
+
+# Install the Debian packages that are missing (as root, or through sudo).
+deps:
+	@missing=""; for p in $(DEB_PKGS); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "installing:$$missing"; \
+	  if [ "$$(id -u)" = 0 ]; then SUDO=; else SUDO=sudo; fi; \
+	  $$SUDO apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+test: deps
+	$(MAKE) all $(TESTS)
+	BUILD=$(BUILD) sh tests/run.sh
+
+check: deps
+	$(MAKE) BUILD=build-san OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" \
+	  LDFLAGS="-fsanitize=address,undefined" all $(TESTS:$(BUILD)/%=build-san/%) build-san/fuzz_replay
+	ASAN_OPTIONS=detect_leaks=1 BUILD=build-san sh tests/run.sh
+	build-san/fuzz_replay tests/fuzz/corpus/*
+
+bench: deps
+	$(MAKE) OPT="-O3 -march=native -g" BUILD=build-bench all $(BENCH_C:tests/bench/%.c=build-bench/bench/%)
+	BUILD=build-bench sh tests/bench/run.sh
+
+demo: deps
+	$(MAKE) all
+	sh samples/demo.sh $(BUILD)
+
+# Fuzz replay: a plain main that feeds each file to the readers.
+$(BUILD)/fuzz_replay: tests/fuzz/fuzz_readers.c tests/fuzz/replay_main.c $(BUILD)/libtopodig.a
+	$(CC) $(CPPFLAGS) $(CFLAGS) $(LDFLAGS) $^ $(LDLIBS) -o $@
+
+fuzz: deps
+	@command -v clang >/dev/null || { echo "make fuzz needs clang (apt-get install clang)"; exit 1; }
+	$(MAKE) BUILD=build-fuzz CC=clang CXX=clang++ OPT="-O1 -g -fsanitize=fuzzer-no-link,address" LDFLAGS="-fsanitize=address" build-fuzz/libtopodig.a
+	clang $(CPPFLAGS) -O1 -g -fsanitize=fuzzer,address tests/fuzz/fuzz_readers.c build-fuzz/libtopodig.a $(LDLIBS) -o build-fuzz/fuzz_readers
+	build-fuzz/fuzz_readers -max_total_time=$${FUZZ_SECONDS:-60} -max_len=65536 build-fuzz/corpus tests/fuzz/corpus
+
+clean:
+	rm -rf build build-san build-bench build-fuzz
+
+-include $(shell find $(BUILD) -name '*.d' 2>/dev/null)

@@ -1,0 +1,100 @@
+#define _POSIX_C_SOURCE 200809L
+#include "core.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+void td_ctx_init(td_ctx *cx)
+{
+    memset(cx, 0, sizeof *cx);
+}
+
+int td_seterr(td_ctx *cx, int code, const char *fmt, ...)
+{
+    va_list ap;
+    if (!cx || cx->code != 0)
+        return code;
+    cx->code = code;
+    va_start(ap, fmt);
+    vsnprintf(cx->msg, sizeof cx->msg, fmt, ap);
+    va_end(ap);
+    return code;
+}
+
+void td_ctx_clear(td_ctx *cx)
+{
+    cx->code = 0;
+    cx->msg[0] = '\0';
+}
+
+const char *td_errmsg(const td_ctx *cx)
+{
+    if (!cx || !cx->msg[0])
+        return "no error";
+    return cx->msg;
+}
+
+int td_progress(td_ctx *cx, const char *stage, double frac)
+{
+    if (!cx || !cx->progress)
+        return 0;
+    if (cx->progress(stage, frac, cx->progress_user) != 0)
+        return td_seterr(cx, TD_ECANCEL, "%s: cancelled", stage);
+    return 0;
+}
+
+int td_mul2(size_t a, size_t b, size_t *out)
+{
+    if (a != 0 && b > SIZE_MAX / a)
+        return -1;
+    *out = a * b;
+    return 0;
+}
+
+int td_mul3(size_t a, size_t b, size_t c, size_t *out)
+{
+    size_t ab;
+    if (td_mul2(a, b, &ab) != 0)
+        return -1;
+    return td_mul2(ab, c, out);
+}
+
+int td_check_dims(long w, long h, const char *what, td_ctx *cx)
+{
+    if (w <= 0 || h <= 0)
+        return td_seterr(cx, TD_EFORMAT, "%s: empty image (%ld x %ld)", what,
+                         w, h);
+    if (w > TD_MAX_DIM || h > TD_MAX_DIM ||
+        (size_t)w * (size_t)h > TD_MAX_PIXELS)
+        return td_seterr(cx, TD_ETOOBIG,
+                         "%s: %ld x %ld pixels is larger than the limit "
+                         "(%d per side, %zu pixels)",
+                         what, w, h, TD_MAX_DIM, (size_t)TD_MAX_PIXELS);
+    return 0;
+}
+
+void *td_malloc(size_t n, td_ctx *cx)
+{
+    void *p = malloc(n ? n : 1);
+    if (!p)
+        td_seterr(cx, TD_ENOMEM, "out of memory (%zu bytes)", n);
+    return p;
+}
+
+void *td_calloc(size_t n, size_t size, td_ctx *cx)
+{
+    void *p = calloc(n ? n : 1, size ? size : 1);
+    if (!p)
+        td_seterr(cx, TD_ENOMEM, "out of memory (%zu x %zu bytes)", n, size);
+    return p;
+}
+
+double td_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}

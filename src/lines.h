@@ -1,0 +1,61 @@
+/* lines.h: contour polylines in memory and their GeoJSON form.
+ *
+ * Coordinates are in pixel units of the scan: x = column + 0.5, y = row + 0.5
+ * for a pixel centre (x right, y down).  A closed line does NOT repeat its
+ * first point in memory; the GeoJSON writer repeats it, as GeoJSON requires. */
+#ifndef TD_LINES_H
+#define TD_LINES_H
+
+#include "core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct td_georef;
+
+typedef struct td_line {
+    double *xy;       /* x0,y0,x1,y1,...: n points */
+    size_t n, cap;
+    long id;          /* stable id, 0-based order of creation */
+    int closed;       /* first and last point are joined */
+    int edge;         /* a point lies on the sheet's border pixels */
+    int bridged;      /* gaps bridged inside this line */
+    int has_height;
+    double height;
+    long parent;      /* id of the enclosing line, -1 when none/unknown */
+} td_line;
+
+typedef struct td_lines {
+    td_line *v;
+    size_t n, cap;
+} td_lines;
+
+/* An empty set; free with td_lines_free (NULL is a no-op). */
+td_lines *td_lines_new(td_ctx *cx);
+void td_lines_free(td_lines *ls);
+
+/* Append an empty line (id = its index, parent -1); returns it or NULL.
+ * The pointer is valid until the next td_lines_add. */
+td_line *td_lines_add(td_lines *ls, td_ctx *cx);
+/* Append a point to a line; 0 or TD_ENOMEM. */
+int td_line_push(td_line *l, double x, double y, td_ctx *cx);
+/* Reverse a line's point order in place. */
+void td_line_reverse(td_line *l);
+/* Remove line i (order of the others kept; ids unchanged). */
+void td_lines_remove(td_lines *ls, size_t i);
+/* Length of the polyline (closing segment included when closed). */
+double td_line_length(const td_line *l);
+
+/* Write lines as a GeoJSON FeatureCollection of LineStrings, atomically.
+ * Properties: id, height (null unless has_height), closed, edge, parent
+ * (null when -1), bridged.  When georef is valid, coordinates are mapped
+ * through it and its EPSG code (if known) is named in a "crs" member, which
+ * GDAL/OGR and QGIS read.  Returns 0 or an error naming the file. */
+int td_geojson_write_lines(const char *path, const td_lines *ls,
+                           const struct td_georef *georef, td_ctx *cx);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
