@@ -98,3 +98,24 @@ double td_now(void)
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
+
+int td_szvec_push(td_szvec *a, size_t x, td_ctx *cx)
+{
+    if (a->n == a->cap) {
+        size_t cap = a->cap ? a->cap * 2 : 256;
+        size_t *p = realloc(a->v, cap * sizeof *p);
+        if (!p)
+            return td_seterr(cx, TD_ENOMEM, "out of memory (%zu indices)", cap);
+        a->v = p;
+        a->cap = cap;
+    }
+    a->v[a->n++] = x;
+    return 0;
+}
+
+void td_szvec_free(td_szvec *a)
+{
+    free(a->v);
+    a->v = NULL;
+    a->n = a->cap = 0;
+}

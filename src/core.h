@@ -74,6 +74,14 @@ int td_check_dims(long w, long h, const char *what, td_ctx *cx);
 void *td_malloc(size_t n, td_ctx *cx);
 void *td_calloc(size_t n, size_t size, td_ctx *cx);
 
+/* A growable array of size_t (pixel indices): zero-initialise, push, free. */
+typedef struct td_szvec {
+    size_t *v;
+    size_t n, cap;
+} td_szvec;
+int td_szvec_push(td_szvec *a, size_t x, td_ctx *cx); /* 0 or TD_ENOMEM */
+void td_szvec_free(td_szvec *a);                       /* and re-zero */
+
 /* Seconds from a monotonic clock. */
 double td_now(void);
 

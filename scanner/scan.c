@@ -1,0 +1,72 @@
+/* The scanner stage driver (paper 001 §2.1-2.3): each step is its own
+ * file; this one only sequences them and keeps the debug copies. */
+#include "scan.h"
+
+#include <string.h>
+
+td_scan_params td_scan_defaults(void)
+{
+    td_scan_params p;
+    memset(&p, 0, sizeof p);
+    p.bin = td_binarise_defaults();
+    p.spur = td_despur_defaults();
+    p.trace = td_trace_defaults();
+    p.join = td_join_defaults(0, 0);
+    p.do_join = 1;
+    return p;
+}
+
+void td_scan_result_free(td_scan_result *res)
+{
+    td_lines_free(res->lines);
+    td_grid_u8_free(res->mask);
+    td_grid_u8_free(res->skeleton);
+    td_grid_u8_free(res->despurred);
+    memset(res, 0, sizeof *res);
+}
+
+int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
+            td_ctx *cx)
+{
+    td_grid_u8 *g = NULL;
+    td_join_params jp = p->join;
+    double t0;
+    int rc;
+    memset(res, 0, sizeof *res);
+    if (!(g = td_grid_u8_new(im->w, im->h, cx)))
+        return cx ? cx->code : TD_ENOMEM;
+    t0 = td_now();
+    if ((rc = td_binarise(im, &p->bin, g, cx)) != 0)
+        goto fail;
+    res->seconds[0] = td_now() - t0;
+    rc = TD_ENOMEM;
+    if (p->keep_debug && !(res->mask = td_grid_u8_dup(g, cx)))
+        goto fail;
+    t0 = td_now();
+    if ((rc = td_thin_hilditch(g, &res->thin, cx)) != 0)
+        goto fail;
+    res->seconds[1] = td_now() - t0;
+    rc = TD_ENOMEM;
+    if (p->keep_debug && !(res->skeleton = td_grid_u8_dup(g, cx)))
+        goto fail;
+    t0 = td_now();
+    if ((rc = td_despur(g, &p->spur, &res->spur, cx)) != 0)
+        goto fail;
+    res->seconds[2] = td_now() - t0;
+    t0 = td_now();
+    if ((rc = td_trace(g, &p->trace, &res->lines, &res->trace, cx)) != 0)
+        goto fail;
+    res->seconds[3] = td_now() - t0;
+    t0 = td_now();
+    jp.w = im->w;
+    jp.h = im->h;
+    if (p->do_join && (rc = td_join(&res->lines, &jp, &res->join, cx)) != 0)
+        goto fail;
+    res->seconds[4] = td_now() - t0;
+    res->despurred = g;
+    return 0;
+fail:
+    td_grid_u8_free(g);
+    td_scan_result_free(res);
+    return rc;
+}

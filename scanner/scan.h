@@ -1,0 +1,56 @@
+/* scan.h: the scanner stage as one call: scan image -> contour lines.
+ *
+ *   image -> td_binarise -> mask -> td_thin_hilditch -> skeleton
+ *         -> td_despur -> td_trace (CCW 3x3, 5x5 bridge) -> td_join -> lines
+ *
+ * Memory: the mask is the only full-size buffer (1 byte per pixel); it is
+ * thinned, despurred and traced in place.  With keep_debug, copies of the
+ * mask and the thinned skeleton are kept (+2 bytes per pixel). */
+#ifndef TD_SCAN_H
+#define TD_SCAN_H
+
+#include "binarise.h"
+#include "despur.h"
+#include "join.h"
+#include "thin.h"
+#include "trace.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct td_scan_params {
+    td_binarise_params bin;
+    td_despur_params spur;
+    td_trace_params trace;
+    td_join_params join;  /* w,h filled in by td_scan */
+    int do_join;          /* default 1 */
+    int keep_debug;       /* keep mask and skeleton copies in the result */
+} td_scan_params;
+
+typedef struct td_scan_result {
+    td_lines *lines;
+    td_grid_u8 *mask;      /* ink mask (keep_debug only) */
+    td_grid_u8 *skeleton;  /* after thinning (keep_debug only) */
+    td_grid_u8 *despurred; /* after spur removal: always kept */
+    td_thin_stats thin;
+    td_despur_stats spur;
+    td_trace_stats trace;
+    td_join_stats join;
+    double seconds[5];     /* binarise, thin, despur, trace, join */
+} td_scan_result;
+
+td_scan_params td_scan_defaults(void);
+
+/* Run the scanner on im.  On success fills *res (free its members with
+ * td_scan_result_free).  On failure returns the error and leaves *res
+ * empty. */
+int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
+            td_ctx *cx);
+
+void td_scan_result_free(td_scan_result *res);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

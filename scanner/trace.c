@@ -1,0 +1,254 @@
+/* Contour tracing (paper 001 §2.3, Fig. 3; ALGORITHMS.md A.4).
+ *
+ *  1. Scan the skeleton row by row from the top left; the first pixel not
+ *     yet visited starts a line.
+ *  2. Search the 3x3 neighbourhood of the current pixel counter-clockwise,
+ *     starting east, for a pixel not yet visited; the first one found is the
+ *     next point.  The current pixel is marked visited.
+ *
+ *        3x3 order          5x5 ring order
+ *         3 2 1            6  5  4  3  2
+ *         4 p 0            7  .  .  .  1
+ *         5 6 7            8  .  p  .  0
+ *                          9  .  .  .  15
+ *                          10 11 12 13 14
+ *
+ *  3. With no such pixel in the 3x3, search the 5x5 ring the same way: a
+ *     pixel found there is a break in the line; bridge it and go on.
+ *  4. With none in the 5x5 either, the line ends.
+ *
+ * Decisions where the paper is silent (ALGORITHMS.md A.4):
+ *  - a line is closed when its end comes back next to its start (3x3), or
+ *    within the 5x5 ring (a bridged closure), with >= min_closed points;
+ *    this test comes before the 5x5 search, so a finished ring does not
+ *    jump to a neighbouring contour;
+ *  - a start pixel in the middle of an open line (the first pixel in raster
+ *    order of an arch) leaves the other half unvisited: when the first leg
+ *    ends, the line is reversed and traced on from its start, so one open
+ *    contour gives one line;
+ *  - a junction (touching contours) is passed along one branch; the others
+ *    start lines of their own, so no pixel is lost;
+ *  - open lines ending within edge_dist px of the border are extended to it
+ *    and flagged edge. */
+#include "trace.h"
+
+#include "skel.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define VISITED 0x02
+
+static const int R5X[16] = {2, 2, 2, 1, 0, -1, -2, -2, -2, -2, -2, -1, 0, 1, 2, 2};
+static const int R5Y[16] = {0, -1, -2, -2, -2, -2, -2, -1, 0, 1, 2, 2, 2, 2, 2, 1};
+
+td_trace_params td_trace_defaults(void)
+{
+    td_trace_params p;
+    p.bridge = 1;
+    p.edge_dist = 3;
+    p.min_closed = 4;
+    return p;
+}
+
+static int unvisited(const td_grid_u8 *g, int x, int y)
+{
+    return x >= 0 && y >= 0 && x < g->w && y < g->h && TD_AT(g, x, y) == 1;
+}
+
+/* The next pixel from (x,y): 3x3 first, then (if bridge) the 5x5 ring.
+ * Returns 0 none, 1 found in 3x3, 2 found in the 5x5 ring. */
+static int search_next(const td_grid_u8 *g, int x, int y, int bridge, int *nx,
+                       int *ny)
+{
+    int k;
+    for (k = 0; k < 8; k++)
+        if (unvisited(g, x + TD_DX[k], y + TD_DY[k])) {
+            *nx = x + TD_DX[k];
+            *ny = y + TD_DY[k];
+            return 1;
+        }
+    if (!bridge)
+        return 0;
+    for (k = 0; k < 16; k++)
+        if (unvisited(g, x + R5X[k], y + R5Y[k])) {
+            *nx = x + R5X[k];
+            *ny = y + R5Y[k];
+            return 2;
+        }
+    return 0;
+}
+
+static int visit(td_grid_u8 *g, td_line *l, int x, int y, td_ctx *cx)
+{
+    TD_AT(g, x, y) |= VISITED;
+    return td_line_push(l, x + 0.5, y + 0.5, cx);
+}
+
+/* Chebyshev distance between two points of l. */
+static int cheb(const td_line *l, size_t a, size_t b)
+{
+    int dx = abs((int)(l->xy[2 * a] - l->xy[2 * b]));
+    int dy = abs((int)(l->xy[2 * a + 1] - l->xy[2 * b + 1]));
+    return dx > dy ? dx : dy;
+}
+
+/* Follow the line from its last point (already visited) until it ends or
+ * closes on its first point.  Returns 0 or an error. */
+static int follow(td_grid_u8 *g, td_line *l, const td_trace_params *p,
+                  td_ctx *cx)
+{
+    for (;;) {
+        size_t last = l->n - 1;
+        int x = (int)l->xy[2 * last], y = (int)l->xy[2 * last + 1], nx, ny;
+        int found = search_next(g, x, y, 0, &nx, &ny);
+        if (!found) {
+            if (l->n >= (size_t)p->min_closed && cheb(l, 0, last) <= 1) {
+                l->closed = 1;
+                return 0;
+            }
+            found = search_next(g, x, y, p->bridge, &nx, &ny);
+            if (!found)
+                return 0;
+            l->bridged++;
+        }
+        if (visit(g, l, nx, ny, cx) != 0)
+            return TD_ENOMEM;
+    }
+}
+
+/* Extend an open line's end (point i) to the border when within d px. */
+static int extend_end(td_line *l, int at_start, int w, int h, int d,
+                      td_ctx *cx)
+{
+    size_t i = at_start ? 0 : l->n - 1;
+    double x = l->xy[2 * i], y = l->xy[2 * i + 1], bx = x, by = y;
+    double dl = x - 0.5, dr = w - 0.5 - x, dt = y - 0.5, db = h - 0.5 - y;
+    double m = dl;
+    if (dr < m) m = dr;
+    if (dt < m) m = dt;
+    if (db < m) m = db;
+    if (m > d)
+        return 0;
+    l->edge = 1;
+    if (m <= 0.0)
+        return 0;
+    if (m == dl) bx = 0.5;
+    else if (m == dr) bx = w - 0.5;
+    else if (m == dt) by = 0.5;
+    else by = h - 0.5;
+    if (at_start)
+        td_line_reverse(l);
+    if (td_line_push(l, bx, by, cx) != 0)
+        return TD_ENOMEM;
+    if (at_start)
+        td_line_reverse(l);
+    return 0;
+}
+
+static void flag_edge(td_line *l, int w, int h)
+{
+    size_t i;
+    for (i = 0; i < l->n && !l->edge; i++) {
+        double x = l->xy[2 * i], y = l->xy[2 * i + 1];
+        if (x < 1 || y < 1 || x > w - 1 || y > h - 1)
+            l->edge = 1;
+    }
+}
+
+/* Trace the line starting at (x,y): forward leg, then backward leg. */
+static int trace_line(td_grid_u8 *g, td_lines *ls, int x, int y,
+                      const td_trace_params *p, td_ctx *cx)
+{
+    td_line *l = td_lines_add(ls, cx);
+    int nx, ny;
+    if (!l || visit(g, l, x, y, cx) != 0 || follow(g, l, p, cx) != 0)
+        return TD_ENOMEM;
+    if (!l->closed && search_next(g, x, y, p->bridge, &nx, &ny)) {
+        td_line_reverse(l);
+        if (follow(g, l, p, cx) != 0)
+            return TD_ENOMEM;
+    }
+    if (!l->closed && l->n >= (size_t)p->min_closed &&
+        cheb(l, 0, l->n - 1) <= 2 && p->bridge) {
+        l->closed = 1;
+        l->bridged++;
+    }
+    flag_edge(l, g->w, g->h);
+    if (!l->closed && p->edge_dist > 0 &&
+        (extend_end(l, 1, g->w, g->h, p->edge_dist, cx) != 0 ||
+         extend_end(l, 0, g->w, g->h, p->edge_dist, cx) != 0))
+        return TD_ENOMEM;
+    return 0;
+}
+
+static size_t count_junctions(const td_grid_u8 *g)
+{
+    size_t n = 0;
+    int x, y;
+    for (y = 0; y < g->h; y++)
+        for (x = 0; x < g->w; x++)
+            if (TD_AT(g, x, y) &&
+                td_skel_crossings(td_skel_nbits(g, x, y)) >= 3)
+                n++;
+    return n;
+}
+
+static void fill_stats(const td_lines *ls, td_trace_stats *st)
+{
+    size_t i;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        st->lines++;
+        st->closed += l->closed != 0;
+        st->open += l->closed == 0;
+        st->edge += l->edge != 0;
+        st->bridged += (size_t)l->bridged;
+    }
+}
+
+int td_trace(td_grid_u8 *g, const td_trace_params *p, td_lines **out,
+             td_trace_stats *st, td_ctx *cx)
+{
+    td_trace_stats local;
+    td_lines *ls = td_lines_new(cx);
+    int x, y, rc = 0;
+    size_t npts = 0, i;
+    if (!st)
+        st = &local;
+    memset(st, 0, sizeof *st);
+    *out = NULL;
+    if (!ls)
+        return TD_ENOMEM;
+    st->junctions = count_junctions(g);
+    for (y = 0; y < g->h && rc == 0; y++) {
+        uint8_t *r = g->data + (size_t)y * g->stride;
+        for (x = 0; x < g->w && rc == 0; x++) {
+            uint64_t word;
+            if ((x & 7) == 0 && x + 8 <= g->w) {
+                memcpy(&word, r + x, 8);
+                if (word == 0) {
+                    x += 7;
+                    continue;
+                }
+            }
+            if (r[x] == 1)
+                rc = trace_line(g, ls, x, y, p, cx);
+        }
+        if (rc == 0 && (y & 255) == 0)
+            rc = td_progress(cx, "trace", (double)y / g->h);
+    }
+    for (y = 0; y < g->h; y++)
+        for (x = 0; x < g->w; x++)
+            TD_AT(g, x, y) &= 1;
+    if (rc != 0) {
+        td_lines_free(ls);
+        return rc;
+    }
+    fill_stats(ls, st);
+    for (i = 0; i < ls->n; i++)
+        npts += ls->v[i].n;
+    st->points = npts;
+    *out = ls;
+    return 0;
+}
