@@ -2,7 +2,11 @@
  *
  * Ink selection (--ink), thresholding (--threshold) and speck removal
  * (--min-speck).  Image operations go through the OpenCV shim
- * (src/cvshim.h); this file is plain C. */
+ * (src/cvshim.h); this file is plain C.  User guide: docs/binarise.md.
+ *
+ * Pipeline: image -> "ink strength" s (u8, high = ink, built one row at a
+ * time into the caller's mask) -> threshold (in place) -> speck removal
+ * (in place).  No full-size temporaries. */
 #ifndef TD_BINARISE_H
 #define TD_BINARISE_H
 
@@ -18,28 +22,52 @@ typedef enum { TD_THR_OTSU, TD_THR_SAUVOLA, TD_THR_FIXED } td_thr_kind;
 typedef struct td_binarise_params {
     td_ink_kind ink;      /* default TD_INK_DARK */
     uint8_t rgb[3];       /* TD_INK_RGB: the ink colour */
-    int rgb_tol;          /* TD_INK_RGB: colour distance tolerance, default 60 */
+    int rgb_tol;          /* TD_INK_RGB: colour distance tolerance, default 60
+                             (1..442, Euclidean in RGB levels) */
     td_thr_kind thr;      /* default TD_THR_OTSU */
-    int thr_value;        /* TD_THR_FIXED: 0..255 on the ink-strength image */
-    int sauvola_window;   /* default 31 (odd) */
-    double sauvola_k;     /* default 0.2 */
+    int thr_value;        /* TD_THR_FIXED: 0..255 on the ink-strength image
+                             (ink where s > thr_value) */
+    int sauvola_window;   /* default 31 (odd, 3..181) */
+    double sauvola_k;     /* default 0.2 (0 < k <= 1) */
     int min_speck;        /* ink components smaller than this many pixels
                              (8-connected) are removed; default 8, 0 = keep */
 } td_binarise_params;
 
+/* Otsu splits whose class means differ by fewer levels than this are
+ * treated as "no ink": the sheet is paper and noise only. */
+#define TD_BINARISE_MIN_CONTRAST 40
+
 td_binarise_params td_binarise_defaults(void);
 
 /* Parse "--ink" and "--threshold" values into p; 0 or TD_EINVAL with a
- * message naming the bad value.  ink: dark | brown | R,G,B[:tol];
- * thr: otsu | sauvola | N (0..255). */
+ * message naming the bad value.  ink: dark | brown | R,G,B[:tol] (tol kept
+ * from p when not given); thr: otsu | sauvola | N (0..255). */
 int td_binarise_parse_ink(const char *s, td_binarise_params *p, td_ctx *cx);
 int td_binarise_parse_threshold(const char *s, td_binarise_params *p,
                                 td_ctx *cx);
 
+/* The exact "brownness" of one colour, 0..255 (docs/binarise.md):
+ *   255 * hue_weight(H) * sat_weight(C / max(V, 90)) * value_weight(V)
+ * with H the HSV hue in degrees, C = max - min, V = max (RGB levels).
+ * td_binarise uses a 33^3 table of this function with trilinear lookup. */
+uint8_t td_binarise_brown_score(uint8_t r, uint8_t g, uint8_t b);
+
+/* The ink-strength image of im for p->ink into s (caller allocates s with
+ * im's w,h): dark: 255 - luma; brown: table brownness; R,G,B:tol:
+ * 255 * max(0, 1 - dist/tol).  For debugging (--debug-dir) and tests.
+ * Returns 0 or TD_EINVAL (bad sizes, colour ink on a grey scan). */
+int td_binarise_strength(const td_image *im, const td_binarise_params *p,
+                         td_grid_u8 *s, td_ctx *cx);
+
 /* Binarise im into mask (caller allocates mask with im's w,h; values become
- * 0/1).  Returns 0, or an error (e.g. the sheet has no ink at all:
- * TD_EFORMAT "no ink found").  Peak extra memory: 1 byte per pixel plus
- * O(width x window) for Sauvola. */
+ * 0/1).  Returns 0, or an error: TD_EINVAL (bad parameters, --ink brown or
+ * R,G,B on a grey scan), TD_EFORMAT "no ink found (is --ink right?)" when
+ * the sheet has no ink at all (Otsu classes closer than
+ * TD_BINARISE_MIN_CONTRAST levels, or an empty mask), TD_ECANCEL.
+ * Progress: stage "binarise".  Peak extra memory: no per-pixel memory (the
+ * strength image is built in mask and thresholded in place); 36 KB table
+ * for brown; O(width x (128 + window)) for Sauvola; O(min_speck) for speck
+ * removal. */
 int td_binarise(const td_image *im, const td_binarise_params *p,
                 td_grid_u8 *mask, td_ctx *cx);
 

@@ -20,7 +20,9 @@
  * the walk reaches a junction within max_len px measured along the skeleton
  * (1 per orthogonal step, sqrt 2 per diagonal step); walks are computed on
  * the skeleton as it was at the start of a round, then erased together, and
- * rounds repeat for spurs of spurs. */
+ * rounds repeat for spurs of spurs.  A junction keeps at least two of its
+ * branches (shortest spurs erased first), so a genuine break end that
+ * happens to lie near a whisker survives. */
 #include "despur.h"
 
 #include "skel.h"
@@ -207,61 +209,109 @@ static int same_junction(const td_grid_u8 *g, size_t a, size_t b)
     return labs(ax - bx) <= 2 && labs(ay - by) <= 2;
 }
 
+/* A branch that qualifies as a spur: its junction, length and path (a
+ * slice of the round's pooled path array). */
+typedef struct spur {
+    size_t junction, off, n;
+    double len;
+} spur;
+
+static int cmp_spur(const void *pa, const void *pb)
+{
+    const spur *a = pa, *b = pb;
+    if (a->junction != b->junction)
+        return a->junction < b->junction ? -1 : 1;
+    return (a->len > b->len) - (a->len < b->len);
+}
+
+/* Length rule: a junction with c branches keeps at least two of them, so a
+ * break end near a whisker is not erased with it; the shortest spurs go
+ * first.  The paper's rule erases every paired branch. */
+static void choose(const td_grid_u8 *g, spur *s, size_t n, int paper)
+{
+    size_t i = 0, k;
+    if (paper)
+        return;
+    qsort(s, n, sizeof *s, cmp_spur);
+    while (i < n) {
+        size_t j = s[i].junction, end = i;
+        int x = (int)(j % g->stride), y = (int)(j / g->stride);
+        long allowed = td_skel_crossings(td_skel_nbits(g, x, y)) - 2;
+        while (end < n && s[end].junction == j)
+            end++;
+        for (k = i; k < end; k++)
+            if ((long)(k - i) >= allowed)
+                s[k].n = 0; /* kept */
+        i = end;
+    }
+}
+
 /* One round: decide every end point's branch on the unmodified skeleton,
  * then erase the chosen ones.  Returns the number of branches erased or a
  * negative error. */
 static long despur_round(td_grid_u8 *g, const td_despur_params *p,
                          td_despur_stats *st, int first, td_ctx *cx)
 {
-    td_szvec ends = {0}, juncs = {0}, path = {0}, erase = {0}, touched = {0};
+    td_szvec ends = {0}, juncs = {0}, path = {0}, pool = {0}, touched = {0};
+    spur *sp = NULL;
     jindex ix = {0};
     long spurs = 0;
-    size_t i, k;
-    int rc = 0;
+    size_t i, k, nsp = 0;
+    int rc = 0, paper = p->mode == TD_SPUR_PAPER;
     if ((rc = classify(g, &ends, &juncs, cx)) != 0)
         goto fail;
     if (first) {
         st->endpoints = ends.n;
         st->junctions = juncs.n;
     }
-    if (p->mode == TD_SPUR_PAPER && juncs.n > 0 &&
-        (rc = jindex_build(&ix, g, &juncs, cx)) != 0)
+    if (juncs.n == 0)
+        goto done;
+    rc = TD_ENOMEM;
+    if (!(sp = td_calloc(ends.n, sizeof *sp, cx)))
         goto fail;
-    for (i = 0; i < ends.n && juncs.n > 0; i++) {
-        size_t j, want = SIZE_MAX;
-        double lim = p->mode == TD_SPUR_PAPER ? INFINITY : p->max_len;
-        double len = walk_branch(g, ends.v[i], lim, &path, &j, cx);
-        int take;
+    if (paper && jindex_build(&ix, g, &juncs, cx) != 0)
+        goto fail;
+    for (i = 0; i < ends.n; i++) {
+        size_t j;
+        double len = walk_branch(g, ends.v[i], paper ? INFINITY : p->max_len,
+                                 &path, &j, cx);
         unflag(g, &path);
-        if (len < 0) {
-            rc = TD_ENOMEM;
+        if (len < 0)
             goto fail;
-        }
-        if (p->mode == TD_SPUR_PAPER)
-            want = jindex_nearest(&ix, g, ends.v[i]);
-        take = j != SIZE_MAX &&
-               (p->mode == TD_SPUR_PAPER ? same_junction(g, j, want)
-                                         : len <= p->max_len);
-        if (!take)
+        if (j == SIZE_MAX || (paper ? !same_junction(g, j, jindex_nearest(&ix, g, ends.v[i]))
+                                    : len > p->max_len))
+            continue;
+        sp[nsp].junction = j;
+        sp[nsp].len = len;
+        sp[nsp].off = pool.n;
+        sp[nsp++].n = path.n;
+        for (k = 0; k < path.n; k++)
+            if (td_szvec_push(&pool, path.v[k], cx) != 0)
+                goto fail;
+    }
+    choose(g, sp, nsp, paper);
+    for (i = 0; i < nsp; i++) {
+        if (sp[i].n == 0)
             continue;
         spurs++;
-        for (k = 0; k < path.n; k++)
-            if ((rc = td_szvec_push(&erase, path.v[k], cx)) != 0)
-                goto fail;
-        if ((rc = td_szvec_push(&touched, j, cx)) != 0)
+        st->pixels += sp[i].n;
+        for (k = 0; k < sp[i].n; k++)
+            g->data[pool.v[sp[i].off + k]] = 0;
+        if (td_szvec_push(&touched, sp[i].junction, cx) != 0)
             goto fail;
     }
-    for (k = 0; k < erase.n; k++)
-        g->data[erase.v[k]] = 0;
-    st->pixels += erase.n;
     st->spurs += (size_t)spurs;
     rc = td_thin_hilditch_near(g, touched.v, touched.n, cx);
+    goto fail;
+done:
+    rc = 0;
 fail:
     td_szvec_free(&ends);
     td_szvec_free(&juncs);
     td_szvec_free(&path);
-    td_szvec_free(&erase);
+    td_szvec_free(&pool);
     td_szvec_free(&touched);
+    free(sp);
     free(ix.start);
     free(ix.items);
     return rc ? rc : spurs;

@@ -1,0 +1,95 @@
+#define _POSIX_C_SOURCE 200809L
+#include "cli.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static int show_progress(const char *stage, double frac, void *user)
+{
+    td_cli_progress *pr = user;
+    double now = td_now();
+    int pct = (int)(frac * 100.0 + 0.5);
+    if (pr->quiet || now - pr->t0 < 1.0)
+        return 0;
+    if (strcmp(stage, pr->stage) != 0) {
+        if (pr->tty && pr->stage[0])
+            fputc('\n', stderr);
+        snprintf(pr->stage, sizeof pr->stage, "%s", stage);
+        pr->last_pct = -1;
+    }
+    if (pct == pr->last_pct || (now - pr->last_t < 0.2 && pct < 100))
+        return 0;
+    if (pr->tty)
+        fprintf(stderr, "\r%s: %3d%%", stage, pct);
+    else if (pct == 100 || now - pr->last_t >= 5.0)
+        fprintf(stderr, "%s: %d%%\n", stage, pct);
+    else
+        return 0;
+    pr->last_pct = pct;
+    pr->last_t = now;
+    return 0;
+}
+
+void td_cli_progress_init(td_cli_progress *pr, td_ctx *cx, int quiet)
+{
+    memset(pr, 0, sizeof *pr);
+    pr->quiet = quiet;
+    pr->tty = isatty(2);
+    pr->t0 = td_now();
+    pr->last_pct = -1;
+    cx->progress = show_progress;
+    cx->progress_user = pr;
+}
+
+void td_cli_progress_done(td_cli_progress *pr)
+{
+    if (pr->tty && pr->stage[0] && !pr->quiet)
+        fputc('\n', stderr);
+    pr->stage[0] = '\0';
+}
+
+int td_cli_fail(const char *cmd, const td_ctx *cx)
+{
+    fprintf(stderr, "topodig %s: %s\n", cmd, td_errmsg(cx));
+    return 1;
+}
+
+int td_cli_failf(const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    fprintf(stderr, "topodig %s: ", cmd);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+    return 1;
+}
+
+int td_cli_parse_int(const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    long v;
+    errno = 0;
+    v = strtol(s, &end, 10);
+    if (errno || end == s || *end || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int td_cli_parse_double(const char *s, double lo, double hi, double *out)
+{
+    char *end;
+    double v;
+    errno = 0;
+    v = strtod(s, &end);
+    if (errno || end == s || *end || !isfinite(v) || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}

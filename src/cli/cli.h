@@ -1,0 +1,40 @@
+/* cli.h: what the subcommands share: progress on stderr, the one-line
+ * error convention, number parsing.  Only src/cli/ prints or exits. */
+#ifndef TD_CLI_H
+#define TD_CLI_H
+
+#include "../core.h"
+
+#define TD_VERSION "0.1.0"
+
+typedef struct td_cli_progress {
+    int quiet;
+    int tty;
+    char stage[32];
+    int last_pct;
+    double t0, last_t;
+} td_cli_progress;
+
+/* Install a stderr progress reporter in cx (silent when quiet).  Progress
+ * is shown for work that runs longer than about a second. */
+void td_cli_progress_init(td_cli_progress *pr, td_ctx *cx, int quiet);
+/* End the progress line (if one is showing). */
+void td_cli_progress_done(td_cli_progress *pr);
+
+/* Print "topodig CMD: MESSAGE" for the error in cx and return 1. */
+int td_cli_fail(const char *cmd, const td_ctx *cx);
+/* Print "topodig CMD: <printf message>" and return 1. */
+int td_cli_failf(const char *cmd, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* Parse a whole string as a number within [lo,hi]; 0 or -1. */
+int td_cli_parse_int(const char *s, long lo, long hi, long *out);
+int td_cli_parse_double(const char *s, double lo, double hi, double *out);
+
+/* Subcommands: each returns the process exit code. */
+int td_cmd_scan(int argc, char **argv);
+
+#endif

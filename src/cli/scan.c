@@ -1,0 +1,194 @@
+/* topodig scan: scanned sheet -> traced contour lines (GeoJSON). */
+#define _GNU_SOURCE
+#include "cli.h"
+
+#include "../draw.h"
+#include "../imageio.h"
+#include "../lines.h"
+#include "../../scanner/scan.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+
+static const char help[] =
+    "usage: topodig scan SCAN -o LINES.geojson [options]\n"
+    "\n"
+    "Binarise a scanned contour sheet, thin the lines (Hilditch), remove\n"
+    "spurs, trace every contour (counter-clockwise 3x3 search, 5x5 gap\n"
+    "bridging) and write one GeoJSON LineString per contour line.\n"
+    "SCAN: TIFF/GeoTIFF (1-bit incl. CCITT G4, 8/16-bit grey, palette, RGB;\n"
+    "striped or tiled), PNG or JPEG.\n"
+    "\n"
+    "options:\n"
+    "  -o, --output FILE      GeoJSON output (required)\n"
+    "      --ink KIND         dark | brown | R,G,B[:tol]   (default dark)\n"
+    "      --threshold T      otsu | sauvola | N (0-255)   (default otsu)\n"
+    "      --min-speck N      remove ink specks under N px (default 8)\n"
+    "      --spur MODE        length | paper | none        (default length)\n"
+    "      --spur-max PX      longest spur, px along the skeleton (default 10)\n"
+    "      --no-bridge        no 5x5 gap bridging while tracing\n"
+    "      --no-join          do not join line ends across gaps\n"
+    "      --max-gap PX       longest gap joined (default 12)\n"
+    "      --debug-dir DIR    write mask.png, skeleton.png, despurred.png,\n"
+    "                         overlay.png into DIR\n"
+    "  -q, --quiet            no progress and no summary\n"
+    "  -h, --help             this help\n"
+    "\n"
+    "Summary on stderr: lines, closed, open, edge, bridged gaps, remaining\n"
+    "junctions (touching contours, split), seconds.\n";
+
+typedef struct scan_opts {
+    const char *in, *out, *debug_dir;
+    int quiet;
+    td_scan_params p;
+} scan_opts;
+
+enum { O_INK = 256, O_THR, O_SPECK, O_SPUR, O_SPURMAX, O_NOBRIDGE, O_NOJOIN,
+       O_MAXGAP, O_DEBUG };
+
+static int parse_opt(int c, const char *arg, scan_opts *o, td_ctx *cx)
+{
+    long v;
+    double d;
+    switch (c) {
+    case 'o': o->out = arg; return 0;
+    case 'q': o->quiet = 1; return 0;
+    case O_INK: return td_binarise_parse_ink(arg, &o->p.bin, cx);
+    case O_THR: return td_binarise_parse_threshold(arg, &o->p.bin, cx);
+    case O_SPUR: return td_despur_parse_mode(arg, &o->p.spur, cx);
+    case O_NOBRIDGE: o->p.trace.bridge = 0; return 0;
+    case O_NOJOIN: o->p.do_join = 0; return 0;
+    case O_DEBUG: o->debug_dir = arg; return 0;
+    case O_SPECK:
+        if (td_cli_parse_int(arg, 0, 1000000, &v) != 0)
+            return td_seterr(cx, TD_EINVAL, "--min-speck: '%s' is not a "
+                             "whole number 0..1000000", arg);
+        o->p.bin.min_speck = (int)v;
+        return 0;
+    case O_SPURMAX:
+    case O_MAXGAP:
+        if (td_cli_parse_double(arg, 0, 10000, &d) != 0)
+            return td_seterr(cx, TD_EINVAL, "%s: '%s' is not a number 0..10000",
+                             c == O_SPURMAX ? "--spur-max" : "--max-gap", arg);
+        if (c == O_SPURMAX)
+            o->p.spur.max_len = d;
+        else
+            o->p.join.max_gap = d;
+        return 0;
+    }
+    return td_seterr(cx, TD_EINVAL, "unknown option (see topodig scan --help)");
+}
+
+/* 0: run, 1: error (printed), 2: --help shown. */
+static int parse_args(int argc, char **argv, scan_opts *o)
+{
+    static const struct option lo[] = {
+        {"output", 1, 0, 'o'}, {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'},
+        {"ink", 1, 0, O_INK}, {"threshold", 1, 0, O_THR},
+        {"min-speck", 1, 0, O_SPECK}, {"spur", 1, 0, O_SPUR},
+        {"spur-max", 1, 0, O_SPURMAX}, {"no-bridge", 0, 0, O_NOBRIDGE},
+        {"no-join", 0, 0, O_NOJOIN}, {"max-gap", 1, 0, O_MAXGAP},
+        {"debug-dir", 1, 0, O_DEBUG}, {0, 0, 0, 0}};
+    td_ctx cx;
+    int c;
+    td_ctx_init(&cx);
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "o:qh", lo, NULL)) != -1) {
+        if (c == 'h') {
+            fputs(help, stdout);
+            return 2;
+        }
+        if (c == '?' || c == ':') {
+            td_cli_failf("scan", "bad or incomplete option '%s' (see topodig "
+                         "scan --help)", argv[optind - 1]);
+            return 1;
+        }
+        if (parse_opt(c, optarg, o, &cx) != 0)
+            return td_cli_fail("scan", &cx);
+    }
+    if (optind != argc - 1)
+        return td_cli_failf("scan", "expected one SCAN file (see topodig scan "
+                            "--help)");
+    o->in = argv[optind];
+    if (!o->out)
+        return td_cli_failf("scan", "no output: give -o LINES.geojson");
+    return 0;
+}
+
+static int write_debug(const scan_opts *o, const td_image *im,
+                       const td_scan_result *r, td_ctx *cx)
+{
+    char path[4096];
+    td_image *ov = NULL;
+    int rc;
+    if (mkdir(o->debug_dir, 0777) != 0 && errno != EEXIST)
+        return td_seterr(cx, TD_EIO, "%s: cannot create folder (%s)",
+                         o->debug_dir, strerror(errno));
+#define DPATH(name) (snprintf(path, sizeof path, "%s/%s", o->debug_dir, name), path)
+    if ((rc = td_png_write_u8(DPATH("mask.png"), r->mask, 1, cx)) != 0 ||
+        (rc = td_png_write_u8(DPATH("skeleton.png"), r->skeleton, 1, cx)) != 0 ||
+        (rc = td_png_write_u8(DPATH("despurred.png"), r->despurred, 1, cx)) != 0 ||
+        (rc = td_draw_overlay(im, r->lines, &ov, cx)) != 0)
+        return rc;
+    rc = td_png_write(DPATH("overlay.png"), ov, cx);
+#undef DPATH
+    td_image_free(ov);
+    return rc;
+}
+
+static void summary(const td_scan_result *r, double secs)
+{
+    const td_trace_stats *t = &r->trace;
+    size_t closed = 0, edge = 0, i, n = r->lines->n;
+    for (i = 0; i < n; i++) {
+        closed += r->lines->v[i].closed != 0;
+        edge += r->lines->v[i].edge != 0;
+    }
+    fprintf(stderr,
+            "scan: %zu lines, %zu closed, %zu open, %zu edge, %zu bridged "
+            "gaps, %zu remaining junctions, %.2f s\n",
+            n, closed, n - closed, edge, t->bridged + r->join.joins,
+            t->junctions, secs);
+}
+
+int td_cmd_scan(int argc, char **argv)
+{
+    scan_opts o;
+    td_ctx cx;
+    td_cli_progress pr;
+    td_image *im = NULL;
+    td_georef geo;
+    td_scan_result res;
+    double t0 = td_now();
+    int rc;
+    memset(&o, 0, sizeof o);
+    memset(&res, 0, sizeof res);
+    o.p = td_scan_defaults();
+    if ((rc = parse_args(argc, argv, &o)) != 0)
+        return rc == 2 ? 0 : 1;
+    td_ctx_init(&cx);
+    td_georef_init(&geo);
+    td_cli_progress_init(&pr, &cx, o.quiet);
+    o.p.keep_debug = o.debug_dir != NULL;
+    rc = td_image_read(o.in, &im, &geo, &cx);
+    if (rc == 0 && (rc = td_scan(im, &o.p, &res, &cx)) != 0 && cx.msg[0] &&
+        !strstr(cx.msg, o.in)) {
+        char m[sizeof cx.msg];
+        snprintf(m, sizeof m, "%s: %s", o.in, cx.msg);
+        snprintf(cx.msg, sizeof cx.msg, "%s", m);
+    }
+    if (rc == 0)
+        rc = td_geojson_write_lines(o.out, res.lines, &geo, &cx);
+    if (rc == 0 && o.debug_dir)
+        rc = write_debug(&o, im, &res, &cx);
+    td_cli_progress_done(&pr);
+    if (rc == 0 && !o.quiet)
+        summary(&res, td_now() - t0);
+    td_scan_result_free(&res);
+    td_image_free(im);
+    td_georef_clear(&geo);
+    return rc == 0 ? 0 : td_cli_fail("scan", &cx);
+}

@@ -1,0 +1,221 @@
+/* Tracing: the paper's start order and counter-clockwise search, 5x5
+ * bridging, closure, the backward leg, edge flags, junction splitting,
+ * and gap joining. */
+#include "tt.h"
+#include "util/gridtest.h"
+#include "../scanner/join.h"
+#include "../scanner/thin.h"
+#include "../scanner/trace.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static td_lines *trace(td_grid_u8 *g, int bridge, td_trace_stats *st)
+{
+    td_trace_params p = td_trace_defaults();
+    td_lines *ls = NULL;
+    p.bridge = bridge;
+    if (g->w < 20)
+        p.edge_dist = 0; /* hand-drawn patterns sit close to the border */
+    if (td_trace(g, &p, &ls, st, NULL) != 0)
+        return NULL;
+    return ls;
+}
+
+static int pt_is(const td_line *l, size_t i, int x, int y)
+{
+    return l->xy[2 * i] == x + 0.5 && l->xy[2 * i + 1] == y + 0.5;
+}
+
+/* A small diamond ring: one closed line starting at the first pixel in
+ * raster order; the counter-clockwise search (east first) takes the east
+ * neighbour of a flat top, and south-west of a pointed top. */
+static void test_ring_order(void)
+{
+    static const char *const flat[] = {
+        "..........", "...###....", "..#...#...", "..#...#...",
+        "...###....", "..........", NULL};
+    static const char *const peak[] = {
+        ".........", "....#....", "...#.#...", "..#...#..",
+        "...#.#...", "....#....", ".........", NULL};
+    td_grid_u8 *g = tg_from_ascii(flat);
+    td_lines *ls = trace(g, 1, NULL);
+    TT_CHECK(ls && ls->n == 1);
+    TT_CHECK(ls->v[0].closed && !ls->v[0].edge);
+    TT_CHECK(ls->v[0].n == 10);
+    TT_CHECK(pt_is(&ls->v[0], 0, 3, 1) && pt_is(&ls->v[0], 1, 4, 1));
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+    g = tg_from_ascii(peak);
+    ls = trace(g, 1, NULL);
+    TT_CHECK(ls && ls->n == 1 && ls->v[0].closed && ls->v[0].n == 8);
+    TT_CHECK(pt_is(&ls->v[0], 0, 4, 1) && pt_is(&ls->v[0], 1, 3, 2));
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+}
+
+/* An arch starts in its middle (first raster pixel); the backward leg
+ * makes it one open line from foot to foot. */
+static void test_arch_one_line(void)
+{
+    static const char *const arch[] = {
+        "...........", "...........", "...........", "...........",
+        "....###....", "...#...#...", "..#.....#..", "..#.....#..",
+        "..#.....#..", "...........", "...........", "...........",
+        "...........", NULL};
+    td_grid_u8 *g = tg_from_ascii(arch);
+    td_lines *ls = trace(g, 1, NULL);
+    const td_line *l;
+    TT_CHECK(ls && ls->n == 1);
+    l = &ls->v[0];
+    TT_CHECK(!l->closed && l->n == 11);
+    TT_CHECK((pt_is(l, 0, 2, 8) && pt_is(l, 10, 8, 8)) ||
+             (pt_is(l, 0, 8, 8) && pt_is(l, 10, 2, 8)));
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+}
+
+/* A one-pixel break is bridged by the 5x5 search, a wider one is not. */
+static void test_bridge(void)
+{
+    td_grid_u8 *g = td_grid_u8_new(40, 10, NULL);
+    td_trace_stats st;
+    td_lines *ls;
+    int x;
+    for (x = 5; x < 35; x++)
+        TD_AT(g, x, 5) = x != 20;
+    ls = trace(g, 1, &st);
+    TT_CHECK(ls && ls->n == 1 && ls->v[0].n == 29 && st.bridged == 1);
+    td_lines_free(ls);
+    ls = trace(g, 0, &st);
+    TT_CHECK(ls && ls->n == 2 && st.bridged == 0);
+    td_lines_free(ls);
+    TD_AT(g, 21, 5) = 0; /* 2-px break: beyond the 5x5 window */
+    ls = trace(g, 1, &st);
+    TT_CHECK(ls && ls->n == 2);
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+}
+
+/* A ring with a 1-px break is closed by bridging. */
+static void test_broken_ring_closes(void)
+{
+    td_grid_u8 *g = td_grid_u8_new(40, 40, NULL);
+    td_lines *ls;
+    tg_ring(g, 20, 20, 9, 12);
+    TT_CHECK(td_thin_hilditch(g, NULL, NULL) == 0);
+    TT_CHECK(TD_AT(g, 30, 20) == 1);
+    TD_AT(g, 30, 20) = 0; /* a 1-px break in the right side */
+    ls = trace(g, 1, NULL);
+    TT_CHECK(ls && ls->n == 1 && ls->v[0].closed && ls->v[0].bridged >= 1);
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+}
+
+/* Lines running off the sheet are flagged edge and reach the border. */
+static void test_edge(void)
+{
+    td_grid_u8 *g = td_grid_u8_new(30, 20, NULL);
+    td_lines *ls;
+    int x;
+    for (x = 2; x < 30; x++)
+        TD_AT(g, x, 10) = 1;
+    ls = trace(g, 1, NULL);
+    TT_CHECK(ls && ls->n == 1 && ls->v[0].edge && !ls->v[0].closed);
+    TT_CHECK(ls->v[0].xy[0] == 0.5 || ls->v[0].xy[2 * ls->v[0].n - 2] == 0.5);
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+}
+
+/* Random thinned shapes: every skeleton pixel is in exactly one line, and
+ * consecutive points are 8-neighbours or a 5x5 bridge apart. */
+static void test_every_pixel_once(void)
+{
+    unsigned seed = 99;
+    int trial;
+    for (trial = 0; trial < 30; trial++) {
+        td_grid_u8 *g = td_grid_u8_new(80, 60, NULL), *seen;
+        td_trace_params p = td_trace_defaults();
+        td_lines *ls = NULL;
+        size_t i, k, total = 0;
+        int bad = 0;
+        for (k = 0; k < 6; k++)
+            tg_ring(g, rand_r(&seed) % 80, rand_r(&seed) % 60,
+                    4 + rand_r(&seed) % 15, 6 + rand_r(&seed) % 20);
+        td_thin_hilditch(g, NULL, NULL);
+        p.edge_dist = 0;
+        TT_CHECK(td_trace(g, &p, &ls, NULL, NULL) == 0);
+        seen = td_grid_u8_new(80, 60, NULL);
+        for (i = 0; i < ls->n; i++)
+            for (k = 0; k < ls->v[i].n; k++) {
+                int x = (int)ls->v[i].xy[2 * k], y = (int)ls->v[i].xy[2 * k + 1];
+                bad += !TD_AT(g, x, y) || TD_AT(seen, x, y);
+                TD_AT(seen, x, y) = 1;
+                total++;
+                if (k > 0) {
+                    int dx = abs(x - (int)ls->v[i].xy[2 * k - 2]);
+                    int dy = abs(y - (int)ls->v[i].xy[2 * k - 1]);
+                    bad += dx > 2 || dy > 2;
+                }
+            }
+        TT_CHECKF(!bad && total == tg_count(g), "trial %d: %zu of %zu, bad %d",
+                  trial, total, tg_count(g), bad);
+        td_lines_free(ls);
+        td_grid_u8_free(seen);
+        td_grid_u8_free(g);
+    }
+}
+
+/* Two rings touching at a point: the junction is reported and split. */
+static void test_touching_rings(void)
+{
+    td_grid_u8 *g = td_grid_u8_new(60, 40, NULL);
+    td_trace_stats st;
+    td_lines *ls;
+    size_t i, n = 0;
+    tg_ring(g, 20, 20, 9, 10.2);
+    tg_ring(g, 39, 20, 9, 10.2);
+    td_thin_hilditch(g, NULL, NULL);
+    ls = trace(g, 1, &st);
+    TT_CHECK(ls && st.junctions > 0);
+    for (i = 0; ls && i < ls->n; i++)
+        n += ls->v[i].n;
+    TT_CHECK(n == tg_count(g));
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+}
+
+/* Gap joining: a 6-px gap along a line is joined; two parallel lines whose
+ * ends are 6 px apart sideways are not. */
+static void test_join(void)
+{
+    td_grid_u8 *g = td_grid_u8_new(80, 40, NULL);
+    td_join_params jp = td_join_defaults(80, 40);
+    td_join_stats js;
+    td_lines *ls;
+    int x;
+    for (x = 5; x < 75; x++) {
+        TD_AT(g, x, 10) = (x < 35 || x > 40);
+        TD_AT(g, x, 20) = x < 40;
+        TD_AT(g, x, 26) = x > 40;
+    }
+    ls = trace(g, 1, NULL);
+    TT_CHECK(ls && ls->n == 4);
+    TT_CHECK(td_join(&ls, &jp, &js, NULL) == 0);
+    TT_CHECKF(ls->n == 3 && js.joins == 1, "%zu lines, %zu joins", ls->n, js.joins);
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+}
+
+int main(void)
+{
+    TT_RUN(test_ring_order);
+    TT_RUN(test_arch_one_line);
+    TT_RUN(test_bridge);
+    TT_RUN(test_broken_ring_closes);
+    TT_RUN(test_edge);
+    TT_RUN(test_every_pixel_once);
+    TT_RUN(test_touching_rings);
+    TT_RUN(test_join);
+    return tt_summary();
+}
