@@ -176,9 +176,10 @@ int td_cmd_scan(int argc, char **argv)
     rc = td_image_read(o.in, &im, &geo, &cx);
     if (rc == 0 && (rc = td_scan(im, &o.p, &res, &cx)) != 0 && cx.msg[0] &&
         !strstr(cx.msg, o.in)) {
-        char m[sizeof cx.msg];
-        snprintf(m, sizeof m, "%s: %s", o.in, cx.msg);
-        snprintf(cx.msg, sizeof cx.msg, "%s", m);
+        char m[sizeof cx.msg + 64];
+        snprintf(m, sizeof m, "%.60s: %s", o.in, cx.msg);
+        memcpy(cx.msg, m, sizeof cx.msg - 1);
+        cx.msg[sizeof cx.msg - 1] = '\0';
     }
     if (rc == 0)
         rc = td_geojson_write_lines(o.out, res.lines, &geo, &cx);

@@ -1,0 +1,175 @@
+/* bench_scan: throughput of each scanner step on a generated sheet, the
+ * whole `topodig scan` with its peak memory, and OpenCV ximgproc's
+ * Zhang-Suen thinning on the same mask for a ratio measured in the same run.
+ *
+ *   bench_scan [--size N] [--dir DIR] [--topodig PATH]
+ *
+ * Prints one line per measurement; never fails the build (exit 0 unless the
+ * set-up itself fails). */
+#include "../../samples/gen/gen.h"
+#include "../../scanner/scan.h"
+#include "../../src/cvshim.h"
+#include "../../src/imageio.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static double mpx(int w, int h, double s)
+{
+    return s > 0 ? (double)w * h / 1e6 / s : 0.0;
+}
+
+static void row(const char *what, int w, int h, double s)
+{
+    printf("  %-28s %8.3f s  %8.1f Mpx/s\n", what, s, mpx(w, h, s));
+}
+
+/* Make (or reuse) the benchmark sheet as a Deflate TIFF. */
+static int make_sheet(const char *path, int size, td_ctx *cx)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_image *im = NULL;
+    td_grid_u8 g;
+    struct stat sb;
+    int rc;
+    if (stat(path, &sb) == 0)
+        return 0;
+    gp.w = gp.h = size;
+    gp.terrain = TD_GEN_RIDGES;
+    gp.line_width = 3.0;
+    gp.seed = 7;
+    fprintf(stderr, "generating %dx%d sheet %s ...\n", size, size, path);
+    if ((rc = td_gen_sheet(&gp, &im, NULL, NULL, cx)) != 0)
+        return rc;
+    g.w = im->w;
+    g.h = im->h;
+    g.stride = im->stride;
+    g.data = im->data;
+    rc = td_geotiff_write_u8(path, &g, NULL, cx);
+    td_image_free(im);
+    return rc;
+}
+
+/* Run the CLI once; wall seconds and peak RSS (bytes) of the child. */
+static int run_cli(const char *exe, const char *sheet, const char *out,
+                   double *secs, double *peak)
+{
+    double t0 = td_now();
+    struct rusage ru;
+    int status;
+    pid_t pid = fork();
+    if (pid == 0) {
+        execl(exe, exe, "scan", sheet, "-o", out, "--quiet", (char *)NULL);
+        _exit(127);
+    }
+    if (pid < 0 || wait4(pid, &status, 0, &ru) < 0)
+        return -1;
+    *secs = td_now() - t0;
+    *peak = (double)ru.ru_maxrss * 1024.0;
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 0 : -1;
+}
+
+static int stages(const char *sheet, td_ctx *cx)
+{
+    td_scan_params sp = td_scan_defaults();
+    td_image *im = NULL;
+    td_grid_u8 *m = NULL, *zs = NULL;
+    td_lines *ls = NULL;
+    td_join_params jp;
+    double t;
+    size_t ink = 0, i, n;
+    int rc;
+    t = td_now();
+    if ((rc = td_image_read(sheet, &im, NULL, cx)) != 0)
+        return rc;
+    row("read (TIFF, Deflate)", im->w, im->h, td_now() - t);
+    if (!(m = td_grid_u8_new(im->w, im->h, cx)))
+        return TD_ENOMEM;
+    t = td_now();
+    if ((rc = td_binarise(im, &sp.bin, m, cx)) != 0)
+        goto done;
+    row("binarise (dark, otsu)", im->w, im->h, td_now() - t);
+    n = (size_t)m->w * m->h;
+    for (i = 0; i < n; i++)
+        ink += m->data[i];
+    printf("  ink fraction %.1f %%\n", 100.0 * ink / n);
+    if (!(zs = td_grid_u8_dup(m, cx)))
+        goto done;
+    t = td_now();
+    if ((rc = td_thin_hilditch(m, NULL, cx)) != 0)
+        goto done;
+    {
+        double th = td_now() - t, tz;
+        row("thin (Hilditch)", m->w, m->h, th);
+        t = td_now();
+        if (td_cv_thin_zhangsuen(zs, cx) == 0) {
+            tz = td_now() - t;
+            row("thin (ximgproc Zhang-Suen)", m->w, m->h, tz);
+            printf("  Hilditch / ximgproc speed ratio: %.1fx\n", tz / th);
+        } else {
+            printf("  ximgproc not available: %s\n", td_errmsg(cx));
+            td_ctx_clear(cx);
+        }
+    }
+    t = td_now();
+    if ((rc = td_despur(m, &sp.spur, NULL, cx)) != 0)
+        goto done;
+    row("despur (length)", m->w, m->h, td_now() - t);
+    t = td_now();
+    if ((rc = td_trace(m, &sp.trace, &ls, NULL, cx)) != 0)
+        goto done;
+    row("trace (3x3 + 5x5)", m->w, m->h, td_now() - t);
+    jp = td_join_defaults(m->w, m->h);
+    t = td_now();
+    if ((rc = td_join(&ls, &jp, NULL, cx)) != 0)
+        goto done;
+    row("join", m->w, m->h, td_now() - t);
+    printf("  %zu lines\n", ls->n);
+done:
+    td_lines_free(ls);
+    td_grid_u8_free(m);
+    td_grid_u8_free(zs);
+    td_image_free(im);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    const char *dir = "build-bench/data", *exe = "build-bench/topodig";
+    char sheet[1024], out[1024];
+    int size = 10000, i;
+    double secs, peak;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    for (i = 1; i + 1 < argc; i += 2) {
+        if (!strcmp(argv[i], "--size"))
+            size = atoi(argv[i + 1]);
+        else if (!strcmp(argv[i], "--dir"))
+            dir = argv[i + 1];
+        else if (!strcmp(argv[i], "--topodig"))
+            exe = argv[i + 1];
+    }
+    mkdir(dir, 0777);
+    snprintf(sheet, sizeof sheet, "%s/ridges%d.tif", dir, size);
+    snprintf(out, sizeof out, "%s/ridges%d.geojson", dir, size);
+    if (make_sheet(sheet, size, &cx) != 0) {
+        fprintf(stderr, "bench_scan: %s\n", td_errmsg(&cx));
+        return 1;
+    }
+    printf("scan benchmark, %dx%d sheet (3-px lines), one core\n", size, size);
+    if (stages(sheet, &cx) != 0)
+        printf("  stage failed: %s\n", td_errmsg(&cx));
+    if (run_cli(exe, sheet, out, &secs, &peak) == 0) {
+        row("topodig scan (whole, CLI)", size, size, secs);
+        printf("  peak memory %.0f MB = %.2f bytes/pixel\n", peak / 1e6,
+               peak / ((double)size * size));
+    } else {
+        printf("  topodig scan failed (%s)\n", exe);
+    }
+    return 0;
+}
