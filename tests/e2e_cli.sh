@@ -1,0 +1,95 @@
+#!/bin/sh
+# End-to-end checks of the CLI contract through build/topodig: help,
+# summary line, outputs other tools open, and bad input (one error line,
+# exit 1, no output left, an existing output untouched).
+BUILD=${BUILD:-build}
+TD="$BUILD/topodig"
+T=$(mktemp -d "${TMPDIR:-/tmp}/tde2e.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+pass=0; fail=0
+ok() { pass=$((pass + 1)); echo "ok   $1"; }
+bad() { fail=$((fail + 1)); echo "FAIL $1"; }
+check() { if eval "$2"; then ok "$1"; else bad "$1"; fi; }
+
+# --- help and version
+check "topodig --help exits 0" "$TD --help >/dev/null"
+check "topodig --version" "$TD --version | grep -q '^topodig [0-9]'"
+check "scan --help lists --ink" "$TD scan --help | grep -q -- '--ink'"
+check "unknown command: exit 1" "! $TD frobnicate 2>/dev/null"
+
+# --- a real run on the grey sample sheet
+"$TD" scan samples/hills.png -o "$T/hills.geojson" --debug-dir "$T/dbg" 2>"$T/err"
+rc=$?
+check "scan sample: exit 0" "[ $rc = 0 ]"
+check "scan sample: one summary line" \
+  "[ \$(wc -l <'$T/err') = 1 ] && grep -Eq '^scan: [0-9]+ lines, [0-9]+ closed, [0-9]+ open, [0-9]+ edge, [0-9]+ bridged gaps, [0-9]+ remaining junctions, [0-9.]+ s$' '$T/err'"
+nlines=$(sed -n 's/^scan: \([0-9]*\) lines.*/\1/p' "$T/err")
+check "scan sample: GeoJSON has one feature per line" \
+  "[ \"\$(grep -o '\"type\": *\"Feature\"' '$T/hills.geojson' | wc -l)\" = '$nlines' ]"
+for f in mask skeleton despurred overlay; do
+  check "debug picture $f.png written" "[ -s '$T/dbg/$f.png' ]"
+done
+if command -v ogrinfo >/dev/null 2>&1; then
+  check "ogrinfo opens the lines ($nlines features)" \
+    "ogrinfo -ro -al -so '$T/hills.geojson' 2>/dev/null | grep -q 'Feature Count: $nlines'"
+fi
+if command -v gdalinfo >/dev/null 2>&1; then
+  size=$(gdalinfo samples/hills.png 2>/dev/null | sed -n 's/^Size is //p')
+  check "gdalinfo opens overlay.png, scan's size" \
+    "gdalinfo '$T/dbg/overlay.png' 2>/dev/null | grep -q 'Size is $size'"
+fi
+check "no temporary files left" "! ls '$T' '$T/dbg' | grep -q '\.tmp\.'"
+
+# --- bad input: one line on stderr, exit 1, nothing written
+expect_fail() { # name, input file, extra args
+  name=$1; in=$2; shift 2
+  rm -f "$T/out.geojson"
+  "$TD" scan "$in" -o "$T/out.geojson" "$@" 2>"$T/err"
+  rc=$?
+  if [ $rc = 1 ] && [ "$(wc -l <"$T/err")" = 1 ] && [ ! -e "$T/out.geojson" ] &&
+     ! ls "$T" | grep -q '\.tmp\.'; then
+    ok "$name: $(cat "$T/err")"
+  else
+    bad "$name (exit $rc, stderr: $(cat "$T/err"))"
+  fi
+}
+echo "this is not an image" >"$T/text.png"
+expect_fail "text file named .png" "$T/text.png"
+head -c 300 samples/hills.png >"$T/trunc.png"
+expect_fail "truncated PNG" "$T/trunc.png"
+: >"$T/empty.tif"
+expect_fail "empty file" "$T/empty.tif"
+expect_fail "missing file" "$T/nope.tif"
+# little-endian TIFF headers: 9 tags, 8-bit grey, one strip
+tiff() { # width-bytes height-bytes bits extra-entry count
+  printf '\111\111\052\000\010\000\000\000'"$5"'\000'
+  printf '\000\001\004\000\001\000\000\000'"$1"
+  printf '\001\001\004\000\001\000\000\000'"$2"
+  printf '\002\001\003\000\001\000\000\000'"$3"'\000\000\000'
+  printf '\003\001\003\000\001\000\000\000\001\000\000\000'
+  printf '\006\001\003\000\001\000\000\000\001\000\000\000'
+  printf '\021\001\004\000\001\000\000\000\010\000\000\000'
+  printf '\025\001\003\000\001\000\000\000\001\000\000\000'
+  printf '\026\001\004\000\001\000\000\000'"$2"
+  printf '\027\001\004\000\001\000\000\000\020\000\000\000'
+  printf "$4"
+  printf '\000\000\000\000'
+}
+tiff '\240\206\001\000' '\240\206\001\000' '\010' '' '\011' >"$T/huge.tif"
+expect_fail "100000x100000 TIFF header" "$T/huge.tif"
+tiff '\000\000\000\000' '\004\000\000\000' '\010' '' '\011' >"$T/zero.tif"
+expect_fail "zero-width TIFF" "$T/zero.tif"
+tiff '\004\000\000\000' '\004\000\000\000' '\040' '\123\001\003\000\001\000\000\000\003\000\000\000' '\012' >"$T/float.tif"
+expect_fail "float samples (a DEM, not a scan)" "$T/float.tif"
+expect_fail "bad --ink value" samples/hills.png --ink purple
+expect_fail "bad --threshold value" samples/hills.png --threshold 300
+expect_fail "unknown option" samples/hills.png --frobnicate
+check "missing -o: exit 1" "! $TD scan samples/hills.png 2>/dev/null"
+
+# --- a failed run leaves an existing output untouched
+echo keep >"$T/keep.geojson"
+"$TD" scan "$T/text.png" -o "$T/keep.geojson" 2>/dev/null
+check "failed run leaves existing output untouched" "[ \"\$(cat '$T/keep.geojson')\" = keep ]"
+
+echo "$pass passed, $fail failed"
+[ $fail = 0 ]
