@@ -71,10 +71,13 @@ void td_draw_line(td_image *im, const td_line *l, const uint8_t rgb[3])
                 l->xy[1], rgb);
 }
 
+/* A red 3x3 box around an open end that is not on the sheet border. */
 static void mark_end(td_image *im, double x, double y)
 {
     static const uint8_t red[3] = {230, 0, 0};
     long cx = (long)floor(x), cy = (long)floor(y), dx, dy;
+    if (cx <= 0 || cy <= 0 || cx >= im->w - 1 || cy >= im->h - 1)
+        return;
     for (dy = -1; dy <= 1; dy++)
         for (dx = -1; dx <= 1; dx++)
             if (dx || dy)
@@ -106,7 +109,7 @@ int td_draw_overlay(const td_image *scan, const td_lines *ls, td_image **out,
     }
     for (i = 0; i < ls->n; i++) {
         const td_line *l = &ls->v[i];
-        if (l->closed || l->n == 0 || l->edge)
+        if (l->closed || l->n == 0)
             continue;
         mark_end(im, l->xy[0], l->xy[1]);
         mark_end(im, l->xy[2 * l->n - 2], l->xy[2 * l->n - 1]);

@@ -17,7 +17,8 @@ void td_draw_colour(size_t i, uint8_t rgb[3]);
 void td_draw_line(td_image *im, const td_line *l, const uint8_t rgb[3]);
 
 /* The traced-lines overlay: the scan faded towards white, every line drawn
- * in its own colour, the ends of open lines marked with a red 3x3 box.
+ * in its own colour, open line ends off the border marked with a red 3x3
+ * box.
  * *out is a new RGB image of the scan's size (free with td_image_free). */
 int td_draw_overlay(const td_image *scan, const td_lines *ls, td_image **out,
                     td_ctx *cx);
