@@ -35,6 +35,13 @@ int td_georef_copy(td_georef *dst, const td_georef *src, td_ctx *cx);
  * pixel) to map coordinates; identity when !g->valid. */
 void td_georef_apply(const td_georef *g, double col, double row, double *X,
                      double *Y);
+/* A SHORT-valued GeoKey (e.g. 1025 GTRasterTypeGeoKey) from the verbatim
+ * key directory: 1 and *val when present, else 0. */
+int td_georef_geokey(const td_georef *g, int key, int *val);
+/* The georeferencing of any TIFF/GeoTIFF (whatever its sample layout, so
+ * DEM readers can use it too); g is initialised first and stays invalid
+ * when the file has no transform.  0 or an error naming the file. */
+int td_georef_read(const char *path, td_georef *g, td_ctx *cx);
 
 /* Read a scan: TIFF (1/8/16-bit grey, palette, RGB/RGBA, striped or tiled,
  * any compression libtiff decodes: CCITT G3/G4, LZW, Deflate, PackBits,
@@ -42,11 +49,19 @@ void td_georef_apply(const td_georef *g, double col, double row, double *X,
  * The format is found from the file's first bytes, not its name.
  * The result is 8-bit grey or RGB (1-bit: ink=0, paper=255; 16-bit scaled
  * to 8; alpha composited on white; palette expanded).  georef may be NULL;
- * when given it is filled from GeoTIFF tags (valid=0 otherwise).
+ * when given it is initialised (not freed: clear it before reuse) and filled
+ * from GeoTIFF tags (valid=0 otherwise).
  * Returns 0 and *out (caller frees with td_image_free), or an error naming
  * the file. */
 int td_image_read(const char *path, td_image **out, td_georef *georef,
                   td_ctx *cx);
+
+/* Read only what td_image_read would return about path without decoding
+ * the pixels (JPEG excepted): width, height, output channels (1 or 3) and,
+ * when georef is not NULL, the georeferencing (georef is initialised
+ * first; free it with td_georef_clear).  0 or an error naming the file. */
+int td_image_info(const char *path, int *w, int *h, int *channels,
+                  td_georef *georef, td_ctx *cx);
 
 /* Write an 8-bit grey (channels 1) or RGB (channels 3) PNG, atomically. */
 int td_png_write(const char *path, const td_image *im, td_ctx *cx);

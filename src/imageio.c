@@ -1,0 +1,85 @@
+/* imageio.c: the scan reader's front door.  The format is found from the
+ * file's first bytes (never its name) and the file handed to the TIFF, PNG
+ * or JPEG (OpenCV shim) reader. */
+#include "imageio_int.h"
+
+#include "cvshim.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+enum { FMT_PNG = 1, FMT_TIFF, FMT_JPEG };
+
+/* The format of path from its magic bytes, or a TD_E* code set in cx. */
+static int sniff(const char *path, td_ctx *cx)
+{
+    static const uint8_t png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    uint8_t b[8];
+    size_t n;
+    FILE *f;
+    if (!path || !*path)
+        return td_seterr(cx, TD_EINVAL, "no input file name given");
+    f = fopen(path, "rb");
+    if (!f)
+        return td_seterr(cx, TD_EIO, "%s: cannot open: %s", path,
+                         strerror(errno));
+    n = fread(b, 1, sizeof b, f);
+    fclose(f);
+    if (n == 8 && memcmp(b, png, 8) == 0)
+        return FMT_PNG;
+    if (n >= 4 && ((b[0] == 'I' && b[1] == 'I' && b[3] == 0 &&
+                    (b[2] == 42 || b[2] == 43)) ||
+                   (b[0] == 'M' && b[1] == 'M' && b[2] == 0 &&
+                    (b[3] == 42 || b[3] == 43))))
+        return FMT_TIFF;
+    if (n >= 3 && b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF)
+        return FMT_JPEG;
+    if (n == 0)
+        return td_seterr(cx, TD_EFORMAT, "%s: empty file", path);
+    return td_seterr(cx, TD_EFORMAT, "%s: not a PNG, TIFF or JPEG image",
+                     path);
+}
+
+/* See imageio.h.  On failure *out is left unchanged; georef (when given)
+ * is overwritten without being freed (clear it before reuse). */
+int td_image_read(const char *path, td_image **out, td_georef *georef,
+                  td_ctx *cx)
+{
+    int fmt = sniff(path, cx);
+    if (georef)
+        td_georef_init(georef);
+    if (!out)
+        return td_seterr(cx, TD_EINVAL, "%s: no output image", path);
+    if (fmt < 0)
+        return fmt;
+    if (fmt == FMT_TIFF)
+        return td_tiff_read(path, out, georef, cx);
+    if (fmt == FMT_PNG)
+        return td_png_read(path, out, cx);
+    return td_cv_read_jpeg(path, out, cx);
+}
+
+/* See imageio.h. */
+int td_image_info(const char *path, int *w, int *h, int *channels,
+                  td_georef *georef, td_ctx *cx)
+{
+    int fmt = sniff(path, cx), rc;
+    td_image *im = NULL;
+    if (georef)
+        td_georef_init(georef);
+    if (fmt < 0)
+        return fmt;
+    if (fmt == FMT_TIFF)
+        return td_tiff_info(path, w, h, channels, georef, cx);
+    if (fmt == FMT_PNG)
+        return td_png_info(path, w, h, channels, cx);
+    /* JPEG: the shim has no header-only call, so decode it. */
+    if ((rc = td_cv_read_jpeg(path, &im, cx)) != 0)
+        return rc;
+    *w = im->w;
+    *h = im->h;
+    *channels = im->channels;
+    td_image_free(im);
+    return 0;
+}

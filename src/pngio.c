@@ -1,0 +1,408 @@
+/* pngio.c: PNG reading (any bit depth, colour type and interlacing, into
+ * 8-bit grey or RGB) and writing (8-bit grey/RGB, 16-bit grey) through
+ * libpng.  libpng reports errors by longjmp; each setjmp lives in a small
+ * static function whose resources are owned by a struct in the caller's
+ * frame, so nothing it touches is an indeterminate local after a jump. */
+#include "imageio_int.h"
+
+#include <errno.h>
+#include <png.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Error sink of one libpng handle. */
+typedef struct pio_err {
+    jmp_buf jb;
+    char msg[256];
+} pio_err;
+
+static void on_png_error(png_structp png, png_const_charp msg)
+{
+    pio_err *e = png_get_error_ptr(png);
+    snprintf(e->msg, sizeof e->msg, "%s", msg ? msg : "libpng error");
+    longjmp(e->jb, 1);
+}
+
+static void on_png_warning(png_structp png, png_const_charp msg)
+{
+    (void)png;
+    (void)msg; /* dropped: never printed */
+}
+
+/* Everything one PNG read owns. */
+typedef struct pio_job {
+    const char *path;
+    FILE *f;
+    png_structp png;
+    png_infop info;
+    pio_err err;
+    td_image *im;
+    uint8_t *buf;        /* one transformed row, or the whole image */
+    int header_only;
+    int w, h, channels;  /* output */
+    int tchan;           /* channels after libpng's transforms */
+    int palette, grey_palette;
+    uint8_t plte[256][3], trns[256];
+} pio_job;
+
+/* Palette, its transparency, and whether it is all grey. */
+static void load_palette(pio_job *j)
+{
+    png_colorp pal = NULL;
+    png_bytep ta = NULL;
+    int n = 0, nt = 0, i;
+    memset(j->plte, 0, sizeof j->plte);
+    memset(j->trns, 255, sizeof j->trns);
+    png_get_PLTE(j->png, j->info, &pal, &n);
+    if (png_get_valid(j->png, j->info, PNG_INFO_tRNS))
+        png_get_tRNS(j->png, j->info, &ta, &nt, NULL);
+    j->grey_palette = 1;
+    for (i = 0; i < n && i < 256; i++) {
+        j->plte[i][0] = pal[i].red;
+        j->plte[i][1] = pal[i].green;
+        j->plte[i][2] = pal[i].blue;
+        if (pal[i].red != pal[i].green || pal[i].red != pal[i].blue)
+            j->grey_palette = 0;
+    }
+    for (i = 0; ta && i < nt && i < 256; i++)
+        j->trns[i] = ta[i];
+}
+
+/* Header, limits and transforms (to 8-bit G, GA, RGB, RGBA or indices). */
+static void setup_transforms(pio_job *j)
+{
+    png_uint_32 w, h;
+    int depth, ctype;
+    /* libpng's own limit (1e6) is below TD_MAX_DIM: let td_check_dims
+     * decide, with its clearer message */
+    png_set_user_limits(j->png, 0x7fffffff, 0x7fffffff);
+    png_set_chunk_cache_max(j->png, 1000);
+    png_set_chunk_malloc_max(j->png, 64u << 20);
+    png_read_info(j->png, j->info);
+    png_get_IHDR(j->png, j->info, &w, &h, &depth, &ctype, NULL, NULL, NULL);
+    j->w = (int)w;
+    j->h = (int)h;
+    j->palette = ctype == PNG_COLOR_TYPE_PALETTE;
+    if (j->palette) {
+        load_palette(j);
+        png_set_packing(j->png);
+        j->channels = j->grey_palette ? 1 : 3;
+    } else {
+        if (depth < 8)
+            png_set_expand_gray_1_2_4_to_8(j->png);
+        if (png_get_valid(j->png, j->info, PNG_INFO_tRNS))
+            png_set_tRNS_to_alpha(j->png);
+        if (depth == 16)
+            png_set_scale_16(j->png);
+        j->channels = ctype & PNG_COLOR_MASK_COLOR ? 3 : 1;
+    }
+}
+
+static uint8_t over_white(unsigned c, unsigned a)
+{
+    return (uint8_t)((c * a + 255u * (255u - a) + 127u) / 255u);
+}
+
+/* One transformed row into 8-bit grey or RGB. */
+static void convert_row(const pio_job *j, const uint8_t *src, uint8_t *out)
+{
+    int x, c, ch = j->channels, tc = j->tchan;
+    int alpha = !j->palette && (tc == 2 || tc == 4);
+    if (!j->palette && tc == ch) {
+        memcpy(out, src, (size_t)j->w * (size_t)ch);
+        return;
+    }
+    for (x = 0; x < j->w; x++, out += ch) {
+        if (j->palette) {
+            unsigned a = j->trns[src[x]];
+            for (c = 0; c < ch; c++)
+                out[c] = over_white(j->plte[src[x]][c], a);
+        } else {
+            const uint8_t *s = src + (size_t)x * (size_t)tc;
+            for (c = 0; c < ch; c++)
+                out[c] = alpha ? over_white(s[c], s[tc - 1]) : s[c];
+        }
+    }
+}
+
+/* Interlaced input, or rows needing no conversion: decode every pass
+ * straight into the image when the layouts match, else into a whole-image
+ * buffer converted at the end (the only case that buffers the image). */
+static void read_rows(pio_job *j, int passes)
+{
+    size_t rb = png_get_rowbytes(j->png, j->info), total;
+    int direct = !j->palette && j->tchan == j->channels, p, y;
+    if (direct) {
+        for (p = 0; p < passes; p++)
+            for (y = 0; y < j->h; y++)
+                png_read_row(j->png, j->im->data + (size_t)y * j->im->stride,
+                             NULL);
+        return;
+    }
+    if (td_mul2(rb, (size_t)j->h, &total) != 0)
+        png_error(j->png, "image too large");
+    j->buf = calloc(total ? total : 1, 1);
+    if (!j->buf)
+        png_error(j->png, "out of memory");
+    for (p = 0; p < passes; p++)
+        for (y = 0; y < j->h; y++)
+            png_read_row(j->png, j->buf + (size_t)y * rb, NULL);
+    for (y = 0; y < j->h; y++)
+        convert_row(j, j->buf + (size_t)y * rb,
+                    j->im->data + (size_t)y * j->im->stride);
+}
+
+/* Non-interlaced, converted rows: read and convert one at a time. */
+static void read_rows_streamed(pio_job *j)
+{
+    int y;
+    j->buf = calloc(png_get_rowbytes(j->png, j->info) + 1, 1);
+    if (!j->buf)
+        png_error(j->png, "out of memory");
+    for (y = 0; y < j->h; y++) {
+        png_read_row(j->png, j->buf, NULL);
+        convert_row(j, j->buf, j->im->data + (size_t)y * j->im->stride);
+    }
+}
+
+/* The part of a read that libpng may jump out of; returns 0, 1 after a
+ * libpng error (message in j->err), or a TD_E* code set in cx. */
+static int pio_decode(pio_job *j, td_ctx *cx)
+{
+    int passes, rc;
+    if (setjmp(j->err.jb))
+        return 1;
+    png_init_io(j->png, j->f);
+    setup_transforms(j);
+    if ((rc = td_check_dims(j->w, j->h, j->path, cx)) != 0)
+        return rc;
+    passes = png_set_interlace_handling(j->png);
+    png_read_update_info(j->png, j->info);
+    j->tchan = png_get_channels(j->png, j->info);
+    if (j->header_only)
+        return 0;
+    j->im = td_image_new(j->w, j->h, j->channels, cx);
+    if (!j->im)
+        return cx && cx->code ? cx->code : TD_ENOMEM;
+    j->im->src_bits = png_get_bit_depth(j->png, j->info);
+    if (passes == 1 && !(!j->palette && j->tchan == j->channels))
+        read_rows_streamed(j);
+    else
+        read_rows(j, passes);
+    return 0;
+}
+
+/* Open, check the signature, decode; the caller frees j's resources. */
+static int pio_run(pio_job *j, td_ctx *cx)
+{
+    uint8_t sig[8];
+    int rc;
+    j->f = fopen(j->path, "rb");
+    if (!j->f)
+        return td_seterr(cx, TD_EIO, "%s: cannot open: %s", j->path,
+                         strerror(errno));
+    if (fread(sig, 1, 8, j->f) != 8 || png_sig_cmp(sig, 0, 8) != 0)
+        return td_seterr(cx, TD_EFORMAT, "%s: not a PNG image", j->path);
+    j->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &j->err,
+                                    on_png_error, on_png_warning);
+    if (!j->png || !(j->info = png_create_info_struct(j->png)))
+        return td_seterr(cx, TD_ENOMEM, "%s: out of memory", j->path);
+    png_set_sig_bytes(j->png, 8);
+    rc = pio_decode(j, cx);
+    if (rc == 1)
+        return td_seterr(cx, TD_EFORMAT, "%s: truncated or corrupt PNG (%s)",
+                         j->path, j->err.msg);
+    return rc;
+}
+
+static void pio_job_free(pio_job *j)
+{
+    if (j->png)
+        png_destroy_read_struct(&j->png, j->info ? &j->info : NULL, NULL);
+    if (j->f)
+        fclose(j->f);
+    free(j->buf);
+    td_image_free(j->im);
+    free(j);
+}
+
+/* See imageio_int.h. */
+int td_png_info(const char *path, int *w, int *h, int *channels, td_ctx *cx)
+{
+    pio_job *j = td_calloc(1, sizeof *j, cx);
+    int rc;
+    if (!j)
+        return TD_ENOMEM;
+    j->path = path;
+    j->header_only = 1;
+    if ((rc = pio_run(j, cx)) != 0)
+        goto fail;
+    *w = j->w;
+    *h = j->h;
+    *channels = j->channels;
+fail:
+    pio_job_free(j);
+    return rc;
+}
+
+/* See imageio_int.h. */
+int td_png_read(const char *path, td_image **out, td_ctx *cx)
+{
+    pio_job *j = td_calloc(1, sizeof *j, cx);
+    int rc;
+    if (!j)
+        return TD_ENOMEM;
+    j->path = path;
+    if ((rc = pio_run(j, cx)) != 0)
+        goto fail;
+    *out = j->im;
+    j->im = NULL;
+fail:
+    pio_job_free(j);
+    return rc;
+}
+
+/* Produces row y of a picture to write, in PNG byte order (tmp may be used
+ * as scratch of the row's size). */
+typedef const uint8_t *(*pio_row_fn)(const void *src, int y, uint8_t *tmp);
+
+typedef struct pio_wjob {
+    FILE *f;
+    png_structp png;
+    png_infop info;
+    pio_err err;
+    uint8_t *tmp;
+} pio_wjob;
+
+/* The part of a write libpng may jump out of; 0, or 1 after an error. */
+static int pio_encode(pio_wjob *j, int w, int h, int ctype, int depth,
+                      pio_row_fn row, const void *src)
+{
+    int y;
+    if (setjmp(j->err.jb))
+        return 1;
+    png_init_io(j->png, j->f);
+    png_set_IHDR(j->png, j->info, (png_uint_32)w, (png_uint_32)h, depth,
+                 ctype, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+                 PNG_FILTER_TYPE_DEFAULT);
+    png_set_compression_level(j->png, 6);
+    png_write_info(j->png, j->info);
+    for (y = 0; y < h; y++)
+        png_write_row(j->png, row(src, y, j->tmp));
+    png_write_end(j->png, j->info);
+    return 0;
+}
+
+/* Write w x h rows from row() as a PNG at path, atomically. */
+static int pio_write_rows(const char *path, int w, int h, int ctype,
+                          int depth, pio_row_fn row, const void *src,
+                          td_ctx *cx)
+{
+    pio_wjob j;
+    char *tmp = NULL;
+    size_t tmpsize = strlen(path) + 32, rowbytes;
+    int rc, ch = ctype == PNG_COLOR_TYPE_RGB ? 3 : 1;
+    memset(&j, 0, sizeof j);
+    if ((rc = td_check_dims(w, h, path, cx)) != 0)
+        return rc;
+    rc = TD_ENOMEM;
+    if (td_mul3((size_t)w, (size_t)ch, (size_t)depth / 8, &rowbytes) != 0 ||
+        !(tmp = td_malloc(tmpsize, cx)) || !(j.tmp = td_malloc(rowbytes, cx)))
+        goto fail;
+    if (!(j.f = td_atomic_open(path, tmp, tmpsize, cx))) {
+        rc = cx && cx->code ? cx->code : TD_EIO;
+        goto fail;
+    }
+    j.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &j.err,
+                                    on_png_error, on_png_warning);
+    if (!j.png || !(j.info = png_create_info_struct(j.png))) {
+        td_seterr(cx, rc, "%s: out of memory", path);
+        goto fail;
+    }
+    if (pio_encode(&j, w, h, ctype, depth, row, src) != 0) {
+        rc = td_seterr(cx, TD_EIO, "%s: cannot write PNG (%s)", path,
+                       j.err.msg);
+        goto fail;
+    }
+    rc = td_atomic_commit(j.f, tmp, path, cx);
+    j.f = NULL;
+fail:
+    if (j.png)
+        png_destroy_write_struct(&j.png, j.info ? &j.info : NULL);
+    if (j.f)
+        td_atomic_abort(j.f, tmp);
+    free(j.tmp);
+    free(tmp);
+    return rc;
+}
+
+static const uint8_t *image_row(const void *src, int y, uint8_t *tmp)
+{
+    const td_image *im = src;
+    (void)tmp;
+    return im->data + (size_t)y * im->stride;
+}
+
+/* See imageio.h. */
+int td_png_write(const char *path, const td_image *im, td_ctx *cx)
+{
+    if (!path || !im || !im->data || (im->channels != 1 && im->channels != 3) ||
+        im->stride < (size_t)im->w * (size_t)im->channels)
+        return td_seterr(cx, TD_EINVAL, "%s: no 1- or 3-channel image to "
+                         "write", path ? path : "(null)");
+    return pio_write_rows(path, im->w, im->h,
+                          im->channels == 3 ? PNG_COLOR_TYPE_RGB
+                                            : PNG_COLOR_TYPE_GRAY,
+                          8, image_row, im, cx);
+}
+
+static const uint8_t *u8_row(const void *src, int y, uint8_t *tmp)
+{
+    const td_grid_u8 *g = src;
+    return g->data + (size_t)y * g->stride;
+}
+
+static const uint8_t *u8_row01(const void *src, int y, uint8_t *tmp)
+{
+    const td_grid_u8 *g = src;
+    const uint8_t *s = g->data + (size_t)y * g->stride;
+    int x;
+    for (x = 0; x < g->w; x++)
+        tmp[x] = s[x] ? 255 : 0;
+    return tmp;
+}
+
+/* See imageio.h. */
+int td_png_write_u8(const char *path, const td_grid_u8 *g, int scale01,
+                    td_ctx *cx)
+{
+    if (!path || !g || !g->data || g->stride < (size_t)g->w)
+        return td_seterr(cx, TD_EINVAL, "%s: no grid to write",
+                         path ? path : "(null)");
+    return pio_write_rows(path, g->w, g->h, PNG_COLOR_TYPE_GRAY, 8,
+                          scale01 ? u8_row01 : u8_row, g, cx);
+}
+
+static const uint8_t *u16_row(const void *src, int y, uint8_t *tmp)
+{
+    const td_grid_u16 *g = src;
+    const uint16_t *s = g->data + (size_t)y * g->stride;
+    int x;
+    for (x = 0; x < g->w; x++) {
+        tmp[2 * x] = (uint8_t)(s[x] >> 8);
+        tmp[2 * x + 1] = (uint8_t)(s[x] & 255);
+    }
+    return tmp;
+}
+
+/* See imageio.h. */
+int td_png_write_u16(const char *path, const td_grid_u16 *g, td_ctx *cx)
+{
+    if (!path || !g || !g->data || g->stride < (size_t)g->w)
+        return td_seterr(cx, TD_EINVAL, "%s: no grid to write",
+                         path ? path : "(null)");
+    return pio_write_rows(path, g->w, g->h, PNG_COLOR_TYPE_GRAY, 16, u16_row,
+                          g, cx);
+}
