@@ -30,7 +30,7 @@ typedef struct jpair {
 td_join_params td_join_defaults(int w, int h)
 {
     td_join_params p;
-    p.max_gap = 12.0;
+    p.max_gap = 16.0;
     p.max_angle = 40.0;
     p.tangent = 8.0;
     p.w = w;

@@ -13,7 +13,7 @@ extern "C" {
 #endif
 
 typedef struct td_join_params {
-    double max_gap;   /* longest gap joined, px (default 12) */
+    double max_gap;   /* longest gap joined, px (default 16) */
     double max_angle; /* largest angle, degrees, between each end's outward
                          tangent and the gap (default 40) */
     double tangent;   /* length along the line over which an end's tangent is

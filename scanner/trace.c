@@ -29,11 +29,14 @@
  *  - a junction (touching contours) is passed along one branch; the others
  *    start lines of their own, so no pixel is lost;
  *  - open lines ending within edge_dist px of the border are extended to it
- *    and flagged edge. */
+ *    (along their direction) and flagged edge;
+ *  - a line fitting in a 3x3 window off the border is a ring smaller than
+ *    the line width (filled in, thinned to a dot): it is closed. */
 #include "trace.h"
 
 #include "skel.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -117,23 +120,43 @@ static int follow(td_grid_u8 *g, td_line *l, const td_trace_params *p,
     }
 }
 
-/* Extend an open line's end (point i) to the border when within d px. */
+/* Distance along (dx,dy) (a unit vector) from (x,y) to the line through
+ * the border pixel centres, or a huge value when it points away. */
+static double ray_to_border(double x, double y, double dx, double dy, int w,
+                            int h)
+{
+    double t = 1e300;
+    if (dx < -1e-9) t = fmin(t, (0.5 - x) / dx);
+    if (dx > 1e-9) t = fmin(t, (w - 0.5 - x) / dx);
+    if (dy < -1e-9) t = fmin(t, (0.5 - y) / dy);
+    if (dy > 1e-9) t = fmin(t, (h - 0.5 - y) / dy);
+    return t;
+}
+
+/* Extend an open line's end to the border when within d px: along the
+ * end's direction (over its last 4 points) when that reaches the border
+ * within 2d px, else straight to the nearest border. */
 static int extend_end(td_line *l, int at_start, int w, int h, int d,
                       td_ctx *cx)
 {
-    size_t i = at_start ? 0 : l->n - 1;
+    size_t i = at_start ? 0 : l->n - 1, k;
     double x = l->xy[2 * i], y = l->xy[2 * i + 1], bx = x, by = y;
     double dl = x - 0.5, dr = w - 0.5 - x, dt = y - 0.5, db = h - 0.5 - y;
-    double m = dl;
-    if (dr < m) m = dr;
-    if (dt < m) m = dt;
-    if (db < m) m = db;
+    double m = fmin(fmin(dl, dr), fmin(dt, db)), tx, ty, tl, t;
     if (m > d)
         return 0;
     l->edge = 1;
     if (m <= 0.0)
         return 0;
-    if (m == dl) bx = 0.5;
+    k = at_start ? (l->n > 4 ? 4 : l->n - 1) : (l->n > 4 ? l->n - 5 : 0);
+    tx = x - l->xy[2 * k];
+    ty = y - l->xy[2 * k + 1];
+    tl = hypot(tx, ty);
+    t = tl > 0 ? ray_to_border(x, y, tx / tl, ty / tl, w, h) : 1e300;
+    if (t <= 2.0 * d) {
+        bx = x + t * tx / tl;
+        by = y + t * ty / tl;
+    } else if (m == dl) bx = 0.5;
     else if (m == dr) bx = w - 0.5;
     else if (m == dt) by = 0.5;
     else by = h - 0.5;
@@ -144,6 +167,23 @@ static int extend_end(td_line *l, int at_start, int w, int h, int d,
     if (at_start)
         td_line_reverse(l);
     return 0;
+}
+
+/* A contour ring smaller than the line is wide fills in and thins to a dot
+ * (or a 2-3 px stub): a line that fits in a 3x3 window away from the
+ * border is a degenerate closed ring, not an open line. */
+static void close_dot(td_line *l)
+{
+    double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+    size_t i;
+    for (i = 0; i < l->n; i++) {
+        x0 = fmin(x0, l->xy[2 * i]);
+        x1 = fmax(x1, l->xy[2 * i]);
+        y0 = fmin(y0, l->xy[2 * i + 1]);
+        y1 = fmax(y1, l->xy[2 * i + 1]);
+    }
+    if (x1 - x0 <= 2.0 && y1 - y0 <= 2.0)
+        l->closed = 1;
 }
 
 static void flag_edge(td_line *l, int w, int h)
@@ -175,6 +215,8 @@ static int trace_line(td_grid_u8 *g, td_lines *ls, int x, int y,
         l->bridged++;
     }
     flag_edge(l, g->w, g->h);
+    if (!l->closed && !l->edge)
+        close_dot(l);
     if (!l->closed && p->edge_dist > 0 &&
         (extend_end(l, 1, g->w, g->h, p->edge_dist, cx) != 0 ||
          extend_end(l, 0, g->w, g->h, p->edge_dist, cx) != 0))

@@ -31,7 +31,7 @@ static const char help[] =
     "      --spur-max PX      longest spur, px along the skeleton (default 10)\n"
     "      --no-bridge        no 5x5 gap bridging while tracing\n"
     "      --no-join          do not join line ends across gaps\n"
-    "      --max-gap PX       longest gap joined (default 12)\n"
+    "      --max-gap PX       longest gap joined (default 16)\n"
     "      --debug-dir DIR    write mask.png, skeleton.png, despurred.png,\n"
     "                         overlay.png into DIR\n"
     "  -q, --quiet            no progress and no summary\n"

@@ -1,0 +1,167 @@
+/* The scanner end to end on generated sheets with known true contours:
+ * every true contour traced (coverage >= 99%, mean distance <= 1.5 px), no
+ * traced line following two contours, closed/open/edge flags right, breaks
+ * of 1-4 px bridged (each contour in one piece). */
+#include "tt.h"
+#include "util/match.h"
+#include "../samples/gen/gen.h"
+#include "../scanner/scan.h"
+
+#include <string.h>
+
+/* Generate, scan, match; returns the report (and logs failures). */
+static int scan_sheet(const td_gen_params *gp, const td_scan_params *sp,
+                      td_match_report *r, size_t *nlines)
+{
+    td_image *im = NULL;
+    td_lines *truth = NULL;
+    td_scan_result res;
+    td_ctx cx;
+    int rc;
+    td_ctx_init(&cx);
+    memset(r, 0, sizeof *r);
+    if ((rc = td_gen_sheet(gp, &im, &truth, NULL, &cx)) != 0) {
+        fprintf(stderr, "  gen: %s\n", td_errmsg(&cx));
+        return rc;
+    }
+    rc = td_scan(im, sp, &res, &cx);
+    if (rc == 0) {
+        rc = td_match_lines(truth, res.lines, im->w, im->h, NULL, r, stderr);
+        if (nlines)
+            *nlines = res.lines->n;
+        td_scan_result_free(&res);
+    } else {
+        fprintf(stderr, "  scan: %s\n", td_errmsg(&cx));
+    }
+    td_lines_free(truth);
+    td_image_free(im);
+    return rc;
+}
+
+static void expect_ok(const char *what, const td_gen_params *gp,
+                      const td_scan_params *sp)
+{
+    td_match_report r;
+    int rc = scan_sheet(gp, sp, &r, NULL);
+    TT_CHECKF(rc == 0, "%s: rc %d", what, rc);
+    if (rc == 0 && !td_match_ok(&r)) {
+        fprintf(stderr, "  %s: ", what);
+        td_match_print(&r, stderr);
+    }
+    TT_CHECKF(rc == 0 && td_match_ok(&r), "%s", what);
+}
+
+/* Summits, a saddle, a depression and lines leaving the sheet, with noise,
+ * specks, a light blur and breaks of 1-4 px. */
+static void test_hills_noisy(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_scan_params sp = td_scan_defaults();
+    gp.w = 900;
+    gp.h = 700;
+    gp.seed = 3;
+    gp.line_width = 2.5;
+    gp.noise = 10;
+    gp.blur = 0.7;
+    gp.specks = 40;
+    gp.breaks = 25;
+    gp.break_min = 1;
+    gp.break_max = 4;
+    expect_ok("hills, noise, specks, breaks 1-4 px", &gp, &sp);
+}
+
+/* Line widths 1 to 6 px. */
+static void test_widths(void)
+{
+    static const double widths[] = {1.0, 2.0, 3.0, 4.5, 6.0};
+    size_t i;
+    for (i = 0; i < sizeof widths / sizeof *widths; i++) {
+        td_gen_params gp = td_gen_defaults();
+        td_scan_params sp = td_scan_defaults();
+        char what[64];
+        gp.w = 800;
+        gp.h = 600;
+        gp.seed = 11 + (unsigned)i;
+        gp.line_width = widths[i];
+        gp.breaks = 10;
+        gp.break_min = 1;
+        gp.break_max = 4;
+        snprintf(what, sizeof what, "width %.1f px", widths[i]);
+        expect_ok(what, &gp, &sp);
+    }
+}
+
+/* Concentric rings: all closed, none edge, one traced line each. */
+static void test_cone(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_scan_params sp = td_scan_defaults();
+    td_match_report r;
+    size_t n = 0;
+    gp.w = gp.h = 600;
+    gp.terrain = TD_GEN_CONE;
+    gp.line_width = 3;
+    TT_CHECK(scan_sheet(&gp, &sp, &r, &n) == 0);
+    TT_CHECK(td_match_ok(&r));
+    TT_CHECKF((long)n >= r.n_truth, "%zu lines for %ld rings", n, r.n_truth);
+}
+
+/* A tilted plane: parallel open lines, all edge. */
+static void test_plane(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_scan_params sp = td_scan_defaults();
+    gp.w = 500;
+    gp.h = 400;
+    gp.terrain = TD_GEN_PLANE;
+    gp.line_width = 2;
+    expect_ok("plane", &gp, &sp);
+}
+
+/* Brown contours on cream paper with blue water and black text: --ink
+ * brown keeps the contours and drops the rest. */
+static void test_brown(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_scan_params sp = td_scan_defaults();
+    td_match_report r;
+    gp.w = 900;
+    gp.h = 700;
+    gp.seed = 5;
+    gp.colour = 1;
+    gp.distractors = 1;
+    gp.line_width = 3;
+    gp.noise = 6;
+    sp.bin.ink = TD_INK_BROWN;
+    TT_CHECK(scan_sheet(&gp, &sp, &r, NULL) == 0);
+    TT_CHECKF(r.n_unmatched_traced == 0, "%ld traced lines are not contours "
+              "(text or water picked up)", r.n_unmatched_traced);
+    TT_CHECK(r.n_mixed == 0);
+    TT_CHECKF(r.cov_total >= 0.99, "coverage %.4f", r.cov_total);
+}
+
+/* A blank sheet is an error, not an empty result. */
+static void test_blank(void)
+{
+    td_image *im = td_image_new(300, 200, 1, NULL);
+    td_scan_params sp = td_scan_defaults();
+    td_scan_result res;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    memset(im->data, 250, im->stride * (size_t)im->h);
+    TT_CHECK(td_scan(im, &sp, &res, &cx) == TD_EFORMAT);
+    TT_CHECK(strstr(td_errmsg(&cx), "ink") != NULL);
+    TT_CHECK(res.lines == NULL);
+    td_image_free(im);
+}
+
+int main(void)
+{
+    TT_RUN(test_hills_noisy);
+    TT_RUN(test_widths);
+    TT_RUN(test_cone);
+    TT_RUN(test_plane);
+    TT_RUN(test_brown);
+    TT_RUN(test_blank);
+    return tt_summary();
+}
