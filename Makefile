@@ -95,6 +95,10 @@ bench: deps
 	$(MAKE) OPT="-O3 -march=native -g" BUILD=build-bench all $(BENCH_C:tests/bench/%.c=build-bench/bench/%)
 	BUILD=build-bench sh tests/bench/run.sh
 
+# Regenerate the sample sheets (deterministic: same bytes every time).
+samples: all
+	sh samples/make_samples.sh $(BUILD)
+
 demo: deps
 	$(MAKE) all
 	sh samples/demo.sh $(BUILD)

@@ -15,34 +15,64 @@ extern "C" {
 #endif
 
 typedef enum {
-    TD_GEN_HILLS,   /* several summits, a saddle, a depression, a tilt so
-                       some contours leave the sheet (the default) */
-    TD_GEN_CONE,    /* one cone in the centre: concentric closed rings */
-    TD_GEN_PLANE,   /* tilted plane: parallel open lines, all edge */
-    TD_GEN_RIDGES   /* many contours, dense (for benchmarks) */
+    TD_GEN_HILLS, /* several summits, a saddle, a depression, a tilt so
+                     some contours leave the sheet (the default) */
+    TD_GEN_CONE,  /* one cone in the centre: concentric closed rings */
+    TD_GEN_PLANE, /* tilted plane: parallel open lines, all edge */
+    TD_GEN_RIDGES /* many contours, dense (for benchmarks) */
 } td_gen_terrain_kind;
 
 typedef struct td_gen_params {
-    int w, h;              /* sheet size in pixels */
-    unsigned seed;         /* every random choice follows from it */
+    int w, h;      /* sheet size in pixels */
+    unsigned seed; /* every random choice follows from it */
     td_gen_terrain_kind terrain;
-    double base, interval; /* contour levels base + k * interval */
+    double base, interval; /* contour levels base + k * interval;
+                              interval <= 0: automatic, see
+                              td_gen_auto_interval */
     double line_width;     /* ink line width in px (1..6) */
     double blur;           /* Gaussian blur sigma in px, 0 = none */
     double noise;          /* Gaussian noise sd in grey levels, 0 = none */
     int specks;            /* number of random ink specks (1-6 px blobs) */
     int breaks;            /* number of breaks cut into the lines */
     double break_min, break_max; /* break length range in px */
-    int colour;            /* 0: black on white grey image; 1: brown ink on
-                              cream paper RGB, with blue and black distractors
-                              if distractors != 0 */
+    int colour; /* 0: black on white grey image; 1: brown ink on
+                   cream paper RGB, with blue and black distractors
+                   if distractors != 0 */
     int distractors;
 } td_gen_params;
 
+/* Defaults: 1000 x 1000, seed 1, HILLS, base 0, interval 0 (automatic),
+ * line width 2, no blur, noise, specks or breaks (break length 1..3 px when
+ * breaks are asked for), grey. */
 td_gen_params td_gen_defaults(void);
 
-/* The truth surface sampled at pixel centres (w x h), heights in metres. */
+/* The truth surface sampled at pixel centres (w x h), heights in metres.
+ * Cell (i,j) holds the surface at x = j + 0.5, y = i + 0.5.  Deterministic
+ * from p->seed.  Shapes, with S = min(w,h):
+ *   HILLS   features placed and sized relative to S (a 200 px and a 10000 px
+ *           sheet look alike): three Gaussian summits (two joined by a
+ *           saddle), a Gaussian depression and a gentle tilt; heights about
+ *           0..450 m.  Steepest slope about 1.3 m/px * 1000 / S.
+ *   CONE    h = 400 * (1 - r / (0.45 S)) about the sheet centre, continuing
+ *           below 0 towards the corners.
+ *   PLANE   a tilted plane, 300 m per S, direction from the seed.
+ *   RIDGES  four plane waves with wavelengths 350..900 px in absolute pixels
+ *           (not relative to S, so the ink fraction is the same at any size):
+ *           steepest slope <= 1.5 m/px, about 14% ink with 3 px lines at
+ *           interval 10.
+ * Returns 0 and *dem (free with td_grid_f32_free), or an error. */
 int td_gen_terrain(const td_gen_params *p, td_grid_f32 **dem, td_ctx *cx);
+
+/* The steepest slope of dem in height units per pixel (central differences,
+ * one-sided at the border).  Adjacent contours at interval I are then at
+ * least about I / slope pixels apart. */
+double td_gen_max_slope(const td_grid_f32 *dem);
+
+/* The interval td_gen_sheet uses: p->interval when > 0, else the smallest
+ * of 1, 2, 2.5, 5 x 10^k that is >= 10 and keeps adjacent contours of dem
+ * at least 6.5 px apart (10 on a default 1000 x 1000 HILLS sheet, 20 at
+ * 600 x 450, 50 at 200 x 200; always 10 for RIDGES). */
+double td_gen_auto_interval(const td_gen_params *p, const td_grid_f32 *dem);
 
 /* True contours of dem at base + k*interval: one td_line per connected
  * contour, with height, closed (ring) or edge (ends on the grid border).
@@ -50,12 +80,45 @@ int td_gen_terrain(const td_gen_params *p, td_grid_f32 **dem, td_ctx *cx);
 int td_gen_contours(const td_grid_f32 *dem, double base, double interval,
                     td_lines **out, td_ctx *cx);
 
-/* Render lines as a scanned sheet per p (size p->w x p->h). */
+/* A break cut into line `line` (index into the td_lines): the ink is
+ * missing along the line between arc lengths s0 and s1 (s1 - s0 is the
+ * visible gap, measured along the line); (x,y) is the gap's middle. */
+typedef struct td_gen_break {
+    size_t line;
+    double s0, s1;
+    double x, y;
+} td_gen_break;
+
+/* The breaks td_gen_render cuts for p (p->breaks of them, fewer when the
+ * lines are too short to hold them): lines chosen at random weighted by
+ * length among lines >= 40 px, length uniform in [break_min, break_max],
+ * never within 10 px of an open line's ends, never overlapping.  Returns 0
+ * with *out (free()) and *n, or an error. */
+int td_gen_breaks(const td_lines *lines, const td_gen_params *p,
+                  td_gen_break **out, size_t *n, td_ctx *cx);
+
+/* Render lines as a scanned sheet per p (size p->w x p->h).
+ * Ink coverage of a pixel = clamp(width/2 + 0.5 - d, 0, 1), d = distance
+ * from the pixel centre to the nearest drawn segment; grey = 255 * (1 -
+ * coverage) on white (colour: brown (160,90,40) mixed over cream
+ * (245,235,210) by coverage).  Then, in this order: breaks (td_gen_breaks),
+ * specks (1..6 px blobs at least 4 px from any ink and 15 px from any
+ * break), distractors (colour only: a blue 2 px river and black text-like
+ * words that keep 4 px away from the contours), Gaussian blur, Gaussian
+ * noise.  Grey: 1 channel; colour: 3.  Returns 0 and *sheet (free with
+ * td_image_free), or an error. */
 int td_gen_render(const td_lines *lines, const td_gen_params *p,
                   td_image **sheet, td_ctx *cx);
 
+/* Fraction of pixels darker than threshold (grey, or the mean of the
+ * channels for RGB). */
+double td_gen_ink_fraction(const td_image *im, int threshold);
+
 /* All three in one: sheet, truth lines and the truth DEM (any out pointer
- * may be NULL when not wanted). */
+ * may be NULL when not wanted).  The interval is td_gen_auto_interval's.
+ * Truth lines carry height, closed (rings never touch the border) and edge
+ * (open lines, both ends on the border pixels' centres, i.e. within 0.5 px
+ * of the sheet's edge). */
 int td_gen_sheet(const td_gen_params *p, td_image **sheet, td_lines **truth,
                  td_grid_f32 **dem, td_ctx *cx);
 
