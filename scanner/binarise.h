@@ -20,17 +20,17 @@ typedef enum { TD_INK_DARK, TD_INK_BROWN, TD_INK_RGB } td_ink_kind;
 typedef enum { TD_THR_OTSU, TD_THR_SAUVOLA, TD_THR_FIXED } td_thr_kind;
 
 typedef struct td_binarise_params {
-    td_ink_kind ink;      /* default TD_INK_DARK */
-    uint8_t rgb[3];       /* TD_INK_RGB: the ink colour */
-    int rgb_tol;          /* TD_INK_RGB: colour distance tolerance, default 60
-                             (1..442, Euclidean in RGB levels) */
-    td_thr_kind thr;      /* default TD_THR_OTSU */
-    int thr_value;        /* TD_THR_FIXED: 0..255 on the ink-strength image
-                             (ink where s > thr_value) */
-    int sauvola_window;   /* default 31 (odd, 3..181) */
-    double sauvola_k;     /* default 0.2 (0 < k <= 1) */
-    int min_speck;        /* ink components smaller than this many pixels
-                             (8-connected) are removed; default 8, 0 = keep */
+    td_ink_kind ink;    /* default TD_INK_DARK */
+    uint8_t rgb[3];     /* TD_INK_RGB: the ink colour */
+    int rgb_tol;        /* TD_INK_RGB: colour distance tolerance, default 60
+                           (1..442, Euclidean in RGB levels) */
+    td_thr_kind thr;    /* default TD_THR_OTSU */
+    int thr_value;      /* TD_THR_FIXED: 0..255 on the ink-strength image
+                           (ink where s > thr_value) */
+    int sauvola_window; /* default 31 (odd, 3..181) */
+    double sauvola_k;   /* default 0.2 (0 < k <= 1) */
+    int min_speck;      /* ink components smaller than this many pixels
+                           (8-connected) are removed; default 8, 0 = keep */
 } td_binarise_params;
 
 /* Otsu splits whose class means differ by fewer levels than this are

@@ -69,11 +69,9 @@ static int classify(const td_grid_u8 *g, td_szvec *ends, td_szvec *juncs,
     int x, y;
     for (y = 0; y < g->h; y++) {
         const uint8_t *r = g->data + (size_t)y * g->stride;
-        for (x = 0; x < g->w; x++) {
-            int c;
-            if (!r[x])
-                continue;
-            c = td_skel_crossings(td_skel_nbits(g, x, y));
+        for (x = td_skel_next_ink(r, 0, g->w); x < g->w;
+             x = td_skel_next_ink(r, x + 1, g->w)) {
+            int c = td_skel_crossings(td_skel_nbits(g, x, y));
             if (c == 1 && td_szvec_push(ends, (size_t)y * g->stride + x, cx))
                 return TD_ENOMEM;
             if (c >= 3 && td_szvec_push(juncs, (size_t)y * g->stride + x, cx))

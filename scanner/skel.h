@@ -10,6 +10,8 @@
 
 #include "../src/grid.h"
 
+#include <string.h>
+
 #ifndef M_SQRT2
 #define M_SQRT2 1.41421356237309504880
 #endif
@@ -42,6 +44,25 @@ static inline int td_skel_crossings(unsigned bits)
         if (!((bits >> k) & 1) && ((bits >> ((k + 1) & 7)) & 1))
             n++;
     return n;
+}
+
+/* The first x' >= x with r[x'] != 0, or w; skips paper 8 bytes at a time. */
+static inline int td_skel_next_ink(const uint8_t *r, int x, int w)
+{
+    while (x < w) {
+        if ((x & 7) == 0 && x + 8 <= w) {
+            uint64_t v;
+            memcpy(&v, r + x, 8);
+            if (v == 0) {
+                x += 8;
+                continue;
+            }
+        }
+        if (r[x])
+            return x;
+        x++;
+    }
+    return w;
 }
 
 static inline int td_skel_count(unsigned bits)

@@ -228,11 +228,12 @@ static size_t count_junctions(const td_grid_u8 *g)
 {
     size_t n = 0;
     int x, y;
-    for (y = 0; y < g->h; y++)
-        for (x = 0; x < g->w; x++)
-            if (TD_AT(g, x, y) &&
-                td_skel_crossings(td_skel_nbits(g, x, y)) >= 3)
-                n++;
+    for (y = 0; y < g->h; y++) {
+        const uint8_t *r = g->data + (size_t)y * g->stride;
+        for (x = td_skel_next_ink(r, 0, g->w); x < g->w;
+             x = td_skel_next_ink(r, x + 1, g->w))
+            n += td_skel_crossings(td_skel_nbits(g, x, y)) >= 3;
+    }
     return n;
 }
 
@@ -264,25 +265,20 @@ int td_trace(td_grid_u8 *g, const td_trace_params *p, td_lines **out,
         return TD_ENOMEM;
     st->junctions = count_junctions(g);
     for (y = 0; y < g->h && rc == 0; y++) {
-        uint8_t *r = g->data + (size_t)y * g->stride;
-        for (x = 0; x < g->w && rc == 0; x++) {
-            uint64_t word;
-            if ((x & 7) == 0 && x + 8 <= g->w) {
-                memcpy(&word, r + x, 8);
-                if (word == 0) {
-                    x += 7;
-                    continue;
-                }
-            }
+        const uint8_t *r = g->data + (size_t)y * g->stride;
+        for (x = td_skel_next_ink(r, 0, g->w); x < g->w && rc == 0;
+             x = td_skel_next_ink(r, x + 1, g->w))
             if (r[x] == 1)
                 rc = trace_line(g, ls, x, y, p, cx);
-        }
         if (rc == 0 && (y & 255) == 0)
             rc = td_progress(cx, "trace", (double)y / g->h);
     }
-    for (y = 0; y < g->h; y++)
-        for (x = 0; x < g->w; x++)
-            TD_AT(g, x, y) &= 1;
+    for (y = 0; y < g->h; y++) {
+        uint8_t *r = g->data + (size_t)y * g->stride;
+        for (x = td_skel_next_ink(r, 0, g->w); x < g->w;
+             x = td_skel_next_ink(r, x + 1, g->w))
+            r[x] &= 1;
+    }
     if (rc != 0) {
         td_lines_free(ls);
         return rc;

@@ -1,0 +1,491 @@
+/* binarise.c: scan image -> ink mask (ALGORITHMS.md A.1).
+ *
+ * 1. Ink strength s (u8, high = ink), one image row at a time, written
+ *    into the caller's mask: no full-size float, grey or HSV temporary.
+ * 2. Threshold s in place: Otsu (with a "no ink" contrast guard), Sauvola
+ *    (banded, in the shim) or a fixed level.
+ * 3. Remove 8-connected specks smaller than min_speck (bounded fill).
+ * The user guide with the brownness score and measurements is
+ * docs/binarise.md. */
+#include "binarise.h"
+
+#include "../src/cvshim.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define LUT_N 33 /* brownness table nodes per channel: 0, 8, ..., 256 */
+#define LUT_SIZE (LUT_N * LUT_N * LUT_N)
+#define BAND_ROWS 256 /* rows per strength band and progress report */
+
+td_binarise_params td_binarise_defaults(void)
+{
+    td_binarise_params p;
+    memset(&p, 0, sizeof p);
+    p.ink = TD_INK_DARK;
+    p.rgb_tol = 60;
+    p.thr = TD_THR_OTSU;
+    p.thr_value = 128;
+    p.sauvola_window = 31;
+    p.sauvola_k = 0.2;
+    p.min_speck = 8;
+    return p;
+}
+
+/* ---- option parsing ---------------------------------------------------- */
+
+/* A decimal integer in lo..hi at *s (digits only, no sign); advances *s. */
+static int parse_uint(const char **s, long lo, long hi, int *out)
+{
+    char *end;
+    long v;
+    if (!isdigit((unsigned char)**s))
+        return -1;
+    errno = 0;
+    v = strtol(*s, &end, 10);
+    if (errno != 0 || v < lo || v > hi)
+        return -1;
+    *s = end;
+    *out = (int)v;
+    return 0;
+}
+
+int td_binarise_parse_ink(const char *s, td_binarise_params *p, td_ctx *cx)
+{
+    const char *q = s;
+    int c[3], tol = p->rgb_tol, i;
+    if (!s)
+        return td_seterr(cx, TD_EINVAL, "--ink: missing value");
+    if (strcmp(s, "dark") == 0 || strcmp(s, "brown") == 0) {
+        p->ink = s[0] == 'd' ? TD_INK_DARK : TD_INK_BROWN;
+        return 0;
+    }
+    for (i = 0; i < 3; i++) {
+        if (i > 0 && *q++ != ',')
+            goto bad;
+        if (parse_uint(&q, 0, 255, &c[i]) != 0)
+            goto bad;
+    }
+    if (*q == ':') {
+        q++;
+        if (parse_uint(&q, 1, 442, &tol) != 0)
+            goto bad;
+    }
+    if (*q != '\0')
+        goto bad;
+    p->ink = TD_INK_RGB;
+    for (i = 0; i < 3; i++)
+        p->rgb[i] = (uint8_t)c[i];
+    p->rgb_tol = tol;
+    return 0;
+bad:
+    return td_seterr(cx, TD_EINVAL,
+                     "--ink '%s': expected dark, brown or R,G,B[:tol] "
+                     "(R, G, B 0..255, tol 1..442)",
+                     s);
+}
+
+int td_binarise_parse_threshold(const char *s, td_binarise_params *p,
+                                td_ctx *cx)
+{
+    const char *q = s;
+    int v;
+    if (!s)
+        return td_seterr(cx, TD_EINVAL, "--threshold: missing value");
+    if (strcmp(s, "otsu") == 0) {
+        p->thr = TD_THR_OTSU;
+        return 0;
+    }
+    if (strcmp(s, "sauvola") == 0) {
+        p->thr = TD_THR_SAUVOLA;
+        return 0;
+    }
+    if (parse_uint(&q, 0, 255, &v) != 0 || *q != '\0')
+        return td_seterr(cx, TD_EINVAL,
+                         "--threshold '%s': expected otsu, sauvola or an "
+                         "integer 0..255",
+                         s);
+    p->thr = TD_THR_FIXED;
+    p->thr_value = v;
+    return 0;
+}
+
+/* ---- brownness ----------------------------------------------------------- */
+
+static double ramp(double v, double lo, double hi)
+{
+    double t = (v - lo) / (hi - lo);
+    return t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+}
+
+/* The exact brownness in 0..255 (float).  Hue H in (-180, 180] degrees so
+ * reds sit near 0; weights (docs/binarise.md):
+ *   hue   1 on [10, 42], linear to 0 at -5 and at 55   (orange-brown)
+ *   sat   C / max(V, 90): 0 at 0.15 (cream paper), 1 at 0.45; the floor of
+ *         90 keeps the noisy hue of near-black pixels from counting
+ *   value 1 up to V = 0.85 * 255, down to 0.6 at V = 255 (bright paper) */
+static double brown_exact(int r, int g, int b)
+{
+    int mx = r > g ? (r > b ? r : b) : (g > b ? g : b);
+    int mn = r < g ? (r < b ? r : b) : (g < b ? g : b);
+    double c = mx - mn, h, hw, sw, vw;
+    if (mx == mn)
+        return 0.0;
+    if (mx == r)
+        h = 60.0 * (g - b) / c;
+    else if (mx == g)
+        h = 60.0 * (2.0 + (b - r) / c);
+    else
+        h = 60.0 * (4.0 + (r - g) / c);
+    if (h > 180.0)
+        h -= 360.0;
+    hw = h < 26.0 ? ramp(h, -5.0, 10.0) : 1.0 - ramp(h, 42.0, 55.0);
+    sw = ramp(c / (mx > 128 ? mx : 128), 0.15, 0.45);
+    vw = 1.0 - 0.4 * ramp(mx / 255.0, 0.85, 1.0);
+    return 255.0 * hw * sw * vw;
+}
+
+uint8_t td_binarise_brown_score(uint8_t r, uint8_t g, uint8_t b)
+{
+    return (uint8_t)lrint(brown_exact(r, g, b));
+}
+
+/* Table of brown_exact at the nodes 0, 8, ..., 248, 255 of each channel. */
+static void brown_lut_build(uint8_t *lut)
+{
+    int i, j, k, n = 0;
+    for (i = 0; i < LUT_N; i++)
+        for (j = 0; j < LUT_N; j++)
+            for (k = 0; k < LUT_N; k++) {
+                int r = i * 8 > 255 ? 255 : i * 8;
+                int g = j * 8 > 255 ? 255 : j * 8;
+                int b = k * 8 > 255 ? 255 : k * 8;
+                lut[n++] = (uint8_t)lrint(brown_exact(r, g, b));
+            }
+}
+
+/* Trilinear lookup in the 33^3 table, integer weights in eighths. */
+static inline uint8_t brown_lookup(const uint8_t *lut, int r, int g, int b)
+{
+    const uint8_t *p = lut + ((r >> 3) * LUT_N + (g >> 3)) * LUT_N + (b >> 3);
+    const int N = LUT_N, N2 = LUT_N * LUT_N;
+    int fr = r & 7, fg = g & 7, fb = b & 7;
+    int c00 = p[0] * (8 - fb) + p[1] * fb;
+    int c01 = p[N] * (8 - fb) + p[N + 1] * fb;
+    int c10 = p[N2] * (8 - fb) + p[N2 + 1] * fb;
+    int c11 = p[N2 + N] * (8 - fb) + p[N2 + N + 1] * fb;
+    int c0 = c00 * (8 - fg) + c01 * fg;
+    int c1 = c10 * (8 - fg) + c11 * fg;
+    return (uint8_t)((c0 * (8 - fr) + c1 * fr + 256) >> 9);
+}
+
+/* ---- ink strength rows --------------------------------------------------- */
+
+typedef struct strength_ctx {
+    const td_binarise_params *p;
+    const td_image *im;
+    uint8_t *lut; /* brown only */
+} strength_ctx;
+
+static void row_grey(const uint8_t *px, int w, uint8_t *s)
+{
+    int x;
+    for (x = 0; x < w; x++)
+        s[x] = (uint8_t)(255 - px[x]);
+}
+
+static void row_brown(const uint8_t *lut, const uint8_t *px, int w, uint8_t *s)
+{
+    int x;
+    for (x = 0; x < w; x++, px += 3)
+        s[x] = brown_lookup(lut, px[0], px[1], px[2]);
+}
+
+static void row_rgb(const td_binarise_params *p, const uint8_t *px, int w,
+                    uint8_t *s)
+{
+    int x, tol2 = p->rgb_tol * p->rgb_tol;
+    float inv = 1.0f / (float)p->rgb_tol;
+    for (x = 0; x < w; x++, px += 3) {
+        int dr = px[0] - p->rgb[0], dg = px[1] - p->rgb[1];
+        int db = px[2] - p->rgb[2], d2 = dr * dr + dg * dg + db * db;
+        s[x] = d2 >= tol2
+                   ? 0
+                   : (uint8_t)(255.0f * (1.0f - sqrtf((float)d2) * inv) + 0.5f);
+    }
+}
+
+/* Dark ink on a colour scan, rows [y0, y0+n): OpenCV's RGB -> grey
+ * (BT.601) straight into s, then inverted.  Errors come back without the
+ * shim's own progress reports. */
+static int dark_rows(const td_image *im, td_grid_u8 *s, int y0, int n,
+                     td_ctx *cx)
+{
+    td_image band = *im;
+    td_grid_u8 out = *s;
+    td_ctx quiet;
+    int x, y;
+    td_ctx_init(&quiet);
+    band.h = out.h = n;
+    band.data = im->data + (size_t)y0 * im->stride;
+    out.data = s->data + (size_t)y0 * s->stride;
+    if (td_cv_rgb_to_grey(&band, &out, &quiet) != 0)
+        return td_seterr(cx, quiet.code, "%s", quiet.msg);
+    for (y = 0; y < n; y++) {
+        uint8_t *row = out.data + (size_t)y * out.stride;
+        for (x = 0; x < out.w; x++)
+            row[x] = (uint8_t)(255 - row[x]);
+    }
+    return 0;
+}
+
+/* Ink strength of rows [y0, y0+n) into s. */
+static int strength_rows(const strength_ctx *sc, td_grid_u8 *s, int y0, int n,
+                         td_ctx *cx)
+{
+    const td_image *im = sc->im;
+    int y;
+    if (im->channels == 3 && sc->p->ink == TD_INK_DARK)
+        return dark_rows(im, s, y0, n, cx);
+    for (y = y0; y < y0 + n; y++) {
+        const uint8_t *px = im->data + (size_t)y * im->stride;
+        uint8_t *row = s->data + (size_t)y * s->stride;
+        if (im->channels == 1)
+            row_grey(px, im->w, row);
+        else if (sc->p->ink == TD_INK_BROWN)
+            row_brown(sc->lut, px, im->w, row);
+        else
+            row_rgb(sc->p, px, im->w, row);
+    }
+    return 0;
+}
+
+/* Four interleaved histograms so runs of one value (paper) do not chain
+ * increments of one counter. */
+static void hist_row(const uint8_t *s, int w, uint64_t (*h)[256])
+{
+    int x = 0;
+    for (; x + 4 <= w; x += 4) {
+        h[0][s[x]]++;
+        h[1][s[x + 1]]++;
+        h[2][s[x + 2]]++;
+        h[3][s[x + 3]]++;
+    }
+    for (; x < w; x++)
+        h[0][s[x]]++;
+}
+
+/* Fill s band by band; hist (may be NULL) gets its 256-bin histogram.
+ * Progress "binarise" runs from 0 to frac_end. */
+static int strength_pass(const td_image *im, const td_binarise_params *p,
+                         td_grid_u8 *s, uint64_t *hist, double frac_end,
+                         td_ctx *cx)
+{
+    uint64_t h4[4][256];
+    strength_ctx sc = {p, im, NULL};
+    int y0, y, i, rc = 0;
+    memset(h4, 0, sizeof h4);
+    if (im->channels == 3 && p->ink == TD_INK_BROWN) {
+        sc.lut = td_malloc(LUT_SIZE, cx);
+        if (!sc.lut)
+            return TD_ENOMEM;
+        brown_lut_build(sc.lut);
+    }
+    for (y0 = 0; y0 < im->h; y0 += BAND_ROWS) {
+        int n = im->h - y0 < BAND_ROWS ? im->h - y0 : BAND_ROWS;
+        if ((rc = strength_rows(&sc, s, y0, n, cx)) != 0)
+            goto fail;
+        for (y = y0; hist && y < y0 + n; y++)
+            hist_row(s->data + (size_t)y * s->stride, im->w, h4);
+        if ((rc = td_progress(cx, "binarise", frac_end * (y0 + n) / im->h)) !=
+            0)
+            goto fail;
+    }
+    if (hist)
+        for (i = 0; i < 256; i++)
+            hist[i] = h4[0][i] + h4[1][i] + h4[2][i] + h4[3][i];
+fail:
+    free(sc.lut);
+    return rc;
+}
+
+/* ---- checks -------------------------------------------------------------- */
+
+static int check_image(const td_image *im, const td_binarise_params *p,
+                       const td_grid_u8 *out, td_ctx *cx)
+{
+    if (!im || !im->data || (im->channels != 1 && im->channels != 3) ||
+        im->w <= 0 || im->h <= 0 ||
+        im->stride < (size_t)im->w * (size_t)im->channels)
+        return td_seterr(cx, TD_EINVAL, "binarise: invalid image");
+    if (!out || !out->data || out->w != im->w || out->h != im->h ||
+        out->stride < (size_t)out->w)
+        return td_seterr(cx, TD_EINVAL, "binarise: mask must be a %d x %d grid",
+                         im->w, im->h);
+    if (im->channels == 1 && p->ink == TD_INK_BROWN)
+        return td_seterr(cx, TD_EINVAL, "--ink brown needs a colour scan");
+    if (im->channels == 1 && p->ink == TD_INK_RGB)
+        return td_seterr(cx, TD_EINVAL, "--ink R,G,B needs a colour scan");
+    if (p->ink == TD_INK_RGB && (p->rgb_tol < 1 || p->rgb_tol > 442))
+        return td_seterr(cx, TD_EINVAL, "--ink: tolerance %d (1..442)",
+                         p->rgb_tol);
+    return 0;
+}
+
+static int check_params(const td_binarise_params *p, td_ctx *cx)
+{
+    if (p->thr == TD_THR_FIXED && (p->thr_value < 0 || p->thr_value > 255))
+        return td_seterr(cx, TD_EINVAL, "--threshold %d (0..255)",
+                         p->thr_value);
+    if (p->thr == TD_THR_SAUVOLA &&
+        (p->sauvola_window < 3 || p->sauvola_window > 181 ||
+         p->sauvola_window % 2 == 0 ||
+         !(p->sauvola_k > 0.0 && p->sauvola_k <= 1.0)))
+        return td_seterr(cx, TD_EINVAL,
+                         "sauvola: window %d (odd, 3..181), k %g (0..1]",
+                         p->sauvola_window, p->sauvola_k);
+    if (p->min_speck < 0)
+        return td_seterr(cx, TD_EINVAL, "--min-speck %d (>= 0)", p->min_speck);
+    return 0;
+}
+
+int td_binarise_strength(const td_image *im, const td_binarise_params *p,
+                         td_grid_u8 *s, td_ctx *cx)
+{
+    int rc = check_image(im, p, s, cx);
+    return rc != 0 ? rc : strength_pass(im, p, s, NULL, 1.0, cx);
+}
+
+/* ---- thresholds ---------------------------------------------------------- */
+
+/* Otsu's level on the histogram, refusing sheets without ink: when the two
+ * classes' means are closer than TD_BINARISE_MIN_CONTRAST, Otsu has split
+ * paper noise (or a smooth shading), not ink from paper. */
+static int otsu_level(const uint64_t *hist, int *t, td_ctx *cx)
+{
+    double n0 = 0, s0 = 0, n1 = 0, s1 = 0, sep;
+    int i, rc = td_cv_otsu_hist(hist, t, cx);
+    if (rc != 0)
+        return rc;
+    for (i = 0; i < 256; i++) {
+        if (i <= *t) {
+            n0 += (double)hist[i];
+            s0 += (double)hist[i] * i;
+        } else {
+            n1 += (double)hist[i];
+            s1 += (double)hist[i] * i;
+        }
+    }
+    sep = n0 > 0 && n1 > 0 ? s1 / n1 - s0 / n0 : 0.0;
+    if (sep < TD_BINARISE_MIN_CONTRAST)
+        return td_seterr(cx, TD_EFORMAT,
+                         "no ink found (is --ink right?): ink and paper "
+                         "differ by %.0f levels, fewer than %d",
+                         sep, TD_BINARISE_MIN_CONTRAST);
+    return 0;
+}
+
+static void apply_level(td_grid_u8 *m, int t)
+{
+    int x, y;
+    for (y = 0; y < m->h; y++) {
+        uint8_t *row = m->data + (size_t)y * m->stride;
+        for (x = 0; x < m->w; x++)
+            row[x] = row[x] > t;
+    }
+}
+
+static int any_ink(const td_grid_u8 *m)
+{
+    int y;
+    for (y = 0; y < m->h; y++)
+        if (memchr(m->data + (size_t)y * m->stride, 1, (size_t)m->w))
+            return 1;
+    return 0;
+}
+
+/* Shim calls report their own stage names; while one runs, its progress is
+ * mapped onto [a, b] of stage "binarise". */
+typedef struct remap {
+    td_progress_fn fn;
+    void *user;
+    double a, b;
+} remap;
+
+static int remap_cb(const char *stage, double frac, void *user)
+{
+    const remap *r = user;
+    (void)stage;
+    return r->fn("binarise", r->a + (r->b - r->a) * frac, r->user);
+}
+
+static void remap_begin(td_ctx *cx, remap *r, double a, double b)
+{
+    r->fn = cx ? cx->progress : NULL;
+    r->user = cx ? cx->progress_user : NULL;
+    r->a = a;
+    r->b = b;
+    if (r->fn) {
+        cx->progress = remap_cb;
+        cx->progress_user = r;
+    }
+}
+
+static void remap_end(td_ctx *cx, const remap *r)
+{
+    if (r->fn) {
+        cx->progress = r->fn;
+        cx->progress_user = r->user;
+    }
+}
+
+/* Threshold the strength image held in m, in place. */
+static int threshold(td_grid_u8 *m, const td_binarise_params *p,
+                     const uint64_t *hist, td_ctx *cx)
+{
+    remap r;
+    int t, rc;
+    if (p->thr == TD_THR_SAUVOLA) {
+        remap_begin(cx, &r, 0.4, 0.8);
+        rc = td_cv_sauvola(m, p->sauvola_window, p->sauvola_k, m, cx);
+        remap_end(cx, &r);
+        return rc;
+    }
+    t = p->thr_value;
+    if (p->thr == TD_THR_OTSU && (rc = otsu_level(hist, &t, cx)) != 0)
+        return rc;
+    apply_level(m, t);
+    return 0;
+}
+
+int td_binarise(const td_image *im, const td_binarise_params *p,
+                td_grid_u8 *mask, td_ctx *cx)
+{
+    uint64_t hist[256];
+    remap r;
+    int rc;
+    if ((rc = check_image(im, p, mask, cx)) != 0 ||
+        (rc = check_params(p, cx)) != 0)
+        goto fail;
+    rc = strength_pass(im, p, mask, p->thr == TD_THR_OTSU ? hist : NULL, 0.4,
+                       cx);
+    if (rc != 0 || (rc = threshold(mask, p, hist, cx)) != 0)
+        goto fail;
+    if (p->min_speck > 1) {
+        remap_begin(cx, &r, 0.8, 1.0);
+        rc = td_cv_remove_specks(mask, p->min_speck, NULL, cx);
+        remap_end(cx, &r);
+        if (rc != 0)
+            goto fail;
+    }
+    if (!any_ink(mask)) {
+        rc = td_seterr(cx, TD_EFORMAT, "no ink found (is --ink right?)");
+        goto fail;
+    }
+    rc = td_progress(cx, "binarise", 1.0);
+fail:
+    return rc;
+}
