@@ -15,7 +15,7 @@ CFLAGS  += -std=c11 $(OPT) -Wall -Wextra -Wshadow -Wno-unused-parameter -MMD -MP
 CXXFLAGS+= -std=c++17 $(OPT) -Wall -Wextra -Wno-unused-parameter -MMD -MP
 CPPFLAGS+= -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -Isrc -I. -I/usr/include/geotiff
 CV_CFLAGS = $(shell pkg-config --cflags opencv4 2>/dev/null || echo -I/usr/include/opencv4)
-CV_LIBS   = -lopencv_ximgproc -lopencv_imgcodecs -lopencv_imgproc -lopencv_core
+CV_LIBS   = -lopencv_imgcodecs -lopencv_imgproc -lopencv_core
 LDLIBS  += $(CV_LIBS) -lgeotiff -ltiff -lpng -lz -lstdc++ -lm
 
 # Debian packages the build, tests and benchmarks use.

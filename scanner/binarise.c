@@ -124,8 +124,8 @@ static double ramp(double v, double lo, double hi)
 /* The exact brownness in 0..255 (float).  Hue H in (-180, 180] degrees so
  * reds sit near 0; weights (docs/binarise.md):
  *   hue   1 on [10, 42], linear to 0 at -5 and at 55   (orange-brown)
- *   sat   C / max(V, 90): 0 at 0.15 (cream paper), 1 at 0.45; the floor of
- *         90 keeps the noisy hue of near-black pixels from counting
+ *   sat   C / max(V, 128): 0 at 0.15 (cream paper), 1 at 0.45; the floor of
+ *         128 keeps the noisy hue of near-black pixels from counting
  *   value 1 up to V = 0.85 * 255, down to 0.6 at V = 255 (bright paper) */
 static double brown_exact(int r, int g, int b)
 {

@@ -47,7 +47,7 @@ int td_binarise_parse_threshold(const char *s, td_binarise_params *p,
                                 td_ctx *cx);
 
 /* The exact "brownness" of one colour, 0..255 (docs/binarise.md):
- *   255 * hue_weight(H) * sat_weight(C / max(V, 90)) * value_weight(V)
+ *   255 * hue_weight(H) * sat_weight(C / max(V, 128)) * value_weight(V)
  * with H the HSV hue in degrees, C = max - min, V = max (RGB levels).
  * td_binarise uses a 33^3 table of this function with trilinear lookup. */
 uint8_t td_binarise_brown_score(uint8_t r, uint8_t g, uint8_t b);
@@ -64,6 +64,7 @@ int td_binarise_strength(const td_image *im, const td_binarise_params *p,
  * R,G,B on a grey scan), TD_EFORMAT "no ink found (is --ink right?)" when
  * the sheet has no ink at all (Otsu classes closer than
  * TD_BINARISE_MIN_CONTRAST levels, or an empty mask), TD_ECANCEL.
+ * On error the mask's contents are unspecified.
  * Progress: stage "binarise".  Peak extra memory: no per-pixel memory (the
  * strength image is built in mask and thresholded in place); 36 KB table
  * for brown; O(width x (128 + window)) for Sauvola; O(min_speck) for speck

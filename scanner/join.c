@@ -286,7 +286,8 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
         goto fail;
     if ((rc = find_pairs(ls, e, ne, p, &pairs, &np, cx)) != 0)
         goto fail;
-    qsort(pairs, np, sizeof *pairs, cmp_pair);
+    if (np > 0)
+        qsort(pairs, np, sizeof *pairs, cmp_pair);
     for (i = 0; i < np; i++) {
         jend *a = &e[pairs[i].a], *b = &e[pairs[i].b];
         if (a->partner >= 0 || b->partner >= 0)
