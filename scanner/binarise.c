@@ -5,6 +5,7 @@
  * 2. Threshold s in place: Otsu (with a "no ink" contrast guard), Sauvola
  *    (banded, in the shim) or a fixed level.
  * 3. Remove 8-connected specks smaller than min_speck (bounded fill).
+ * 4. Fill pinholes (paper components) smaller than min_hole.
  * The user guide with the brownness score and measurements is
  * docs/binarise.md. */
 #include "binarise.h"
@@ -32,6 +33,7 @@ td_binarise_params td_binarise_defaults(void)
     p.sauvola_window = 31;
     p.sauvola_k = 0.2;
     p.min_speck = 8;
+    p.min_hole = 8;
     return p;
 }
 
@@ -475,8 +477,15 @@ int td_binarise(const td_image *im, const td_binarise_params *p,
     if (rc != 0 || (rc = threshold(mask, p, hist, cx)) != 0)
         goto fail;
     if (p->min_speck > 1) {
-        remap_begin(cx, &r, 0.8, 1.0);
+        remap_begin(cx, &r, 0.8, 0.9);
         rc = td_cv_remove_specks(mask, p->min_speck, NULL, cx);
+        remap_end(cx, &r);
+        if (rc != 0)
+            goto fail;
+    }
+    if (p->min_hole > 1) {
+        remap_begin(cx, &r, 0.9, 1.0);
+        rc = td_cv_fill_holes(mask, p->min_hole, NULL, cx);
         remap_end(cx, &r);
         if (rc != 0)
             goto fail;

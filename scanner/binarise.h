@@ -31,6 +31,10 @@ typedef struct td_binarise_params {
     double sauvola_k;   /* default 0.2 (0 < k <= 1) */
     int min_speck;      /* ink components smaller than this many pixels
                            (8-connected) are removed; default 8, 0 = keep */
+    int min_hole;       /* paper components (pinholes in the ink) smaller
+                           than this are filled; default 8, 0 = keep.  Not
+                           the paper's: noisy scans leave pinholes that
+                           thinning would keep as tiny loops */
 } td_binarise_params;
 
 /* Otsu splits whose class means differ by fewer levels than this are

@@ -1,11 +1,13 @@
 /* Gap joining of traced lines (ALGORITHMS.md A.4 "beyond").
  *
- *        a.t -->   gap g   <-- b.t         joined when |g| <= max_gap and
+ *        a.t -->   gap g   <-- b.t         joined when |g| <= max_gap,
  *   ======a  . . . . . . . .  b=======     angle(a.t, g) and angle(b.t, -g)
- *                                          are both <= max_angle
+ *                                          are <= max_angle (or the other
+ *   end lies within 2.5 px of the tangent line and the angle is under 75,
+ *   for short gaps whose ends are offset sideways by skeleton noise).
  *
- * Each open end gets an outward tangent (from the point `tangent` px back
- * along the line to the end).  Candidate pairs come from a bucket grid of
+ * Each open end gets an outward tangent (the chord from `tangent` + 2 px
+ * back along the line to 2 px back).  Candidate pairs come from a bucket grid of
  * ends; pairs are accepted cheapest first, each end once; accepted pairs
  * chain lines together, and a chain that returns to where it started (or a
  * line joined to itself) is closed. */
@@ -38,11 +40,13 @@ td_join_params td_join_defaults(int w, int h)
     return p;
 }
 
-static void end_of(const td_line *l, int at_end, double tangent, jend *e)
+/* The point reached walking `dist` px along l from its start (at_end 0)
+ * or its end (at_end 1); returns its index. */
+static size_t walk_back(const td_line *l, int at_end, double dist)
 {
-    size_t n = l->n, i0 = at_end ? n - 1 : 0, k = i0;
-    double len = 0.0, dx, dy, d;
-    while (len < tangent) {
+    size_t n = l->n, k = at_end ? n - 1 : 0;
+    double len = 0.0;
+    while (len < dist) {
         size_t nk = at_end ? (k == 0 ? 0 : k - 1) : (k + 1 < n ? k + 1 : k);
         if (nk == k)
             break;
@@ -50,11 +54,26 @@ static void end_of(const td_line *l, int at_end, double tangent, jend *e)
                      l->xy[2 * nk + 1] - l->xy[2 * k + 1]);
         k = nk;
     }
+    return k;
+}
+
+/* An end and its outward tangent: the chord from `tangent` + 2 px back to
+ * 2 px back, so a one- or two-pixel hook at the very end (thinning of a
+ * ragged line end) does not turn it. */
+static void end_of(const td_line *l, int at_end, double tangent, jend *e)
+{
+    size_t i0 = at_end ? l->n - 1 : 0;
+    size_t near = walk_back(l, at_end, 2.0);
+    size_t far = walk_back(l, at_end, tangent + 2.0);
+    double dx = l->xy[2 * near] - l->xy[2 * far];
+    double dy = l->xy[2 * near + 1] - l->xy[2 * far + 1], d;
+    if (near == far) { /* a line shorter than 2 px */
+        dx = l->xy[2 * i0] - l->xy[2 * far];
+        dy = l->xy[2 * i0 + 1] - l->xy[2 * far + 1];
+    }
+    d = hypot(dx, dy);
     e->x = l->xy[2 * i0];
     e->y = l->xy[2 * i0 + 1];
-    dx = e->x - l->xy[2 * k];
-    dy = e->y - l->xy[2 * k + 1];
-    d = hypot(dx, dy);
     e->tx = d > 0 ? dx / d : 0.0;
     e->ty = d > 0 ? dy / d : 0.0;
     e->at_end = at_end;
@@ -77,6 +96,17 @@ static double angle_to(double tx, double ty, double gx, double gy)
     return acos(c) * (180.0 / M_PI);
 }
 
+/* Whether end (tx,ty) at one side of gap (gx,gy) points across it: within
+ * max_angle, or, for ends offset sideways by skeleton noise, passing within
+ * TD_JOIN_SIDE px of the other end while still facing it. */
+#define TD_JOIN_SIDE 2.5
+static int faces(double tx, double ty, double gx, double gy, double ang,
+                 double max_angle)
+{
+    double side = fabs(tx * gy - ty * gx);
+    return ang <= max_angle || (side <= TD_JOIN_SIDE && ang < 75.0);
+}
+
 /* Cost of joining ends a and b, or a negative value when not allowed. */
 static double pair_cost(const td_lines *ls, const jend *a, const jend *b,
                         const td_join_params *p)
@@ -87,13 +117,15 @@ static double pair_cost(const td_lines *ls, const jend *a, const jend *b,
     if (a->line == b->line &&
         (ls->v[a->line].n < 4 || td_line_length(&ls->v[a->line]) < 4 * d))
         return -1.0;
-    if (d <= 2.0)
+    if (d <= 3.0) /* too short for a direction: any two ends that close */
         return d;
     ga = angle_to(a->tx, a->ty, gx, gy);
     gb = angle_to(b->tx, b->ty, -gx, -gy);
-    if (ga > p->max_angle || gb > p->max_angle)
+    if (!faces(a->tx, a->ty, gx, gy, ga, p->max_angle) ||
+        !faces(b->tx, b->ty, -gx, -gy, gb, p->max_angle))
         return -1.0;
-    return d * (1.0 + (ga + gb) / p->max_angle);
+    return d * (1.0 + (fmin(ga, p->max_angle) + fmin(gb, p->max_angle)) /
+                          p->max_angle);
 }
 
 static int cmp_pair(const void *pa, const void *pb)

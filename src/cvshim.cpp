@@ -333,7 +333,17 @@ int median3(td_grid_u8 *g, td_ctx *cx)
     return 0;
 }
 
-// ---- speck removal -----------------------------------------------------
+// ---- speck removal and hole filling -------------------------------------
+
+// 0 <-> 1 (any nonzero counts as 1).
+void invert01(td_grid_u8 *m)
+{
+    for (int y = 0; y < m->h; y++) {
+        uint8_t *row = m->data + (size_t)y * m->stride;
+        for (int x = 0; x < m->w; x++)
+            row[x] = row[x] == 0;
+    }
+}
 
 // Cell states during speck removal.
 enum : uint8_t { PAPER = 0, INK = 1, BIG = 2, SEEN = 3 };
@@ -348,7 +358,8 @@ struct xy {
 //   8-neighbourhood:  NW N NE
 //                     W  *  E
 //                     SW S SE
-int fill_one(td_grid_u8 *m, int x0, int y0, int min_area, std::vector<xy> &list)
+int fill_one(td_grid_u8 *m, int x0, int y0, int min_area, bool four,
+             std::vector<xy> &list)
 {
     list.clear();
     list.push_back({x0, y0});
@@ -363,7 +374,8 @@ int fill_one(td_grid_u8 *m, int x0, int y0, int min_area, std::vector<xy> &list)
             uint8_t *row = m->data + (size_t)y * m->stride;
             for (int dx = -1; dx <= 1; dx++) {
                 int x = c.x + dx;
-                if (x < 0 || x >= m->w || row[x] == PAPER || row[x] == SEEN)
+                if ((four && dx && dy) || x < 0 || x >= m->w ||
+                    row[x] == PAPER || row[x] == SEEN)
                     continue;
                 if (row[x] == BIG || list.size() + 1 >= (size_t)min_area) {
                     big = true;
@@ -380,18 +392,23 @@ int fill_one(td_grid_u8 *m, int x0, int y0, int min_area, std::vector<xy> &list)
     return !big;
 }
 
-// Whether an already-scanned 8-neighbour (W, NW, N, NE) of cell x is BIG.
-inline bool touches_big(const uint8_t *row, const uint8_t *up, int x, int w)
+// Whether an already-scanned neighbour (W, N; with 8-connectivity also NW,
+// NE) of cell x is BIG.
+inline bool touches_big(const uint8_t *row, const uint8_t *up, int x, int w,
+                        bool four)
 {
     if (x > 0 && row[x - 1] == BIG)
         return true;
     if (!up)
         return false;
-    return up[x] == BIG || (x > 0 && up[x - 1] == BIG) ||
-           (x + 1 < w && up[x + 1] == BIG);
+    if (up[x] == BIG)
+        return true;
+    return !four && ((x > 0 && up[x - 1] == BIG) ||
+                     (x + 1 < w && up[x + 1] == BIG));
 }
 
-int remove_specks(td_grid_u8 *m, int min_area, size_t *removed, td_ctx *cx)
+int remove_specks(td_grid_u8 *m, int min_area, bool four, size_t *removed,
+                  td_ctx *cx)
 {
     size_t n = 0;
     std::vector<xy> list;
@@ -410,10 +427,10 @@ int remove_specks(td_grid_u8 *m, int min_area, size_t *removed, td_ctx *cx)
                     break;
                 x = (int)((const uint8_t *)q - row);
             }
-            if (touches_big(row, up, x, m->w)) // most cells of long lines
+            if (touches_big(row, up, x, m->w, four)) // most cells of lines
                 row[x] = BIG;
             else
-                n += (size_t)fill_one(m, x, y, min_area, list);
+                n += (size_t)fill_one(m, x, y, min_area, four, list);
         }
         if ((y & 255) == 255) {
             int rc = td_progress(cx, "specks", (double)y / m->h);
@@ -659,7 +676,25 @@ int td_cv_remove_specks(td_grid_u8 *mask, int min_area, size_t *removed,
             *removed = 0;
         if (min_area <= 1) // every component has at least one cell
             return 0;
-        return remove_specks(mask, min_area, removed, cx);
+        return remove_specks(mask, min_area, false, removed, cx);
+    });
+}
+
+int td_cv_fill_holes(td_grid_u8 *mask, int min_area, size_t *filled,
+                     td_ctx *cx)
+{
+    return guarded("holes", cx, [&] {
+        int rc = check_grid(mask, "holes", cx);
+        if (rc != 0)
+            return rc;
+        if (filled)
+            *filled = 0;
+        if (min_area <= 1)
+            return 0;
+        invert01(mask);
+        rc = remove_specks(mask, min_area, true, filled, cx);
+        invert01(mask);
+        return rc;
     });
 }
 

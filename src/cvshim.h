@@ -81,6 +81,13 @@ int td_cv_median3(td_grid_u8 *g, td_ctx *cx);
 int td_cv_remove_specks(td_grid_u8 *mask, int min_area, size_t *removed,
                         td_ctx *cx);
 
+/* Fill holes: 4-connected components of zero cells (the dual of 8-connected
+ * ink, so a pinhole touching the paper only diagonally is a hole too) with
+ * fewer than min_area cells become 1.  Same bounded fill and memory as
+ * td_cv_remove_specks; *filled may be NULL.  Progress: "holes". */
+int td_cv_fill_holes(td_grid_u8 *mask, int min_area, size_t *filled,
+                     td_ctx *cx);
+
 /* Zhang-Suen thinning by OpenCV ximgproc (opencv_contrib), in place on a
  * mask (nonzero = ink; result 0/1).  The benchmark anchor for Hilditch
  * thinning, not a stage: the library is loaded at run time, so programs

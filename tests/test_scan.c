@@ -70,6 +70,24 @@ static void test_hills_noisy(void)
     expect_ok("hills, noise, specks, breaks 1-4 px", &gp, &sp);
 }
 
+/* A rough scan: heavy noise after a blur leaves ragged edges and pinholes
+ * in the ink (filled before thinning) and whiskers (despurred). */
+static void test_rough(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_scan_params sp = td_scan_defaults();
+    gp.w = 1000;
+    gp.h = 800;
+    gp.seed = 21;
+    gp.line_width = 4;
+    gp.noise = 40;
+    gp.blur = 1.0;
+    gp.breaks = 30;
+    gp.break_min = 1;
+    gp.break_max = 4;
+    expect_ok("rough: noise 40, blur 1, breaks", &gp, &sp);
+}
+
 /* Line widths 1 to 6 px. */
 static void test_widths(void)
 {
@@ -159,6 +177,7 @@ int main(void)
 {
     TT_RUN(test_hills_noisy);
     TT_RUN(test_widths);
+    TT_RUN(test_rough);
     TT_RUN(test_cone);
     TT_RUN(test_plane);
     TT_RUN(test_brown);

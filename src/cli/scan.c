@@ -27,6 +27,7 @@ static const char help[] =
     "      --ink KIND         dark | brown | R,G,B[:tol]   (default dark)\n"
     "      --threshold T      otsu | sauvola | N (0-255)   (default otsu)\n"
     "      --min-speck N      remove ink specks under N px (default 8)\n"
+    "      --min-hole N       fill pinholes in the ink under N px (default 8)\n"
     "      --spur MODE        length | paper | none        (default length)\n"
     "      --spur-max PX      longest spur, px along the skeleton (default 10)\n"
     "      --no-bridge        no 5x5 gap bridging while tracing\n"
@@ -46,7 +47,7 @@ typedef struct scan_opts {
     td_scan_params p;
 } scan_opts;
 
-enum { O_INK = 256, O_THR, O_SPECK, O_SPUR, O_SPURMAX, O_NOBRIDGE, O_NOJOIN,
+enum { O_INK = 256, O_THR, O_SPECK, O_HOLE, O_SPUR, O_SPURMAX, O_NOBRIDGE, O_NOJOIN,
        O_MAXGAP, O_DEBUG };
 
 static int parse_opt(int c, const char *arg, scan_opts *o, td_ctx *cx)
@@ -63,10 +64,15 @@ static int parse_opt(int c, const char *arg, scan_opts *o, td_ctx *cx)
     case O_NOJOIN: o->p.do_join = 0; return 0;
     case O_DEBUG: o->debug_dir = arg; return 0;
     case O_SPECK:
+    case O_HOLE:
         if (td_cli_parse_int(arg, 0, 1000000, &v) != 0)
-            return td_seterr(cx, TD_EINVAL, "--min-speck: '%s' is not a "
-                             "whole number 0..1000000", arg);
-        o->p.bin.min_speck = (int)v;
+            return td_seterr(cx, TD_EINVAL, "%s: '%s' is not a whole number "
+                             "0..1000000", c == O_SPECK ? "--min-speck" :
+                             "--min-hole", arg);
+        if (c == O_SPECK)
+            o->p.bin.min_speck = (int)v;
+        else
+            o->p.bin.min_hole = (int)v;
         return 0;
     case O_SPURMAX:
     case O_MAXGAP:
@@ -88,7 +94,7 @@ static int parse_args(int argc, char **argv, scan_opts *o)
     static const struct option lo[] = {
         {"output", 1, 0, 'o'}, {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'},
         {"ink", 1, 0, O_INK}, {"threshold", 1, 0, O_THR},
-        {"min-speck", 1, 0, O_SPECK}, {"spur", 1, 0, O_SPUR},
+        {"min-speck", 1, 0, O_SPECK}, {"min-hole", 1, 0, O_HOLE}, {"spur", 1, 0, O_SPUR},
         {"spur-max", 1, 0, O_SPURMAX}, {"no-bridge", 0, 0, O_NOBRIDGE},
         {"no-join", 0, 0, O_NOJOIN}, {"max-gap", 1, 0, O_MAXGAP},
         {"debug-dir", 1, 0, O_DEBUG}, {0, 0, 0, 0}};
