@@ -11,12 +11,12 @@ BUILD   ?= build
 CC      ?= cc
 CXX     ?= c++
 OPT     ?= -O2 -g
-CFLAGS  += -std=c11 $(OPT) -Wall -Wextra -Wshadow -Wno-unused-parameter -MMD -MP
-CXXFLAGS+= -std=c++17 $(OPT) -Wall -Wextra -Wno-unused-parameter -MMD -MP
+CFLAGS  += -std=c11 $(OPT) -fopenmp -Wall -Wextra -Wshadow -Wno-unused-parameter -MMD -MP
+CXXFLAGS+= -std=c++17 $(OPT) -fopenmp -Wall -Wextra -Wno-unused-parameter -MMD -MP
 CPPFLAGS+= -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -Isrc -I. -I/usr/include/geotiff
 CV_CFLAGS = $(shell pkg-config --cflags opencv4 2>/dev/null || echo -I/usr/include/opencv4)
 CV_LIBS   = -lopencv_imgcodecs -lopencv_imgproc -lopencv_core
-LDLIBS  += $(CV_LIBS) -lgeotiff -ltiff -lpng -lz -lstdc++ -lm
+LDLIBS  += $(CV_LIBS) -lgeotiff -ltiff -lpng -lz -lstdc++ -lgomp -lm
 
 # Debian packages the build, tests and benchmarks use.
 DEB_PKGS = gcc g++ make pkg-config libopencv-dev libopencv-contrib-dev \

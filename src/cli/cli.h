@@ -34,7 +34,8 @@ int td_cli_failf(const char *cmd, const char *fmt, ...)
 int td_cli_parse_int(const char *s, long lo, long hi, long *out);
 int td_cli_parse_double(const char *s, double lo, double hi, double *out);
 
-/* Subcommands: each returns the process exit code. */
+/* Subcommands (src/cli/<name>.c, listed in src/cli/main.c): each returns
+ * the process exit code. */
 int td_cmd_scan(int argc, char **argv);
 
 #endif
