@@ -335,14 +335,58 @@ int median3(td_grid_u8 *g, td_ctx *cx)
 
 // ---- speck removal and hole filling -------------------------------------
 
-// 0 <-> 1 (any nonzero counts as 1).
-void invert01(td_grid_u8 *m)
+// Bounded 4-connected fill of the paper component of (x0,y0): returns 1
+// and makes it ink when it has fewer than min_area cells and does not touch
+// the sheet border, else leaves it paper.  Cells are marked 2 while visited.
+//   4-neighbourhood:     N
+//                      W * E
+//                        S
+int fill_hole(td_grid_u8 *m, int x0, int y0, int min_area,
+              std::vector<std::pair<int, int>> &list)
 {
-    for (int y = 0; y < m->h; y++) {
+    static const int dx[4] = {1, 0, -1, 0}, dy[4] = {0, -1, 0, 1};
+    bool small = true;
+    list.clear();
+    list.push_back({x0, y0});
+    TD_AT(m, x0, y0) = 2;
+    for (size_t i = 0; i < list.size() && small; i++)
+        for (int k = 0; k < 4 && small; k++) {
+            int x = list[i].first + dx[k], y = list[i].second + dy[k];
+            if (x < 0 || y < 0 || x >= m->w || y >= m->h)
+                small = false; // touches the border: outside, not a hole
+            else if (TD_AT(m, x, y) == 0) {
+                if ((int)list.size() + 1 >= min_area)
+                    small = false;
+                TD_AT(m, x, y) = 2;
+                list.push_back({x, y});
+            }
+        }
+    for (const auto &c : list)
+        TD_AT(m, c.first, c.second) = small ? 1 : 0;
+    return small;
+}
+
+// Holes: the first cell of a 4-connected paper component in raster order
+// has ink above and to its left, so only those cells seed a fill.
+int fill_holes(td_grid_u8 *m, int min_area, size_t *filled, td_ctx *cx)
+{
+    std::vector<std::pair<int, int>> list;
+    size_t n = 0;
+    for (int y = 1; y < m->h; y++) {
         uint8_t *row = m->data + (size_t)y * m->stride;
-        for (int x = 0; x < m->w; x++)
-            row[x] = row[x] == 0;
+        const uint8_t *up = row - m->stride;
+        for (int x = 1; x < m->w; x++)
+            if (row[x] == 0 && row[x - 1] && up[x])
+                n += (size_t)fill_hole(m, x, y, min_area, list);
+        if ((y & 1023) == 1023) {
+            int rc = td_progress(cx, "holes", (double)y / m->h);
+            if (rc != 0)
+                return rc;
+        }
     }
+    if (filled)
+        *filled = n;
+    return td_progress(cx, "holes", 1.0);
 }
 
 // Cell states during speck removal.
@@ -358,8 +402,7 @@ struct xy {
 //   8-neighbourhood:  NW N NE
 //                     W  *  E
 //                     SW S SE
-int fill_one(td_grid_u8 *m, int x0, int y0, int min_area, bool four,
-             std::vector<xy> &list)
+int fill_one(td_grid_u8 *m, int x0, int y0, int min_area, std::vector<xy> &list)
 {
     list.clear();
     list.push_back({x0, y0});
@@ -374,8 +417,7 @@ int fill_one(td_grid_u8 *m, int x0, int y0, int min_area, bool four,
             uint8_t *row = m->data + (size_t)y * m->stride;
             for (int dx = -1; dx <= 1; dx++) {
                 int x = c.x + dx;
-                if ((four && dx && dy) || x < 0 || x >= m->w ||
-                    row[x] == PAPER || row[x] == SEEN)
+                if (x < 0 || x >= m->w || row[x] == PAPER || row[x] == SEEN)
                     continue;
                 if (row[x] == BIG || list.size() + 1 >= (size_t)min_area) {
                     big = true;
@@ -392,23 +434,18 @@ int fill_one(td_grid_u8 *m, int x0, int y0, int min_area, bool four,
     return !big;
 }
 
-// Whether an already-scanned neighbour (W, N; with 8-connectivity also NW,
-// NE) of cell x is BIG.
-inline bool touches_big(const uint8_t *row, const uint8_t *up, int x, int w,
-                        bool four)
+// Whether an already-scanned 8-neighbour (W, NW, N, NE) of cell x is BIG.
+inline bool touches_big(const uint8_t *row, const uint8_t *up, int x, int w)
 {
     if (x > 0 && row[x - 1] == BIG)
         return true;
     if (!up)
         return false;
-    if (up[x] == BIG)
-        return true;
-    return !four && ((x > 0 && up[x - 1] == BIG) ||
-                     (x + 1 < w && up[x + 1] == BIG));
+    return up[x] == BIG || (x > 0 && up[x - 1] == BIG) ||
+           (x + 1 < w && up[x + 1] == BIG);
 }
 
-int remove_specks(td_grid_u8 *m, int min_area, bool four, size_t *removed,
-                  td_ctx *cx)
+int remove_specks(td_grid_u8 *m, int min_area, size_t *removed, td_ctx *cx)
 {
     size_t n = 0;
     std::vector<xy> list;
@@ -427,10 +464,10 @@ int remove_specks(td_grid_u8 *m, int min_area, bool four, size_t *removed,
                     break;
                 x = (int)((const uint8_t *)q - row);
             }
-            if (touches_big(row, up, x, m->w, four)) // most cells of lines
+            if (touches_big(row, up, x, m->w)) // most cells of long lines
                 row[x] = BIG;
             else
-                n += (size_t)fill_one(m, x, y, min_area, four, list);
+                n += (size_t)fill_one(m, x, y, min_area, list);
         }
         if ((y & 255) == 255) {
             int rc = td_progress(cx, "specks", (double)y / m->h);
@@ -676,7 +713,7 @@ int td_cv_remove_specks(td_grid_u8 *mask, int min_area, size_t *removed,
             *removed = 0;
         if (min_area <= 1) // every component has at least one cell
             return 0;
-        return remove_specks(mask, min_area, false, removed, cx);
+        return remove_specks(mask, min_area, removed, cx);
     });
 }
 
@@ -691,10 +728,7 @@ int td_cv_fill_holes(td_grid_u8 *mask, int min_area, size_t *filled,
             *filled = 0;
         if (min_area <= 1)
             return 0;
-        invert01(mask);
-        rc = remove_specks(mask, min_area, true, filled, cx);
-        invert01(mask);
-        return rc;
+        return fill_holes(mask, min_area, filled, cx);
     });
 }
 
