@@ -26,6 +26,13 @@ static inline unsigned td_skel_nbits(const td_grid_u8 *g, int x, int y)
 {
     unsigned bits = 0;
     int k;
+    if (x > 0 && y > 0 && x + 1 < g->w && y + 1 < g->h) {
+        const uint8_t *a = g->data + (size_t)(y - 1) * g->stride + x;
+        const uint8_t *b = a + g->stride, *c = b + g->stride;
+        return (b[1] & 1u) | (a[1] & 1u) << 1 | (a[0] & 1u) << 2 |
+               (a[-1] & 1u) << 3 | (b[-1] & 1u) << 4 | (c[-1] & 1u) << 5 |
+               (c[0] & 1u) << 6 | (c[1] & 1u) << 7;
+    }
     for (k = 0; k < 8; k++) {
         int nx = x + TD_DX[k], ny = y + TD_DY[k];
         if (nx >= 0 && ny >= 0 && nx < g->w && ny < g->h &&

@@ -80,29 +80,32 @@ static void build_lut(uint8_t *lut)
         lut[i] = (uint8_t)lut_entry(i & 0xff, i >> 8);
 }
 
-/* Table index of the pixel at column x of row b (a above, c below; any may
- * be the zero row).  Values: 0 paper, 1 ink, 2 ink marked -1. */
-static inline unsigned nb_index(const uint8_t *a, const uint8_t *b,
-                                const uint8_t *c, int x, int w)
+/* Table index from the eight neighbour values (0 paper, 1 ink, 2 ink
+ * marked -1). */
+static inline unsigned nb_pack(unsigned v1, unsigned v2, unsigned v3,
+                               unsigned v4, unsigned v5, unsigned v6,
+                               unsigned v7, unsigned v8)
 {
-    unsigned v1 = 0, v2 = 0, v4 = 0, v5 = 0, v6 = 0, v8 = 0;
-    unsigned v3 = a[x], v7 = c[x], pat, marks;
-    if (x + 1 < w) {
-        v1 = b[x + 1];
-        v2 = a[x + 1];
-        v8 = c[x + 1];
-    }
-    if (x > 0) {
-        v4 = a[x - 1];
-        v5 = b[x - 1];
-        v6 = c[x - 1];
-    }
+    unsigned pat, marks;
     pat = ((v1 | v1 >> 1) & 1) | ((v2 | v2 >> 1) & 1) << 1 |
           ((v3 | v3 >> 1) & 1) << 2 | ((v4 | v4 >> 1) & 1) << 3 |
           ((v5 | v5 >> 1) & 1) << 4 | ((v6 | v6 >> 1) & 1) << 5 |
           ((v7 | v7 >> 1) & 1) << 6 | ((v8 | v8 >> 1) & 1) << 7;
     marks = (v2 >> 1) | (v3 >> 1) << 1 | (v4 >> 1) << 2 | (v5 >> 1) << 3;
     return pat | marks << 8;
+}
+
+/* Table index of the pixel at column x of row b (a above, c below; any may
+ * be the zero row); columns outside the grid are paper. */
+static inline unsigned nb_index(const uint8_t *a, const uint8_t *b,
+                                const uint8_t *c, int x, int w)
+{
+    if (x > 0 && x + 1 < w)
+        return nb_pack(b[x + 1], a[x + 1], a[x], a[x - 1], b[x - 1],
+                       c[x - 1], c[x], c[x + 1]);
+    return nb_pack(x + 1 < w ? b[x + 1] : 0, x + 1 < w ? a[x + 1] : 0, a[x],
+                   x > 0 ? a[x - 1] : 0, x > 0 ? b[x - 1] : 0,
+                   x > 0 ? c[x - 1] : 0, c[x], x + 1 < w ? c[x + 1] : 0);
 }
 
 typedef struct thin_state {
