@@ -55,6 +55,18 @@ double td_line_length(const td_line *l);
 int td_geojson_write_lines(const char *path, const td_lines *ls,
                            const struct td_georef *georef, td_ctx *cx);
 
+/* Read a GeoJSON FeatureCollection of LineString (and MultiLineString,
+ * one line per part) features, as written by td_geojson_write_lines or
+ * edited in QGIS: properties id, height (number or null), closed, edge,
+ * parent are read when present (missing id: the feature's index; missing
+ * closed: first point == last point, the repeated last point dropped).
+ * When georef is valid, coordinates are map coordinates and are mapped back
+ * to pixel units through its inverse.  Other geometry types are skipped
+ * and counted in *skipped (may be NULL).  *out gets a new td_lines.
+ * Errors name the file and the byte offset of bad JSON. */
+int td_geojson_read_lines(const char *path, const struct td_georef *georef,
+                          td_lines **out, size_t *skipped, td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif
