@@ -18,9 +18,10 @@ CV_CFLAGS = $(shell pkg-config --cflags opencv4 2>/dev/null || echo -I/usr/inclu
 CV_LIBS   = -lopencv_imgcodecs -lopencv_imgproc -lopencv_core
 LDLIBS  += $(CV_LIBS) -lgeotiff -ltiff -lpng -lz -lstdc++ -lgomp -lm
 
-# Debian packages the build, tests and benchmarks use.
+# Debian packages the build and tests use; the benchmarks' anchor tools.
 DEB_PKGS = gcc g++ make pkg-config libopencv-dev libopencv-contrib-dev \
            libtiff-dev libpng-dev libgeotiff-dev zlib1g-dev gdal-bin
+BENCH_PKGS = grass-core
 
 LIB_C   := $(wildcard src/*.c scanner/*.c interp/*.c)
 LIB_CXX := $(wildcard src/*.cpp)
@@ -71,7 +72,7 @@ $(BUILD)/bench/%: $(BUILD)/tests/bench/%.o $(TUTIL_O) $(BUILD)/libtdgen.a $(BUIL
 
 # Install the Debian packages that are missing (as root, or through sudo).
 deps:
-	@missing=""; for p in $(DEB_PKGS); do \
+	@missing=""; for p in $(DEB_PKGS) $(EXTRA_PKGS); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -91,7 +92,8 @@ check: deps
 	ASAN_OPTIONS=detect_leaks=1 BUILD=build-san sh tests/run.sh
 	build-san/fuzz_replay tests/fuzz/corpus/*
 
-bench: deps
+bench:
+	$(MAKE) deps EXTRA_PKGS="$(BENCH_PKGS)"
 	$(MAKE) OPT="-O3 -march=native -g" BUILD=build-bench all $(BENCH_C:tests/bench/%.c=build-bench/bench/%)
 	BUILD=build-bench sh tests/bench/run.sh
 
