@@ -65,6 +65,20 @@ static int search_next(const td_grid_u8 *g, int x, int y, int bridge, int *nx,
                        int *ny)
 {
     int k;
+    if (x > 0 && y > 0 && x + 1 < g->w && y + 1 < g->h) {
+        const uint8_t *p = g->data + (size_t)y * g->stride + (size_t)x;
+        const ptrdiff_t s = (ptrdiff_t)g->stride;
+        const ptrdiff_t off[8] = {1, 1 - s, -s, -1 - s, -1, s - 1, s, s + 1};
+        for (k = 0; k < 8; k++)
+            if (p[off[k]] == 1) {
+                *nx = x + TD_DX[k];
+                *ny = y + TD_DY[k];
+                return 1;
+            }
+        if (!bridge)
+            return 0;
+        goto ring;
+    }
     for (k = 0; k < 8; k++)
         if (unvisited(g, x + TD_DX[k], y + TD_DY[k])) {
             *nx = x + TD_DX[k];
@@ -73,6 +87,7 @@ static int search_next(const td_grid_u8 *g, int x, int y, int bridge, int *nx,
         }
     if (!bridge)
         return 0;
+ring:
     for (k = 0; k < 16; k++)
         if (unvisited(g, x + R5X[k], y + R5Y[k])) {
             *nx = x + R5X[k];
