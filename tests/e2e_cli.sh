@@ -38,6 +38,17 @@ if command -v gdalinfo >/dev/null 2>&1; then
   check "gdalinfo opens overlay.png, scan's size" \
     "gdalinfo '$T/dbg/overlay.png' 2>/dev/null | grep -q 'Size is $size'"
 fi
+# --- the same sheet in other layouts gives the same contours
+if command -v gdal_translate >/dev/null 2>&1; then
+  gdal_translate -q -co TILED=YES -co COMPRESS=LZW samples/hills.png "$T/tiled.tif"
+  gdal_translate -q -scale 0 255 0 1 -ot Byte -co NBITS=1 -co COMPRESS=CCITTFAX4 samples/hills.png "$T/g4.tif"
+  gdal_translate -q -of JPEG -co QUALITY=85 samples/hills.png "$T/sheet.jpg"
+  for f in tiled.tif g4.tif sheet.jpg; do
+    "$TD" scan "$T/$f" -o "$T/$f.geojson" 2>"$T/err.$f"
+    n=$(sed -n 's/^scan: \([0-9]*\) lines.*/\1/p' "$T/err.$f")
+    check "$f (tiled LZW / 1-bit G4 / JPEG): $n lines, as from the PNG" "[ '$n' = '$nlines' ]"
+  done
+fi
 check "no temporary files left" "! ls '$T' '$T/dbg' | grep -q '\.tmp\.'"
 
 # --- bad input: one line on stderr, exit 1, nothing written
