@@ -1,0 +1,502 @@
+/* Automatic contour heights (ALGORITHMS.md A.5 (b)): the model is in
+ * label.h.  Faces and lines:
+ *
+ *      face 0 (root, holds the top-left corner)
+ *        |  line a: d_a = level(face a+1) - level(face 0)
+ *      face a+1 (inside a)
+ *        |  line b (child of a)         height(b) = base + I *
+ *      face b+1                             max(level(a+1), level(b+1))
+ *
+ * Levels are kept relative to the root (rel[]) plus one offset fixed by the
+ * first known point; flipping a unit (one ring, or one slope strip of
+ * border-closed lines) negates its lines' d. */
+#include "label.h"
+
+#include "contain.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { K_FACE, K_LINE };
+
+typedef struct cons {
+    int kind;
+    long face, line, k; /* face: its level is k; line: its height is k */
+    size_t src;         /* index into p->known */
+} cons;
+
+typedef struct solver {
+    const td_lines *ls;
+    const td_label_params *p;
+    td_contain ct;
+    size_t n;
+    int *d;
+    long *unit, *upar, *lock, *rel, *order, *mark;
+    long off;
+    cons *c;
+    size_t nc;
+    td_label_report *rep;
+    size_t textlen;
+} solver;
+
+td_label_params td_label_defaults(void)
+{
+    td_label_params p;
+    memset(&p, 0, sizeof p);
+    p.near = 3.0;
+    p.far = 150.0;
+    return p;
+}
+
+void td_label_report_free(td_label_report *rep)
+{
+    free(rep->undetermined_ids);
+    free(rep->text);
+    memset(rep, 0, sizeof *rep);
+}
+
+static void warn(solver *s, const char *fmt, ...)
+{
+    char buf[400];
+    va_list ap;
+    size_t len;
+    char *t;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    len = strlen(buf);
+    s->rep->warnings++;
+    if (!(t = realloc(s->rep->text, s->textlen + len + 2)))
+        return; /* the count is still right; the text is best effort */
+    memcpy(t + s->textlen, buf, len);
+    t[s->textlen + len] = '\n';
+    t[s->textlen + len + 1] = '\0';
+    s->textlen += len + 1;
+    s->rep->text = t;
+}
+
+static long face_out(const solver *s, size_t i)
+{
+    return s->ct.parent[i] >= 0 ? s->ct.parent[i] + 1 : 0;
+}
+
+/* ---- units: rings alone, slope strips of border-closed lines joined ---- */
+
+static long find(solver *s, long i, int *par)
+{
+    int q = 1;
+    while (s->unit[i] != i) {
+        q *= (int)s->upar[i];
+        i = s->unit[i];
+    }
+    *par = q;
+    return i;
+}
+
+/* Lines a and b must have d_a = rel * d_b. */
+static void unite(solver *s, long a, long b, int rel)
+{
+    int pa, pb;
+    long ra = find(s, a, &pa), rb = find(s, b, &pb);
+    if (ra == rb)
+        return;
+    s->unit[rb] = ra;
+    s->upar[rb] = pa * pb * rel;
+}
+
+/* Faces bounded by exactly two border-closed lines: a slope strip. */
+static void link_strips(solver *s, long *cnt, long *first, long *second)
+{
+    size_t i, f;
+    for (f = 0; f <= s->n; f++)
+        cnt[f] = 0;
+    for (i = 0; i < s->n; i++) {
+        long fs[2];
+        int k;
+        if (s->ct.parent[i] == -2 || s->ls->v[i].closed)
+            continue;
+        fs[0] = face_out(s, i), fs[1] = (long)i + 1;
+        for (k = 0; k < 2; k++) {
+            if (cnt[fs[k]] == 0)
+                first[fs[k]] = (long)i;
+            else if (cnt[fs[k]] == 1)
+                second[fs[k]] = (long)i;
+            cnt[fs[k]]++;
+        }
+    }
+    for (f = 0; f <= s->n; f++) {
+        long a = first[f], b = second[f];
+        if (cnt[f] != 2)
+            continue;
+        /* both children of f: opposite d; parent edge and child: equal d */
+        unite(s, a, b, ((long)f == a + 1 || (long)f == b + 1) ? 1 : -1);
+    }
+}
+
+static void flip(solver *s, long u)
+{
+    size_t i;
+    for (i = 0; i < s->n; i++)
+        if (s->unit[i] == u)
+            s->d[i] = -s->d[i];
+}
+
+/* ---- levels ---- */
+
+static long depth_of(const solver *s, size_t i)
+{
+    long dep = 0, j = (long)i;
+    while (s->ct.parent[j] >= 0) {
+        j = s->ct.parent[j];
+        dep++;
+    }
+    return dep;
+}
+
+static int cmp_depth(const void *a, const void *b)
+{
+    const long *x = a, *y = b;
+    return (x[0] > y[0]) - (x[0] < y[0]);
+}
+
+/* Lines in parent-before-child order (dangling lines left out). */
+static int make_order(solver *s, td_ctx *cx)
+{
+    long *tmp = td_calloc(2 * s->n + 2, sizeof *tmp, cx);
+    size_t i, m = 0;
+    if (!tmp)
+        return TD_ENOMEM;
+    for (i = 0; i < s->n; i++)
+        if (s->ct.parent[i] != -2) {
+            tmp[2 * m] = depth_of(s, i);
+            tmp[2 * m++ + 1] = (long)i;
+        }
+    qsort(tmp, m, 2 * sizeof *tmp, cmp_depth);
+    for (i = 0; i < s->n; i++)
+        s->order[i] = i < m ? tmp[2 * i + 1] : -1;
+    free(tmp);
+    return 0;
+}
+
+static long residual_raw(const solver *s, const cons *c)
+{
+    if (c->kind == K_FACE)
+        return s->rel[c->face] + s->off - c->k;
+    return s->rel[c->face] + s->off + (s->d[c->line] + 1) / 2 - c->k;
+}
+
+static void relevel(solver *s)
+{
+    size_t i;
+    s->rel[0] = 0;
+    for (i = 0; i < s->n && s->order[i] >= 0; i++) {
+        long l = s->order[i];
+        s->rel[l + 1] = s->rel[face_out(s, (size_t)l)] + s->d[l];
+    }
+    s->off = 0;
+    if (s->nc > 0)
+        s->off = -residual_raw(s, &s->c[0]);
+}
+
+/* ---- meeting known points ---- */
+
+/* Units of the lines on the tree path from face a to face b, nearest b
+ * first, each once; returns how many were written to out. */
+static size_t path_units(solver *s, long a, long b, long *out)
+{
+    size_t m = 0, i, na = 0;
+    long f, lca;
+    for (i = 0; i <= s->n; i++)
+        s->mark[i] = 0;
+    for (f = a; f > 0; f = face_out(s, (size_t)(f - 1)))
+        s->mark[f] = 1;
+    s->mark[0] = 1;
+    for (f = b; !s->mark[f]; f = face_out(s, (size_t)(f - 1)))
+        out[m++] = f - 1;
+    lca = f;
+    for (f = a; f != lca; f = face_out(s, (size_t)(f - 1)))
+        na++;
+    for (i = 0; i < na; i++) { /* a's side, from the LCA down to a */
+        size_t k = na - 1 - i, j;
+        for (f = a, j = 0; j < k; j++)
+            f = face_out(s, (size_t)(f - 1));
+        out[m++] = f - 1;
+    }
+    for (i = 0; i < m; i++) {
+        int par;
+        out[i] = find(s, out[i], &par);
+    }
+    return m;
+}
+
+static void describe(const solver *s, const cons *c, char *buf, size_t len)
+{
+    const td_label_point *q = &s->p->known[c->src];
+    if (q->id >= 0)
+        snprintf(buf, len, "height %g for line %ld", q->height, q->id);
+    else if (c->kind == K_LINE)
+        snprintf(buf, len, "(%g,%g)=%g on line %ld", q->x, q->y, q->height,
+                 s->ls->v[c->line].id);
+    else if (c->face > 0)
+        snprintf(buf, len, "(%g,%g)=%g inside line %ld", q->x, q->y,
+                 q->height, s->ls->v[c->face - 1].id);
+    else
+        snprintf(buf, len, "(%g,%g)=%g outside every line", q->x, q->y,
+                 q->height);
+}
+
+/* Flip free units on the path from the first point to point j until j is
+ * met; lock the path's units for j. */
+static int meet(solver *s, size_t j, long *cand, td_ctx *cx)
+{
+    cons *c = &s->c[j];
+    size_t m = 0, i;
+    long r, blocker = 0;
+    if (c->kind == K_LINE) {
+        int par;
+        cand[m++] = find(s, c->line, &par);
+    }
+    m += path_units(s, s->c[0].face, c->face, cand + m);
+    relevel(s);
+    r = residual_raw(s, c);
+    for (i = 0; i < m && r != 0; i++) {
+        long r2;
+        if (s->lock[cand[i]]) {
+            if (!blocker)
+                blocker = s->lock[cand[i]];
+            continue;
+        }
+        flip(s, cand[i]);
+        relevel(s);
+        r2 = residual_raw(s, c);
+        if (labs(r2) < labs(r)) {
+            r = r2;
+        } else {
+            flip(s, cand[i]);
+            relevel(s);
+        }
+    }
+    if (r != 0) {
+        char a[160], b[160];
+        describe(s, &s->c[blocker ? blocker - 1 : 0], a, sizeof a);
+        describe(s, c, b, sizeof b);
+        return td_seterr(cx, TD_EINVAL, "known points contradict: %s and %s "
+                         "(off by %ld interval%s across the lines between "
+                         "them)", a, b, labs(r), labs(r) == 1 ? "" : "s");
+    }
+    for (i = 0; i < m; i++)
+        if (!s->lock[cand[i]])
+            s->lock[cand[i]] = (long)j + 1;
+    return 0;
+}
+
+/* ---- known points and depression marks -> constraints and defaults ---- */
+
+static void depression(solver *s, double x, double y)
+{
+    long l = td_contain_locate(&s->ct, x, y);
+    if (l < 0) {
+        warn(s, "depression mark (%g,%g) lies outside every contour", x, y);
+        return;
+    }
+    for (;;) {
+        long par = s->ct.parent[l];
+        size_t i, kids = 0;
+        s->d[l] = -1;
+        if (par < 0 || !s->ls->v[par].closed)
+            return;
+        for (i = 0; i < s->n; i++)
+            kids += s->ct.parent[i] == par;
+        if (kids != 1)
+            return;
+        l = par;
+    }
+}
+
+static long nearest_line(const solver *s, double x, double y, double *dist)
+{
+    long best = -1;
+    size_t i;
+    *dist = INFINITY;
+    for (i = 0; i < s->n; i++) {
+        double d = td_contain_dist(&s->ls->v[i], x, y);
+        if (d < *dist) {
+            *dist = d;
+            best = (long)i;
+        }
+    }
+    return best;
+}
+
+/* Turn known point q into constraint *c; 1 when it only sets the height of
+ * a dangling line (*line set), 0 for a constraint, or an error. */
+static int to_cons(solver *s, size_t qi, cons *c, long *line, td_ctx *cx)
+{
+    const td_label_point *q = &s->p->known[qi];
+    double t = (q->height - s->p->base) / s->p->interval, dist = 0;
+    long l = -1;
+    size_t i;
+    c->src = qi;
+    if (q->id >= 0) {
+        for (i = 0; i < s->n && l < 0; i++)
+            if (s->ls->v[i].id == q->id)
+                l = (long)i;
+        if (l < 0)
+            return td_seterr(cx, TD_EINVAL, "no line has id %ld", q->id);
+    } else {
+        if (!(q->x >= 0 && q->y >= 0 && q->x <= s->p->w && q->y <= s->p->h))
+            return td_seterr(cx, TD_EINVAL, "known point (%g,%g) is off the "
+                             "%dx%d sheet", q->x, q->y, s->p->w, s->p->h);
+        l = nearest_line(s, q->x, q->y, &dist);
+    }
+    if (l >= 0 && (q->id >= 0 || dist <= s->p->near)) {
+        if (fabs(t - floor(t + 0.5)) > 1e-6)
+            warn(s, "known height %g at line %ld is not base %g + a multiple "
+                 "of %g; rounded", q->height, s->ls->v[l].id, s->p->base,
+                 s->p->interval);
+        c->kind = K_LINE;
+        c->line = l;
+        c->k = (long)floor(t + 0.5);
+        c->face = s->ct.parent[l] == -2 ? -1 : face_out(s, (size_t)l);
+        *line = l;
+        return c->face < 0;
+    }
+    if (dist > s->p->far)
+        warn(s, "known point (%g,%g)=%g is %.0f px from the nearest line",
+             q->x, q->y, q->height, dist);
+    l = td_contain_locate(&s->ct, q->x, q->y);
+    c->kind = K_FACE;
+    c->face = l + 1;
+    c->line = -1;
+    /* a spot exactly on a multiple: the summit (or pit) reaches it */
+    if (fabs(t - floor(t + 0.5)) <= 1e-6)
+        c->k = (long)floor(t + 0.5) - (l >= 0 && s->d[l] < 0 ? 0 : 1);
+    else
+        c->k = (long)floor(t);
+    return 0;
+}
+
+/* ---- driver ---- */
+
+static int setup(solver *s, td_ctx *cx)
+{
+    size_t n = s->n, i;
+    long *first = NULL, *second = NULL;
+    s->d = td_calloc(n + 1, sizeof *s->d, cx);
+    s->unit = td_calloc(n + 1, sizeof *s->unit, cx);
+    s->upar = td_calloc(n + 1, sizeof *s->upar, cx);
+    s->lock = td_calloc(n + 1, sizeof *s->lock, cx);
+    s->rel = td_calloc(n + 2, sizeof *s->rel, cx);
+    s->order = td_calloc(n + 1, sizeof *s->order, cx);
+    s->mark = td_calloc(n + 2, sizeof *s->mark, cx);
+    s->c = td_calloc(s->p->nknown + 1, sizeof *s->c, cx);
+    first = td_calloc(n + 2, sizeof *first, cx);
+    second = td_calloc(n + 2, sizeof *second, cx);
+    if (!s->d || !s->unit || !s->upar || !s->lock || !s->rel || !s->order ||
+        !s->mark || !s->c || !first || !second || make_order(s, cx) != 0) {
+        free(first);
+        free(second);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < n; i++) {
+        s->unit[i] = (long)i;
+        s->upar[i] = 1;
+    }
+    link_strips(s, s->mark, first, second);
+    for (i = 0; i < n; i++) { /* each unit's root line has d = +1 */
+        int par;
+        long r = find(s, (long)i, &par);
+        s->unit[i] = r;
+        s->upar[i] = par;
+        s->d[i] = par;
+    }
+    for (i = 0; i < s->p->ndepressions; i++)
+        depression(s, s->p->depressions[2 * i], s->p->depressions[2 * i + 1]);
+    free(first);
+    free(second);
+    return 0;
+}
+
+static int solve(solver *s, td_ctx *cx)
+{
+    long *cand = td_calloc(2 * s->n + 2, sizeof *cand, cx);
+    size_t i;
+    int rc = 0;
+    if (!cand)
+        return TD_ENOMEM;
+    for (i = 0; i < s->p->nknown && rc >= 0; i++) {
+        cons c;
+        long l = -1;
+        rc = to_cons(s, i, &c, &l, cx);
+        if (rc == 1) { /* a dangling line: its own height only */
+            s->ls->v[l].has_height = 1;
+            s->ls->v[l].height = s->p->base + c.k * s->p->interval;
+        } else if (rc == 0) {
+            s->c[s->nc++] = c; /* the first fixes the offset only */
+            if (s->nc > 1)
+                rc = meet(s, s->nc - 1, cand, cx);
+        }
+    }
+    free(cand);
+    return rc < 0 ? rc : 0;
+}
+
+static void assign(solver *s)
+{
+    size_t i;
+    relevel(s);
+    for (i = 0; i < s->n; i++) {
+        td_line *l = &s->ls->v[i];
+        long a, b;
+        if (s->ct.parent[i] == -2 || s->nc == 0)
+            continue;
+        a = s->rel[face_out(s, i)] + s->off;
+        b = s->rel[i + 1] + s->off;
+        l->has_height = 1;
+        l->height = s->p->base + s->p->interval * (double)(a > b ? a : b);
+    }
+}
+
+/* Contract in label.h. */
+int td_label_auto(td_lines *ls, const td_label_params *p,
+                  td_label_report *rep, td_ctx *cx)
+{
+    solver s;
+    size_t i;
+    int rc;
+    memset(rep, 0, sizeof *rep);
+    memset(&s, 0, sizeof s);
+    if (!(p->interval > 0) || !isfinite(p->interval) || !isfinite(p->base))
+        return td_seterr(cx, TD_EINVAL, "label: the interval must be > 0");
+    s.ls = ls, s.p = p, s.n = ls->n, s.rep = rep;
+    if ((rc = td_contain_build(ls, p->w, p->h, &s.ct, cx)) != 0)
+        return rc;
+    for (i = 0; i < ls->n; i++) {
+        long par = s.ct.parent[i];
+        ls->v[i].parent = par >= 0 ? ls->v[par].id : -1;
+        ls->v[i].has_height = 0;
+    }
+    if ((rc = setup(&s, cx)) != 0 || (rc = solve(&s, cx)) != 0)
+        goto fail;
+    assign(&s);
+    rc = TD_ENOMEM;
+    if (!(rep->undetermined_ids = td_calloc(ls->n + 1, sizeof(long), cx)))
+        goto fail;
+    for (i = 0; i < ls->n; i++) {
+        if (ls->v[i].has_height)
+            rep->labelled++;
+        else
+            rep->undetermined_ids[rep->undetermined++] = ls->v[i].id;
+    }
+    rc = 0;
+fail:
+    if (rc)
+        td_label_report_free(rep);
+    td_contain_free(&s.ct);
+    free(s.d), free(s.unit), free(s.upar), free(s.lock);
+    free(s.rel), free(s.order), free(s.mark), free(s.c);
+    return rc;
+}

@@ -1,0 +1,76 @@
+/* label.h: automatic contour heights from a few known points
+ * (ALGORITHMS.md A.5 (b); ours — the paper, 001 §2.3, has the operator type
+ * every height, which is the CLI's --interactive).
+ *
+ * Model.  The containment tree (contain.h) cuts the sheet into faces: the
+ * root face (holding the sheet's top-left corner) and the inside of each
+ * line minus its children.  A face has an integer level k: its ground lies
+ * between base + k*I and base + (k+1)*I.  Across a line the level changes
+ * by d = +1 or -1 (inside minus outside), and the line's height is
+ * base + I * max(level inside, level outside).  Defaults:
+ *   - a closed ring: d = +1 (a child is higher than its parent), so the
+ *     rings of one face at a saddle get the same height;
+ *   - --depressions X,Y: the innermost ring around the point and each ring
+ *     enclosing it that is closed and has that one child: d = -1;
+ *   - border-closed lines: a face bounded by exactly two border-closed
+ *     lines is a slope strip: its two lines differ by one interval (they
+ *     flip together as one unit).
+ * Known points: the first fixes the levels; each further point is met by
+ * flipping units on the tree path between it and the points before, the
+ * ones nearest the new point first, never a unit an earlier point relied
+ * on.  If that cannot meet it, the points contradict (an error naming
+ * both and their lines). */
+#ifndef TD_LABEL_H
+#define TD_LABEL_H
+
+#include "../src/lines.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct td_label_point {
+    double x, y;   /* scan pixel coordinates (ignored when id >= 0) */
+    double height;
+    long id;       /* >= 0: the line with this id (a heights file row);
+                      -1: located by position */
+} td_label_point;
+
+typedef struct td_label_params {
+    double base, interval; /* heights are base + k * interval; interval > 0 */
+    int w, h;              /* sheet size in px (for border closing) */
+    double near;           /* a known point within this many px of a line is
+                              on it (default 3) */
+    double far;            /* a spot height farther than this from every line
+                              is warned about (default 150) */
+    const td_label_point *known;
+    size_t nknown;
+    const double *depressions; /* x,y pairs */
+    size_t ndepressions;
+} td_label_params;
+
+typedef struct td_label_report {
+    size_t labelled, undetermined, warnings;
+    long *undetermined_ids; /* ids of the lines left without a height */
+    char *text;             /* warnings, one per line ('\n'), or NULL */
+} td_label_report;
+
+/* Defaults: base 0, interval 0 (must be set), w = h = 0 (must be set),
+ * near 3, far 150, no points. */
+td_label_params td_label_defaults(void);
+
+/* Give every line of ls its parent (containment) and, when p has known
+ * points, its height; lines that cannot get one keep has_height 0 and are
+ * listed in rep.  Fills *rep (free with td_label_report_free).  Returns 0,
+ * TD_EINVAL (bad parameters, a known point off the sheet or off every
+ * region, contradictory known points: the message names the points and
+ * the line ids) or TD_ENOMEM. */
+int td_label_auto(td_lines *ls, const td_label_params *p,
+                  td_label_report *rep, td_ctx *cx);
+
+void td_label_report_free(td_label_report *rep);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

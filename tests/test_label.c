@@ -1,0 +1,304 @@
+/* Tests of the containment tree and automatic heights (scanner/contain.c,
+ * scanner/label.c) on generated terrains with a known truth: every line's
+ * height must equal the truth exactly (heights are multiples of the
+ * interval, so there is no tolerance to give). */
+#include "tt.h"
+#include "util/match.h"
+
+#include "../samples/gen/gen.h"
+#include "../scanner/contain.h"
+#include "../scanner/label.h"
+#include "../scanner/scan.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct truth {
+    td_gen_params gp;
+    td_grid_f32 *dem;
+    td_lines *lines;
+    double interval;
+} truth;
+
+static int make_truth(truth *t, td_gen_terrain_kind kind, int w, int h)
+{
+    td_ctx cx;
+    td_ctx_init(&cx);
+    memset(t, 0, sizeof *t);
+    t->gp = td_gen_defaults();
+    t->gp.terrain = kind;
+    t->gp.w = w;
+    t->gp.h = h;
+    if (td_gen_terrain(&t->gp, &t->dem, &cx) != 0)
+        return -1;
+    t->interval = td_gen_auto_interval(&t->gp, t->dem);
+    return td_gen_contours(t->dem, 0, t->interval, &t->lines, &cx);
+}
+
+static void free_truth(truth *t)
+{
+    td_grid_f32_free(t->dem);
+    td_lines_free(t->lines);
+}
+
+/* A copy of the truth lines with heights and parents wiped. */
+static td_lines *unlabelled(const td_lines *src)
+{
+    td_lines *ls = td_lines_new(NULL);
+    size_t i, k;
+    for (i = 0; ls && i < src->n; i++) {
+        td_line *l = td_lines_add(ls, NULL);
+        for (k = 0; l && k < src->v[i].n; k++)
+            td_line_push(l, src->v[i].xy[2 * k], src->v[i].xy[2 * k + 1], NULL);
+        l->closed = src->v[i].closed;
+        l->edge = src->v[i].edge;
+    }
+    return ls;
+}
+
+static td_label_point on_line(const td_line *l, double height)
+{
+    td_label_point q;
+    q.x = l->xy[2 * (l->n / 2)]; /* the middle vertex */
+    q.y = l->xy[2 * (l->n / 2) + 1];
+    q.height = height;
+    q.id = -1;
+    return q;
+}
+
+static double dem_at(const td_grid_f32 *g, double x, double y)
+{
+    return g->data[(size_t)y * g->stride + (size_t)x];
+}
+
+/* Innermost truth rings lower than the ground at their centre: depressions. */
+static long find_pit(const truth *t, double *cx_, double *cy_)
+{
+    size_t i;
+    for (i = 0; i < t->lines->n; i++) {
+        const td_line *l = &t->lines->v[i];
+        double sx = 0, sy = 0;
+        size_t k;
+        if (!l->closed)
+            continue;
+        for (k = 0; k < l->n; k++)
+            sx += l->xy[2 * k], sy += l->xy[2 * k + 1];
+        sx /= l->n, sy /= l->n;
+        if (dem_at(t->dem, sx, sy) < l->height - 0.5 * t->interval) {
+            *cx_ = sx, *cy_ = sy;
+            return (long)i;
+        }
+    }
+    return -1;
+}
+
+static size_t count_wrong(const td_lines *got, const td_lines *want, int print)
+{
+    size_t i, bad = 0;
+    for (i = 0; i < got->n; i++)
+        if (!got->v[i].has_height || got->v[i].height != want->v[i].height) {
+            if (print && bad < 5)
+                fprintf(stderr, "  line %zu: %g (has %d), truth %g\n", i,
+                        got->v[i].height, got->v[i].has_height, want->v[i].height);
+            bad++;
+        }
+    return bad;
+}
+
+/* The longest open line of height h0 != other, to put known points on. */
+static long longest_open(const td_lines *ls, double not_h)
+{
+    long best = -1;
+    size_t i;
+    for (i = 0; i < ls->n; i++)
+        if (!ls->v[i].closed && ls->v[i].height != not_h &&
+            (best < 0 || ls->v[i].n > ls->v[best].n))
+            best = (long)i;
+    return best;
+}
+
+/* Cone: concentric rings (the lines cutting the corners below 0 left out):
+ * one known point on the outermost ring labels every ring. */
+static void test_cone_one_point(void)
+{
+    truth t;
+    td_lines *ls;
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_label_point q;
+    td_ctx cx;
+    long outer = -1;
+    size_t i;
+    td_ctx_init(&cx);
+    TT_CHECK(make_truth(&t, TD_GEN_CONE, 400, 300) == 0);
+    for (i = t.lines->n; i-- > 0;) /* the corner lines: see docs/label.md */
+        if (!t.lines->v[i].closed)
+            td_lines_remove(t.lines, i);
+    ls = unlabelled(t.lines);
+    for (i = 0; i < t.lines->n; i++)
+        if (t.lines->v[i].closed &&
+            (outer < 0 || t.lines->v[i].n > t.lines->v[outer].n))
+            outer = (long)i;
+    q = on_line(&t.lines->v[outer], t.lines->v[outer].height);
+    p.interval = t.interval, p.w = 400, p.h = 300, p.known = &q, p.nknown = 1;
+    TT_CHECKF(td_label_auto(ls, &p, &rep, &cx) == 0, "%s", cx.msg);
+    TT_CHECK(rep.labelled == ls->n && rep.undetermined == 0);
+    TT_CHECK(count_wrong(ls, t.lines, 1) == 0);
+    for (i = 0; i < ls->n; i++) /* every ring's parent is one interval lower */
+        if (ls->v[i].closed && ls->v[i].parent >= 0)
+            TT_CHECK(t.lines->v[ls->v[i].parent].height ==
+                     t.lines->v[i].height - t.interval);
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+    free_truth(&t);
+}
+
+/* HILLS: two summits at a saddle, a depression, lines leaving the sheet.
+ * Known: two points on open lines (the slope's direction across the
+ * border-closed lines is not in the topology) and one spot height in the
+ * depression (a ring is a hill unless told otherwise). */
+static void label_hills(int w, int h, int use_mark)
+{
+    truth t;
+    td_lines *ls;
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_label_point q[3];
+    td_ctx cx;
+    double px = 0, py = 0, dep[2];
+    long a, b, pit;
+    td_ctx_init(&cx);
+    TT_CHECK(make_truth(&t, TD_GEN_HILLS, w, h) == 0);
+    ls = unlabelled(t.lines);
+    a = longest_open(t.lines, NAN);
+    b = longest_open(t.lines, t.lines->v[a].height);
+    pit = find_pit(&t, &px, &py);
+    TT_CHECK(a >= 0 && b >= 0 && pit >= 0);
+    q[0] = on_line(&t.lines->v[a], t.lines->v[a].height);
+    q[1] = on_line(&t.lines->v[b], t.lines->v[b].height);
+    q[2].x = px, q[2].y = py, q[2].id = -1;
+    q[2].height = dem_at(t.dem, px, py);
+    dep[0] = px, dep[1] = py;
+    p.interval = t.interval, p.w = w, p.h = h, p.known = q;
+    p.nknown = use_mark ? 2 : 3;
+    if (use_mark)
+        p.depressions = dep, p.ndepressions = 1;
+    TT_CHECKF(td_label_auto(ls, &p, &rep, &cx) == 0, "%s", cx.msg);
+    TT_CHECK(rep.labelled == ls->n && rep.undetermined == 0);
+    TT_CHECKF(count_wrong(ls, t.lines, 1) == 0, "%dx%d mark %d", w, h, use_mark);
+    TT_CHECK(rep.warnings == 0);
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+    free_truth(&t);
+}
+
+static void test_hills_spot(void) { label_hills(600, 450, 0); label_hills(800, 800, 0); }
+static void test_hills_mark(void) { label_hills(600, 450, 1); }
+
+/* Without the depression's point, only the depression is wrong: the rest
+ * does not depend on it. */
+static void test_hills_without_pit(void)
+{
+    truth t;
+    td_lines *ls;
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_label_point q[2];
+    td_ctx cx;
+    double px, py;
+    long a, b, pit;
+    size_t bad;
+    td_ctx_init(&cx);
+    TT_CHECK(make_truth(&t, TD_GEN_HILLS, 600, 450) == 0);
+    ls = unlabelled(t.lines);
+    a = longest_open(t.lines, NAN);
+    b = longest_open(t.lines, t.lines->v[a].height);
+    pit = find_pit(&t, &px, &py);
+    q[0] = on_line(&t.lines->v[a], t.lines->v[a].height);
+    q[1] = on_line(&t.lines->v[b], t.lines->v[b].height);
+    p.interval = t.interval, p.w = 600, p.h = 450, p.known = q, p.nknown = 2;
+    TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == 0);
+    bad = count_wrong(ls, t.lines, 0);
+    TT_CHECKF(bad >= 1 && bad <= 4, "%zu wrong", bad); /* the pit's rings */
+    TT_CHECK(ls->v[pit].height != t.lines->v[pit].height);
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+    free_truth(&t);
+}
+
+/* Two known points that cannot both hold: an error naming both and their
+ * lines; nothing is labelled. */
+static void test_contradiction(void)
+{
+    truth t;
+    td_lines *ls;
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_label_point q[2];
+    td_ctx cx;
+    size_t i;
+    long in = -1, out;
+    char ids[2][32];
+    td_ctx_init(&cx);
+    TT_CHECK(make_truth(&t, TD_GEN_CONE, 400, 300) == 0);
+    ls = unlabelled(t.lines);
+    TT_CHECK(td_label_auto(ls, &(td_label_params){.interval = 1, .w = 400,
+                                                   .h = 300}, &rep, &cx) == 0);
+    TT_CHECK(rep.undetermined == ls->n); /* no known point: nothing */
+    td_label_report_free(&rep);
+    for (i = 0; i < ls->n && in < 0; i++) /* a ring with a ring parent */
+        if (ls->v[i].parent >= 0 && ls->v[ls->v[i].parent].closed)
+            in = (long)i;
+    TT_CHECK(in >= 0);
+    out = ls->v[in].parent;
+    q[0] = on_line(&t.lines->v[out], 100);
+    q[1] = on_line(&t.lines->v[in], 100 + 3 * t.interval);
+    p.interval = t.interval, p.w = 400, p.h = 300, p.known = q, p.nknown = 2;
+    TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == TD_EINVAL);
+    snprintf(ids[0], sizeof ids[0], "line %ld", ls->v[out].id);
+    snprintf(ids[1], sizeof ids[1], "line %ld", ls->v[in].id);
+    TT_CHECKF(strstr(cx.msg, "contradict") && strstr(cx.msg, ids[0]) &&
+              strstr(cx.msg, ids[1]), "%s", cx.msg);
+    td_lines_free(ls);
+    free_truth(&t);
+}
+
+/* Warnings: a height off the interval, a spot far from every line; an
+ * error for a point off the sheet. */
+static void test_warnings(void)
+{
+    truth t;
+    td_lines *ls;
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_label_point q[2];
+    td_ctx cx;
+    td_ctx_init(&cx);
+    TT_CHECK(make_truth(&t, TD_GEN_PLANE, 300, 300) == 0);
+    ls = unlabelled(t.lines);
+    q[0] = on_line(&t.lines->v[0], t.lines->v[0].height + 1);
+    p.interval = t.interval, p.w = 300, p.h = 300, p.known = q, p.nknown = 1;
+    p.far = 1; /* so that a spot height between the lines is "far" */
+    q[1].x = 0.5 * (q[0].x + 150), q[1].y = 150, q[1].id = -1;
+    TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == 0);
+    TT_CHECK(rep.warnings == 1 && rep.text && strstr(rep.text, "multiple"));
+    td_label_report_free(&rep);
+    q[1].x = 301;
+    p.nknown = 2;
+    TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == TD_EINVAL);
+    TT_CHECKF(strstr(cx.msg, "off the"), "%s", cx.msg);
+    td_lines_free(ls);
+    free_truth(&t);
+}
+
+int main(void)
+{
+    TT_RUN(test_cone_one_point);
+    TT_RUN(test_hills_spot);
+    TT_RUN(test_hills_mark);
+    TT_RUN(test_hills_without_pit);
+    TT_RUN(test_contradiction);
+    TT_RUN(test_warnings);
+    return tt_summary();
+}
