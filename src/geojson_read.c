@@ -66,8 +66,9 @@ static const double pow10d[23] = {
 /* "FILE: bad JSON at byte N: expected WHAT"; returns TD_EFORMAT. */
 static int bad(jp *p, const char *what)
 {
-    return td_seterr(p->cx, TD_EFORMAT, "%s: bad JSON at byte %zu: "
-                     "expected %s", p->path, (size_t)(p->s - p->b), what);
+    return td_seterr(p->cx, TD_EFORMAT, "%s: bad JSON at byte %zu%s: "
+                     "expected %s", p->path, (size_t)(p->s - p->b),
+                     p->s >= p->e ? " (end of file)" : "", what);
 }
 
 static void ws(jp *p)
