@@ -90,7 +90,7 @@ check: deps
 	$(MAKE) BUILD=build-san OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" \
 	  LDFLAGS="-fsanitize=address,undefined" all $(TESTS:$(BUILD)/%=build-san/%) build-san/fuzz_replay
 	ASAN_OPTIONS=detect_leaks=1 BUILD=build-san sh tests/run.sh
-	build-san/fuzz_replay tests/fuzz/corpus/*
+	ASAN_OPTIONS=allocator_may_return_null=1 build-san/fuzz_replay tests/fuzz/corpus/*
 
 bench:
 	$(MAKE) deps EXTRA_PKGS="$(BENCH_PKGS)"
@@ -113,7 +113,7 @@ fuzz: deps
 	@command -v clang >/dev/null || { echo "make fuzz needs clang (apt-get install clang)"; exit 1; }
 	$(MAKE) BUILD=build-fuzz CC=clang CXX=clang++ OPT="-O1 -g -fsanitize=fuzzer-no-link,address" LDFLAGS="-fsanitize=address" build-fuzz/libtopodig.a
 	clang $(CPPFLAGS) -O1 -g -fsanitize=fuzzer,address tests/fuzz/fuzz_readers.c build-fuzz/libtopodig.a $(LDLIBS) -o build-fuzz/fuzz_readers
-	build-fuzz/fuzz_readers -max_total_time=$${FUZZ_SECONDS:-60} -max_len=65536 build-fuzz/corpus tests/fuzz/corpus
+	ASAN_OPTIONS=allocator_may_return_null=1 build-fuzz/fuzz_readers -max_total_time=$${FUZZ_SECONDS:-60} -max_len=65536 build-fuzz/corpus tests/fuzz/corpus
 
 clean:
 	rm -rf build build-san build-bench build-fuzz

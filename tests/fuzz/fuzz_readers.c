@@ -1,9 +1,14 @@
-/* fuzz_readers.c: libFuzzer target for the scan readers.  The input is
+/* fuzz_readers.c: libFuzzer target for every file reader.  The input is
  * written to a private temporary file (the readers take paths) and read
  * with td_image_info, then td_image_read when the header's size is modest,
- * so legitimate huge headers do not trip the fuzzer's allocation limit. */
+ * so legitimate huge headers do not trip the fuzzer's allocation limit;
+ * then as a DEM (td_dem_read) and as GeoJSON lines (td_geojson_read_lines).
+ * Run with ASAN_OPTIONS=allocator_may_return_null=1 so a DEM header of
+ * 2^31 cells is an allocation failure, not a report. */
 #define _POSIX_C_SOURCE 200809L
+#include "demio.h"
 #include "imageio.h"
+#include "lines.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -41,6 +46,26 @@ static int fuzz_file(void)
     return 0;
 }
 
+/* The same file as a DEM and as GeoJSON lines: either reads it or fails
+ * with a message. */
+static void fuzz_dem_and_lines(void)
+{
+    td_ctx cx;
+    td_grid_f32 *dem = NULL;
+    td_lines *ls = NULL;
+    td_georef g;
+    td_ctx_init(&cx);
+    if (td_dem_read(fuzz_path, &dem, &g, &cx) != 0 && !cx.msg[0])
+        abort(); /* a failure always says why */
+    td_grid_f32_free(dem);
+    td_georef_clear(&g);
+    td_ctx_init(&cx);
+    if (td_geojson_read_lines(fuzz_path, NULL, &ls, NULL, &cx) != 0 &&
+        !cx.msg[0])
+        abort();
+    td_lines_free(ls);
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     td_ctx cx;
@@ -67,5 +92,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         td_image_free(im);
     }
     td_georef_clear(&g);
+    fuzz_dem_and_lines();
     return 0;
 }
