@@ -37,5 +37,8 @@ int td_cli_parse_double(const char *s, double lo, double hi, double *out);
 /* Subcommands (src/cli/<name>.c, listed in src/cli/main.c): each returns
  * the process exit code. */
 int td_cmd_scan(int argc, char **argv);
+int td_cmd_label(int argc, char **argv);
+int td_cmd_erode(int argc, char **argv);
+int td_cmd_generate(int argc, char **argv);
 
 #endif
