@@ -238,3 +238,173 @@ double td_contain_dist(const td_line *l, double x, double y)
     }
     return best;
 }
+
+/* ---- crossings ---------------------------------------------------------- */
+
+typedef struct xseg {
+    size_t line, k; /* segment k of line (point k to point k+1, wrapping) */
+} xseg;
+
+static const double *seg_pt(const td_lines *ls, const xseg *s, int end)
+{
+    const td_line *l = &ls->v[s->line];
+    return l->xy + 2 * ((s->k + (size_t)end) % l->n);
+}
+
+/* ab and cd cross; the point in *x, *y.  Half-open segments ([a,b) and
+ * [c,d)), so a line passing exactly through a vertex of the other (pixel
+ * centres make that common) is found once; parallel segments never. */
+static int proper_cross(const double *a, const double *b, const double *c,
+                        const double *d, double *x, double *y)
+{
+    double r0 = b[0] - a[0], r1 = b[1] - a[1], s0 = d[0] - c[0], s1 = d[1] - c[1];
+    double den = r0 * s1 - r1 * s0, t, u;
+    if (den == 0)
+        return 0;
+    t = ((c[0] - a[0]) * s1 - (c[1] - a[1]) * s0) / den;
+    u = ((c[0] - a[0]) * r1 - (c[1] - a[1]) * r0) / den;
+    if (t < 0 || t >= 1 || u < 0 || u >= 1)
+        return 0;
+    *x = a[0] + t * r0, *y = a[1] + t * r1;
+    return 1;
+}
+
+static int cmp_cross(const void *pa, const void *pb)
+{
+    const td_crossing *a = pa, *b = pb;
+    if (a->a != b->a)
+        return (a->a > b->a) - (a->a < b->a);
+    return (a->b > b->b) - (a->b < b->b);
+}
+
+/* Sort the segments by bucket (cell of their first point, 16 px; segments
+ * are short, so neighbouring cells are searched too). */
+typedef struct xgrid {
+    double x0, y0;
+    long cw, ch;
+    size_t *start; /* cw*ch + 1 offsets into segs */
+    xseg *segs;
+} xgrid;
+
+static long xcell(const xgrid *g, double v, double o, long lim)
+{
+    long c = (long)floor((v - o) / 16.0);
+    return c < 0 ? 0 : c >= lim ? lim - 1 : c;
+}
+
+static int xgrid_build(const td_lines *ls, xgrid *g, double *maxlen,
+                       td_ctx *cx)
+{
+    double x1 = -INFINITY, y1 = -INFINITY;
+    size_t i, k, n = 0, *cnt = NULL;
+    memset(g, 0, sizeof *g);
+    g->x0 = g->y0 = INFINITY;
+    *maxlen = 0;
+    for (i = 0; i < ls->n; i++)
+        for (k = 0; k < ls->v[i].n; k++) {
+            g->x0 = fmin(g->x0, ls->v[i].xy[2 * k]), x1 = fmax(x1, ls->v[i].xy[2 * k]);
+            g->y0 = fmin(g->y0, ls->v[i].xy[2 * k + 1]), y1 = fmax(y1, ls->v[i].xy[2 * k + 1]);
+            n++;
+        }
+    if (n == 0)
+        return 0;
+    g->cw = (long)((x1 - g->x0) / 16.0) + 1, g->ch = (long)((y1 - g->y0) / 16.0) + 1;
+    if (!(g->start = calloc((size_t)g->cw * g->ch + 1, sizeof *g->start)) ||
+        !(g->segs = malloc(n * sizeof *g->segs)) ||
+        !(cnt = calloc((size_t)g->cw * g->ch + 1, sizeof *cnt)))
+        return td_seterr(cx, TD_ENOMEM, "crossings: out of memory");
+    for (k = 0; k < 2; k++) /* count, then place */
+        for (i = 0; i < ls->n; i++) {
+            const td_line *l = &ls->v[i];
+            size_t j, ns = l->n < 2 ? 0 : l->closed ? l->n : l->n - 1;
+            for (j = 0; j < ns; j++) {
+                xseg s = {i, j};
+                const double *a = seg_pt(ls, &s, 0), *b = seg_pt(ls, &s, 1);
+                size_t c = (size_t)xcell(g, a[1], g->y0, g->ch) * g->cw +
+                           xcell(g, a[0], g->x0, g->cw);
+                if (k == 0) {
+                    g->start[c + 1]++;
+                    *maxlen = fmax(*maxlen, hypot(b[0] - a[0], b[1] - a[1]));
+                } else {
+                    g->segs[g->start[c] + cnt[c]++] = s;
+                }
+            }
+            if (k == 0 && i + 1 == ls->n)
+                for (j = 0; j < (size_t)g->cw * g->ch; j++)
+                    g->start[j + 1] += g->start[j];
+        }
+    free(cnt);
+    return 0;
+}
+
+static int add_cross(td_crossing **v, size_t *n, size_t *cap, long a, long b,
+                     double x, double y)
+{
+    if (*n == *cap) {
+        size_t c = *cap ? 2 * *cap : 16;
+        td_crossing *p = realloc(*v, c * sizeof *p);
+        if (!p)
+            return TD_ENOMEM;
+        *v = p, *cap = c;
+    }
+    (*v)[*n].a = a < b ? a : b, (*v)[*n].b = a < b ? b : a;
+    (*v)[*n].x = x, (*v)[*n].y = y;
+    ++*n;
+    return 0;
+}
+
+/* Contract in contain.h. */
+int td_contain_crossings(const td_lines *ls, td_crossing **out, size_t *nout,
+                         td_ctx *cx)
+{
+    xgrid g;
+    td_crossing *v = NULL;
+    size_t n = 0, cap = 0, c, i, j, w;
+    double maxlen;
+    long reach, cx0, cy0, dx, dy;
+    int rc = xgrid_build(ls, &g, &maxlen, cx);
+    *out = NULL, *nout = 0;
+    if (rc || !g.segs)
+        goto done;
+    reach = (long)ceil(maxlen / 16.0) + 1;
+    for (c = 0; c < (size_t)g.cw * g.ch; c++)
+        for (i = g.start[c]; i < g.start[c + 1]; i++) {
+            const xseg *s = &g.segs[i];
+            cx0 = (long)(c % (size_t)g.cw), cy0 = (long)(c / (size_t)g.cw);
+            for (dy = -reach; dy <= reach; dy++)
+                for (dx = -reach; dx <= reach; dx++) {
+                    long qx = cx0 + dx, qy = cy0 + dy;
+                    size_t q;
+                    if (qx < 0 || qy < 0 || qx >= g.cw || qy >= g.ch)
+                        continue;
+                    q = (size_t)qy * g.cw + qx;
+                    for (j = g.start[q]; j < g.start[q + 1]; j++) {
+                        const xseg *t = &g.segs[j];
+                        double x, y;
+                        if (t->line <= s->line ||
+                            !proper_cross(seg_pt(ls, s, 0), seg_pt(ls, s, 1),
+                                          seg_pt(ls, t, 0), seg_pt(ls, t, 1),
+                                          &x, &y))
+                            continue;
+                        if (add_cross(&v, &n, &cap, ls->v[s->line].id,
+                                      ls->v[t->line].id, x, y) != 0) {
+                            rc = td_seterr(cx, TD_ENOMEM,
+                                           "crossings: out of memory");
+                            goto done;
+                        }
+                    }
+                }
+        }
+    if (n > 1) /* one per pair: the first found */
+        qsort(v, n, sizeof *v, cmp_cross);
+    for (i = 0, w = 0; i < n; i++)
+        if (w == 0 || v[w - 1].a != v[i].a || v[w - 1].b != v[i].b)
+            v[w++] = v[i];
+    *out = v, *nout = w;
+    v = NULL;
+done:
+    free(v);
+    free(g.start);
+    free(g.segs);
+    return rc;
+}

@@ -39,6 +39,20 @@ long td_contain_locate(const td_contain *ct, double x, double y);
  * included when closed). */
 double td_contain_dist(const td_line *l, double x, double y);
 
+/* Two lines crossing (contours never do: a tracing or joining error). */
+typedef struct td_crossing {
+    long a, b;   /* the two lines' ids, a < b */
+    double x, y; /* where (the first crossing found) */
+} td_crossing;
+
+/* Every pair of different lines of ls whose segments cross, each pair once
+ * (at one of its crossings), through a bucket grid of segments.  Segments
+ * are half-open, so a line through a vertex of the other counts once; two
+ * lines touching at a vertex count too (contours do not touch either,
+ * cliffs aside).  *out (free()) and *n.  Returns 0 or TD_ENOMEM. */
+int td_contain_crossings(const td_lines *ls, td_crossing **out, size_t *n,
+                         td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

@@ -10,7 +10,19 @@
  * back along the line to 2 px back).  Candidate pairs come from a bucket grid of
  * ends; pairs are accepted cheapest first, each end once; accepted pairs
  * chain lines together, and a chain that returns to where it started (or a
- * line joined to itself) is closed. */
+ * line joined to itself) is closed.
+ *
+ * Stage 0 (fragments) and stage 2 (label gaps, ALGORITHMS.md A.4 "beyond":
+ * printed elevation labels cut index contours over 20-60 px):
+ *
+ *   =====a   3 5 0   b=====     the digits trace as short, bent fragments
+ *         '---------'           (removed unless both their ends continue
+ *        the join a-b           lines) and small rings (0, 6, 8, 9: kept as
+ *                               rings, removed once a join passes through);
+ *   a-b is joined when both tangents face the gap, the two ends' sideways
+ *   shift is at most max(2.5, 0.15 |ab|) px and their common bend at most
+ *   0.3 |ab| (long_cost), and the segment a-b meets no other line (a
+ *   bucket grid of line segments). */
 #include "join.h"
 
 #include <math.h>
@@ -35,6 +47,10 @@ td_join_params td_join_defaults(int w, int h)
     p.max_gap = 16.0;
     p.max_angle = 40.0;
     p.tangent = 8.0;
+    p.min_length = 25.0;
+    p.long_gap = 70.0;
+    p.long_tangent = 20.0;
+    p.record = 0;
     p.w = w;
     p.h = h;
     return p;
@@ -107,16 +123,38 @@ static int faces(double tx, double ty, double gx, double gy, double ang,
     return ang <= max_angle || (side <= TD_JOIN_SIDE && ang < 75.0);
 }
 
-/* Cost of joining ends a and b, or a negative value when not allowed. */
+/* Stage 2 cost.  Signed offsets oa, ob of each end from the other's
+ * tangent line split into a sideways shift |oa - ob| / 2 (two different
+ * lines side by side: ob = -oa) and a bend |oa + ob| / 2 (one line curving
+ * through the gap: ob = oa).  Joined when both tangents face the gap, the
+ * shift is at most max(2.5, 0.15 d) px and the bend at most 0.3 d (about
+ * 17 degrees of turn at each end); else negative. */
+static double long_cost(const jend *a, const jend *b, double gx, double gy,
+                        double d)
+{
+    double tol = fmax(TD_JOIN_SIDE, 0.15 * d);
+    double oa = a->tx * gy - a->ty * gx, ob = b->tx * gy - b->ty * gx;
+    double shift = 0.5 * fabs(oa - ob), bend = 0.5 * fabs(oa + ob);
+    if (a->tx * gx + a->ty * gy <= 0 || -(b->tx * gx + b->ty * gy) <= 0)
+        return -1.0;
+    if (shift > tol || bend > 0.3 * d)
+        return -1.0;
+    return d * (1.0 + shift / tol + bend / (0.3 * d));
+}
+
+/* Cost of joining ends a and b in stage 1 or 2, or a negative value when
+ * not allowed. */
 static double pair_cost(const td_lines *ls, const jend *a, const jend *b,
-                        const td_join_params *p)
+                        const td_join_params *p, int stage)
 {
     double gx = b->x - a->x, gy = b->y - a->y, d = hypot(gx, gy), ga, gb;
-    if (d > p->max_gap)
+    if (d > (stage == 2 ? p->long_gap : p->max_gap))
         return -1.0;
     if (a->line == b->line &&
         (ls->v[a->line].n < 4 || td_line_length(&ls->v[a->line]) < 4 * d))
         return -1.0;
+    if (stage == 2)
+        return d > 0 ? long_cost(a, b, gx, gy, d) : 0.0;
     if (d <= 3.0) /* too short for a direction: any two ends that close */
         return d;
     ga = angle_to(a->tx, a->ty, gx, gy);
@@ -134,12 +172,13 @@ static int cmp_pair(const void *pa, const void *pb)
     return (a->cost > b->cost) - (a->cost < b->cost);
 }
 
-/* Candidate pairs through a bucket grid of cell max_gap. */
+/* Candidate pairs of a stage through a bucket grid of cell = its gap. */
 static int find_pairs(const td_lines *ls, const jend *e, size_t ne,
-                      const td_join_params *p, jpair **out, size_t *nout,
-                      td_ctx *cx)
+                      const td_join_params *p, int stage, jpair **out,
+                      size_t *nout, td_ctx *cx)
 {
-    double cs = p->max_gap > 1 ? p->max_gap : 1;
+    double gap = stage == 2 ? p->long_gap : p->max_gap;
+    double cs = gap > 1 ? gap : 1;
     int cw = (int)(p->w / cs) + 1, ch = (int)(p->h / cs) + 1;
     size_t *head = NULL, *nxt = NULL, i, np = 0, cap = 0;
     jpair *pairs = NULL;
@@ -165,7 +204,7 @@ static int find_pairs(const td_lines *ls, const jend *e, size_t ne,
                     continue;
                 for (j = head[(size_t)by * cw + bx]; j != SIZE_MAX; j = nxt[j]) {
                     double c;
-                    if (j <= i || (c = pair_cost(ls, &e[i], &e[j], p)) < 0)
+                    if (j <= i || (c = pair_cost(ls, &e[i], &e[j], p, stage)) < 0)
                         continue;
                     if (np == cap) {
                         jpair *q = realloc(pairs, (cap = cap ? 2 * cap : 256) * sizeof *q);
@@ -237,8 +276,10 @@ static int build_chain(const td_lines *ls, const jend *e, const long *end_of_lin
     }
 }
 
+/* Chains of joined lines into out; closed lines flagged in drop (may be
+ * NULL) are left out. */
 static int assemble(const td_lines *ls, const jend *e, const long *eol,
-                    td_lines *out, td_ctx *cx)
+                    const uint8_t *drop, td_lines *out, td_ctx *cx)
 {
     uint8_t *used = calloc(ls->n + 1, 1);
     size_t i;
@@ -256,7 +297,7 @@ static int assemble(const td_lines *ls, const jend *e, const long *eol,
             rc = build_chain(ls, e, eol, used, i, 1, out, cx);
     }
     for (i = 0; i < ls->n && rc == 0; i++) {
-        if (used[i])
+        if (used[i] || (drop && drop[i]))
             continue;
         if (ls->v[i].closed) {
             td_line *d = td_lines_add(out, cx);
@@ -271,8 +312,11 @@ static int assemble(const td_lines *ls, const jend *e, const long *eol,
     return rc;
 }
 
+/* The open ends of ls off the border, with tangents over `tangent` px;
+ * eol[2i + k] is the index of line i's end k, or -1. */
 static int collect_ends(const td_lines *ls, const td_join_params *p,
-                        jend **out, size_t *nout, long **eol_out, td_ctx *cx)
+                        double tangent, jend **out, size_t *nout,
+                        long **eol_out, td_ctx *cx)
 {
     jend *e = td_calloc(2 * ls->n + 1, sizeof *e, cx);
     long *eol = td_calloc(2 * ls->n + 1, sizeof *eol, cx);
@@ -289,7 +333,7 @@ static int collect_ends(const td_lines *ls, const td_join_params *p,
             eol[2 * i + k] = -1;
             if (l->closed || l->n == 0)
                 continue;
-            end_of(l, k, p->tangent, &e[n]);
+            end_of(l, k, tangent, &e[n]);
             if (on_border(p, e[n].x, e[n].y))
                 continue;
             e[n].line = i;
@@ -301,38 +345,308 @@ static int collect_ends(const td_lines *ls, const td_join_params *p,
     return 0;
 }
 
-int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
-            td_ctx *cx)
+/* ---- stage 2: crossing test ------------------------------------------ */
+
+/* Whether l fits in a box of side min_length (a digit's size). */
+static int compact(const td_line *l, double min_length)
 {
-    td_lines *ls = *lsp, *out = NULL;
-    jend *e = NULL;
-    long *eol = NULL;
-    jpair *pairs = NULL;
-    size_t ne = 0, np = 0, i;
-    td_join_stats local;
-    int rc;
-    if (!st)
-        st = &local;
-    memset(st, 0, sizeof *st);
-    if ((rc = collect_ends(ls, p, &e, &ne, &eol, cx)) != 0)
+    double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
+    size_t k;
+    for (k = 0; k < l->n; k++) {
+        x0 = fmin(x0, l->xy[2 * k]), x1 = fmax(x1, l->xy[2 * k]);
+        y0 = fmin(y0, l->xy[2 * k + 1]), y1 = fmax(y1, l->xy[2 * k + 1]);
+    }
+    return x1 - x0 < min_length && y1 - y0 < min_length;
+}
+
+/* Small closed rings (fitting in min_length): digits of a label when a
+ * join passes through them; a join may cross them. */
+static int small_ring(const td_line *l, double min_length)
+{
+    return l->closed && min_length > 0 && compact(l, min_length);
+}
+
+static double orient(const double *a, const double *b, const double *c)
+{
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+/* Proper crossing of segments ab and cd (touching or collinear: no). */
+static int seg_cross(const double *a, const double *b, const double *c,
+                     const double *d)
+{
+    double o1 = orient(a, b, c), o2 = orient(a, b, d);
+    double o3 = orient(c, d, a), o4 = orient(c, d, b);
+    return ((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) &&
+           ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0));
+}
+
+/* Segments ab and cd meet: cross, touch, or overlap (pixel-centre
+ * coordinates put another line's vertex exactly on a join). */
+static int seg_meet(const double *a, const double *b, const double *c,
+                    const double *d)
+{
+    double o1 = orient(a, b, c), o2 = orient(a, b, d);
+    double o3 = orient(c, d, a), o4 = orient(c, d, b);
+    if (o1 == 0 && o2 == 0) /* collinear: overlap of the projections */
+        return fmax(fmin(a[0], b[0]), fmin(c[0], d[0])) <=
+                   fmin(fmax(a[0], b[0]), fmax(c[0], d[0])) &&
+               fmax(fmin(a[1], b[1]), fmin(c[1], d[1])) <=
+                   fmin(fmax(a[1], b[1]), fmax(c[1], d[1]));
+    return o1 * o2 <= 0 && o3 * o4 <= 0;
+}
+
+/* Bucket grid of line segments: entry i is segment seg[i] of line line[i]
+ * (segment k runs from point k to point k+1, wrapping for closed lines). */
+typedef struct sgrid {
+    double cs;
+    int cw, ch;
+    size_t *head, *next, *line, *seg, n, cap;
+} sgrid;
+
+static void sgrid_free(sgrid *g)
+{
+    free(g->head), free(g->next), free(g->line), free(g->seg);
+}
+
+static int sgrid_put(sgrid *g, size_t cell, size_t line, size_t seg)
+{
+    if (g->n == g->cap) {
+        size_t cap = g->cap ? 2 * g->cap : 4096, *a, *b, *c;
+        a = realloc(g->next, cap * sizeof *a);
+        if (a)
+            g->next = a;
+        b = realloc(g->line, cap * sizeof *b);
+        if (b)
+            g->line = b;
+        c = realloc(g->seg, cap * sizeof *c);
+        if (c)
+            g->seg = c;
+        if (!a || !b || !c)
+            return TD_ENOMEM;
+        g->cap = cap;
+    }
+    g->line[g->n] = line, g->seg[g->n] = seg;
+    g->next[g->n] = g->head[cell];
+    g->head[cell] = g->n++;
+    return 0;
+}
+
+static int cell_of(const sgrid *g, double v, int lim)
+{
+    int c = (int)floor(v / g->cs);
+    return c < 0 ? 0 : c >= lim ? lim - 1 : c;
+}
+
+/* Every segment of every line except small rings, in each cell its
+ * bounding box touches, for the cells a candidate join passes (so memory
+ * follows the ends, not the sheet's ink). */
+static int sgrid_build(sgrid *g, const td_lines *ls, const td_join_params *p,
+                       const jend *e, const jpair *pairs, size_t np,
+                       td_ctx *cx)
+{
+    size_t i, k, c;
+    memset(g, 0, sizeof *g);
+    g->cs = 32.0;
+    g->cw = (int)(p->w / g->cs) + 1, g->ch = (int)(p->h / g->cs) + 1;
+    if (!(g->head = malloc((size_t)g->cw * (size_t)g->ch * sizeof *g->head)))
         goto fail;
-    if ((rc = find_pairs(ls, e, ne, p, &pairs, &np, cx)) != 0)
-        goto fail;
+    for (c = 0; c < (size_t)g->cw * (size_t)g->ch; c++)
+        g->head[c] = SIZE_MAX - 1; /* not needed */
+    for (i = 0; i < np; i++) {
+        const jend *a = &e[pairs[i].a], *b = &e[pairs[i].b];
+        int x0 = cell_of(g, fmin(a->x, b->x), g->cw);
+        int x1 = cell_of(g, fmax(a->x, b->x), g->cw);
+        int y0 = cell_of(g, fmin(a->y, b->y), g->ch);
+        int y1 = cell_of(g, fmax(a->y, b->y), g->ch), x, y;
+        for (y = y0; y <= y1; y++)
+            for (x = x0; x <= x1; x++)
+                g->head[(size_t)y * g->cw + x] = SIZE_MAX;
+    }
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        size_t nseg = l->n < 2 ? 0 : l->closed ? l->n : l->n - 1;
+        if (small_ring(l, p->min_length))
+            continue;
+        for (k = 0; k < nseg; k++) {
+            const double *a = l->xy + 2 * k, *b = l->xy + 2 * ((k + 1) % l->n);
+            int x0 = cell_of(g, fmin(a[0], b[0]), g->cw);
+            int x1 = cell_of(g, fmax(a[0], b[0]), g->cw);
+            int y0 = cell_of(g, fmin(a[1], b[1]), g->ch);
+            int y1 = cell_of(g, fmax(a[1], b[1]), g->ch), x, y;
+            for (y = y0; y <= y1; y++)
+                for (x = x0; x <= x1; x++)
+                    if (g->head[(size_t)y * g->cw + x] != SIZE_MAX - 1 &&
+                        sgrid_put(g, (size_t)y * g->cw + x, i, k) != 0)
+                        goto fail;
+        }
+    }
+    return 0;
+fail:
+    sgrid_free(g);
+    memset(g, 0, sizeof *g);
+    return td_seterr(cx, TD_ENOMEM, "join: out of memory");
+}
+
+/* Whether segment k of line i is one of the last 3 at end e (the line's
+ * own end, which the join starts from). */
+static int near_end(const td_lines *ls, size_t i, size_t k, const jend *e)
+{
+    size_t nseg = ls->v[i].n - 1;
+    if (e->line != i)
+        return 0;
+    return e->at_end ? k + 3 >= nseg : k < 3;
+}
+
+/* Whether the join a-b meets a line of the grid (other than the last 3
+ * segments at its own two ends) or an accepted join. */
+static int crosses(const sgrid *g, const td_lines *ls, const jend *a,
+                   const jend *b, const double *acc, size_t nacc)
+{
+    double pa[2] = {a->x, a->y}, pb[2] = {b->x, b->y};
+    int x0 = cell_of(g, fmin(pa[0], pb[0]), g->cw);
+    int x1 = cell_of(g, fmax(pa[0], pb[0]), g->cw);
+    int y0 = cell_of(g, fmin(pa[1], pb[1]), g->ch);
+    int y1 = cell_of(g, fmax(pa[1], pb[1]), g->ch), x, y;
+    size_t j;
+    for (j = 0; j < nacc; j++)
+        if (seg_meet(pa, pb, acc + 4 * j, acc + 4 * j + 2))
+            return 1;
+    for (y = y0; y <= y1; y++)
+        for (x = x0; x <= x1; x++)
+            for (j = g->head[(size_t)y * g->cw + x]; j < g->n;
+                 j = g->next[j]) {
+                const td_line *l = &ls->v[g->line[j]];
+                size_t k = g->seg[j];
+                if (near_end(ls, g->line[j], k, a) ||
+                    near_end(ls, g->line[j], k, b))
+                    continue;
+                if (seg_meet(pa, pb, l->xy + 2 * k,
+                             l->xy + 2 * ((k + 1) % l->n)))
+                    return 1;
+            }
+    return 0;
+}
+
+/* Distance from point c to segment ab. */
+static double seg_dist(const double *a, const double *b, const double *c)
+{
+    double dx = b[0] - a[0], dy = b[1] - a[1], L2 = dx * dx + dy * dy, t = 0;
+    if (L2 > 0)
+        t = ((c[0] - a[0]) * dx + (c[1] - a[1]) * dy) / L2;
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    return hypot(c[0] - a[0] - t * dx, c[1] - a[1] - t * dy);
+}
+
+/* Small rings that an accepted stage-2 join passes through (crosses, or
+ * touches within 1 px): flagged in drop and counted. */
+static void mark_glyphs(const td_lines *ls, const td_join_params *p,
+                        const double *acc, size_t nacc, uint8_t *drop,
+                        td_join_stats *st)
+{
+    size_t i, j, k;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        if (!nacc || !small_ring(l, p->min_length))
+            continue;
+        for (j = 0; j < nacc && !drop[i]; j++)
+            for (k = 0; k < l->n && !drop[i]; k++)
+                if (seg_dist(acc + 4 * j, acc + 4 * j + 2, l->xy + 2 * k) < 1.0 ||
+                    seg_cross(acc + 4 * j, acc + 4 * j + 2, l->xy + 2 * k,
+                              l->xy + 2 * ((k + 1) % l->n)))
+                    drop[i] = 1;
+        st->glyphs += drop[i];
+    }
+}
+
+/* ---- the passes ------------------------------------------------------- */
+
+/* Greedy acceptance, cheapest first; stage 2 also rejects crossings and
+ * collects the accepted segments (x0,y0,x1,y1) in *acc. */
+static int accept_pairs(const td_lines *ls, const td_join_params *p,
+                        int stage, jend *e, jpair *pairs, size_t np,
+                        double **acc, size_t *nacc, td_join_stats *st,
+                        td_ctx *cx)
+{
+    sgrid g;
+    size_t i;
+    memset(&g, 0, sizeof g);
     if (np > 0)
         qsort(pairs, np, sizeof *pairs, cmp_pair);
+    if (stage == 2 && np > 0) {
+        if (sgrid_build(&g, ls, p, e, pairs, np, cx) != 0)
+            return TD_ENOMEM;
+        if (!(*acc = malloc(4 * np * sizeof **acc))) {
+            sgrid_free(&g);
+            return td_seterr(cx, TD_ENOMEM, "join: out of memory");
+        }
+    }
     for (i = 0; i < np; i++) {
         jend *a = &e[pairs[i].a], *b = &e[pairs[i].b];
         if (a->partner >= 0 || b->partner >= 0)
             continue;
+        if (stage == 2) {
+            double *s = *acc + 4 * *nacc;
+            if (crosses(&g, ls, a, b, *acc, *nacc))
+                continue;
+            s[0] = a->x, s[1] = a->y, s[2] = b->x, s[3] = b->y;
+            ++*nacc;
+            st->long_joins++;
+        }
         a->partner = (long)pairs[i].b;
         b->partner = (long)pairs[i].a;
         st->joins++;
         st->closures += a->line == b->line;
     }
-    for (i = 0; i < ne; i++)
-        st->ends_open += e[i].partner < 0;
+    if (stage == 2 && np > 0)
+        sgrid_free(&g);
+    return 0;
+}
+
+/* Stage 2's join segments as 2-point lines in st->segments. */
+static int record(td_join_stats *st, const double *acc, size_t nacc,
+                  td_ctx *cx)
+{
+    size_t j;
+    if (!st->segments && !(st->segments = td_lines_new(cx)))
+        return TD_ENOMEM;
+    for (j = 0; j < nacc; j++) {
+        td_line *l = td_lines_add(st->segments, cx);
+        if (!l || td_line_push(l, acc[4 * j], acc[4 * j + 1], cx) != 0 ||
+            td_line_push(l, acc[4 * j + 2], acc[4 * j + 3], cx) != 0)
+            return TD_ENOMEM;
+    }
+    return 0;
+}
+
+/* One joining pass (stage 1 or 2) over *lsp. */
+static int join_pass(td_lines **lsp, const td_join_params *p, int stage,
+                     td_join_stats *st, td_ctx *cx)
+{
+    td_lines *ls = *lsp, *out = NULL;
+    jend *e = NULL;
+    long *eol = NULL;
+    jpair *pairs = NULL;
+    double *acc = NULL;
+    uint8_t *drop = NULL;
+    size_t ne = 0, np = 0, nacc = 0;
+    int rc;
+    if ((rc = collect_ends(ls, p, stage == 2 ? p->long_tangent : p->tangent,
+                           &e, &ne, &eol, cx)) != 0 ||
+        (rc = find_pairs(ls, e, ne, p, stage, &pairs, &np, cx)) != 0 ||
+        (rc = accept_pairs(ls, p, stage, e, pairs, np, &acc, &nacc, st,
+                           cx)) != 0)
+        goto fail;
     rc = TD_ENOMEM;
-    if (!(out = td_lines_new(cx)) || (rc = assemble(ls, e, eol, out, cx)) != 0)
+    if (!(drop = td_calloc(ls->n + 1, 1, cx)))
+        goto fail;
+    if (stage == 2)
+        mark_glyphs(ls, p, acc, nacc, drop, st);
+    if (stage == 2 && p->record && (rc = record(st, acc, nacc, cx)) != 0)
+        goto fail;
+    rc = TD_ENOMEM;
+    if (!(out = td_lines_new(cx)) ||
+        (rc = assemble(ls, e, eol, drop, out, cx)) != 0)
         goto fail;
     td_lines_free(ls);
     *lsp = out;
@@ -342,5 +656,99 @@ fail:
     free(e);
     free(eol);
     free(pairs);
+    free(acc);
+    free(drop);
+    return rc;
+}
+
+/* ---- stage 0: fragments ----------------------------------------------- */
+
+/* Short open lines (shorter than min_length, or fitting in a box of that
+ * side: a bent digit such as 2 or 5) with both ends inside the sheet are
+ * label or text fragments unless both ends continue longer lines (a stage-1 pair with an
+ * end of a line that is not itself such a candidate): a short piece of a
+ * contour between two breaks is kept. */
+static int remove_fragments(td_lines *ls, const td_join_params *p,
+                            td_join_stats *st, td_ctx *cx)
+{
+    jend *e = NULL;
+    long *eol = NULL;
+    jpair *pairs = NULL;
+    uint8_t *cand = NULL, *cont = NULL;
+    size_t ne = 0, np = 0, i;
+    int rc;
+    if ((rc = collect_ends(ls, p, p->tangent, &e, &ne, &eol, cx)) != 0 ||
+        (rc = find_pairs(ls, e, ne, p, 1, &pairs, &np, cx)) != 0)
+        goto fail;
+    rc = TD_ENOMEM;
+    if (!(cand = td_calloc(ls->n + 1, 1, cx)) ||
+        !(cont = td_calloc(ne + 1, 1, cx)))
+        goto fail;
+    for (i = 0; i < ls->n; i++)
+        cand[i] = !ls->v[i].closed && !ls->v[i].edge && eol[2 * i] >= 0 &&
+                  eol[2 * i + 1] >= 0 &&
+                  (td_line_length(&ls->v[i]) < p->min_length ||
+                   compact(&ls->v[i], p->min_length));
+    for (i = 0; i < np; i++) {
+        size_t a = pairs[i].a, b = pairs[i].b;
+        if (e[a].line == e[b].line)
+            continue;
+        cont[a] |= !cand[e[b].line];
+        cont[b] |= !cand[e[a].line];
+    }
+    for (i = ls->n; i-- > 0;)
+        if (cand[i] && !(cont[eol[2 * i]] && cont[eol[2 * i + 1]])) {
+            td_lines_remove(ls, i);
+            st->fragments++;
+        }
+    rc = 0;
+fail:
+    free(e);
+    free(eol);
+    free(pairs);
+    free(cand);
+    free(cont);
+    return rc;
+}
+
+static size_t count_open_ends(const td_lines *ls, const td_join_params *p)
+{
+    size_t i, n = 0;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        if (l->closed || l->n == 0)
+            continue;
+        n += !on_border(p, l->xy[0], l->xy[1]);
+        n += !on_border(p, l->xy[2 * l->n - 2], l->xy[2 * l->n - 1]);
+    }
+    return n;
+}
+
+void td_join_stats_free(td_join_stats *st)
+{
+    if (!st)
+        return;
+    td_lines_free(st->segments);
+    st->segments = NULL;
+}
+
+int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
+            td_ctx *cx)
+{
+    td_join_stats local;
+    int rc;
+    if (!st)
+        st = &local;
+    memset(st, 0, sizeof *st);
+    if (p->min_length > 0 && (rc = remove_fragments(*lsp, p, st, cx)) != 0)
+        goto fail;
+    if ((rc = join_pass(lsp, p, 1, st, cx)) != 0)
+        goto fail;
+    if (p->long_gap > p->max_gap && (rc = join_pass(lsp, p, 2, st, cx)) != 0)
+        goto fail;
+    st->ends_open = count_open_ends(*lsp, p);
+fail:
+    if (st == &local)
+        td_join_stats_free(&local);
     return rc;
 }

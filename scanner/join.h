@@ -13,27 +13,57 @@ extern "C" {
 #endif
 
 typedef struct td_join_params {
-    double max_gap;   /* longest gap joined, px (default 16) */
+    double max_gap;   /* stage 1: longest small gap joined, px (default 16) */
     double max_angle; /* largest angle, degrees, between each end's outward
                          tangent and the gap (default 40) */
     double tangent;   /* length along the line over which an end's tangent is
                          measured, px (default 8) */
     int w, h;         /* sheet size: ends on the border are never joined */
+    double min_length; /* stage 0: open lines shorter than this (px) with
+                          both ends inside the sheet that do not continue
+                          other lines are removed as label/text fragments
+                          (default 25; 0: off) */
+    double long_gap;   /* stage 2: longest label gap joined, px (default
+                          70: a 60-px label gap plus the skeleton's pull-back
+                          at both ends; <= max_gap: off) */
+    double long_tangent; /* stage 2 tangent chord length, px (default 20) */
+    int record;        /* keep the stage-2 join segments in the stats */
 } td_join_params;
 
 typedef struct td_join_stats {
-    size_t joins;      /* gaps joined (including closures) */
+    size_t joins;      /* gaps joined (including closures), both stages */
     size_t closures;   /* lines closed by joining their own two ends */
     size_t ends_open;  /* open ends left (not on the border) */
+    size_t fragments;  /* short open fragments removed (stage 0) */
+    size_t long_joins; /* of joins: made by stage 2 */
+    size_t glyphs;     /* small closed rings (digits such as 0, 6, 8, 9)
+                          removed because a stage-2 join passes through */
+    td_lines *segments; /* p->record only: each stage-2 join as a 2-point
+                           line; free with td_join_stats_free */
 } td_join_stats;
 
 td_join_params td_join_defaults(int w, int h);
 
+/* Free what td_join left in st (the recorded segments); st itself is the
+ * caller's.  NULL is a no-op. */
+void td_join_stats_free(td_join_stats *st);
+
 /* Join open lines of *ls whose ends face each other across a gap, and close
- * lines whose two ends meet.  Pairs are taken cheapest first (gap length
- * weighted by the tangent disagreement), each end at most once.  *ls is
- * replaced by the joined set (ids renumbered in order); bridged counts add
- * up.  st may be NULL.  Returns 0 or TD_ENOMEM (then *ls is unchanged). */
+ * lines whose two ends meet, in three stages:
+ *   0. (min_length > 0) remove short open fragments (label digits, text)
+ *      whose ends do not both continue other lines across a small gap;
+ *   1. small gaps up to max_gap: both end tangents point across the gap;
+ *   2. (long_gap > max_gap) label gaps up to long_gap: both tangents face
+ *      the gap, the ends' sideways shift is at most max(2.5, 0.15 * gap) px
+ *      and their common bend at most 0.3 * gap (join.c), and the join
+ *      crosses no other line (small closed rings excepted: a ring under
+ *      min_length that a stage-2 join passes through is a digit and is
+ *      removed).
+ * Pairs are taken cheapest first (gap length weighted by the tangent
+ * disagreement), each end at most once.  *ls is replaced by the joined set
+ * (ids renumbered in order); bridged counts add up.  st may be NULL (and
+ * must be freed with td_join_stats_free when p->record).  Returns 0 or
+ * TD_ENOMEM (then *ls may have lost fragments but is a valid set). */
 int td_join(td_lines **ls, const td_join_params *p, td_join_stats *st,
             td_ctx *cx);
 

@@ -19,6 +19,7 @@ td_scan_params td_scan_defaults(void)
 void td_scan_result_free(td_scan_result *res)
 {
     td_lines_free(res->lines);
+    td_join_stats_free(&res->join);
     td_grid_u8_free(res->mask);
     td_grid_u8_free(res->skeleton);
     td_grid_u8_free(res->despurred);
@@ -60,6 +61,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     t0 = td_now();
     jp.w = im->w;
     jp.h = im->h;
+    jp.record = jp.record || p->keep_debug; /* the overlay draws the joins */
     if (p->do_join && (rc = td_join(&res->lines, &jp, &res->join, cx)) != 0)
         goto fail;
     res->seconds[4] = td_now() - t0;

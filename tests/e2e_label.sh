@@ -43,6 +43,39 @@ else
     check "contradictory points: exit 1 naming both" \
       "[ $? = 1 ] && one_error 'known points contradict' && grep -q '(210.5,260.8)=180' '$T/err' && grep -q '(267.5,244.2)=300' '$T/err'"
     check "no output on error" "[ ! -e '$T/bad.geojson' ]"
+
+    # --interactive with piped answers: Enter x3, 180, 200, then end of
+    # input (accept the rest): the same heights as the two known points.
+    printf '\n\n\n180\n200\n' | "$TD" label "$T/lines.geojson" -o "$T/int.geojson" \
+        --interval 20 --interactive --like samples/hills.png \
+        --export-csv "$T/int.csv" 2>"$T/err"
+    check "interactive: exit 0" "[ $? = 0 ]"
+    check "interactive: label sheet written first" \
+      "[ -s '$T/int.geojson.png' ] && head -1 '$T/err' | grep -q 'label sheet'"
+    check "interactive: one prompt per answer, then end of input" \
+      "[ \$(grep -c 'height \\[' '$T/err') = 6 ]"
+    check "interactive: typed heights re-suggest the rest" \
+      "grep -q '^line 4 .*height \\[200\\]: 200' '$T/err'"
+    check "interactive: same heights as two known points" \
+      "cmp -s '$T/h.csv' '$T/int.csv'"
+    printf 'abc\n\nq\n' | "$TD" label "$T/lines.geojson" -o "$T/q.geojson" \
+        --interval 20 --interactive --sheet "$T/q.png" 2>"$T/err"
+    check "interactive: q stops, bad answer asked again" \
+      "[ $? = 0 ] && [ \$(grep -c 'height \\[' '$T/err') = 3 ] && grep -q 'Enter to accept' '$T/err' && [ -s '$T/q.png' ]"
+    printf '185\n' | "$TD" label "$T/lines.geojson" -o "$T/w.geojson" \
+        --interval 20 --interactive --sheet "$T/w.png" 2>"$T/err"
+    check "interactive: off-interval height warned" \
+      "grep -q 'warning: height 185 for line 0' '$T/err'"
+
+    cat >"$T/x.geojson" <<'JSON'
+{"type":"FeatureCollection","features":[
+{"type":"Feature","properties":{"id":7},"geometry":{"type":"LineString","coordinates":[[0.5,50.5],[99.5,50.5]]}},
+{"type":"Feature","properties":{"id":9},"geometry":{"type":"LineString","coordinates":[[40.5,0.5],[60.5,99.5]]}}]}
+JSON
+    "$TD" label "$T/x.geojson" -o "$T/x.out.geojson" --interval 10 \
+        --size 100x100 2>"$T/err"
+    check "crossing lines: warning naming both and the place" \
+      "[ $? = 0 ] && grep -q 'warning: lines 7 and 9 cross at (50.6,50.5)' '$T/err' && grep -q ', 1 warnings' '$T/err'"
 fi
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]

@@ -292,6 +292,39 @@ static void test_warnings(void)
     free_truth(&t);
 }
 
+/* Crossing lines: two crossing lines found once with their ids and the
+ * place; a line through a vertex of another found once; the true contours
+ * of a generated sheet never cross. */
+static void test_crossings(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_crossing *v = NULL;
+    td_line *l;
+    truth t;
+    size_t n = 9;
+    double x;
+    l = td_lines_add(ls, NULL); /* id 0: a horizontal line, 1-px steps */
+    for (x = 10.5; x <= 90.5; x += 1)
+        td_line_push(l, x, 50.5, NULL);
+    l = td_lines_add(ls, NULL); /* id 1: a ring away from it */
+    td_line_push(l, 20, 70, NULL), td_line_push(l, 30, 70, NULL);
+    td_line_push(l, 30, 80, NULL), td_line_push(l, 20, 80, NULL);
+    l->closed = 1;
+    l = td_lines_add(ls, NULL); /* id 2: a vertical line through (40.5,50.5) */
+    td_line_push(l, 40.5, 30.5, NULL), td_line_push(l, 40.5, 50.5, NULL);
+    td_line_push(l, 40.5, 70.5, NULL);
+    TT_CHECK(td_contain_crossings(ls, &v, &n, NULL) == 0);
+    TT_CHECKF(n == 1 && v[0].a == 0 && v[0].b == 2 &&
+                  fabs(v[0].x - 40.5) < 1e-9 && fabs(v[0].y - 50.5) < 1e-9,
+              "%zu crossings", n);
+    free(v);
+    td_lines_free(ls);
+    TT_CHECK(make_truth(&t, TD_GEN_HILLS, 600, 450) == 0);
+    TT_CHECK(td_contain_crossings(t.lines, &v, &n, NULL) == 0 && n == 0);
+    free(v);
+    free_truth(&t);
+}
+
 int main(void)
 {
     TT_RUN(test_cone_one_point);
@@ -300,5 +333,6 @@ int main(void)
     TT_RUN(test_hills_without_pit);
     TT_RUN(test_contradiction);
     TT_RUN(test_warnings);
+    TT_RUN(test_crossings);
     return tt_summary();
 }

@@ -39,6 +39,9 @@ typedef struct td_gen_params {
                    cream paper RGB, with blue and black distractors
                    if distractors != 0 */
     int distractors;
+    int labels; /* inline elevation labels per index contour (every 5th
+                   level, base + 5k * interval), 0 = none (the default):
+                   see td_gen_labels */
 } td_gen_params;
 
 /* Defaults: 1000 x 1000, seed 1, HILLS, base 0, interval 0 (automatic),
@@ -121,6 +124,20 @@ double td_gen_ink_fraction(const td_image *im, int threshold);
  * of the sheet's edge). */
 int td_gen_sheet(const td_gen_params *p, td_image **sheet, td_lines **truth,
                  td_grid_f32 **dem, td_ctx *cx);
+
+/* Inline elevation labels, as printed maps write them: on each index
+ * contour of truth (height base + 5k * interval) up to p->labels places
+ * (one per 250 px of line) where the line is straight within 2.5 px over
+ * the label and 25 px either side and no other line comes within the digits' half height + line width
+ * + 4 px, the line is erased over a gap of 20-60 px along it and its height
+ * is drawn inside the gap as stroke digits (seven-segment shapes, 10-16 px
+ * tall, 1.5-2 px strokes, along the line, reading left to right) in the
+ * contour ink.  Drawn into im (td_gen_render's output before blur and
+ * noise; grey or colour).  The truth is not changed.  Places are seeded by
+ * p->seed.  *nplaced (may be NULL) gets the number of labels drawn.
+ * Returns 0 or TD_ENOMEM. */
+int td_gen_labels(const td_lines *truth, const td_gen_params *p,
+                  double interval, td_image *im, size_t *nplaced, td_ctx *cx);
 
 #ifdef __cplusplus
 }

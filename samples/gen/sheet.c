@@ -1,5 +1,27 @@
 /* sheet.c: terrain -> truth contours -> rendered sheet in one call. */
-#include "gen.h"
+#include "gen_int.h"
+
+/* With inline labels: render without blur and noise, cut the labels into
+ * the clean sheet, then blur and add noise as td_gen_render would. */
+static int render_labelled(const td_lines *ls, const td_gen_params *p,
+                           double interval, td_image **im, td_ctx *cx)
+{
+    td_gen_params q = *p;
+    int rc;
+    q.blur = 0.0;
+    q.noise = 0.0;
+    if ((rc = td_gen_render(ls, &q, im, cx)) != 0)
+        return rc;
+    if ((rc = td_gen_labels(ls, p, interval, *im, NULL, cx)) != 0 ||
+        (p->blur > 0.0 && (rc = td_gen_blur(*im, p->blur, cx)) != 0)) {
+        td_image_free(*im);
+        *im = NULL;
+        return rc;
+    }
+    if (p->noise > 0.0)
+        td_gen_noise(*im, p->noise, p->seed);
+    return 0;
+}
 
 /* Contract in gen.h. */
 int td_gen_sheet(const td_gen_params *p, td_image **sheet, td_lines **truth,
@@ -21,7 +43,10 @@ int td_gen_sheet(const td_gen_params *p, td_image **sheet, td_lines **truth,
     interval = td_gen_auto_interval(p, g);
     if ((rc = td_gen_contours(g, p->base, interval, &ls, cx)) != 0)
         goto fail;
-    if (sheet && (rc = td_gen_render(ls, p, &im, cx)) != 0)
+    if (sheet && p->labels <= 0 && (rc = td_gen_render(ls, p, &im, cx)) != 0)
+        goto fail;
+    if (sheet && p->labels > 0 && (rc = render_labelled(ls, p, interval, &im,
+                                                        cx)) != 0)
         goto fail;
     if (sheet)
         *sheet = im;

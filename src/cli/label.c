@@ -5,7 +5,10 @@
 #define _GNU_SOURCE
 #include "cli.h"
 
+#include "../draw.h"
+#include "../imageio.h"
 #include "../lines.h"
+#include "../../scanner/contain.h"
 #include "../../scanner/label.h"
 
 #include <errno.h>
@@ -38,6 +41,14 @@ static const char help[] =
     "                         edited --export-csv file)\n"
     "      --export-csv FILE  write id,height of every line\n"
     "      --size WxH         sheet size in px (default: the lines' extent)\n"
+    "      --interactive      the paper's way: write a label sheet PNG, then\n"
+    "                         ask each line's height on stderr, reading\n"
+    "                         answers from stdin: Enter accepts the\n"
+    "                         suggestion, a number sets the height (the\n"
+    "                         others are re-suggested from it), q keeps the\n"
+    "                         rest automatic; end of input accepts the rest\n"
+    "      --sheet PNG        the label sheet (default LABELLED.geojson.png)\n"
+    "      --like SCAN        draw the label sheet over the scan\n"
     "  -q, --quiet            no summary or warnings\n"
     "  -h, --help             this help\n"
     "\n"
@@ -51,8 +62,8 @@ typedef struct pts {
 } pts;
 
 typedef struct label_opts {
-    const char *in, *out, *csv_out;
-    int quiet, w, h;
+    const char *in, *out, *csv_out, *sheet, *like;
+    int quiet, w, h, interactive;
     double base, interval;
     pts known;
     double *dep;
@@ -60,7 +71,7 @@ typedef struct label_opts {
 } label_opts;
 
 enum { O_INTERVAL = 256, O_BASE, O_KNOWN, O_KNOWNF, O_DEPR, O_HEIGHTS,
-       O_EXPORT, O_SIZE };
+       O_EXPORT, O_SIZE, O_INTER, O_SHEET, O_LIKE };
 
 static int push_pt(pts *a, double x, double y, double h, long id, td_ctx *cx)
 {
@@ -134,6 +145,9 @@ static int parse_opt(int c, const char *arg, label_opts *o, pts *heights,
     case 'o': o->out = arg; return 0;
     case 'q': o->quiet = 1; return 0;
     case O_EXPORT: o->csv_out = arg; return 0;
+    case O_INTER: o->interactive = 1; return 0;
+    case O_SHEET: o->sheet = arg; return 0;
+    case O_LIKE: o->like = arg; return 0;
     case O_INTERVAL:
     case O_BASE:
         if (td_cli_parse_double(arg, c == O_BASE ? -1e9 : 1e-9, 1e9, v) != 0)
@@ -182,7 +196,9 @@ static int parse_args(int argc, char **argv, label_opts *o, pts *heights)
         {"interval", 1, 0, O_INTERVAL}, {"base", 1, 0, O_BASE},
         {"known", 1, 0, O_KNOWN}, {"known-file", 1, 0, O_KNOWNF},
         {"depressions", 1, 0, O_DEPR}, {"heights", 1, 0, O_HEIGHTS},
-        {"export-csv", 1, 0, O_EXPORT}, {"size", 1, 0, O_SIZE}, {0, 0, 0, 0}};
+        {"export-csv", 1, 0, O_EXPORT}, {"size", 1, 0, O_SIZE},
+        {"interactive", 0, 0, O_INTER}, {"sheet", 1, 0, O_SHEET},
+        {"like", 1, 0, O_LIKE}, {0, 0, 0, 0}};
     td_ctx cx;
     int c;
     td_ctx_init(&cx);
@@ -282,6 +298,260 @@ static void summary(const td_lines *ls, const td_label_report *rep)
     fputs(shown ? (shown < ls->n - lab ? ",...)\n" : ")\n") : "\n", stderr);
 }
 
+/* ---- --interactive: the paper's way (001 §2.3, one height per line) ---- */
+
+/* 3x5 digits, rows top to bottom, 3 bits per row (4 = left column). */
+static const unsigned char font3x5[10][5] = {
+    {7, 5, 5, 5, 7}, {2, 6, 2, 2, 7}, {7, 1, 7, 4, 7}, {7, 1, 7, 1, 7},
+    {5, 5, 7, 1, 1}, {7, 4, 7, 1, 7}, {7, 4, 7, 5, 7}, {7, 1, 1, 1, 1},
+    {7, 5, 7, 5, 7}, {7, 5, 7, 1, 7}};
+
+static void put_px(td_image *im, int x, int y, const uint8_t c[3])
+{
+    uint8_t *p;
+    if (x < 0 || y < 0 || x >= im->w || y >= im->h)
+        return;
+    p = im->data + ((size_t)y * im->w + x) * 3;
+    p[0] = c[0], p[1] = c[1], p[2] = c[2];
+}
+
+/* The id in 2x-scaled 3x5 digits centred at (cx,cy) on a white box with
+ * a border in the line's colour. */
+static void draw_id(td_image *im, double cx, double cy, long id,
+                    const uint8_t c[3])
+{
+    static const uint8_t white[3] = {255, 255, 255};
+    char t[24];
+    int n = snprintf(t, sizeof t, "%ld", id), bw = n * 8 + 2, bh = 14;
+    int x0 = (int)cx - bw / 2, y0 = (int)cy - bh / 2, x, y, g;
+    for (y = -1; y <= bh; y++)
+        for (x = -1; x <= bw; x++)
+            put_px(im, x0 + x, y0 + y,
+                   y < 0 || x < 0 || y == bh || x == bw ? c : white);
+    for (g = 0; g < n; g++)
+        for (y = 0; y < 10; y++)
+            for (x = 0; x < 6; x++)
+                if (t[g] >= '0' && t[g] <= '9' &&
+                    font3x5[t[g] - '0'][y / 2] >> (2 - x / 2) & 1)
+                    put_px(im, x0 + 2 + 8 * g + x, y0 + 2 + y, c);
+}
+
+/* The point at fraction f of l's length. */
+static void line_at(const td_line *l, double f, double *x, double *y)
+{
+    double want = f * td_line_length(l), s = 0;
+    size_t k;
+    *x = l->n ? l->xy[0] : 0, *y = l->n ? l->xy[1] : 0;
+    for (k = 1; k < l->n; k++) {
+        double d = hypot(l->xy[2 * k] - l->xy[2 * k - 2],
+                         l->xy[2 * k + 1] - l->xy[2 * k - 1]);
+        if (s + d >= want) {
+            *x = l->xy[2 * k], *y = l->xy[2 * k + 1];
+            return;
+        }
+        s += d;
+    }
+}
+
+/* Where line i's id goes: near its middle, or the first of eight places
+ * along it whose box (bw x 16 px) overlaps no earlier id box (xy[2j]). */
+static void id_place(const td_lines *ls, size_t i, const double *xy,
+                     double *x, double *y)
+{
+    static const double f[8] = {.5, .25, .75, .125, .375, .625, .875, 0};
+    char t[24];
+    double bw = 8.0 * snprintf(t, sizeof t, "%ld", ls->v[i].id) + 4;
+    size_t j;
+    int k;
+    for (k = 0; k < 8; k++) {
+        int clash = 0;
+        line_at(&ls->v[i], f[k], x, y);
+        for (j = 0; j < i && !clash; j++)
+            clash = fabs(xy[2 * j] - *x) < bw + 6 &&
+                    fabs(xy[2 * j + 1] - *y) < 18;
+        if (!clash)
+            return;
+    }
+    line_at(&ls->v[i], 0.5, x, y);
+}
+
+/* Id places of every line (x,y pairs in *out, caller frees). */
+static int id_places(const td_lines *ls, double **out, td_ctx *cx)
+{
+    size_t i;
+    if (!(*out = malloc((2 * ls->n + 2) * sizeof **out)))
+        return td_seterr(cx, TD_ENOMEM, "out of memory");
+    for (i = 0; i < ls->n; i++)
+        id_place(ls, i, *out, &(*out)[2 * i], &(*out)[2 * i + 1]);
+    return 0;
+}
+
+/* The label sheet: every line in its own colour with its id near its
+ * middle, on white (w x h) or over the scan (--like). */
+static int write_sheet(const label_opts *o, const td_lines *ls,
+                       const double *idxy, td_ctx *cx)
+{
+    char path[4200];
+    td_image *scan = NULL, *im = NULL;
+    size_t i;
+    int rc;
+    if (o->sheet)
+        snprintf(path, sizeof path, "%s", o->sheet);
+    else
+        snprintf(path, sizeof path, "%s.png", o->out);
+    if (o->like) {
+        if ((rc = td_image_read(o->like, &scan, NULL, cx)) != 0 ||
+            (rc = td_draw_overlay(scan, ls, &im, cx)) != 0)
+            goto fail;
+    } else {
+        rc = TD_ENOMEM;
+        if (!(im = td_image_new(o->w, o->h, 3, cx)))
+            goto fail;
+        memset(im->data, 255, (size_t)o->w * o->h * 3);
+        for (i = 0; i < ls->n; i++) {
+            uint8_t c[3];
+            td_draw_colour(i, c);
+            td_draw_line(im, &ls->v[i], c);
+        }
+    }
+    for (i = 0; i < ls->n; i++) {
+        uint8_t c[3];
+        td_draw_colour(i, c);
+        draw_id(im, idxy[2 * i], idxy[2 * i + 1], ls->v[i].id, c);
+    }
+    rc = td_png_write(path, im, cx);
+    if (rc == 0)
+        fprintf(stderr, "label: label sheet %s\n", path);
+fail:
+    td_image_free(scan);
+    td_image_free(im);
+    return rc;
+}
+
+/* Re-suggest every height from the known points plus the typed ones.  On
+ * failure (the typed heights contradict) the heights are left as they were
+ * and a warning is printed. */
+static void repropagate(td_lines *ls, td_label_params *p, const pts *typed,
+                        const pts *known, const pts *heights,
+                        td_label_report *rep)
+{
+    td_label_point *all = NULL;
+    double *saved = malloc((ls->n + 1) * 2 * sizeof *saved);
+    td_label_report r2;
+    td_ctx cx;
+    size_t i;
+    td_ctx_init(&cx);
+    memset(&r2, 0, sizeof r2);
+    all = malloc((known->n + typed->n + 1) * sizeof *all);
+    if (!saved || !all)
+        goto done;
+    for (i = 0; i < ls->n; i++)
+        saved[2 * i] = ls->v[i].has_height, saved[2 * i + 1] = ls->v[i].height;
+    if (known->n)
+        memcpy(all, known->v, known->n * sizeof *all);
+    if (typed->n)
+        memcpy(all + known->n, typed->v, typed->n * sizeof *all);
+    p->known = all, p->nknown = known->n + typed->n;
+    if (td_label_auto(ls, p, &r2, &cx) != 0 ||
+        apply_heights(ls, heights, &cx) != 0) {
+        fprintf(stderr, "label: warning: %s; heights not re-suggested\n",
+                td_errmsg(&cx));
+        for (i = 0; i < ls->n; i++)
+            ls->v[i].has_height = (int)saved[2 * i],
+            ls->v[i].height = saved[2 * i + 1];
+        td_label_report_free(&r2);
+    } else {
+        td_label_report_free(rep);
+        *rep = r2;
+    }
+done:
+    p->known = known->v, p->nknown = known->n;
+    free(all);
+    free(saved);
+}
+
+/* One answer: 0 accepted (Enter), 1 a height in *v, 2 stop (q), 3 not
+ * understood, 4 end of input. */
+static int read_answer(FILE *in, double *v)
+{
+    char buf[256], *s;
+    if (!fgets(buf, sizeof buf, in))
+        return 4;
+    if (!isatty(fileno(in)))
+        fputs(buf[strcspn(buf, "\n")] ? buf : "\n", stderr);
+    for (s = buf; *s == ' ' || *s == '\t'; s++)
+        ;
+    s[strcspn(s, " \t\r\n")] = '\0';
+    if (*s == '\0')
+        return 0;
+    if (!strcmp(s, "q") || !strcmp(s, "quit"))
+        return 2;
+    return td_cli_parse_double(s, -1e9, 1e9, v) == 0 ? 1 : 3;
+}
+
+/* Ask each line's height in id order (the paper's operator), re-suggesting
+ * the others after each typed height.  Returns the number of warnings. */
+static size_t interact(td_lines *ls, td_label_params *p, const pts *known,
+                       const pts *heights, const double *idxy,
+                       td_label_report *rep, FILE *in)
+{
+    pts typed = {NULL, 0, 0};
+    size_t i, warnings = 0;
+    for (i = 0; i < ls->n; i++) {
+        td_line *l = &ls->v[i];
+        double x = idxy[2 * i], y = idxy[2 * i + 1], v, k;
+        char sug[64] = "?";
+        int a;
+        if (l->has_height)
+            snprintf(sug, sizeof sug, "%.10g", l->height);
+        fprintf(stderr, "line %ld (%s, near %.0f,%.0f) height [%s]: ", l->id,
+                l->closed ? "closed" : "open", x, y, sug);
+        a = read_answer(in, &v);
+        if (a == 2 || a == 4) {
+            if (a == 4)
+                fputc('\n', stderr);
+            break;
+        }
+        if (a == 3) {
+            fprintf(stderr, "  a height, Enter to accept, q to stop\n");
+            i--;
+            continue;
+        }
+        if (a == 0 || (l->has_height && v == l->height))
+            continue;
+        k = (v - p->base) / p->interval;
+        if (fabs(k - floor(k + 0.5)) > 1e-6) {
+            fprintf(stderr, "label: warning: height %g for line %ld is not "
+                    "base %g + a multiple of %g\n", v, l->id, p->base,
+                    p->interval);
+            warnings++;
+        }
+        if (push_pt(&typed, 0, 0, v, l->id, NULL) != 0)
+            break;
+        l->has_height = 1, l->height = v;
+        repropagate(ls, p, &typed, known, heights, rep);
+        l = &ls->v[i];
+        l->has_height = 1, l->height = v; /* the operator's word stands */
+    }
+    free(typed.v);
+    return warnings;
+}
+
+/* Warn about lines that cross (one line each, before the summary);
+ * returns the number of warnings, or -1 (out of memory). */
+static long warn_crossings(const td_lines *ls, int quiet, td_ctx *cx)
+{
+    td_crossing *v = NULL;
+    size_t n = 0, i;
+    if (td_contain_crossings(ls, &v, &n, cx) != 0)
+        return -1;
+    for (i = 0; i < n && !quiet; i++)
+        fprintf(stderr, "label: warning: lines %ld and %ld cross at "
+                "(%.1f,%.1f)\n", v[i].a, v[i].b, v[i].x, v[i].y);
+    free(v);
+    return (long)n;
+}
+
 int td_cmd_label(int argc, char **argv)
 {
     label_opts o;
@@ -290,6 +560,8 @@ int td_cmd_label(int argc, char **argv)
     td_lines *ls = NULL;
     td_label_report rep;
     td_label_params p = td_label_defaults();
+    double *idxy = NULL;
+    long ncross = 0;
     int rc;
     memset(&o, 0, sizeof o);
     memset(&heights, 0, sizeof heights);
@@ -304,9 +576,22 @@ int td_cmd_label(int argc, char **argv)
     p.base = o.base, p.interval = o.interval, p.w = o.w, p.h = o.h;
     p.known = o.known.v, p.nknown = o.known.n;
     p.depressions = o.dep, p.ndepressions = o.ndep;
+    if ((ncross = warn_crossings(ls, o.quiet, &cx)) < 0) {
+        rc = TD_ENOMEM;
+        goto fail;
+    }
     if ((rc = td_label_auto(ls, &p, &rep, &cx)) != 0 ||
         (rc = apply_heights(ls, &heights, &cx)) != 0 ||
-        (rc = td_geojson_write_lines(o.out, ls, NULL, &cx)) != 0 ||
+        (o.interactive && (rc = id_places(ls, &idxy, &cx)) != 0) ||
+        (o.interactive && (rc = write_sheet(&o, ls, idxy, &cx)) != 0))
+        goto fail;
+    if (o.interactive) {
+        size_t typed_warnings = interact(ls, &p, &o.known, &heights, idxy,
+                                         &rep, stdin);
+        rep.warnings += typed_warnings;
+    }
+    rep.warnings += (size_t)ncross;
+    if ((rc = td_geojson_write_lines(o.out, ls, NULL, &cx)) != 0 ||
         (o.csv_out && (rc = export_csv(o.csv_out, ls, &cx)) != 0))
         goto fail;
     if (!o.quiet)
@@ -317,6 +602,7 @@ fail:
 done:
     td_label_report_free(&rep);
     td_lines_free(ls);
+    free(idxy);
     free(o.known.v);
     free(o.dep);
     free(heights.v);

@@ -32,14 +32,24 @@ static const char help[] =
     "      --spur-max PX      longest spur, px along the skeleton (default 10)\n"
     "      --no-bridge        no 5x5 gap bridging while tracing\n"
     "      --no-join          do not join line ends across gaps\n"
-    "      --max-gap PX       longest gap joined (default 16)\n"
+    "      --small-gap PX     first join stage: longest small gap joined\n"
+    "                         when both ends point across it (default 16)\n"
+    "      --max-gap PX       label-gap stage: longest gap joined when the\n"
+    "                         ends continue each other and the join crosses\n"
+    "                         no line (default 70; <= --small-gap: off)\n"
+    "      --min-length PX    remove open fragments (label digits, text)\n"
+    "                         shorter than PX or fitting in a PX box,\n"
+    "                         unless both ends continue lines (default 25;\n"
+    "                         0: off)\n"
     "      --debug-dir DIR    write mask.png, skeleton.png, despurred.png,\n"
-    "                         overlay.png into DIR\n"
+    "                         overlay.png (label-gap joins in magenta) into DIR\n"
     "  -q, --quiet            no progress and no summary\n"
     "  -h, --help             this help\n"
     "\n"
     "Summary on stderr: lines, closed, open, edge, bridged gaps, remaining\n"
-    "junctions (touching contours, split), seconds.\n";
+    "junctions (touching contours, split), seconds.  --debug-dir also\n"
+    "writes join.txt: gaps joined (label gaps), fragments removed, open\n"
+    "ends left.\n";
 
 typedef struct scan_opts {
     const char *in, *out, *debug_dir;
@@ -48,7 +58,7 @@ typedef struct scan_opts {
 } scan_opts;
 
 enum { O_INK = 256, O_THR, O_SPECK, O_HOLE, O_SPUR, O_SPURMAX, O_NOBRIDGE, O_NOJOIN,
-       O_MAXGAP, O_DEBUG };
+       O_MAXGAP, O_DEBUG, O_SMALLGAP, O_MINLEN };
 
 static int parse_opt(int c, const char *arg, scan_opts *o, td_ctx *cx)
 {
@@ -76,13 +86,21 @@ static int parse_opt(int c, const char *arg, scan_opts *o, td_ctx *cx)
         return 0;
     case O_SPURMAX:
     case O_MAXGAP:
+    case O_SMALLGAP:
+    case O_MINLEN:
         if (td_cli_parse_double(arg, 0, 10000, &d) != 0)
             return td_seterr(cx, TD_EINVAL, "%s: '%s' is not a number 0..10000",
-                             c == O_SPURMAX ? "--spur-max" : "--max-gap", arg);
+                             c == O_SPURMAX ? "--spur-max" : c == O_MAXGAP ?
+                             "--max-gap" : c == O_SMALLGAP ? "--small-gap" :
+                             "--min-length", arg);
         if (c == O_SPURMAX)
             o->p.spur.max_len = d;
-        else
+        else if (c == O_MAXGAP)
+            o->p.join.long_gap = d;
+        else if (c == O_SMALLGAP)
             o->p.join.max_gap = d;
+        else
+            o->p.join.min_length = d;
         return 0;
     }
     return td_seterr(cx, TD_EINVAL, "unknown option (see topodig scan --help)");
@@ -97,7 +115,8 @@ static int parse_args(int argc, char **argv, scan_opts *o)
         {"min-speck", 1, 0, O_SPECK}, {"min-hole", 1, 0, O_HOLE}, {"spur", 1, 0, O_SPUR},
         {"spur-max", 1, 0, O_SPURMAX}, {"no-bridge", 0, 0, O_NOBRIDGE},
         {"no-join", 0, 0, O_NOJOIN}, {"max-gap", 1, 0, O_MAXGAP},
-        {"debug-dir", 1, 0, O_DEBUG}, {0, 0, 0, 0}};
+        {"debug-dir", 1, 0, O_DEBUG}, {"small-gap", 1, 0, O_SMALLGAP},
+        {"min-length", 1, 0, O_MINLEN}, {0, 0, 0, 0}};
     td_ctx cx;
     int c;
     td_ctx_init(&cx);
@@ -124,6 +143,25 @@ static int parse_args(int argc, char **argv, scan_opts *o)
     return 0;
 }
 
+/* The join's statistics, one "name value" per line. */
+static int write_join_report(const char *path, const td_join_stats *j,
+                             td_ctx *cx)
+{
+    FILE *f = fopen(path, "w");
+    int bad;
+    if (!f)
+        return td_seterr(cx, TD_EIO, "%s: cannot write (%s)", path,
+                         strerror(errno));
+    fprintf(f, "joins %zu\nlabel_gap_joins %zu\nclosures %zu\n"
+            "fragments_removed %zu\nglyph_rings_removed %zu\nends_open %zu\n",
+            j->joins, j->long_joins, j->closures, j->fragments, j->glyphs,
+            j->ends_open);
+    bad = ferror(f);
+    if (fclose(f) != 0 || bad)
+        return td_seterr(cx, TD_EIO, "%s: cannot write", path);
+    return 0;
+}
+
 static int write_debug(const scan_opts *o, const td_image *im,
                        const td_scan_result *r, td_ctx *cx)
 {
@@ -139,12 +177,21 @@ static int write_debug(const scan_opts *o, const td_image *im,
         (rc = td_png_write_u8(DPATH("despurred.png"), r->despurred, 1, cx)) != 0 ||
         (rc = td_draw_overlay(im, r->lines, &ov, cx)) != 0)
         return rc;
+    if (r->join.segments) { /* label-gap joins, magenta */
+        static const uint8_t magenta[3] = {230, 0, 230};
+        size_t i;
+        for (i = 0; i < r->join.segments->n; i++)
+            td_draw_line(ov, &r->join.segments->v[i], magenta);
+    }
     rc = td_png_write(DPATH("overlay.png"), ov, cx);
+    if (rc == 0)
+        rc = write_join_report(DPATH("join.txt"), &r->join, cx);
 #undef DPATH
     td_image_free(ov);
     return rc;
 }
 
+/* One summary line (its format is kept stable: scripts read it). */
 static void summary(const td_scan_result *r, double secs)
 {
     const td_trace_stats *t = &r->trace;

@@ -1,0 +1,300 @@
+/* labels.c: inline elevation labels cutting the index contours.
+ *
+ *        gap (20-60 px along the line, erased)
+ *   ====|  margin  3 5 0  margin  |====      digits 10-16 px tall, strokes
+ *                                            1.5-2 px, along the line
+ *
+ * Seven-segment digit shapes in a glyph box of 0.55 H x H:
+ *
+ *      a          a (0,1)-(1,1)    e (0,.5)-(0,0)
+ *    f   b        b (1,1)-(1,.5)   f (0,1)-(0,.5)
+ *      g          c (1,.5)-(1,0)   g (0,.5)-(1,.5)
+ *    e   c        d (0,0)-(1,0)
+ *      d
+ */
+#include "gen_int.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const double seg_xy[7][4] = {
+    {0, 1, 1, 1}, {1, 1, 1, .5}, {1, .5, 1, 0}, {0, 0, 1, 0},
+    {0, .5, 0, 0}, {0, 1, 0, .5}, {0, .5, 1, .5}};
+/* segments a..g as bits 0..6 for '0'..'9'; '-' is g alone */
+static const unsigned char digit_segs[10] = {0x3f, 0x06, 0x5b, 0x4f, 0x66,
+                                             0x6d, 0x7d, 0x07, 0x7f, 0x6f};
+
+/* A line with its cumulative arc length (closing segment included). */
+typedef struct arc {
+    const td_line *l;
+    double *cum; /* cum[k]: arc length at point k; cum[n] closes a ring */
+    double len;
+} arc;
+
+/* Point at arc length s (wrapped for rings, clamped for open lines). */
+static void arc_at(const arc *a, double s, double *x, double *y)
+{
+    const td_line *l = a->l;
+    size_t lo = 0, hi = l->closed ? l->n : l->n - 1, k, k1;
+    double t;
+    if (l->closed)
+        s = fmod(fmod(s, a->len) + a->len, a->len);
+    s = s < 0 ? 0 : s > a->len ? a->len : s;
+    while (hi - lo > 1) {
+        size_t mid = (lo + hi) / 2;
+        if (a->cum[mid] <= s)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    k = lo, k1 = (k + 1) % l->n;
+    t = a->cum[k + 1] > a->cum[k] ? (s - a->cum[k]) / (a->cum[k + 1] - a->cum[k]) : 0;
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    *x = l->xy[2 * k] + t * (l->xy[2 * k1] - l->xy[2 * k]);
+    *y = l->xy[2 * k + 1] + t * (l->xy[2 * k1 + 1] - l->xy[2 * k + 1]);
+}
+
+static int arc_make(const td_line *l, arc *a)
+{
+    size_t k, n = l->n;
+    a->l = l;
+    if (!(a->cum = malloc((n + 1) * sizeof *a->cum)))
+        return TD_ENOMEM;
+    a->cum[0] = 0;
+    for (k = 1; k <= n; k++) {
+        size_t j = k % n;
+        a->cum[k] = a->cum[k - 1];
+        if (k < n || l->closed)
+            a->cum[k] += hypot(l->xy[2 * j] - l->xy[2 * k - 2],
+                               l->xy[2 * j + 1] - l->xy[2 * k - 1]);
+    }
+    a->len = a->cum[n];
+    return 0;
+}
+
+/* Distance from (px,py) to segment (ax,ay)-(bx,by). */
+static double seg_dist(double px, double py, double ax, double ay, double bx,
+                       double by)
+{
+    double dx = bx - ax, dy = by - ay, L2 = dx * dx + dy * dy, t = 0;
+    if (L2 > 0)
+        t = ((px - ax) * dx + (py - ay) * dy) / L2;
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    return hypot(px - ax - t * dx, py - ay - t * dy);
+}
+
+/* A label's place: the gap [s0, s1] on a line, its chord and text. */
+typedef struct place {
+    double s0, s1, x0, y0, x1, y1, H, stroke;
+    char text[24];
+} place;
+
+/* Straight within 2.5 px over [s0 - 25, s1 + 25] (printed labels sit on
+ * smooth stretches; a joiner reads the direction of the line next to the
+ * gap). */
+static int straight(const arc *a, const place *q)
+{
+    double ax, ay, bx, by, s, x, y;
+    arc_at(a, q->s0 - 25, &ax, &ay);
+    arc_at(a, q->s1 + 25, &bx, &by);
+    for (s = q->s0 - 25; s <= q->s1 + 25; s += 2) {
+        arc_at(a, s, &x, &y);
+        if (seg_dist(x, y, ax, ay, bx, by) > 2.5)
+            return 0;
+    }
+    return 1;
+}
+
+/* Arc distance from s to the gap's middle on line a (wrapped on rings). */
+static double arc_off(const arc *a, double s, double mid)
+{
+    double d = fabs(s - mid);
+    return a->l->closed ? fmin(d, a->len - d) : d;
+}
+
+/* No other line (nor this one away from the gap) within clear px of the
+ * chord, and the chord at least 12 px inside the sheet. */
+static int clear_of(const td_lines *ls, size_t self, const arc *a,
+                    const place *q, double clear, const td_gen_params *p)
+{
+    double mid = 0.5 * (q->s0 + q->s1), half = 0.5 * (q->s1 - q->s0);
+    size_t i, k;
+    double m = clear + 2;
+    if (fmin(q->x0, q->x1) < m || fmin(q->y0, q->y1) < m ||
+        fmax(q->x0, q->x1) > p->w - m || fmax(q->y0, q->y1) > p->h - m)
+        return 0;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        for (k = 0; k < l->n; k++) {
+            double x = l->xy[2 * k], y = l->xy[2 * k + 1];
+            if (i == self && arc_off(a, a->cum[k], mid) < half + clear + 6)
+                continue;
+            if (seg_dist(x, y, q->x0, q->y0, q->x1, q->y1) < clear)
+                return 0;
+        }
+    }
+    return 1;
+}
+
+/* The text and sizes for a gap centred at s; 0 when it does not fit. */
+static int size_label(td_rng *r, double height, double W, double s,
+                      place *q)
+{
+    int nd;
+    double tw, gap;
+    snprintf(q->text, sizeof q->text, "%.0f", height);
+    nd = (int)strlen(q->text);
+    q->H = td_rng_range(r, 10.0, 16.0);
+    q->stroke = td_rng_range(r, 1.5, 2.0);
+    for (;;) {
+        tw = nd * 0.55 * q->H + (nd - 1) * 0.4 * q->H;
+        gap = tw + 2.0 * (7.0 + W);
+        if (gap <= 60.0 || q->H <= 10.0)
+            break;
+        q->H = fmax(10.0, q->H - 1.0);
+    }
+    if (gap > 60.0)
+        return 0;
+    gap = fmax(gap, 20.0);
+    q->s0 = s - 0.5 * gap;
+    q->s1 = s + 0.5 * gap;
+    return 1;
+}
+
+/* Erase the line over the gap: |v| <= W/2 + 3.5 across the chord. */
+static void erase_gap(td_image *im, const place *q, double W, int colour)
+{
+    static const uint8_t cream[3] = {245, 235, 210};
+    double dx = q->x1 - q->x0, dy = q->y1 - q->y0, L = hypot(dx, dy);
+    double R = 0.5 * W + 3.5, ux = dx / L, uy = dy / L;
+    int x, y, c, ch = im->channels;
+    int xa = (int)floor(fmin(q->x0, q->x1) - R), xb = (int)ceil(fmax(q->x0, q->x1) + R);
+    int ya = (int)floor(fmin(q->y0, q->y1) - R), yb = (int)ceil(fmax(q->y0, q->y1) + R);
+    for (y = ya < 0 ? 0 : ya; y <= yb && y < im->h; y++)
+        for (x = xa < 0 ? 0 : xa; x <= xb && x < im->w; x++) {
+            double px = x + 0.5 - q->x0, py = y + 0.5 - q->y0;
+            double u = px * ux + py * uy, v = -px * uy + py * ux;
+            if (u < 0 || u > L || fabs(v) > R)
+                continue;
+            for (c = 0; c < ch; c++)
+                im->data[((size_t)y * im->w + x) * ch + c] =
+                    colour ? cream[c] : 255;
+        }
+}
+
+/* Draw the text centred on the chord, reading left to right. */
+static void draw_text(uint8_t *lay, int w, int h, const place *q)
+{
+    double dx = q->x1 - q->x0, dy = q->y1 - q->y0, L = hypot(dx, dy);
+    double ux = dx / L, uy = dy / L, cx = 0.5 * (q->x0 + q->x1),
+           cy = 0.5 * (q->y0 + q->y1), gw = 0.55 * q->H, tw, r;
+    int nd = (int)strlen(q->text), g, s;
+    if (ux < 0)
+        ux = -ux, uy = -uy;
+    tw = nd * gw + (nd - 1) * 0.4 * q->H;
+    r = 0.5 * q->stroke + 0.5;
+    for (g = 0; g < nd; g++) {
+        char ch = q->text[g];
+        unsigned m = ch == '-' ? 0x40 : ch >= '0' && ch <= '9' ? digit_segs[ch - '0'] : 0;
+        double ox = -0.5 * tw + g * (gw + 0.4 * q->H);
+        for (s = 0; s < 7; s++) {
+            double pt[2][2];
+            int e;
+            if (!(m >> s & 1))
+                continue;
+            for (e = 0; e < 2; e++) {
+                double gx = ox + seg_xy[s][2 * e] * gw;
+                double gy = (seg_xy[s][2 * e + 1] - 0.5) * q->H; /* up */
+                pt[e][0] = cx + gx * ux + gy * uy;
+                pt[e][1] = cy + gx * uy - gy * ux;
+            }
+            td_gen_draw_seg(lay, w, h, pt[0][0], pt[0][1], pt[1][0], pt[1][1], r);
+        }
+    }
+}
+
+static int is_index(double height, const td_gen_params *p, double interval)
+{
+    double k = floor((height - p->base) / interval + 0.5);
+    return fabs(fmod(k, 5.0)) < 0.5;
+}
+
+/* Up to p->labels places on line i, kept 80 px from earlier ones. */
+static int place_on_line(const td_lines *ls, size_t i, const td_gen_params *p,
+                         double interval, td_rng *r, place **pl, size_t *np,
+                         size_t *cap)
+{
+    arc a;
+    size_t j, nl, t, k;
+    const td_line *l = &ls->v[i];
+    if (!l->has_height || !is_index(l->height, p, interval) || l->n < 8)
+        return 0;
+    if (arc_make(l, &a) != 0)
+        return TD_ENOMEM;
+    nl = (size_t)(a.len / 250.0);
+    nl = nl > (size_t)p->labels ? (size_t)p->labels : nl;
+    for (j = 0; j < nl; j++)
+        for (t = 0; t < 8; t++) {
+            double s = (j + td_rng_range(r, 0.15, 0.85)) * a.len / nl;
+            place q;
+            int far = 1;
+            if (!size_label(r, l->height, p->line_width, s, &q) ||
+                (!l->closed && (q.s0 < 50 || q.s1 > a.len - 50)))
+                continue;
+            arc_at(&a, q.s0, &q.x0, &q.y0);
+            arc_at(&a, q.s1, &q.x1, &q.y1);
+            for (k = 0; k < *np; k++)
+                far &= hypot((*pl)[k].x0 - q.x0, (*pl)[k].y0 - q.y0) > 80;
+            if (!far || !straight(&a, &q) ||
+                !clear_of(ls, i, &a, &q, 0.5 * q.H + p->line_width + 4, p))
+                continue;
+            if (*np == *cap) {
+                place *v = realloc(*pl, (*cap = *cap ? 2 * *cap : 32) * sizeof *v);
+                if (!v) {
+                    free(a.cum);
+                    return TD_ENOMEM;
+                }
+                *pl = v;
+            }
+            (*pl)[(*np)++] = q;
+            break;
+        }
+    free(a.cum);
+    return 0;
+}
+
+/* Contract in gen.h. */
+int td_gen_labels(const td_lines *truth, const td_gen_params *p,
+                  double interval, td_image *im, size_t *nplaced, td_ctx *cx)
+{
+    static const uint8_t brown[3] = {160, 90, 40}, black[3] = {0, 0, 0};
+    td_rng r = td_rng_make(p->seed, 8);
+    place *pl = NULL;
+    size_t np = 0, cap = 0, i;
+    uint8_t *lay = NULL;
+    int rc = TD_ENOMEM;
+    if (nplaced)
+        *nplaced = 0;
+    if (p->labels <= 0 || !(interval > 0))
+        return 0;
+    for (i = 0; i < truth->n; i++)
+        if (place_on_line(truth, i, p, interval, &r, &pl, &np, &cap) != 0)
+            goto fail;
+    if (!(lay = td_calloc((size_t)im->w * (size_t)im->h, 1, cx)))
+        goto fail;
+    for (i = 0; i < np; i++) {
+        erase_gap(im, &pl[i], p->line_width, im->channels == 3);
+        draw_text(lay, im->w, im->h, &pl[i]);
+    }
+    td_gen_composite(im, lay, im->channels == 3 ? brown : black);
+    if (nplaced)
+        *nplaced = np;
+    rc = 0;
+fail:
+    if (rc)
+        td_seterr(cx, TD_ENOMEM, "labels: out of memory");
+    free(pl);
+    free(lay);
+    return rc;
+}

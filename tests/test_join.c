@@ -1,0 +1,285 @@
+/* Joining across label gaps (scanner/join.c, stages 0-2): hand-made lines
+ * for each rule, and generated sheets whose index contours are cut by
+ * inline elevation labels (samples/gen/labels.c): after the scanner every
+ * true contour is whole (closed rings closed, one piece each), no traced
+ * line follows two contours, and no label-gap join crosses a line. */
+#include "tt.h"
+#include "util/match.h"
+#include "../samples/gen/gen.h"
+#include "../scanner/scan.h"
+
+#include <string.h>
+
+#define W 300
+#define H 200
+
+/* Append an open line through n points (x,y pairs). */
+static void add_line(td_lines *ls, const double *xy, size_t n, int closed)
+{
+    td_line *l = td_lines_add(ls, NULL);
+    size_t k;
+    for (k = 0; k < n; k++)
+        td_line_push(l, xy[2 * k], xy[2 * k + 1], NULL);
+    l->closed = closed;
+}
+
+/* A straight line from (x0,y) to (x1,y) with 1-px steps. */
+static void add_hline(td_lines *ls, double x0, double x1, double y)
+{
+    td_line *l = td_lines_add(ls, NULL);
+    double x, step = x1 > x0 ? 1 : -1;
+    for (x = x0; step > 0 ? x <= x1 : x >= x1; x += step)
+        td_line_push(l, x, y, NULL);
+}
+
+/* A ring of radius r about (cx,cy) with n points. */
+static void add_ring(td_lines *ls, double cx, double cy, double r, int n)
+{
+    td_line *l = td_lines_add(ls, NULL);
+    int k;
+    for (k = 0; k < n; k++)
+        td_line_push(l, cx + r * cos(2 * M_PI * k / n),
+                     cy + r * sin(2 * M_PI * k / n), NULL);
+    l->closed = 1;
+}
+
+static size_t count_closed(const td_lines *ls)
+{
+    size_t i, n = 0;
+    for (i = 0; i < ls->n; i++)
+        n += ls->v[i].closed != 0;
+    return n;
+}
+
+/* A 40-px gap along a line is joined; with a line crossing the gap it is
+ * not. */
+static void test_crossing_rejected(void)
+{
+    td_join_params p = td_join_defaults(W, H);
+    td_join_stats st;
+    td_lines *ls = td_lines_new(NULL);
+    const double cross[] = {130, 20, 130, 180};
+    add_hline(ls, 20, 110, 100);
+    add_hline(ls, 150, 260, 100);
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    TT_CHECKF(ls->n == 1 && st.long_joins == 1, "%zu lines", ls->n);
+    td_lines_free(ls);
+
+    ls = td_lines_new(NULL);
+    add_hline(ls, 20, 110, 100);
+    add_hline(ls, 150, 260, 100);
+    add_line(ls, cross, 2, 0);
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    TT_CHECKF(ls->n == 3 && st.joins == 0 && st.ends_open == 6,
+              "%zu lines, %zu joins, %zu open ends", ls->n, st.joins,
+              st.ends_open);
+    td_lines_free(ls);
+
+    ls = td_lines_new(NULL); /* the crossing line has a vertex on the join */
+    add_hline(ls, 20.5, 110.5, 100.5);
+    add_hline(ls, 150.5, 260.5, 100.5);
+    {
+        const double v[] = {130.5, 20.5, 130.5, 100.5, 130.5, 180.5};
+        add_line(ls, v, 3, 0);
+    }
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    TT_CHECKF(ls->n == 3 && st.joins == 0, "%zu lines", ls->n);
+    td_lines_free(ls);
+}
+
+/* Two lines side by side (ends 8 px apart sideways over a 40-px gap) are
+ * different contours: not joined.  A line bending gently through the gap
+ * is. */
+static void test_shift_and_bend(void)
+{
+    td_join_params p = td_join_defaults(W, H);
+    td_join_stats st;
+    td_lines *ls = td_lines_new(NULL);
+    td_line *l;
+    double x;
+    add_hline(ls, 20, 110, 100);
+    add_hline(ls, 150, 260, 108);
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    TT_CHECKF(ls->n == 2 && st.joins == 0, "%zu lines", ls->n);
+    td_lines_free(ls);
+
+    ls = td_lines_new(NULL); /* an arc of radius 400 with a gap at its top */
+    l = td_lines_add(ls, NULL);
+    for (x = -120; x <= -20; x += 1)
+        td_line_push(l, 150 + x, 60 + 400 - sqrt(400.0 * 400 - x * x), NULL);
+    l = td_lines_add(ls, NULL);
+    for (x = 20; x <= 120; x += 1)
+        td_line_push(l, 150 + x, 60 + 400 - sqrt(400.0 * 400 - x * x), NULL);
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    TT_CHECKF(ls->n == 1 && st.long_joins == 1, "%zu lines", ls->n);
+    td_lines_free(ls);
+}
+
+/* A label: a bent digit fragment (a "2") and a digit ring (a "0") in a
+ * 44-px gap of a rectangular ring.  The fragment is removed, the gap joined, the ring
+ * closed, and the digit ring under the join removed; a tiny true ring
+ * elsewhere (a summit, 4 px across) is kept. */
+static void test_label_gap(void)
+{
+    td_join_params p = td_join_defaults(W, H);
+    td_join_stats st;
+    td_lines *ls = td_lines_new(NULL);
+    td_line *l = td_lines_add(ls, NULL);
+    const double two[] = {157, 13, 163, 13, 163, 20, 157, 20, 157, 27,
+                          163, 27};
+    const double corner[][2] = {{260, 20}, {260, 180}, {40, 180}, {40, 20},
+                                {128, 20}};
+    double x = 172, y = 20;
+    int c;
+    /* a rectangular ring with a gap from x = 128 to 172 in its top side */
+    for (c = 0; c < 5; c++) {
+        double dx = corner[c][0] - x, dy = corner[c][1] - y;
+        int k, n = (int)fmax(fabs(dx), fabs(dy));
+        for (k = 0; k < n; k++)
+            td_line_push(l, x + dx * k / n, y + dy * k / n, NULL);
+        x = corner[c][0], y = corner[c][1];
+    }
+    td_line_push(l, x, y, NULL);
+    add_line(ls, two, 6, 0);
+    /* the digit ring sits on the top of the big ring, inside the gap */
+    add_ring(ls, 150, 20, 5, 12);
+    add_ring(ls, 150, 100, 2, 6); /* the summit */
+    {
+        double s[] = {133, 20, 139, 20, 139, 27, 133, 27, 133, 14, 139, 14};
+        add_line(ls, s, 6, 0); /* another digit near the gap */
+    }
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    TT_CHECKF(st.fragments == 2 && st.long_joins == 1 && st.glyphs == 1,
+              "%zu fragments, %zu label joins, %zu glyphs", st.fragments,
+              st.long_joins, st.glyphs);
+    TT_CHECKF(ls->n == 2 && count_closed(ls) == 2, "%zu lines, %zu closed",
+              ls->n, count_closed(ls));
+    TT_CHECK(st.ends_open == 0);
+    td_lines_free(ls);
+}
+
+/* A short piece of a contour between two small breaks is not a fragment:
+ * it continues the lines on both sides. */
+static void test_short_piece_kept(void)
+{
+    td_join_params p = td_join_defaults(W, H);
+    td_join_stats st;
+    td_lines *ls = td_lines_new(NULL);
+    add_hline(ls, 20, 100, 100);
+    add_hline(ls, 106, 120, 100);
+    add_hline(ls, 126, 260, 100);
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    TT_CHECKF(ls->n == 1 && st.fragments == 0 && st.joins == 2,
+              "%zu lines, %zu fragments", ls->n, st.fragments);
+    TT_CHECKF(ls->n == 1 && td_line_length(&ls->v[0]) > 235, "length %g",
+              ls->n ? td_line_length(&ls->v[0]) : 0.0);
+    td_lines_free(ls);
+}
+
+/* Number of proper crossings between segment s and the lines. */
+static int crossings(const td_line *s, const td_lines *ls)
+{
+    const double *a = s->xy, *b = s->xy + 2;
+    size_t i, k;
+    int n = 0;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        size_t nseg = l->n < 2 ? 0 : l->closed ? l->n : l->n - 1;
+        for (k = 0; k < nseg; k++) {
+            const double *c = l->xy + 2 * k, *d = l->xy + 2 * ((k + 1) % l->n);
+            double o1 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+            double o2 = (b[0] - a[0]) * (d[1] - a[1]) - (b[1] - a[1]) * (d[0] - a[0]);
+            double o3 = (d[0] - c[0]) * (a[1] - c[1]) - (d[1] - c[1]) * (a[0] - c[0]);
+            double o4 = (d[0] - c[0]) * (b[1] - c[1]) - (d[1] - c[1]) * (b[0] - c[0]);
+            n += o1 * o2 < 0 && o3 * o4 < 0;
+        }
+    }
+    return n;
+}
+
+/* Scan a labelled sheet with and without the label-gap stage. */
+static void labelled_sheet(unsigned seed, int w, int h, double lw,
+                           double noise, int breaks)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_scan_params sp = td_scan_defaults();
+    td_image *im = NULL;
+    td_lines *truth = NULL;
+    td_scan_result res;
+    td_match_report r;
+    td_ctx cx;
+    size_t j;
+    int bad = 0;
+    td_ctx_init(&cx);
+    gp.w = w, gp.h = h, gp.seed = seed, gp.line_width = lw, gp.labels = 3;
+    gp.noise = noise, gp.blur = noise > 0 ? 0.7 : 0, gp.breaks = breaks;
+    gp.break_max = 4;
+    TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
+    if (!im)
+        return;
+    sp.join.record = 1;
+    TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
+    TT_CHECK(td_match_lines(truth, res.lines, w, h, NULL, &r, stderr) == 0);
+    TT_CHECKF(td_match_ok(&r) && r.n_split == 0 && r.n_mixed == 0,
+              "seed %u: %ld of %ld matched, %ld split, %ld mixed", seed,
+              r.n_matched, r.n_truth, r.n_split, r.n_mixed);
+    TT_CHECKF(res.join.long_joins >= 2 && res.join.ends_open == 0,
+              "seed %u: %zu label joins, %zu open ends", seed,
+              res.join.long_joins, res.join.ends_open);
+    for (j = 0; res.join.segments && j < res.join.segments->n; j++)
+        bad += crossings(&res.join.segments->v[j], res.lines) > 0;
+    TT_CHECKF(bad == 0, "seed %u: %d joins cross a line", seed, bad);
+    td_scan_result_free(&res);
+
+    sp.join.long_gap = 0; /* without stage 2 the labels leave lines cut */
+    TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
+    TT_CHECK(td_match_lines(truth, res.lines, w, h, NULL, &r, NULL) == 0);
+    TT_CHECKF(r.n_split > 0 || r.n_matched < r.n_truth,
+              "seed %u: labels cut nothing", seed);
+    td_scan_result_free(&res);
+    td_lines_free(truth);
+    td_image_free(im);
+}
+
+static void test_labelled_sheets(void)
+{
+    labelled_sheet(1, 1000, 800, 2.5, 0, 0);
+    labelled_sheet(2, 1000, 800, 2.0, 0, 0);
+    labelled_sheet(3, 1000, 800, 3.0, 0, 0);
+}
+
+static void test_labelled_noisy(void)
+{
+    labelled_sheet(11, 1200, 1000, 3.0, 8, 15);
+    labelled_sheet(13, 1200, 1000, 3.0, 8, 15);
+}
+
+/* The default sheet (labels off) is unchanged: no label drawn. */
+static void test_labels_off(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_image *a = NULL, *b = NULL;
+    td_lines *truth = NULL;
+    size_t n = 1;
+    gp.w = 400, gp.h = 300;
+    TT_CHECK(gp.labels == 0);
+    TT_CHECK(td_gen_sheet(&gp, &a, &truth, NULL, NULL) == 0);
+    TT_CHECK(td_gen_render(truth, &gp, &b, NULL) == 0);
+    TT_CHECK(a && b && memcmp(a->data, b->data, (size_t)400 * 300) == 0);
+    TT_CHECK(b && td_gen_labels(truth, &gp, 20, b, &n, NULL) == 0 && n == 0);
+    td_image_free(a);
+    td_image_free(b);
+    td_lines_free(truth);
+}
+
+int main(void)
+{
+    TT_RUN(test_crossing_rejected);
+    TT_RUN(test_shift_and_bend);
+    TT_RUN(test_label_gap);
+    TT_RUN(test_short_piece_kept);
+    TT_RUN(test_labels_off);
+    TT_RUN(test_labelled_sheets);
+    TT_RUN(test_labelled_noisy);
+    return tt_summary();
+}
