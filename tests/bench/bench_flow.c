@@ -1,0 +1,127 @@
+/* bench_flow: flow accumulation throughput (cells per second) of D8 and
+ * D-infinity (priority-flood filling included) on a generated 4000x4000
+ * terrain (td_gen_terrain HILLS plus 0.5 m white noise, so there are pits),
+ * the paper's Sobel drop tracing on 1000x1000 (its cost grows with the
+ * path length), and, where GRASS is installed, r.watershed -s on the same
+ * DEM file in the same run, with the ratio.
+ *
+ *   bench_flow [--topodig PATH] [--dir DIR] [--size N] [--no-grass]
+ *
+ * Never fails the build. */
+#include "../../samples/gen/gen.h"
+#include "../../src/flow.h"
+#include "../../src/imageio.h"
+#include "../../src/terrain_gen.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+static td_grid_f32 *terrain(int n, td_ctx *cx)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_grid_f32 *dem = NULL;
+    gp.w = gp.h = n;
+    if (td_gen_terrain(&gp, &dem, cx) != 0)
+        return NULL;
+    td_terrain_noise(dem, 0.5, 1, cx);
+    return dem;
+}
+
+/* Seconds of one run, -1 on failure; prints one line. */
+static double one(const td_grid_f32 *dem, td_flow_method m, const char *name)
+{
+    td_grid_f32 *out = td_grid_f32_new(dem->w, dem->h, NULL);
+    td_flow_params p = td_flow_defaults();
+    td_flow_stats st;
+    td_ctx cx;
+    double t0, s = -1, n = (double)dem->w * dem->h;
+    td_ctx_init(&cx);
+    p.method = m;
+    if (!out)
+        return -1;
+    t0 = td_now();
+    if (td_flow_run(dem, &p, out, &st, &cx) != 0)
+        printf("  %s: %s\n", name, td_errmsg(&cx));
+    else {
+        s = td_now() - t0;
+        printf("  %-5s %dx%d  %7.2f s  %7.2f M cells/s  outflow %.0f of "
+               "%.0f  raised %.0f  pits %.0f  queue peak %.0f (%.2f B/cell)\n",
+               name, dem->w, dem->h, s, n / s / 1e6, st.outflow, st.cells,
+               st.raised, st.pit_stops, st.queue_peak,
+               st.queue_peak * 8 / n);
+    }
+    td_grid_f32_free(out);
+    return s;
+}
+
+/* r.watershed -s on path; seconds of r.watershed alone, or -1. */
+static double grass(const char *path, const char *dir)
+{
+    char cmd[16384], tf[4200];
+    double a = 0, b = 0;
+    FILE *f;
+    snprintf(tf, sizeof tf, "%s/rwatershed.time", dir);
+    remove(tf);
+    snprintf(cmd, sizeof cmd,
+             "grass --tmp-location XY --exec sh -c 'r.in.gdal -o input=%s "
+             "output=dem --quiet && g.region raster=dem && "
+             "s=$(date +%%s.%%N) && r.watershed -s elevation=dem "
+             "accumulation=acc --quiet && e=$(date +%%s.%%N) && "
+             "echo $s $e > %s' >%s/rwatershed.log 2>&1",
+             path, tf, dir);
+    if (system(cmd) != 0 || !(f = fopen(tf, "r")))
+        return -1;
+    if (fscanf(f, "%lf %lf", &a, &b) != 2)
+        b = a - 1;
+    fclose(f);
+    return b > a ? b - a : -1;
+}
+
+int main(int argc, char **argv)
+{
+    const char *dir = "build-bench/data";
+    int n = 4000, i, use_grass = 1;
+    td_grid_f32 *dem, *small;
+    td_ctx cx;
+    char path[4200];
+    double d8, gs;
+    for (i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--dir") && i + 1 < argc)
+            dir = argv[++i];
+        else if (!strcmp(argv[i], "--size") && i + 1 < argc)
+            n = atoi(argv[++i]) > 16 ? atoi(argv[i]) : 16;
+        else if (!strcmp(argv[i], "--no-grass"))
+            use_grass = 0;
+        else if (!strcmp(argv[i], "--topodig") && i + 1 < argc)
+            i++;
+    }
+    td_ctx_init(&cx);
+    mkdir(dir, 0777);
+    if (!(dem = terrain(n, &cx))) {
+        printf("  terrain: %s\n", td_errmsg(&cx));
+        return 0;
+    }
+    printf("  generated hills + 0.5 m noise, 1 thread\n");
+    d8 = one(dem, TD_FLOW_D8, "d8");
+    one(dem, TD_FLOW_DINF, "dinf");
+    if ((small = terrain(1000, &cx)) != NULL) {
+        one(small, TD_FLOW_SOBEL, "sobel");
+        one(small, TD_FLOW_D8, "d8");
+        td_grid_f32_free(small);
+    }
+    snprintf(path, sizeof path, "%s/flow_dem.tif", dir);
+    if (!use_grass || system("command -v grass >/dev/null 2>&1") != 0)
+        printf("  GRASS not installed: no r.watershed ratio\n");
+    else if (td_geotiff_write_f32(path, dem, NULL, &cx) != 0)
+        printf("  %s\n", td_errmsg(&cx));
+    else if ((gs = grass(path, dir)) < 0)
+        printf("  r.watershed failed (see %s/rwatershed.log)\n", dir);
+    else
+        printf("  r.watershed -s %dx%d  %7.2f s  %7.2f M cells/s  d8 is "
+               "%.1fx faster\n", n, n, gs, (double)n * n / gs / 1e6,
+               d8 > 0 ? gs / d8 : 0.0);
+    td_grid_f32_free(dem);
+    return 0;
+}
