@@ -366,7 +366,7 @@ static int flood_run(fgrid *g, double valid, double p0, double p1,
 int td_flow_fill(const td_grid_f32 *dem, td_grid_f32 *filled, td_ctx *cx)
 {
     fgrid g;
-    double valid;
+    double valid = 0.0;
     size_t i;
     int rc = fgrid_init(&g, dem, filled, UNSEEN, &valid, cx);
     if (rc == 0)
