@@ -49,6 +49,23 @@ td_erode_params td_erode_defaults(void)
     return p;
 }
 
+td_erode_params td_erode_rescale(const td_erode_params *p, double cell)
+{
+    td_erode_params q = *p;
+    double s = cell / p->cell;
+    q.cell = cell;
+    q.dt = p->dt * s;
+    q.water = p->water * s * s;
+    q.alpha = 1.0 - (1.0 - p->alpha) * s;
+    q.beta = p->beta / (s * s);
+    q.c = p->c / s;
+    q.kc = p->kc / s;
+    q.ke = p->ke / (s * s);
+    if (p->max_moves > 0)
+        q.max_moves = (int)ceil(p->max_moves / s);
+    return q;
+}
+
 int td_erode_check(const td_erode_params *p, td_ctx *cx)
 {
 #define NEED(cond, what)                                                     \
@@ -68,6 +85,12 @@ int td_erode_check(const td_erode_params *p, td_ctx *cx)
     NEED(p->cell > 0 && isfinite(p->cell), "cell size must be > 0");
     NEED(p->max_moves >= 0, "max moves must be >= 0");
     NEED(p->v_stop >= 0 && isfinite(p->v_stop), "v_stop must be >= 0");
+    NEED(p->route == TD_ERODE_ROUTE_DOWNHILL ||
+         p->route == TD_ERODE_ROUTE_PAPER, "unknown sediment route");
+    NEED(p->speed == TD_ERODE_SPEED_MEAN || p->speed == TD_ERODE_SPEED_VECTOR,
+         "unknown flow speed");
+    NEED(p->deposit == TD_ERODE_DEPOSIT_PAPER ||
+         p->deposit == TD_ERODE_DEPOSIT_LEVEL, "unknown deposition rule");
     NEED(p->threads >= 0 && p->threads <= 1024, "threads must be 0..1024");
     NEED(p->snapshot_every >= 0, "snapshot interval must be >= 0");
 #undef NEED
@@ -86,6 +109,11 @@ static void state_free(er_state *s)
     free(s->sin);
     free(s->dep);
     free(s->dep_total);
+    free(s->snd);
+    free(s->fill);
+    free(s->ord);
+    free(s->par);
+    free(s->heap);
     free(s->recv);
     free(s->indeg);
     free(s->queue);
@@ -111,6 +139,11 @@ static int state_alloc(er_state *s, const td_grid_f32 *in, int nthreads,
         !(s->sin = td_calloc(n, sizeof(double), cx)) ||
         !(s->dep = td_calloc(n, sizeof(double), cx)) ||
         !(s->dep_total = td_calloc(n, sizeof(double), cx)) ||
+        !(s->snd = td_calloc(n, sizeof(double), cx)) ||
+        !(s->fill = td_calloc(n, sizeof(double), cx)) ||
+        !(s->ord = td_calloc(n, sizeof(int32_t), cx)) ||
+        !(s->par = td_calloc(n, sizeof(int32_t), cx)) ||
+        !(s->heap = td_calloc(n, sizeof(int32_t), cx)) ||
         !(s->recv = td_calloc(n, sizeof(int32_t), cx)) ||
         !(s->indeg = td_calloc(n, sizeof(int32_t), cx)) ||
         !(s->queue = td_calloc(n, sizeof(int32_t), cx)))
@@ -140,9 +173,11 @@ static int32_t neighbour(const er_state *s, const td_erode_params *p,
 }
 
 /* The receiver of a cell's sediment: the neighbour V points at (sectors of
- * 45 degrees).  Sediment does not climb: when that neighbour is not lower,
- * the lowest steepest neighbour (the direction of a) receives it, and with
- * no lower neighbour the sediment settles. */
+ * 45 degrees).  TD_ERODE_ROUTE_DOWNHILL: sediment does not climb: when that
+ * neighbour is not lower, the lowest steepest neighbour (the direction of
+ * a) receives it, and with no lower neighbour the sediment settles; the
+ * receiver graph then has no loops (heights fall along it).
+ * TD_ERODE_ROUTE_PAPER: the neighbour V points at, whatever its height. */
 static int32_t receiver(const er_state *s, const td_erode_params *p,
                         size_t i, double vx, double vy)
 {
@@ -151,11 +186,190 @@ static int32_t receiver(const er_state *s, const td_erode_params *p,
     int ox = fabs(vx) > t * fabs(vy) ? (vx > 0 ? 1 : -1) : 0;
     int oy = fabs(vy) > t * fabs(vx) ? (vy > 0 ? 1 : -1) : 0;
     int32_t r = neighbour(s, p, i, ox, oy);
-    if (r == -2 || (r >= 0 && s->T[r] < s->T[i]))
+    if (p->route == TD_ERODE_ROUTE_PAPER || r == -2 ||
+        (r >= 0 && s->T[r] < s->T[i]))
         return r;
+    if (f->ax == 0 && f->ay == 0) /* a pit: with LEVEL, over the rim */
+        return p->deposit == TD_ERODE_DEPOSIT_LEVEL ? r : -1;
     ox = f->ax > 0 ? 1 : f->ax < 0 ? -1 : 0;
     oy = f->ay > 0 ? 1 : f->ay < 0 ? -1 : 0;
     return neighbour(s, p, i, ox, oy);
+}
+
+/* Heap of cells keyed by (fill height, index): a strict order, so the
+ * flood is the same on every run. */
+static int flood_less(const er_state *s, int32_t a, int32_t b)
+{
+    return s->fill[a] < s->fill[b] || (s->fill[a] == s->fill[b] && a < b);
+}
+
+static void heap_push(er_state *s, size_t *nh, int32_t c)
+{
+    size_t k = (*nh)++;
+    while (k > 0 && flood_less(s, c, s->heap[(k - 1) / 2])) {
+        s->heap[k] = s->heap[(k - 1) / 2];
+        k = (k - 1) / 2;
+    }
+    s->heap[k] = c;
+}
+
+static int32_t heap_pop(er_state *s, size_t *nh)
+{
+    int32_t top = s->heap[0], last = s->heap[--*nh];
+    size_t k = 0, n = *nh;
+    for (;;) {
+        size_t c = 2 * k + 1;
+        if (c >= n)
+            break;
+        if (c + 1 < n && flood_less(s, s->heap[c + 1], s->heap[c]))
+            c++;
+        if (!flood_less(s, s->heap[c], last))
+            break;
+        s->heap[k] = s->heap[c];
+        k = c;
+    }
+    if (n > 0)
+        s->heap[k] = last;
+    return top;
+}
+
+/* Flood cells outward from the seeds already in the heap: every cell gets
+ * its pop rank ord, the neighbour it was reached from (par) and the height
+ * of the water that would stand on it (fill = max(T, fill of par)). */
+static void flood_from(er_state *s, size_t *nh, int32_t *rank)
+{
+    while (*nh > 0) {
+        int32_t c = heap_pop(s, nh);
+        long cx = c % s->w, cy = c / s->w, dx, dy;
+        s->ord[c] = (*rank)++;
+        for (dy = -1; dy <= 1; dy++)
+            for (dx = -1; dx <= 1; dx++) {
+                long x = cx + dx, y = cy + dy;
+                int32_t j;
+                if (x < 0 || y < 0 || x >= s->w || y >= s->h)
+                    continue;
+                j = (int32_t)(y * s->w + x);
+                if (s->wall[j] || s->par[j] != -3)
+                    continue;
+                s->par[j] = c;
+                s->fill[j] = s->T[j] > s->fill[c] ? s->T[j] : s->fill[c];
+                heap_push(s, nh, j);
+            }
+    }
+}
+
+/* Priority flood (depression filling): seeds are the border cells with
+ * open edges (their sediment leaves the grid), then the lowest cell left
+ * of every region not reached (a closed basin: its sediment settles).
+ * Sediment routed along par falls in fill order and fills depressions up
+ * to their spill level before it spills over the rim. */
+static void flood(er_state *s, const td_erode_params *p)
+{
+    size_t i, nh = 0;
+    int32_t rank = 0;
+    for (i = 0; i < s->n; i++) {
+        long x = (long)(i % s->w), y = (long)(i / s->w);
+        s->par[i] = -3; /* not reached */
+        if (s->wall[i] || p->closed_edges ||
+            !(x == 0 || y == 0 || x == s->w - 1 || y == s->h - 1))
+            continue;
+        s->par[i] = -2;
+        s->fill[i] = s->T[i];
+        heap_push(s, &nh, (int32_t)i);
+    }
+    flood_from(s, &nh, &rank);
+    for (;;) {
+        int32_t lo = -1;
+        for (i = 0; i < s->n; i++)
+            if (!s->wall[i] && s->par[i] == -3 &&
+                (lo < 0 || s->T[i] < s->T[lo]))
+                lo = (int32_t)i;
+        if (lo < 0)
+            break;
+        s->par[lo] = -1;
+        s->fill[lo] = s->T[lo];
+        heap_push(s, &nh, lo);
+        flood_from(s, &nh, &rank);
+    }
+}
+
+/* TD_ERODE_DEPOSIT_LEVEL: keep a receiver only when it comes earlier in
+ * the flood order (so the receiver graph has no loops), else send the
+ * sediment to the flood parent (out of a depression over its rim). */
+static void level_receivers(er_state *s)
+{
+    size_t i;
+    for (i = 0; i < s->n; i++) {
+        int32_t r = s->recv[i];
+        if (s->wall[i])
+            continue;
+        if (r == -1 || (r >= 0 && s->ord[r] > s->ord[i]))
+            s->recv[i] = s->par[i];
+    }
+}
+
+/* Height of cell c once this step's erosion and deposits are applied. */
+static double new_height(const er_state *s, int32_t c)
+{
+    return s->T[c] - s->sq[c] - s->se[c] + s->dep[c];
+}
+
+/* TD_ERODE_DEPOSIT_LEVEL: what settles in the sink of a closed region (a
+ * basin with no outlet) spreads as a level layer over the cells around
+ * it, taken in flood order while their heights rise and stay below the
+ * level (a lake filling up): volume kept exactly, no one-cell spike. */
+static void lake(er_state *s, int32_t sink)
+{
+    double x = s->dep[sink], hsum = 0, top = -HUGE_VAL, level;
+    int32_t k, k0 = s->ord[sink], m = 0;
+    s->dep[sink] = 0;
+    for (k = k0; k < (int32_t)s->n; k++) {
+        int32_t c = s->heap[k];
+        double h;
+        if (c < 0 || (k > k0 && s->par[c] == -1))
+            break; /* end of the flood, or of this region */
+        h = new_height(s, c);
+        if (m > 0 && (h < top || h >= (x + hsum) / m))
+            break;
+        top = h;
+        hsum += h;
+        m++;
+    }
+    level = (x + hsum) / m;
+    for (k = k0; k < k0 + m; k++)
+        s->dep[s->heap[k]] += level - new_height(s, s->heap[k]);
+}
+
+static void lakes(er_state *s, const td_erode_params *p)
+{
+    size_t i;
+    if (p->deposit != TD_ERODE_DEPOSIT_LEVEL)
+        return;
+    for (i = 0; i < s->n; i++)
+        s->heap[i] = -1;
+    for (i = 0; i < s->n; i++)
+        if (!s->wall[i])
+            s->heap[s->ord[i]] = (int32_t)i; /* cells by flood rank */
+    for (i = 0; i < s->n; i++)
+        if (!s->wall[i] && s->par[i] == -1 && s->dep[i] > 0)
+            lake(s, (int32_t)i);
+}
+
+/* How far cell i stands above its lowest neighbour (0 in a pit): with
+ * TD_ERODE_DEPOSIT_LEVEL flow and collision never dig a cell below it. */
+static double above_lowest(const er_state *s, size_t i)
+{
+    long x0 = (long)(i % s->w), y0 = (long)(i / s->w), dx, dy;
+    double lo = s->T[i];
+    for (dy = -1; dy <= 1; dy++)
+        for (dx = -1; dx <= 1; dx++) {
+            long x = x0 + dx, y = y0 + dy;
+            size_t j = (size_t)y * s->w + x;
+            if (x >= 0 && y >= 0 && x < s->w && y < s->h && !s->wall[j] &&
+                s->T[j] < lo)
+                lo = s->T[j];
+        }
+    return s->T[i] - lo;
 }
 
 /* Q, Sq, Se, Smax and the receiver of every cell from the gathered sums. */
@@ -175,18 +389,32 @@ static void cell_rates(er_state *s, const td_erode_params *p)
         /* v_ij: the mean speed of the visiting particles (their mean
          * vector gives only the direction: particles swinging across a
          * valley floor would cancel) */
-        q = p->c * p->water * (double)a->sp / ER_FX;
+        q = p->speed == TD_ERODE_SPEED_VECTOR
+                ? p->c * p->water * (double)a->n * sqrt(vx * vx + vy * vy)
+                : p->c * p->water * (double)a->sp / ER_FX;
         s->sq[i] = p->kq * q;
         s->se[i] = p->ke * ((double)a->e / ER_FX);
         s->smax[i] = q > 0 ? p->kc * pow(q, p->m) : 0.0;
+        if (p->deposit == TD_ERODE_DEPOSIT_LEVEL &&
+            s->sq[i] + s->se[i] > 0) {
+            double room = above_lowest(s, i), e = s->sq[i] + s->se[i];
+            if (e > room) {
+                s->sq[i] *= room / e;
+                s->se[i] *= room / e;
+            }
+        }
         s->recv[i] = receiver(s, p, i, vx, vy);
     }
 }
 
-/* Settle or pass on the sediment of cell i (S_I = Sq + Se + inflow). */
-static void settle(er_state *s, size_t i, int pass_on, td_erode_step_stats *st)
+/* Settle or pass on the sediment of cell i (S_I = Sq + Se + inflow).
+ * TD_ERODE_DEPOSIT_LEVEL: a cell that receives sediment rises at most
+ * half-way to the lowest cell that sent it some; the excess passes on. */
+static void settle(er_state *s, const td_erode_params *p, size_t i,
+                   int pass_on, td_erode_step_stats *st)
 {
     double si = s->sq[i] + s->se[i] + s->sin[i], pass, dep;
+    double low = s->T[i] - s->sq[i] - s->se[i]; /* height once eroded */
     int32_t r = s->recv[i];
     st->eroded_flow += s->sq[i];
     st->eroded_coll += s->se[i];
@@ -195,10 +423,21 @@ static void settle(er_state *s, size_t i, int pass_on, td_erode_step_stats *st)
     if (!pass_on || r == -1) {
         dep = si;
         pass = 0;
-    } else if (r == -2) {
+    } else if (p->deposit == TD_ERODE_DEPOSIT_LEVEL && dep > 0) {
+        double room = 0.5 * (s->snd[i] - low);
+        room = room > s->fill[i] - low ? room : s->fill[i] - low;
+        room = room > 0 ? room : 0;
+        if (dep > room) {
+            pass += dep - room;
+            dep = room;
+        }
+    }
+    if (pass_on && r == -2) {
         st->outflow += pass;
-    } else {
+    } else if (pass_on && r >= 0) {
         s->sin[r] += pass;
+        if (low + dep < s->snd[r])
+            s->snd[r] = low + dep;
     }
     s->dep[i] = dep;
     st->deposited += dep;
@@ -206,12 +445,14 @@ static void settle(er_state *s, size_t i, int pass_on, td_erode_step_stats *st)
 
 /* Pass the sediment on, upstream cells first (Kahn's order over the
  * receiver graph, ties in index order); cells on receiver loops keep all. */
-static void transport(er_state *s, td_erode_step_stats *st)
+static void transport(er_state *s, const td_erode_params *p,
+                      td_erode_step_stats *st)
 {
     size_t i, head = 0, tail = 0;
     memset(s->indeg, 0, s->n * sizeof *s->indeg);
     for (i = 0; i < s->n; i++) {
         s->sin[i] = 0;
+        s->snd[i] = HUGE_VAL;
         if (s->recv[i] >= 0)
             s->indeg[s->recv[i]]++;
     }
@@ -221,14 +462,14 @@ static void transport(er_state *s, td_erode_step_stats *st)
     while (head < tail) {
         size_t c = (size_t)s->queue[head++];
         int32_t r = s->recv[c];
-        settle(s, c, 1, st);
+        settle(s, p, c, 1, st);
         if (r >= 0 && --s->indeg[r] == 0)
             s->queue[tail++] = r;
     }
     for (i = 0; i < s->n; i++)
         if (!s->wall[i] && s->indeg[i] > 0) {
             s->indeg[i] = 0;
-            settle(s, i, 0, st);
+            settle(s, p, i, 0, st);
         }
 }
 
@@ -300,7 +541,12 @@ static void one_step(er_state *s, const td_erode_params *p,
     er_surface(s, p);
     er_velocity_field(s, p, &moves, &drained);
     cell_rates(s, p);
-    transport(s, ss);
+    if (p->deposit == TD_ERODE_DEPOSIT_LEVEL) {
+        flood(s, p);
+        level_receivers(s);
+    }
+    transport(s, p, ss);
+    lakes(s, p);
     apply(s, p, ss);
     for (i = 0; i < s->n; i++)
         np += !s->wall[i];

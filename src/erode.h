@@ -39,6 +39,30 @@ typedef struct td_erode_step_stats {
 typedef int (*td_erode_step_fn)(const td_erode_step_stats *s,
                                 const td_grid_f32 *dem, void *user);
 
+/* Readings of what the paper leaves open (docs/erode.md, "Choices"). */
+enum {
+    TD_ERODE_ROUTE_DOWNHILL = 0, /* sediment goes along V only to a lower
+                                    neighbour, else down the steepest
+                                    descent, else it settles */
+    TD_ERODE_ROUTE_PAPER = 1     /* along V to whichever neighbour, also
+                                    uphill (the paper's words) */
+};
+enum {
+    TD_ERODE_SPEED_MEAN = 0,  /* v in Q = C w v: mean speed of the visits */
+    TD_ERODE_SPEED_VECTOR = 1 /* |mean velocity vector| (V as an array of
+                                 vectors, literally) */
+};
+enum {
+    TD_ERODE_DEPOSIT_PAPER = 0, /* S_I - Smax settles in the cell, all */
+    TD_ERODE_DEPOSIT_LEVEL = 1  /* not the paper: no cell is dug below its
+                                   lowest neighbour or raised past half-way
+                                   to the lowest cell that fed it (the rest
+                                   passes on); depressions fill to their
+                                   spill level and spill over; a closed
+                                   basin's sink spreads as a level lake.
+                                   Resolution-independent (docs/erode.md) */
+};
+
 typedef struct td_erode_params {
     int steps;          /* repetitions of STEP2 (75) */
     double kq;          /* flow erosion Sq = Kq Q */
@@ -55,6 +79,9 @@ typedef struct td_erode_params {
     int max_moves;      /* moves per particle per step; 0: 2 (w + h) */
     double v_stop;      /* a particle with no lower neighbour stops below */
     int closed_edges;   /* 0: open edges drain; 1: the border is a wall */
+    int route;          /* TD_ERODE_ROUTE_* (DOWNHILL) */
+    int speed;          /* TD_ERODE_SPEED_* (MEAN) */
+    int deposit;        /* TD_ERODE_DEPOSIT_* (PAPER) */
     int threads;        /* OpenMP threads; 0: the OpenMP default */
     int snapshot_every; /* pass the DEM to on_step every K steps; 0: never */
     td_erode_step_fn on_step; /* may be NULL */
@@ -79,6 +106,15 @@ typedef struct td_erode_fields {
 
 /* The defaults documented in docs/erode.md. */
 td_erode_params td_erode_defaults(void);
+
+/* p's parameters carried from cell size p->cell to cell size `cell` (same
+ * horizontal unit) so that the same terrain sampled at the other cell size
+ * erodes alike (docs/erode.md, "Resolution").  With s = cell / p->cell:
+ * dt * s, water * s^2, 1 - alpha := (1 - alpha) s, beta / s^2, C / s,
+ * Kc / s, Ke / s^2, an explicit max_moves / s; G, Kq, m, v_stop unchanged.
+ * Coarsening needs (1 - alpha) s <= 1: td_erode_check rejects the result
+ * otherwise. */
+td_erode_params td_erode_rescale(const td_erode_params *p, double cell);
 
 /* Check p; 0 or TD_EINVAL with a message naming the parameter. */
 int td_erode_check(const td_erode_params *p, td_ctx *cx);

@@ -24,6 +24,8 @@
 #include <omp.h>
 #include <string.h>
 
+#define ER_CHUNK 512 /* cells per work item of a thread */
+
 static const int nb_dx[8] = {1, 1, 0, -1, -1, -1, 0, 1};
 static const int nb_dy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
 
@@ -108,84 +110,138 @@ void er_surface(er_state *s, const td_erode_params *p)
 
 typedef struct particle {
     double x, y, vx, vy, vz;
-    size_t c;
+    double sp;  /* |v|, the speed after the last move */
+    double hsp; /* |horizontal part of v| */
+    size_t c;   /* cell the particle is in */
+    int k;      /* moves made */
 } particle;
 
 /* Friction, tangent projection and collision at the particle's new cell
- * for the updated velocity u; returns the collision energy (0 if none). */
+ * for the updated velocity u; returns the collision energy (0 if none).
+ * |v'| = (u . t) for the unit tangent t, so the new speeds need no root. */
 static double project(particle *q, const er_surf *g, double ux, double uy,
                       double uz, const td_erode_params *p)
 {
-    double sp = sqrt(ux * ux + uy * uy + uz * uz), hs, dx, dy, sl, inv, dot;
-    double v0 = sqrt(q->vx * q->vx + q->vy * q->vy + q->vz * q->vz), dv;
+    double sp = sqrt(ux * ux + uy * uy + uz * uz), hs, ih, dx, dy, sl, inv;
+    double dot;
+    double v0 = q->sp, dv;
     if (sp > 0) {
         double f = p->alpha + (1 - p->alpha) *
                                   (1 - exp(-p->beta * p->water * sp));
         ux *= f, uy *= f, uz *= f, sp *= f;
     }
     hs = sqrt(ux * ux + uy * uy);
-    q->vx = q->vy = q->vz = 0;
+    q->vx = q->vy = q->vz = q->sp = q->hsp = 0;
     if (hs <= 0)
         return 0; /* nothing horizontal left: the particle rests */
-    dx = ux / hs, dy = uy / hs;
+    ih = 1.0 / hs;
+    dx = ux * ih, dy = uy * ih;
     sl = g->gx * dx + g->gy * dy;
     inv = 1.0 / sqrt(1.0 + sl * sl);
     dot = (ux * dx + uy * dy + uz * sl) * inv;
     if (dot > 0) {
-        q->vx = dot * dx * inv;
-        q->vy = dot * dy * inv;
+        q->sp = dot;
+        q->hsp = dot * inv;
+        q->vx = q->hsp * dx;
+        q->vy = q->hsp * dy;
         q->vz = dot * sl * inv;
     } else {
         dot = 0; /* head-on into the surface: all speed lost */
     }
-    if (v0 <= 0 || !(sl * inv > uz / sp + 1e-9 || dot == 0))
+    if (v0 <= 0 || !(sl * inv * sp > uz + 1e-9 * sp || dot == 0))
         return 0; /* v' not more upward than v(t): no collision */
     dv = sp - dot;
     return 0.5 * p->water * dv * dv;
 }
 
-/* Trace the particle of cell `start`; returns its moves, *drained = 1 when
- * it left the grid over an open edge. */
-static int64_t trace(const er_state *s, const td_erode_params *p,
-                     size_t start, int max_moves, er_acc *acc, int *drained)
+enum { MV_GO = 0, MV_STOP = 1, MV_DRAIN = 2 };
+
+/* One move (one dt) of particle q: x += v dt, v += a dt, then friction,
+ * projection and collision in the cell it lands in; the visit is added to
+ * acc.  MV_STOP when it rests where no neighbour is lower or has made
+ * max_moves moves, MV_DRAIN when it left the grid over an open edge. */
+static int move(const er_state *s, const td_erode_params *p, particle *q,
+                er_acc *acc, double dtc, double vstop2, int max_moves)
 {
-    particle q = {(double)(start % s->w), (double)(start / s->w), 0, 0, 0,
-                  start};
-    double dtc = p->dt / p->cell, vstop2 = p->v_stop * p->v_stop;
-    int k;
-    acc[start].n++;
-    for (k = 0; k < max_moves; k++) {
-        const er_surf *f = &s->surf[q.c];
-        double nx = q.x + q.vx * dtc, ny = q.y + q.vy * dtc, e;
-        long ix = (long)floor(nx + 0.5), iy = (long)floor(ny + 0.5);
-        double ux = q.vx + f->ax * p->dt, uy = q.vy + f->ay * p->dt,
-               uz = q.vz + f->az * p->dt;
-        if (f->ax == 0 && f->ay == 0 && q.vx * q.vx + q.vy * q.vy < vstop2)
-            break; /* at rest where no neighbour is lower */
-        if (ix < 0 || iy < 0 || ix >= s->w || iy >= s->h) {
-            if (!p->closed_edges) {
-                *drained = 1;
-                return k + 1;
-            }
-            ix = -1;
-        } else if (s->wall[(size_t)iy * s->w + ix]) {
-            ix = -1;
-        }
-        if (ix < 0) { /* against a wall: stop there, gravity acts again */
-            q.vx = q.vy = q.vz = 0;
-        } else {
-            q.x = nx, q.y = ny;
-            q.c = (size_t)iy * s->w + ix;
-            e = project(&q, &s->surf[q.c], ux, uy, uz, p);
-            if (e > 0)
-                acc[q.c].e += (int64_t)(e * ER_FX);
-        }
-        acc[q.c].n++;
-        acc[q.c].vx += (int64_t)(q.vx * ER_FX);
-        acc[q.c].vy += (int64_t)(q.vy * ER_FX);
-        acc[q.c].sp += (int64_t)(sqrt(q.vx * q.vx + q.vy * q.vy) * ER_FX);
+    const er_surf *f = &s->surf[q->c];
+    double nx = q->x + q->vx * dtc, ny = q->y + q->vy * dtc, e;
+    long ix, iy;
+    if (q->k >= max_moves)
+        return MV_STOP;
+    if (f->ax == 0 && f->ay == 0 && q->hsp * q->hsp < vstop2)
+        return MV_STOP; /* at rest where no neighbour is lower */
+    q->k++;
+    ix = nx > -0.5 ? (long)(nx + 0.5) : -1; /* nearest cell, no floor() */
+    iy = ny > -0.5 ? (long)(ny + 0.5) : -1;
+    if (ix < 0 || iy < 0 || ix >= s->w || iy >= s->h) {
+        if (!p->closed_edges)
+            return MV_DRAIN;
+        ix = -1;
+    } else if (s->surf[(size_t)iy * s->w + ix].wall) {
+        ix = -1;
     }
-    return k;
+    if (ix < 0) { /* against a wall: stop there, gravity acts again */
+        q->vx = q->vy = q->vz = q->sp = q->hsp = 0;
+    } else {
+        double ux = q->vx + f->ax * p->dt, uy = q->vy + f->ay * p->dt,
+               uz = q->vz + f->az * p->dt;
+        q->x = nx, q->y = ny;
+        q->c = (size_t)iy * s->w + ix;
+        e = project(q, &s->surf[q->c], ux, uy, uz, p);
+        if (e > 0)
+            acc[q->c].e += (int64_t)(e * ER_FX);
+    }
+    acc[q->c].n++;
+    acc[q->c].vx += (int64_t)(q->vx * ER_FX);
+    acc[q->c].vy += (int64_t)(q->vy * ER_FX);
+    acc[q->c].sp += (int64_t)(q->hsp * ER_FX);
+    return MV_GO;
+}
+
+/* Start the particle of the next non-wall cell of [*next, end) in q;
+ * 0 when the range is used up. */
+static int launch(const er_state *s, particle *q, long *next, long end,
+                  er_acc *acc)
+{
+    while (*next < end && s->wall[*next])
+        (*next)++;
+    if (*next >= end)
+        return 0;
+    memset(q, 0, sizeof *q);
+    q->c = (size_t)*next;
+    q->x = (double)(q->c % s->w);
+    q->y = (double)(q->c / s->w);
+    acc[q->c].n++;
+    (*next)++;
+    return 1;
+}
+
+/* Trace the particles of cells [lo, hi) ER_LANES at a time, one move of
+ * each in turn: the moves of different particles do not depend on each
+ * other, so the processor overlaps their long chains of roots, exp and
+ * divisions.  Adds the moves and drained particles to *mv, *dr. */
+#define ER_LANES 4
+static void trace_range(const er_state *s, const td_erode_params *p,
+                        long lo, long hi, int max_moves, er_acc *acc,
+                        int64_t *mv, int64_t *dr)
+{
+    particle q[ER_LANES];
+    int live[ER_LANES], l, nlive = 0;
+    double dtc = p->dt / p->cell, vstop2 = p->v_stop * p->v_stop;
+    long next = lo;
+    for (l = 0; l < ER_LANES; l++)
+        nlive += live[l] = launch(s, &q[l], &next, hi, acc);
+    while (nlive > 0)
+        for (l = 0; l < ER_LANES; l++) {
+            int r;
+            if (!live[l] || (r = move(s, p, &q[l], acc, dtc, vstop2,
+                                      max_moves)) == MV_GO)
+                continue;
+            *mv += q[l].k;
+            *dr += r == MV_DRAIN;
+            if (!(live[l] = launch(s, &q[l], &next, hi, acc)))
+                nlive--;
+        }
 }
 
 /* Add every thread's accumulator into acc[0..n), over cells in parallel. */
@@ -221,14 +277,10 @@ void er_velocity_field(er_state *s, const td_erode_params *p, int64_t *moves,
     {
         er_acc *acc = s->acc + (size_t)omp_get_thread_num() * s->n;
         long i, n = (long)s->n;
-#pragma omp for schedule(dynamic, 512)
-        for (i = 0; i < n; i++) {
-            int d = 0;
-            if (s->wall[i])
-                continue;
-            mv += trace(s, p, (size_t)i, max_moves, acc, &d);
-            dr += d;
-        }
+#pragma omp for schedule(dynamic, 1)
+        for (i = 0; i < n; i += ER_CHUNK)
+            trace_range(s, p, i, i + ER_CHUNK < n ? i + ER_CHUNK : n,
+                        max_moves, acc, &mv, &dr);
     }
     reduce(s);
     *moves = mv;

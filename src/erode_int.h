@@ -31,6 +31,9 @@ typedef struct er_state {
     er_surf *surf;    /* n */
     er_acc *acc;      /* n * nthreads; acc[0..n) holds the reduced sums */
     double *sq, *se, *smax, *sin, *dep, *dep_total;
+    double *snd;      /* lowest height of a cell that sent sediment here */
+    double *fill;     /* TD_ERODE_DEPOSIT_LEVEL: T with depressions filled */
+    int32_t *ord, *par, *heap; /* flood: pop rank, parent (-2 out), heap */
     int32_t *recv;    /* receiver of the sediment: index, -1 none, -2 out */
     int32_t *indeg, *queue;
 } er_state;

@@ -30,6 +30,21 @@ check "2 threads: same bytes as 1" "cmp -s '$T/e.tif' '$T/e2.tif'"
 if command -v gdalinfo >/dev/null 2>&1; then
   check "gdalinfo opens the eroded DEM" "gdalinfo '$T/e.tif' 2>/dev/null | grep -q 'Size is 64, 64'"
 fi
+printf 'ncols 4\nnrows 3\nxllcorner 1000\nyllcorner 2000\ncellsize 10\nNODATA_value -9999\n1 2 3 4\n2 3 4 5\n3 4 5 9\n' >"$T/c10.asc"
+"$TD" erode "$T/c10.asc" -o "$T/c10o.asc" --steps 2 2>"$T/err"
+check "cell size read from the grid's georeferencing" "grep -q 'cell size 10 from the georeferencing' '$T/err'"
+"$TD" erode "$T/c10.asc" -o "$T/c10o.asc" --steps 2 --cell-size 2 2>"$T/err"
+check "--cell-size overrides the georeferencing" "! grep -q 'from the georeferencing' '$T/err'"
+if command -v gdal_translate >/dev/null 2>&1; then
+  gdal_translate -q -a_srs EPSG:4326 -a_ullr 10 50 10.004 49.997 "$T/c10.asc" "$T/geo.tif" 2>/dev/null
+  "$TD" erode "$T/geo.tif" -o "$T/geoo.tif" --steps 1 2>"$T/err"
+  check "degrees converted to metres" "grep -Eq 'cell size (8[5-9]|9[0-9])[.0-9]* from the georeferencing \(degrees' '$T/err'"
+fi
+"$TD" erode "$T/m.tif" -o "$T/lit.tif" --steps 3 --sediment-route paper --flow-speed vector -q
+check "paper's literal reading runs" "[ -s '$T/lit.tif' ]"
+"$TD" erode "$T/m.tif" -o "$T/lv1.tif" --steps 3 --deposit level --threads 1 -q
+"$TD" erode "$T/m.tif" -o "$T/lv2.tif" --steps 3 --deposit level --threads 2 -q
+check "--deposit level: same bytes for 1 and 2 threads" "cmp -s '$T/lv1.tif' '$T/lv2.tif'"
 check "no temporary files left" "! ls '$T' | grep -q '\.tmp\.'"
 
 expect_fail() { # name, args...
@@ -47,5 +62,7 @@ expect_fail "bad --alpha" "$T/m.tif" -o "$T/out.tif" --alpha 2
 expect_fail "bad --steps" "$T/m.tif" -o "$T/out.tif" --steps x
 expect_fail "no output" "$T/m.tif"
 expect_fail "bad --edges" "$T/m.tif" -o "$T/out.tif" --edges maybe
+expect_fail "bad --deposit" "$T/m.tif" -o "$T/out.tif" --deposit lots
+expect_fail "bad --sediment-route" "$T/m.tif" -o "$T/out.tif" --sediment-route up
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]

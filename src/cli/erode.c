@@ -8,6 +8,7 @@
 #include "../terrain_gen.h"
 
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -36,11 +37,21 @@ static const char help[] =
     "      --dt T             time step of one particle move [1]\n"
     "      --water W          water per cell (each particle's w, m ~ w) [1]\n"
     "      --c C              Q = C w v [1]\n"
-    "      --cell-size S      cell size in height units [1]\n"
+    "      --cell-size S      cell size in height units [the GeoTIFF's pixel\n"
+    "                         size, in metres for degrees; else 1]\n"
     "      --max-moves N      moves per particle per step (0: 2 (w+h)) [0]\n"
     "      --v-stop V         a particle with no lower neighbour stops below\n"
     "                         this speed [0.001]\n"
     "      --edges E          open (drain) | closed (walls) [open]\n"
+    "      --sediment-route R downhill: along V to a lower neighbour, else\n"
+    "                         down the steepest descent | paper: along V,\n"
+    "                         also uphill [downhill]\n"
+    "      --flow-speed S     v in Q = C w v: mean (speed of the visits) |\n"
+    "                         vector (|mean velocity|, the paper's V) [mean]\n"
+    "      --deposit D        paper (S_I - Smax settles in the cell) | level\n"
+    "                         (no cell dug below its lowest neighbour or\n"
+    "                         raised past its feeders; depressions fill and\n"
+    "                         spill: resolution-independent) [paper]\n"
     "      --noise A          add white noise of amplitude A (height units)\n"
     "                         to the DEM first, as the paper's start [0]\n"
     "      --seed N           seed of that noise [1]\n"
@@ -61,7 +72,7 @@ static const char help[] =
 
 typedef struct erode_opts {
     const char *in, *out, *water, *energy, *sediment, *mass_log;
-    int quiet;
+    int quiet, cell_given;
     double noise;
     long seed;
     td_erode_params p;
@@ -74,7 +85,19 @@ typedef struct erode_opts {
 
 enum { O_STEPS = 256, O_KQ, O_KE, O_KC, O_M, O_ALPHA, O_BETA, O_G, O_DT,
        O_WATER, O_C, O_CELL, O_MAXMOVES, O_VSTOP, O_EDGES, O_NOISE, O_SEED,
-       O_THREADS, O_SNAP, O_OWATER, O_OENERGY, O_OSED, O_MASSLOG };
+       O_THREADS, O_SNAP, O_OWATER, O_OENERGY, O_OSED, O_MASSLOG, O_ROUTE,
+       O_SPEED, O_DEPOSIT };
+
+/* A word option: arg must be one of the two words; *dst = 0 or 1. */
+static int word_opt(const char *name, const char *arg, const char *w0,
+                    const char *w1, int *dst, td_ctx *cx)
+{
+    if (strcmp(arg, w0) && strcmp(arg, w1))
+        return td_seterr(cx, TD_EINVAL, "%s: '%s' is not %s or %s", name,
+                         arg, w0, w1);
+    *dst = !strcmp(arg, w1);
+    return 0;
+}
 
 /* Real-valued options: option code, name, lo, hi, target offset. */
 static int real_opt(int c, const char *arg, erode_opts *o, td_ctx *cx)
@@ -123,11 +146,20 @@ static int parse_opt(int c, const char *arg, erode_opts *o, td_ctx *cx)
     case O_OSED: o->sediment = arg; return 0;
     case O_MASSLOG: o->mass_log = arg; return 0;
     case O_EDGES:
-        if (strcmp(arg, "open") && strcmp(arg, "closed"))
-            return td_seterr(cx, TD_EINVAL, "--edges: '%s' is not open or "
-                             "closed", arg);
-        o->p.closed_edges = !strcmp(arg, "closed");
-        return 0;
+        return word_opt("--edges", arg, "open", "closed", &o->p.closed_edges,
+                        cx);
+    case O_ROUTE:
+        return word_opt("--sediment-route", arg, "downhill", "paper",
+                        &o->p.route, cx);
+    case O_SPEED:
+        return word_opt("--flow-speed", arg, "mean", "vector", &o->p.speed,
+                        cx);
+    case O_DEPOSIT:
+        return word_opt("--deposit", arg, "paper", "level", &o->p.deposit,
+                        cx);
+    case O_CELL:
+        o->cell_given = 1;
+        break;
     case O_STEPS: rc = int_opt("--steps", arg, 0, 1000000, &v, cx);
         o->p.steps = (int)v; return rc;
     case O_MAXMOVES: rc = int_opt("--max-moves", arg, 0, 100000000, &v, cx);
@@ -156,6 +188,8 @@ static int parse_args(int argc, char **argv, erode_opts *o)
         {"threads", 1, 0, O_THREADS}, {"snapshots", 1, 0, O_SNAP},
         {"out-water", 1, 0, O_OWATER}, {"out-energy", 1, 0, O_OENERGY},
         {"out-sediment", 1, 0, O_OSED}, {"mass-log", 1, 0, O_MASSLOG},
+        {"sediment-route", 1, 0, O_ROUTE}, {"flow-speed", 1, 0, O_SPEED},
+        {"deposit", 1, 0, O_DEPOSIT},
         {0, 0, 0, 0}};
     td_ctx cx;
     int c;
@@ -263,6 +297,34 @@ static void summary(const td_erode_stats *st, double secs)
             secs);
 }
 
+/* Without --cell-size: the pixel size of the DEM's georeferencing, the
+ * mean of |gt[1]| and |gt[5]| (square cells expected); for a geographic
+ * CRS (GTModelTypeGeoKey 2, degrees) converted to metres at the DEM's
+ * centre latitude (heights are then taken to be metres). */
+static void cell_from_georef(erode_opts *o, const td_georef *geo,
+                             const td_grid_f32 *in)
+{
+    const double deg = 111319.49; /* metres per degree on the equator */
+    double sx, sy;
+    int model = 0;
+    if (o->cell_given || !geo->valid)
+        return;
+    sx = fabs(geo->gt[1]);
+    sy = fabs(geo->gt[5]);
+    if (!(sx > 0) || !(sy > 0) || !isfinite(sx) || !isfinite(sy))
+        return;
+    if (td_georef_geokey(geo, 1024, &model) && model == 2) {
+        double X, lat;
+        td_georef_apply(geo, 0.5 * in->w, 0.5 * in->h, &X, &lat);
+        sx *= deg * cos(lat * M_PI / 180.0);
+        sy *= deg;
+    }
+    o->p.cell = 0.5 * (sx + sy);
+    if (!o->quiet)
+        fprintf(stderr, "erode: cell size %.6g from the georeferencing%s\n",
+                o->p.cell, model == 2 ? " (degrees -> metres)" : "");
+}
+
 /* Allocate out and the requested fields with in's size and nodata. */
 static int alloc_grids(const erode_opts *o, const td_grid_f32 *in,
                        td_grid_f32 **out, td_erode_fields *f, td_ctx *cx)
@@ -303,8 +365,10 @@ int td_cmd_erode(int argc, char **argv)
     o.p.on_step = on_step;
     o.p.user = &o;
     rc = td_dem_read(o.in, &in, &geo, &cx);
-    if (rc == 0)
+    if (rc == 0) {
+        cell_from_georef(&o, &geo, in);
         rc = alloc_grids(&o, in, &out, &f, &cx);
+    }
     if (rc == 0 && o.noise > 0)
         rc = td_terrain_noise(in, o.noise, (uint64_t)o.seed, &cx);
     if (rc == 0)

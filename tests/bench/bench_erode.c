@@ -7,6 +7,9 @@
  *   bench_erode [--steps N] [--dir DIR] [--topodig PATH]   (last two unused)
  *
  * Never fails the build. */
+#ifndef _DEFAULT_SOURCE
+#define _DEFAULT_SOURCE /* getloadavg */
+#endif
 #include "../../src/erode.h"
 #include "../../src/terrain_gen.h"
 
@@ -57,11 +60,14 @@ done: /* after the 1-thread run, the 2-thread run compared with it */
 int main(int argc, char **argv)
 {
     int steps = 1, i;
+    double load[3] = {0, 0, 0};
     for (i = 1; i + 1 < argc; i += 2)
         if (!strcmp(argv[i], "--steps"))
             steps = atoi(argv[i + 1]) > 0 ? atoi(argv[i + 1]) : 1;
+    if (getloadavg(load, 3) < 1)
+        load[0] = -1;
     printf("  velocity-field erosion, default parameters, mound relief "
-           "size/8\n");
+           "size/8; load average %.2f at start\n", load[0]);
     one(1024, 1024, 1, steps, NULL);
     one(2048, 1024, 1, steps, NULL);
     return 0;
