@@ -1,0 +1,145 @@
+#include "multidir.h"
+
+#include "rasterise.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+td_multidir_params td_multidir_defaults(void)
+{
+    td_multidir_params p;
+    p.interval = 0;
+    p.summit = 1;
+    p.slope_cells = 4;
+    p.ndir = 4;
+    p.weight = TD_MULTIDIR_SPAN;
+    return p;
+}
+
+/* Per cell: sum of w*z and of w, side by side (one cache line holds
+ * both for 8 cells). */
+typedef struct md_sum {
+    float wz, w;
+} md_sum;
+
+typedef struct md_state {
+    const td_grid_f32 *g;
+    md_sum *sum;
+    const td_multidir_params *p;
+} md_state;
+
+static double weight(td_multidir_weight m, double d1, double d2)
+{
+    switch (m) {
+    case TD_MULTIDIR_SPAN: return 1.0 / (d1 + d2);
+    case TD_MULTIDIR_SPAN2: return 1.0 / ((d1 + d2) * (d1 + d2));
+    default: return 1.0 / (d1 * d2);
+    }
+}
+
+static void add(md_state *st, const td_span *s, int k, double z)
+{
+    size_t i = s->ia + (ptrdiff_t)k * s->di;
+    double w = weight(st->p->weight, k * s->sl, (s->n - k) * s->sl);
+    st->sum[i].wz += (float)(w * z);
+    st->sum[i].w += (float)w;
+}
+
+/* One line's linear estimate between two contour cells of different
+ * height, added to every cell between them with its weight (the hot loop:
+ * the span weights need no division per cell). */
+static void linear_span(const td_span *s, void *user)
+{
+    md_state *st = user;
+    float dz = (s->zb - s->za) / (float)s->n, z = s->za, w;
+    md_sum *p = st->sum + s->ia;
+    int k;
+    if (s->za == s->zb)
+        return;
+    if (st->p->weight == TD_MULTIDIR_PROD) {
+        for (k = 1; k < s->n; k++)
+            add(st, s, k, s->za + dz * k);
+        return;
+    }
+    w = (float)weight(st->p->weight, s->sl, (s->n - 1) * s->sl);
+    for (k = 1; k < s->n; k++) {
+        p += s->di;
+        z += dz;
+        p->wz += w * z;
+        p->w += w;
+    }
+}
+
+/* Second phase, on the grid filled by the first: a gap between two
+ * determined cells.  Same height: §2.5 Fig. 6 along this line
+ * (td_interp_tent), flat when summit is off or a slope is unknown;
+ * different heights: linear. */
+static void summit_span(const td_span *s, void *user)
+{
+    md_state *st = user;
+    double s1 = 0, s2 = 0;
+    int k;
+    if (s->za != s->zb) {
+        linear_span(s, user);
+        return;
+    }
+    if (st->p->summit &&
+        (td_interp_slope(st->g, s, 0, st->p->slope_cells, &s1) != 0 ||
+         td_interp_slope(st->g, s, 1, st->p->slope_cells, &s2) != 0))
+        s1 = s2 = 0;
+    for (k = 1; k < s->n; k++)
+        add(st, s, k, td_interp_tent(s->za, s1, s2, k * s->sl,
+                                     (s->n - k) * s->sl, st->p->interval));
+}
+
+/* Undetermined cells with some weight take the blend; acc and wsum are
+ * cleared for the next phase. */
+static void combine(td_grid_f32 *g, md_state *st)
+{
+    size_t n = (size_t)g->h * g->stride, i;
+    for (i = 0; i < n; i++) {
+        if (g->data[i] != g->data[i] && st->sum[i].w > 0)
+            g->data[i] = st->sum[i].wz / st->sum[i].w;
+        st->sum[i].wz = st->sum[i].w = 0;
+    }
+}
+
+/* Phase 1 walks between contour cells (sparse anchors); phase 2 only over
+ * the runs of cells phase 1 left undetermined. */
+static int phase(td_grid_f32 *g, md_state *st, int second,
+                 const char *stage, td_ctx *cx)
+{
+    int d, rc = 0;
+    for (d = 0; d < st->p->ndir && rc == 0; d++)
+        rc = second ? td_interp_walk_gaps(g, d, summit_span, st, stage, cx)
+                    : td_interp_walk(g, d, linear_span, st, stage, cx);
+    if (rc == 0)
+        combine(g, st);
+    return rc;
+}
+
+int td_multidir_fill(td_grid_f32 *g, const td_multidir_params *p,
+                     td_ctx *cx)
+{
+    size_t n = (size_t)g->h * g->stride;
+    md_state st;
+    int rc;
+    if (p->summit && !(p->interval > 0))
+        return td_seterr(cx, TD_EINVAL, "multidir: the contour interval "
+                         "must be > 0");
+    if (p->ndir != 2 && p->ndir != 4)
+        return td_seterr(cx, TD_EINVAL, "multidir: 2 or 4 directions");
+    st.g = g;
+    st.p = p;
+    st.sum = td_calloc(n, sizeof *st.sum, cx);
+    rc = TD_ENOMEM;
+    if (!st.sum)
+        goto fail;
+    if ((rc = phase(g, &st, 0, "interpolate", cx)) != 0)
+        goto fail;
+    rc = phase(g, &st, 1, "summit", cx);
+fail:
+    free(st.sum);
+    return rc;
+}

@@ -1,0 +1,474 @@
+#include "rasterise.h"
+
+#include "multidir.h"
+#include "scanline.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Clip the segment to the box [lo, hi] (Liang-Barsky); 0 when nothing of
+ * it lies inside. */
+static int clip(double *x0, double *y0, double *x1, double *y1, double xlo,
+                double ylo, double xhi, double yhi)
+{
+    double t0 = 0, t1 = 1, dx = *x1 - *x0, dy = *y1 - *y0;
+    double p[4] = {-dx, dx, -dy, dy};
+    double q[4] = {*x0 - xlo, xhi - *x0, *y0 - ylo, yhi - *y0};
+    int i;
+    for (i = 0; i < 4; i++) {
+        double t;
+        if (p[i] == 0) {
+            if (q[i] < 0)
+                return 0;
+            continue;
+        }
+        t = q[i] / p[i];
+        if (p[i] < 0 && t > t0)
+            t0 = t;
+        if (p[i] > 0 && t < t1)
+            t1 = t;
+    }
+    if (t0 > t1)
+        return 0;
+    *x1 = *x0 + t1 * dx;
+    *y1 = *y0 + t1 * dy;
+    *x0 += t0 * dx;
+    *y0 += t0 * dy;
+    return 1;
+}
+
+/* Exact grid traversal (Amanatides & Woo): every cell the segment passes
+ * through, stepping in x or y one at a time, so the chain is 4-connected:
+ *
+ *     . . # #          # = cells drawn for the segment from the
+ *     . # # .              lower left to the upper right
+ *     # # . .
+ */
+static void draw_segment(td_grid_f32 *g, double x0, double y0, double x1,
+                         double y1, float z)
+{
+    long ix, iy, ex, ey, sx, sy, steps;
+    double dx, dy, tmx, tmy, tdx, tdy;
+    if (!clip(&x0, &y0, &x1, &y1, -1, -1, g->w + 1.0, g->h + 1.0))
+        return;
+    ix = (long)floor(x0), iy = (long)floor(y0);
+    ex = (long)floor(x1), ey = (long)floor(y1);
+    dx = x1 - x0, dy = y1 - y0;
+    sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
+    tdx = dx != 0 ? 1.0 / fabs(dx) : INFINITY;
+    tdy = dy != 0 ? 1.0 / fabs(dy) : INFINITY;
+    tmx = dx != 0 ? (sx > 0 ? ix + 1 - x0 : x0 - ix) * tdx : INFINITY;
+    tmy = dy != 0 ? (sy > 0 ? iy + 1 - y0 : y0 - iy) * tdy : INFINITY;
+    steps = labs(ex - ix) + labs(ey - iy);
+    for (;;) {
+        if (ix >= 0 && iy >= 0 && ix < g->w && iy < g->h)
+            TD_AT(g, ix, iy) = z;
+        if ((ix == ex && iy == ey) || steps-- <= 0)
+            break;
+        if (tmx < tmy) {
+            ix += sx;
+            tmx += tdx;
+        } else {
+            iy += sy;
+            tmy += tdy;
+        }
+    }
+}
+
+static int check_line(const td_line *l, double step, int w, int h,
+                      td_ctx *cx)
+{
+    size_t k, inside = 0;
+    if (!l->has_height)
+        return td_seterr(cx, TD_EINVAL, "line %ld has no height (run "
+                         "topodig label first)", l->id);
+    if (!isfinite(l->height))
+        return td_seterr(cx, TD_EINVAL, "line %ld: height is not a finite "
+                         "number", l->id);
+    if (l->n == 0)
+        return td_seterr(cx, TD_EINVAL, "line %ld has no points", l->id);
+    for (k = 0; k < l->n; k++) {
+        double x = l->xy[2 * k] / step, y = l->xy[2 * k + 1] / step;
+        if (!isfinite(x) || !isfinite(y))
+            return td_seterr(cx, TD_EINVAL, "line %ld: point %zu is not a "
+                             "finite number", l->id, k);
+        inside += x >= 0 && y >= 0 && x < w && y < h;
+    }
+    if (inside == 0)
+        return td_seterr(cx, TD_EINVAL, "line %ld lies outside the %d x %d "
+                         "grid (coordinates must be scan pixels, or map "
+                         "units of the scan's georeferencing)", l->id, w, h);
+    return 0;
+}
+
+int td_rasterise_lines(const td_lines *ls, double step, td_grid_f32 *g,
+                       td_ctx *cx)
+{
+    size_t i, k, y;
+    for (y = 0; y < (size_t)g->h; y++)
+        for (k = 0; k < (size_t)g->w; k++)
+            g->data[y * g->stride + k] = NAN;
+    if (!ls || ls->n == 0)
+        return td_seterr(cx, TD_EINVAL, "no contour lines to interpolate");
+    if (!(step >= 1))
+        return td_seterr(cx, TD_EINVAL, "step must be >= 1");
+    for (i = 0; i < ls->n; i++) {
+        int rc = check_line(&ls->v[i], step, g->w, g->h, cx);
+        if (rc != 0)
+            return rc;
+    }
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        const double *p = l->xy;
+        float z = (float)l->height;
+        if (l->n == 1)
+            draw_segment(g, p[0] / step, p[1] / step, p[0] / step,
+                         p[1] / step, z);
+        for (k = 0; k + 1 < l->n; k++)
+            draw_segment(g, p[2 * k] / step, p[2 * k + 1] / step,
+                         p[2 * k + 2] / step, p[2 * k + 3] / step, z);
+        if (l->closed && l->n > 2)
+            draw_segment(g, p[2 * l->n - 2] / step, p[2 * l->n - 1] / step,
+                         p[0] / step, p[1] / step, z);
+    }
+    return 0;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+double td_interp_interval(const td_lines *ls)
+{
+    double *z, best = 0;
+    size_t i, n = 0;
+    if (!ls || ls->n == 0 || !(z = malloc(ls->n * sizeof *z)))
+        return 0;
+    for (i = 0; i < ls->n; i++)
+        if (ls->v[i].has_height && isfinite(ls->v[i].height))
+            z[n++] = ls->v[i].height;
+    qsort(z, n, sizeof *z, cmp_double);
+    for (i = 1; i < n; i++) {
+        double d = z[i] - z[i - 1];
+        if (d > 1e-6 * fmax(1.0, fabs(z[i])) && (best == 0 || d < best))
+            best = d;
+    }
+    free(z);
+    return best;
+}
+
+static void span_geometry(int dir, int w, td_span *s)
+{
+    static const int dc[4] = {1, 0, 1, -1}, dr[4] = {0, 1, 1, 1};
+    s->dc = dc[dir];
+    s->dr = dr[dir];
+    s->di = (ptrdiff_t)dr[dir] * (ptrdiff_t)w + dc[dir];
+    s->sl = dir >= TD_DIR_DIAG ? sqrt(2.0) : 1.0;
+}
+
+/* Scan lines are indexed so that walking rows top to bottom meets every
+ * line's cells in order:
+ *     x: line = row        y: line = column
+ *     diag (down-right): line = col - row + h - 1
+ *     anti (down-left):  line = col + row
+ * last[line] keeps the position (row; column for x) of the last anchor.
+ * For y and the diagonals the grid is walked in vertical strips of
+ * WALK_STRIP columns, each from the top row to the bottom (strips left to
+ * right; right to left for anti), which still meets every line's cells in
+ * order but keeps the rows a span reaches back into in cache. */
+#define WALK_STRIP 256
+
+static void walk_strip(const td_grid_f32 *g, int dir, int c0, int c1,
+                       int *last, td_span *s, td_span_fn fn, void *user,
+                       int r)
+{
+    const float *row = g->data + (size_t)r * g->stride;
+    int c;
+    for (c = c0; c < c1; c++) {
+        size_t id;
+        int p;
+        if (row[c] != row[c])
+            continue;
+        id = dir == TD_DIR_X ? 0 : dir == TD_DIR_Y ? (size_t)c
+             : dir == TD_DIR_DIAG ? (size_t)(c - r + g->h - 1) : (size_t)(c + r);
+        p = last[id];
+        last[id] = dir == TD_DIR_X ? c : r;
+        if (p < 0 || (s->n = dir == TD_DIR_X ? c - p : r - p) < 2)
+            continue;
+        s->ra = dir == TD_DIR_X ? r : p;
+        s->ca = c - s->n * s->dc;
+        s->ia = (size_t)s->ra * g->stride + (size_t)s->ca;
+        s->za = g->data[s->ia];
+        s->zb = row[c];
+        fn(s, user);
+    }
+}
+
+int td_interp_walk(const td_grid_f32 *g, int dir, td_span_fn fn, void *user,
+                   const char *stage, td_ctx *cx)
+{
+    int w = g->w, h = g->h, r, si, rc = 0;
+    int strip = dir == TD_DIR_X ? w : WALK_STRIP;
+    int ns = (w + strip - 1) / strip;
+    size_t nl = dir == TD_DIR_X ? 1 : dir == TD_DIR_Y ? (size_t)w
+                                                        : (size_t)w + h - 1;
+    int *last = td_malloc(nl * sizeof *last, cx);
+    td_span s;
+    if (!last)
+        return TD_ENOMEM;
+    memset(last, 0xff, nl * sizeof *last); /* -1 */
+    memset(&s, 0, sizeof s);
+    span_geometry(dir, (int)g->stride, &s);
+    for (si = 0; si < ns && rc == 0; si++) {
+        int k = dir == TD_DIR_ANTI ? ns - 1 - si : si;
+        int c0 = k * strip, c1 = c0 + strip < w ? c0 + strip : w;
+        for (r = 0; r < h && rc == 0; r++) {
+            if (dir == TD_DIR_X)
+                last[0] = -1;
+            walk_strip(g, dir, c0, c1, last, &s, fn, user, r);
+            if (stage && (r & 1023) == 1023)
+                rc = td_progress(cx, stage, ((double)si * h + r) / ((double)ns * h));
+        }
+    }
+    free(last);
+    return rc;
+}
+
+int td_interp_walk_gaps(const td_grid_f32 *g, int dir, td_span_fn fn,
+                        void *user, const char *stage, td_ctx *cx)
+{
+    int w = g->w, h = g->h, r, c, rc = 0;
+    td_span s;
+    memset(&s, 0, sizeof s);
+    span_geometry(dir, (int)g->stride, &s);
+    for (r = 0; r < h && rc == 0; r++) {
+        const float *row = g->data + (size_t)r * g->stride;
+        for (c = 0; c < w; c++) {
+            int pc = c - s.dc, pr = r - s.dr, k;
+            if (row[c] == row[c] || pc < 0 || pr < 0 || pc >= w ||
+                TD_AT(g, pc, pr) != TD_AT(g, pc, pr))
+                continue;
+            for (k = 1;; k++) {
+                int x = c + k * s.dc, y = r + k * s.dr;
+                if (x < 0 || y >= h || x >= w) {
+                    k = 0;
+                    break;
+                }
+                if (TD_AT(g, x, y) == TD_AT(g, x, y))
+                    break;
+            }
+            if (k == 0)
+                continue;
+            s.ca = pc;
+            s.ra = pr;
+            s.n = k + 1;
+            s.ia = (size_t)pr * g->stride + (size_t)pc;
+            s.za = g->data[s.ia];
+            s.zb = g->data[s.ia + (ptrdiff_t)s.n * s.di];
+            fn(&s, user);
+        }
+        if (stage && (r & 1023) == 1023)
+            rc = td_progress(cx, stage, (double)r / h);
+    }
+    return rc;
+}
+
+int td_interp_slope(const td_grid_f32 *g, const td_span *s, int end,
+                    int kmax, double *slope)
+{
+    int ox = end ? s->dc : -s->dc, oy = end ? s->dr : -s->dr;
+    int ax = s->ca + (end ? s->n * s->dc : 0);
+    int ay = s->ra + (end ? s->n * s->dr : 0);
+    int k, best = 0;
+    float z0 = TD_AT(g, ax, ay), zb = 0;
+    for (k = 1; k <= kmax; k++) {
+        int x = ax + k * ox, y = ay + k * oy;
+        float v;
+        if (x < 0 || y < 0 || x >= g->w || y >= g->h)
+            break;
+        v = TD_AT(g, x, y);
+        if (v != v)
+            break;
+        best = k;
+        zb = v;
+    }
+    if (best == 0)
+        return -1;
+    *slope = ((double)z0 - zb) / (best * s->sl);
+    return 0;
+}
+
+double td_interp_tent(double z, double s1, double s2, double d1, double d2,
+                      double interval)
+{
+    double v;
+    interval *= 0.99; /* never reach the next contour's height */
+    if (s1 > 0 && s2 > 0) {
+        v = fmin(s1 * d1, s2 * d2);
+        return z + fmin(v, interval);
+    }
+    if (s1 < 0 && s2 < 0) {
+        v = fmin(-s1 * d1, -s2 * d2);
+        return z - fmin(v, interval);
+    }
+    return z;
+}
+
+td_interp_params td_interp_defaults(void)
+{
+    td_interp_params p;
+    memset(&p, 0, sizeof p);
+    p.method = TD_INTERP_MULTIDIR;
+    p.step = 1;
+    p.summit = 1;
+    p.peninsula = 1;
+    p.weight = TD_MULTIDIR_SPAN;
+    p.ndir = 4;
+    p.nodata = -9999.0f;
+    return p;
+}
+
+int td_interp_parse_method(const char *s, td_interp_method *m, td_ctx *cx)
+{
+    if (!strcmp(s, "scanline"))
+        *m = TD_INTERP_SCANLINE;
+    else if (!strcmp(s, "multidir"))
+        *m = TD_INTERP_MULTIDIR;
+    else
+        return td_seterr(cx, TD_EINVAL, "--method: '%s' is not one of "
+                         "scanline, multidir", s);
+    return 0;
+}
+
+static int choose(const char *key, const char *val, const char *const *names,
+                  int n, int *out, td_ctx *cx)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!strcmp(val, names[i])) {
+            *out = i;
+            return 0;
+        }
+    return td_seterr(cx, TD_EINVAL, "--%s: '%s' is not one of %s%s%s%s%s",
+                     key, val, names[0], n > 1 ? ", " : "",
+                     n > 1 ? names[1] : "", n > 2 ? ", " : "",
+                     n > 2 ? names[2] : "");
+}
+
+static int number(const char *key, const char *val, double lo, double hi,
+                  double *out, td_ctx *cx)
+{
+    char *end;
+    double v = strtod(val, &end);
+    if (end == val || *end || !isfinite(v) || v < lo || v > hi)
+        return td_seterr(cx, TD_EINVAL, "--%s: '%s' is not a number %g..%g",
+                         key, val, lo, hi);
+    *out = v;
+    return 0;
+}
+
+static int whole(const char *key, const char *val, int lo, int hi, int *out,
+                 td_ctx *cx)
+{
+    double v;
+    int rc = number(key, val, lo, hi, &v, cx);
+    if (rc == 0 && v != floor(v))
+        rc = td_seterr(cx, TD_EINVAL, "--%s: '%s' is not a whole number",
+                       key, val);
+    if (rc == 0)
+        *out = (int)v;
+    return rc;
+}
+
+int td_interp_set(td_interp_params *p, const char *key, const char *val,
+                  td_ctx *cx)
+{
+    static const char *const methods[] = {"scanline", "multidir"};
+    static const char *const summit[] = {"flat", "extrapolate"};
+    static const char *const pen[] = {"flat", "diagonal"};
+    static const char *const weights[] = {"prod", "span", "span2"}; /* enum order */
+    double v;
+    int i = 0, rc;
+    if (!strcmp(key, "method")) {
+        rc = choose(key, val, methods, 2, &i, cx);
+        p->method = rc == 0 ? (td_interp_method)i : p->method;
+    } else if (!strcmp(key, "summit")) {
+        rc = choose(key, val, summit, 2, &i, cx);
+        p->summit = rc == 0 ? i : p->summit;
+    } else if (!strcmp(key, "peninsula")) {
+        rc = choose(key, val, pen, 2, &i, cx);
+        p->peninsula = rc == 0 ? i : p->peninsula;
+    } else if (!strcmp(key, "weight")) {
+        rc = choose(key, val, weights, 3, &i, cx);
+        p->weight = rc == 0 ? i : p->weight;
+    } else if (!strcmp(key, "step")) {
+        rc = whole(key, val, 1, 4096, &p->step, cx);
+    } else if (!strcmp(key, "dirs")) {
+        if ((rc = whole(key, val, 2, 4, &i, cx)) == 0 && i == 3)
+            rc = td_seterr(cx, TD_EINVAL, "--dirs: 2 or 4");
+        p->ndir = rc == 0 ? i : p->ndir;
+    } else if (!strcmp(key, "interval")) {
+        rc = number(key, val, 1e-9, 1e9, &p->interval, cx);
+    } else if (!strcmp(key, "nodata")) {
+        if ((rc = number(key, val, -3e38, 3e38, &v, cx)) == 0)
+            p->nodata = (float)v;
+    } else
+        return 1;
+    return rc;
+}
+
+static int fill(td_grid_f32 *g, const td_interp_params *p, double interval,
+                td_ctx *cx)
+{
+    if (p->method == TD_INTERP_SCANLINE) {
+        td_scanline_params sp = td_scanline_defaults();
+        sp.interval = interval;
+        sp.summit = p->summit;
+        sp.peninsula = p->peninsula;
+        return td_scanline_fill(g, &sp, cx);
+    } else {
+        td_multidir_params mp = td_multidir_defaults();
+        mp.interval = interval;
+        mp.summit = p->summit;
+        mp.ndir = p->ndir;
+        mp.weight = (td_multidir_weight)p->weight;
+        return td_multidir_fill(g, &mp, cx);
+    }
+}
+
+int td_interp_lines(const td_lines *ls, int w, int h,
+                    const td_interp_params *p, td_grid_f32 **out,
+                    td_ctx *cx)
+{
+    td_grid_f32 *g = NULL;
+    double interval;
+    size_t i, n;
+    int rc, step = p->step < 1 ? 1 : p->step;
+    *out = NULL;
+    if ((rc = td_check_dims(w, h, "scan", cx)) != 0)
+        return rc;
+    if (!(g = td_grid_f32_new((w + step - 1) / step, (h + step - 1) / step,
+                              cx)))
+        return TD_ENOMEM;
+    if ((rc = td_rasterise_lines(ls, step, g, cx)) != 0)
+        goto fail;
+    interval = p->interval > 0 ? p->interval : td_interp_interval(ls);
+    if (interval <= 0)
+        interval = 1e30; /* one height only: nothing to cap against */
+    if ((rc = fill(g, p, interval, cx)) != 0)
+        goto fail;
+    n = (size_t)g->w * g->h;
+    for (i = 0; i < n; i++)
+        if (g->data[i] != g->data[i])
+            g->data[i] = p->nodata;
+    g->nodata = p->nodata;
+    g->has_nodata = 1;
+    *out = g;
+    return 0;
+fail:
+    td_grid_f32_free(g);
+    return rc;
+}

@@ -1,0 +1,306 @@
+/* topodig run: scanned sheet -> DEM in one process (scan, label,
+ * interpolate; no temporary files). */
+#define _GNU_SOURCE
+#include "cli.h"
+
+#include "../demio.h"
+#include "../imageio.h"
+#include "../lines.h"
+#include "../../interp/rasterise.h"
+#include "../../scanner/label.h"
+#include "../../scanner/scan.h"
+
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char help[] =
+    "usage: topodig run SCAN -o DEM.tif --interval I [--base B]\n"
+    "                   [--known X,Y,H]... [--method multidir|scanline]\n"
+    "                   [--step N]\n"
+    "\n"
+    "Scan the sheet (as topodig scan), give the traced lines heights from\n"
+    "the known points and the interval (as topodig label) and interpolate\n"
+    "the DEM (as topodig interp), all in memory.  The DEM has the scan's\n"
+    "size (or one cell per N x N pixels) and georeferencing; .tif float32\n"
+    "GeoTIFF with nodata, .asc ESRI ASCII grid, .png 16-bit grey.\n"
+    "\n"
+    "options:\n"
+    "  -o, --output FILE     DEM output (required)\n"
+    "      --interval I      contour interval (required, > 0)\n"
+    "      --base B          heights are B + k * I (default 0)\n"
+    "      --known X,Y,H     height H at scan pixel X,Y: a point on a line\n"
+    "                        or a spot height (repeatable; at least one)\n"
+    "      --depressions X,Y the ring around X,Y is a depression\n"
+    "      --ink KIND        dark | brown | R,G,B[:tol] (default dark)\n"
+    "      --threshold T     otsu | sauvola | N (default otsu)\n"
+    "      --method M        multidir (default) | scanline (the paper)\n"
+    "      --step N          one DEM cell per N x N pixels (default 1)\n"
+    "      --summit S        extrapolate (default) | flat\n"
+    "      --peninsula P     scanline: diagonal (default) | flat\n"
+    "      --weight W        multidir: span (default) | prod | span2\n"
+    "      --dirs N          multidir: 4 (default) or 2\n"
+    "      --nodata V        nodata value (default -9999)\n"
+    "  -q, --quiet           no progress and no summary\n"
+    "  -h, --help            this help\n"
+    "\n"
+    "Lines the known points cannot label are left out (counted in the\n"
+    "summary).  Summary on stderr: lines, labelled, cells determined,\n"
+    "seconds per stage.\n";
+
+typedef struct run_opts {
+    const char *in, *out;
+    int quiet;
+    double interval, base;
+    td_label_point *known;
+    size_t nknown;
+    double *dep;
+    size_t ndep;
+    td_scan_params sp;
+    td_interp_params ip;
+} run_opts;
+
+enum { O_INTERVAL = 256, O_BASE, O_KNOWN, O_DEPR, O_INK, O_THR, O_PASS };
+
+static int parse_nums(const char *s, double *v, int n)
+{
+    char *end;
+    int i;
+    for (i = 0; i < n; i++) {
+        v[i] = strtod(s, &end);
+        if (end == s || (i < n - 1 ? *end != ',' : *end != '\0'))
+            return -1;
+        s = end + 1;
+    }
+    return 0;
+}
+
+static int add_point(run_opts *o, const char *arg, td_ctx *cx)
+{
+    double v[3];
+    td_label_point *k;
+    if (parse_nums(arg, v, 3) != 0)
+        return td_seterr(cx, TD_EINVAL, "--known: '%s' is not X,Y,H", arg);
+    if (!(k = realloc(o->known, (o->nknown + 1) * sizeof *k)))
+        return td_seterr(cx, TD_ENOMEM, "out of memory");
+    o->known = k;
+    k[o->nknown].x = v[0];
+    k[o->nknown].y = v[1];
+    k[o->nknown].height = v[2];
+    k[o->nknown++].id = -1;
+    return 0;
+}
+
+static int add_depression(run_opts *o, const char *arg, td_ctx *cx)
+{
+    double v[2], *d;
+    if (parse_nums(arg, v, 2) != 0)
+        return td_seterr(cx, TD_EINVAL, "--depressions: '%s' is not X,Y", arg);
+    if (!(d = realloc(o->dep, (2 * o->ndep + 2) * sizeof *d)))
+        return td_seterr(cx, TD_ENOMEM, "out of memory");
+    o->dep = d;
+    d[2 * o->ndep] = v[0];
+    d[2 * o->ndep++ + 1] = v[1];
+    return 0;
+}
+
+static int parse_opt(int c, const char *name, const char *arg, run_opts *o,
+                     td_ctx *cx)
+{
+    switch (c) {
+    case 'o': o->out = arg; return 0;
+    case 'q': o->quiet = 1; return 0;
+    case O_KNOWN: return add_point(o, arg, cx);
+    case O_DEPR: return add_depression(o, arg, cx);
+    case O_INK: return td_binarise_parse_ink(arg, &o->sp.bin, cx);
+    case O_THR: return td_binarise_parse_threshold(arg, &o->sp.bin, cx);
+    case O_PASS: return td_interp_set(&o->ip, name, arg, cx);
+    case O_INTERVAL:
+    case O_BASE:
+        if (td_cli_parse_double(arg, c == O_BASE ? -1e9 : 1e-9, 1e9,
+                                c == O_BASE ? &o->base : &o->interval) != 0)
+            return td_seterr(cx, TD_EINVAL, "--%s: '%s' is not a %snumber",
+                             name, arg, c == O_BASE ? "" : "positive ");
+        return 0;
+    }
+    return td_seterr(cx, TD_EINVAL, "unknown option (see topodig run --help)");
+}
+
+static int parse_args(int argc, char **argv, run_opts *o)
+{
+    static const struct option lo[] = {
+        {"output", 1, 0, 'o'}, {"interval", 1, 0, O_INTERVAL},
+        {"base", 1, 0, O_BASE}, {"known", 1, 0, O_KNOWN},
+        {"depressions", 1, 0, O_DEPR}, {"ink", 1, 0, O_INK},
+        {"threshold", 1, 0, O_THR}, {"method", 1, 0, O_PASS},
+        {"step", 1, 0, O_PASS}, {"summit", 1, 0, O_PASS},
+        {"peninsula", 1, 0, O_PASS}, {"weight", 1, 0, O_PASS},
+        {"dirs", 1, 0, O_PASS}, {"nodata", 1, 0, O_PASS},
+        {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
+    td_ctx cx;
+    int c, li = -1;
+    td_ctx_init(&cx);
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "o:qh", lo, &li)) != -1) {
+        if (c == 'h') {
+            fputs(help, stdout);
+            return 2;
+        }
+        if (c == '?' || c == ':')
+            return td_cli_failf("run", "bad or incomplete option '%s' (see "
+                                "topodig run --help)", argv[optind - 1]);
+        if (parse_opt(c, li >= 0 ? lo[li].name : "", optarg, o, &cx) != 0)
+            return td_cli_fail("run", &cx);
+        li = -1;
+    }
+    if (optind != argc - 1)
+        return td_cli_failf("run", "expected one SCAN file (see topodig run "
+                            "--help)");
+    o->in = argv[optind];
+    if (!o->out)
+        return td_cli_failf("run", "no output: give -o DEM.tif");
+    if (!(o->interval > 0))
+        return td_cli_failf("run", "no interval: give --interval I");
+    if (o->nknown == 0)
+        return td_cli_failf("run", "no known height: give --known X,Y,H (a "
+                            "point on a contour, or a spot height)");
+    return 0;
+}
+
+typedef struct run_state {
+    td_georef geo;
+    td_lines *ls;
+    td_grid_f32 *dem;
+    int w, h;
+    size_t traced, dropped;
+    double secs[4]; /* read + scan, label, interp, write */
+} run_state;
+
+/* Scan; keeps only the lines (the image and the scanner's grids are freed
+ * before interpolation so they never share the peak). */
+static int do_scan(const run_opts *o, run_state *s, td_ctx *cx)
+{
+    td_image *im = NULL;
+    td_scan_result res;
+    double t0 = td_now();
+    int rc;
+    memset(&res, 0, sizeof res);
+    if ((rc = td_image_read(o->in, &im, &s->geo, cx)) != 0)
+        return rc;
+    s->w = im->w;
+    s->h = im->h;
+    if ((rc = td_scan(im, &o->sp, &res, cx)) == 0) {
+        s->ls = res.lines;
+        res.lines = NULL;
+        s->traced = s->ls->n;
+    }
+    td_scan_result_free(&res);
+    td_image_free(im);
+    s->secs[0] = td_now() - t0;
+    return rc;
+}
+
+/* Label; lines the known points leave without a height are dropped. */
+static int do_label(const run_opts *o, run_state *s, td_ctx *cx)
+{
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    double t0 = td_now();
+    size_t i;
+    int rc;
+    memset(&rep, 0, sizeof rep);
+    p.base = o->base;
+    p.interval = o->interval;
+    p.w = s->w;
+    p.h = s->h;
+    p.known = o->known;
+    p.nknown = o->nknown;
+    p.depressions = o->dep;
+    p.ndepressions = o->ndep;
+    rc = td_label_auto(s->ls, &p, &rep, cx);
+    td_label_report_free(&rep);
+    if (rc != 0)
+        return rc;
+    for (i = s->ls->n; i-- > 0;)
+        if (!s->ls->v[i].has_height) {
+            td_lines_remove(s->ls, i);
+            s->dropped++;
+        }
+    s->secs[1] = td_now() - t0;
+    if (s->ls->n == 0)
+        return td_seterr(cx, TD_EINVAL, "no traced line could be labelled "
+                         "from the known points");
+    return 0;
+}
+
+static int do_interp(const run_opts *o, run_state *s, td_ctx *cx)
+{
+    td_interp_params p = o->ip;
+    double t0 = td_now();
+    int rc, k;
+    p.interval = o->interval;
+    if ((rc = td_interp_lines(s->ls, s->w, s->h, &p, &s->dem, cx)) != 0)
+        return rc;
+    td_lines_free(s->ls);
+    s->ls = NULL;
+    if (s->geo.valid)
+        for (k = 1; k < 6; k++)
+            if (k != 3)
+                s->geo.gt[k] *= p.step;
+    s->secs[2] = td_now() - t0;
+    rc = td_dem_write(o->out, s->dem, &s->geo, cx);
+    s->secs[3] = td_now() - t0 - s->secs[2];
+    return rc;
+}
+
+static void summary(const run_state *s)
+{
+    size_t n = (size_t)s->dem->w * s->dem->h, i, ok = 0;
+    for (i = 0; i < n; i++)
+        ok += s->dem->data[i] != s->dem->nodata;
+    fprintf(stderr, "run: %zu lines, %zu labelled, %zu left out; %d x %d "
+            "cells, %.1f%% determined; read+scan %.2f s, label %.2f s, "
+            "interp %.2f s, write %.2f s\n", s->traced,
+            s->traced - s->dropped, s->dropped, s->dem->w, s->dem->h,
+            100.0 * ok / n, s->secs[0], s->secs[1], s->secs[2], s->secs[3]);
+}
+
+int td_cmd_run(int argc, char **argv)
+{
+    run_opts o;
+    run_state s;
+    td_ctx cx;
+    td_cli_progress pr;
+    int rc;
+    memset(&o, 0, sizeof o);
+    memset(&s, 0, sizeof s);
+    o.sp = td_scan_defaults();
+    o.ip = td_interp_defaults();
+    if ((rc = parse_args(argc, argv, &o)) != 0) {
+        rc = rc == 2 ? 0 : 1;
+        goto done;
+    }
+    td_ctx_init(&cx);
+    td_georef_init(&s.geo);
+    td_cli_progress_init(&pr, &cx, o.quiet);
+    if ((rc = do_scan(&o, &s, &cx)) == 0 &&
+        (rc = do_label(&o, &s, &cx)) == 0)
+        rc = do_interp(&o, &s, &cx);
+    td_cli_progress_done(&pr);
+    if (rc == 0 && !o.quiet)
+        summary(&s);
+    if (rc != 0 && !strstr(cx.msg, o.in)) {
+        char m[sizeof cx.msg];
+        snprintf(m, sizeof m, "%.200s: %.300s", o.in, cx.msg);
+        memcpy(cx.msg, m, sizeof m);
+    }
+    rc = rc == 0 ? 0 : td_cli_fail("run", &cx);
+    td_grid_f32_free(s.dem);
+    td_lines_free(s.ls);
+    td_georef_clear(&s.geo);
+done:
+    free(o.known);
+    free(o.dep);
+    return rc;
+}

@@ -1,0 +1,51 @@
+/* render.h: pictures of a DEM so a result can be looked at: shaded relief
+ * (hillshade), optionally tinted by height, with contour lines drawn over
+ * it.  Pure stage: grid in, RGB image out. */
+#ifndef TD_RENDER_H
+#define TD_RENDER_H
+
+#include "grid.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    TD_RENDER_HILLSHADE = 0, /* grey shaded relief */
+    TD_RENDER_TINT = 1       /* shaded relief times a height colour ramp */
+} td_render_style;
+
+typedef struct td_render_params {
+    td_render_style style;
+    double azimuth;   /* light from, degrees clockwise from north (315) */
+    double altitude;  /* light above the horizon, degrees (45) */
+    double zfactor;   /* vertical exaggeration (1) */
+    double cellsize;  /* cell size in height units (1: a pixel = 1 m) */
+    double interval;  /* contour overlay every interval, 0 = none (0) */
+    double base;      /* contours at base + k * interval (0) */
+} td_render_params;
+
+td_render_params td_render_defaults(void);
+
+/* Parse a --style value ("hillshade", "tint"); 0 or TD_EINVAL. */
+int td_render_parse_style(const char *s, td_render_style *st, td_ctx *cx);
+
+/* Shade dem (Horn's 3x3 gradient, the formula gdaldem hillshade uses):
+ *
+ *     a b c      dz/dx = ((c + 2f + i) - (a + 2d + g)) / (8 cellsize)
+ *     d e f      dz/dy = ((g + 2h + i) - (a + 2b + c)) / (8 cellsize)
+ *     g h i      shade = cos(zen) cos(slope)
+ *                        + sin(zen) sin(slope) cos(az - aspect)
+ *
+ * Nodata neighbours take the centre's height; nodata cells are drawn pale
+ * blue-grey.  With interval > 0, cells where the contour band
+ * floor((z - base)/interval) changes to the right or below are drawn
+ * brown.  *out is a new RGB image of dem's size (td_image_free).  Returns
+ * 0, TD_EINVAL (bad parameters), TD_ENOMEM. */
+int td_render_hillshade(const td_grid_f32 *dem, const td_render_params *p,
+                        td_image **out, td_ctx *cx);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

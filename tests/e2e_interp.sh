@@ -1,0 +1,113 @@
+#!/bin/sh
+# End-to-end checks of interp, compare, render and run through the CLI on
+# the sample sheet and its truth (samples/hills.*): outputs GDAL opens,
+# accuracy against the true DEM, bad input (one error line, exit 1, no
+# output written, an existing output untouched).
+BUILD=${BUILD:-build}
+TD="$BUILD/topodig"
+T=$(mktemp -d "${TMPDIR:-/tmp}/tdinterp.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+pass=0; fail=0
+ok() { pass=$((pass + 1)); echo "ok   $1"; }
+bad() { fail=$((fail + 1)); echo "FAIL $1"; }
+check() { if eval "$2"; then ok "$1"; else bad "$1"; fi; }
+json() { # file key -> number
+  sed -n "s/.*\"$2\": *\([-0-9.eE+]*\).*/\1/p" "$1"
+}
+lt() { awk "BEGIN { exit !($1 < $2) }"; }
+have_gdal() { command -v gdalinfo >/dev/null 2>&1; }
+
+for c in interp compare render run; do
+  check "$c --help" "$TD $c --help | grep -q '^usage: topodig $c'"
+done
+
+# --- interp from the true lines (needs the GeoJSON reader)
+"$TD" interp samples/hills.geojson -o "$T/dem.tif" --like samples/hills.png 2>"$T/err"
+rc=$?
+{
+  check "interp: exit 0, one summary line" \
+    "[ $rc = 0 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -Eq '^interp: 600 x 450 cells, [0-9.]+% determined, method multidir, [0-9.]+ s$' '$T/err'"
+  "$TD" compare "$T/dem.tif" samples/hills.tif --json >"$T/c.json"
+  r=$(json "$T/c.json" rmse); cov=$(json "$T/c.json" coverage)
+  check "interp multidir: RMSE $r < 0.12 interval (2.4 m)" "lt '$r' 2.4"
+  check "interp: coverage $cov > 0.9" "lt 0.9 '$cov'"
+  "$TD" interp samples/hills.geojson -o "$T/sl.tif" --like samples/hills.png --method scanline -q
+  "$TD" compare "$T/sl.tif" samples/hills.tif --json >"$T/s.json"
+  rs=$(json "$T/s.json" rmse)
+  check "interp scanline: RMSE $rs < 0.2 interval, above multidir's $r" "lt '$rs' 4 && lt '$r' '$rs'"
+  "$TD" interp samples/hills.geojson -o "$T/dem.asc" --like samples/hills.png --step 2 -q
+  check "interp --step 2 .asc: 300 x 225" "grep -q '^ncols *300' '$T/dem.asc' && grep -q '^nrows *225' '$T/dem.asc'"
+  if have_gdal; then
+    check "gdalinfo: float32, 600x450, nodata -9999" \
+      "gdalinfo '$T/dem.tif' | grep -q 'Size is 600, 450' && gdalinfo '$T/dem.tif' | grep -q 'Type=Float32' && gdalinfo '$T/dem.tif' | grep -q 'NoData Value=-9999'"
+    check "gdalinfo opens the .asc" "gdalinfo '$T/dem.asc' | grep -q 'Size is 300, 225'"
+  fi
+  # bad input
+  "$TD" scan samples/hills.png -o "$T/unlab.geojson" -q
+  expect_fail() { # name, output, command...
+    name=$1; out=$2; shift 2
+    "$@" 2>"$T/err"; rc=$?
+    if [ $rc = 1 ] && [ "$(wc -l <"$T/err")" = 1 ] && [ ! -e "$out" ]; then ok "$name"
+    else bad "$name (exit $rc: $(head -c 200 "$T/err"))"; fi
+  }
+  expect_fail "unlabelled lines: error" "$T/x.tif" "$TD" interp "$T/unlab.geojson" -o "$T/x.tif" --like samples/hills.png
+  check "  ... names the line and says label" "grep -q 'has no height (run topodig label first)' '$T/err'"
+  printf '{"type":"FeatureCollection","features":[]}' >"$T/empty.geojson"
+  expect_fail "no lines: error" "$T/x.tif" "$TD" interp "$T/empty.geojson" -o "$T/x.tif" --like samples/hills.png
+  : >"$T/zero.geojson"
+  expect_fail "empty file: error" "$T/x.tif" "$TD" interp "$T/zero.geojson" -o "$T/x.tif" --like samples/hills.png
+  printf '{"type":"FeatureCollection","features":[{"type":"Feature","properties":{"height":10},"geometry":{"type":"LineString","coordinates":[[5000,10],[6000,20]]}}]}' >"$T/out.geojson"
+  expect_fail "lines outside the grid: error" "$T/x.tif" "$TD" interp "$T/out.geojson" -o "$T/x.tif" --like samples/hills.png
+  check "  ... says outside" "grep -q 'outside the 600 x 450 grid' '$T/err'"
+  expect_fail "bad --method: error" "$T/x.tif" "$TD" interp samples/hills.geojson -o "$T/x.tif" --like samples/hills.png --method magic
+  expect_fail "missing --like: error" "$T/x.tif" "$TD" interp samples/hills.geojson -o "$T/x.tif"
+  cp "$T/dem.tif" "$T/keep.tif"
+  "$TD" interp "$T/unlab.geojson" -o "$T/keep.tif" --like samples/hills.png 2>/dev/null
+  check "failed interp leaves an existing output untouched" "cmp -s '$T/dem.tif' '$T/keep.tif'"
+}
+
+# --- run: scan + label + interp in one process
+K=$(sed -n 's/.*"height": *320\(\.0*\)\{0,1\},.*"coordinates": *\[ *\[ *\([0-9.]*\), *\([0-9.]*\) *\].*/\2,\3,320/p' samples/hills.geojson | head -n 1)
+[ -n "$K" ] || K=213.5,205.603,320
+"$TD" run samples/hills.png -o "$T/run.tif" --interval 20 --known "$K" --depressions 205,336 2>"$T/err"
+rc=$?
+check "run: exit 0, one summary line" \
+  "[ $rc = 0 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q '^run: [0-9]* lines, [0-9]* labelled' '$T/err'"
+"$TD" compare "$T/run.tif" samples/hills.tif --json --diff "$T/diff.png" >"$T/r.json"
+r=$(json "$T/r.json" rmse); cov=$(json "$T/r.json" coverage)
+check "run from the noisy scan: RMSE $r < 0.12 interval (2.4 m)" "lt '$r' 2.4"
+check "run: coverage $cov > 0.9" "lt 0.9 '$cov'"
+check "compare --diff wrote a PNG" "[ \"\$(head -c 4 '$T/diff.png' | tail -c 3)\" = PNG ]"
+"$TD" compare "$T/run.tif" samples/hills.tif >"$T/c.txt"
+check "compare text names rmse, mae, max, bias, coverage" \
+  "grep -q '^rmse' '$T/c.txt' && grep -q '^mae' '$T/c.txt' && grep -q '^max |d|' '$T/c.txt' && grep -q '^bias' '$T/c.txt' && grep -q '^coverage' '$T/c.txt'"
+"$TD" run samples/hills.png -o "$T/run2.tif" --interval 20 --known "$K" --step 3 -q
+if have_gdal; then
+  check "run --step 3: 200 x 150" "gdalinfo '$T/run2.tif' | grep -q 'Size is 200, 150'"
+fi
+rm -f "$T/x.tif"
+"$TD" run samples/hills.png -o "$T/x.tif" --interval 20 2>"$T/err"
+check "run without --known: exit 1, one line, no output" "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && [ ! -e '$T/x.tif' ]"
+"$TD" run "$T/nothere.png" -o "$T/x.tif" --interval 20 --known 1,1,1 2>"$T/err"
+check "run on a missing scan: exit 1, one line" "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && [ ! -e '$T/x.tif' ]"
+
+# --- compare and render
+"$TD" compare "$T/run.tif" "$T/run2.tif" 2>"$T/err" >/dev/null
+check "compare different sizes: exit 1, one line naming both" \
+  "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q '600 x 450' '$T/err' && grep -q '200 x 150' '$T/err'"
+"$TD" compare "$T/run.tif" "$T/nothere.tif" 2>"$T/err" >/dev/null
+check "compare a missing file: exit 1" "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ]"
+"$TD" render "$T/run.tif" -o "$T/relief.png" --style hillshade --contours 20
+check "render: PNG written" "[ -s '$T/relief.png' ]"
+if have_gdal; then
+  check "render: gdalinfo opens it, 600x450, 3 bands" \
+    "gdalinfo '$T/relief.png' | grep -q 'Size is 600, 450' && gdalinfo '$T/relief.png' | grep -q 'Band 3'"
+fi
+"$TD" render "$T/run.tif" -o "$T/x.png" --style cubist 2>"$T/err"
+check "render bad --style: exit 1, one line, no output" "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && [ ! -e '$T/x.png' ]"
+"$TD" render samples/hills.png -o "$T/x.png" 2>"$T/err"
+check "render an RGB/grey picture that is not a DEM: exit 0 or 1, never a crash" "[ \$? -le 1 ]"
+check "no temporary files left" "! ls '$T' | grep -q '\.tmp\.'"
+
+echo "$pass passed, $fail failed"
+[ "$fail" = 0 ]

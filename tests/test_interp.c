@@ -1,0 +1,488 @@
+/* test_interp.c: rasterising labelled lines and the two interpolation
+ * methods (the paper's scanline, multidir) on surfaces with a known truth:
+ * planes, a cone, Gaussian hills, a saddle; summit extrapolation against
+ * flat filling; GeoTIFF round trip through gdalinfo; bad input. */
+#define _POSIX_C_SOURCE 200809L
+#include "tt.h"
+
+#include "compare.h"
+#include "imageio.h"
+#include "../interp/multidir.h"
+#include "../interp/rasterise.h"
+#include "../interp/scanline.h"
+#include "../samples/gen/gen.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { S_CONE, S_HILLS, S_SADDLE };
+
+/* Analytic truth at pixel centres (x = col + 0.5). */
+static double surface(int kind, double x, double y, int w, int h)
+{
+    double cx = w / 2.0, cy = h / 2.0, s = w < h ? w : h;
+    double u = (x - cx) / s, v = (y - cy) / s;
+    switch (kind) {
+    case S_CONE: return 200.0 * (1.0 - sqrt(u * u + v * v) / 0.45);
+    case S_SADDLE: return 100.0 + 300.0 * (u * u - v * v);
+    default:
+        return 120 * exp(-((u + 0.2) * (u + 0.2) + (v + 0.15) * (v + 0.15)) / 0.02) +
+               90 * exp(-((u - 0.22) * (u - 0.22) + (v - 0.1) * (v - 0.1)) / 0.015) +
+               60 * exp(-((u - 0.05) * (u - 0.05) + (v - 0.3) * (v - 0.3)) / 0.01) +
+               20 * u;
+    }
+}
+
+static td_grid_f32 *truth(int kind, int w, int h)
+{
+    td_grid_f32 *g = td_grid_f32_new(w, h, NULL);
+    int x, y;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++)
+            TD_AT(g, x, y) = (float)surface(kind, x + 0.5, y + 0.5, w, h);
+    return g;
+}
+
+/* Interpolate the true contours of dem at interval I; compare with dem. */
+static int run(const td_grid_f32 *dem, double I, td_interp_params p,
+               td_compare_stats *st, td_grid_f32 **keep)
+{
+    td_lines *ls = NULL;
+    td_grid_f32 *out = NULL;
+    td_ctx cx;
+    int rc;
+    td_ctx_init(&cx);
+    p.interval = I;
+    rc = td_gen_contours(dem, 0, I, &ls, &cx);
+    if (rc == 0)
+        rc = td_interp_lines(ls, dem->w, dem->h, &p, &out, &cx);
+    if (rc == 0)
+        rc = td_compare_grids(out, dem, st, &cx);
+    if (rc != 0)
+        fprintf(stderr, "  error: %s\n", td_errmsg(&cx));
+    if (keep)
+        *keep = out;
+    else
+        td_grid_f32_free(out);
+    td_lines_free(ls);
+    return rc;
+}
+
+static td_interp_params method(td_interp_method m)
+{
+    td_interp_params p = td_interp_defaults();
+    p.method = m;
+    return p;
+}
+
+/* Straight lines through cell centres at x = 10k + 0.5 (vertical, the
+ * plane z = col) or y = 10k + 0.5 (horizontal, z = row). */
+static td_lines *plane_lines(int w, int h, int vertical)
+{
+    td_lines *ls = td_lines_new(NULL);
+    int k, n = vertical ? w : h;
+    for (k = 0; 10 * k < n; k++) {
+        td_line *l = td_lines_add(ls, NULL);
+        double c = 10 * k + 0.5;
+        l->has_height = 1;
+        l->height = 10 * k;
+        if (vertical) {
+            td_line_push(l, c, 0.2, NULL);
+            td_line_push(l, c, h - 0.2, NULL);
+        } else {
+            td_line_push(l, 0.2, c, NULL);
+            td_line_push(l, w - 0.2, c, NULL);
+        }
+    }
+    return ls;
+}
+
+static void check_plane(td_interp_method m, int vertical)
+{
+    int w = 203, h = 157, x, y;
+    td_lines *ls = plane_lines(w, h, vertical);
+    td_interp_params p = method(m);
+    td_grid_f32 *g = NULL;
+    td_ctx cx;
+    double worst = 0;
+    long valid = 0, inside = 0;
+    td_ctx_init(&cx);
+    TT_CHECK(td_interp_lines(ls, w, h, &p, &g, &cx) == 0);
+    if (!g)
+        goto done;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            float v = TD_AT(g, x, y);
+            int t = vertical ? x : y, last = vertical ? 200 : 150;
+            inside += t <= last;
+            if (v == g->nodata)
+                continue;
+            valid++;
+            worst = fmax(worst, fabs(v - t));
+        }
+    /* exact between contours: max error 1e-4 interval, every cell
+     * between the first and last line determined */
+    TT_CHECKF(worst <= 1e-4 * 10, "max error %g", worst);
+    TT_CHECKF(valid == inside, "%ld cells valid, %ld between the lines",
+              valid, inside);
+done:
+    td_grid_f32_free(g);
+    td_lines_free(ls);
+}
+
+static void test_plane_exact(void)
+{
+    check_plane(TD_INTERP_SCANLINE, 1);
+    check_plane(TD_INTERP_SCANLINE, 0);
+    check_plane(TD_INTERP_MULTIDIR, 1);
+    check_plane(TD_INTERP_MULTIDIR, 0);
+}
+
+/* A plane in a general direction: contours do not pass through cell
+ * centres, so cells on a line carry its height up to ~0.7 px away from it;
+ * the error stays under that quantisation (slope x 0.75 px). */
+static void test_plane_tilted(void)
+{
+    int w = 300, h = 240, x, y, m;
+    td_grid_f32 *dem = td_grid_f32_new(w, h, NULL);
+    td_compare_stats st;
+    double slope = hypot(0.8, 0.5);
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++)
+            TD_AT(dem, x, y) = (float)(0.8 * (x + 0.5) + 0.5 * (y + 0.5));
+    for (m = 0; m < 2; m++) {
+        TT_CHECK(run(dem, 10, method(m), &st, NULL) == 0);
+        TT_CHECKF(st.max_abs <= 0.75 * slope, "method %d: max %g", m,
+                  st.max_abs);
+        TT_CHECKF(st.rmse <= 0.03 * 10, "method %d: rmse %g", m, st.rmse);
+        TT_CHECKF(st.coverage >= 0.9, "method %d: coverage %g", m,
+                  st.coverage);
+    }
+    td_grid_f32_free(dem);
+}
+
+static void test_cone(void)
+{
+    td_grid_f32 *dem = truth(S_CONE, 360, 360);
+    td_compare_stats sl, md;
+    TT_CHECK(run(dem, 20, method(TD_INTERP_SCANLINE), &sl, NULL) == 0);
+    TT_CHECK(run(dem, 20, method(TD_INTERP_MULTIDIR), &md, NULL) == 0);
+    fprintf(stderr, "  cone: scanline rmse %.3f max %.2f cov %.3f; multidir "
+            "rmse %.3f max %.2f cov %.3f\n", sl.rmse, sl.max_abs, sl.coverage,
+            md.rmse, md.max_abs, md.coverage);
+    /* a cone is linear between rings: well under a tenth of an interval */
+    TT_CHECKF(sl.rmse < 0.1 * 20, "scanline rmse %g", sl.rmse);
+    TT_CHECKF(md.rmse < 0.1 * 20, "multidir rmse %g", md.rmse);
+    TT_CHECKF(md.max_abs < 20, "multidir max %g", md.max_abs);
+    TT_CHECK(md.coverage > 0.6 && sl.coverage > 0.6);
+    td_grid_f32_free(dem);
+}
+
+static void test_hills_multidir_beats_scanline(void)
+{
+    td_grid_f32 *dem = truth(S_HILLS, 400, 400);
+    td_compare_stats sl, md;
+    TT_CHECK(run(dem, 10, method(TD_INTERP_SCANLINE), &sl, NULL) == 0);
+    TT_CHECK(run(dem, 10, method(TD_INTERP_MULTIDIR), &md, NULL) == 0);
+    fprintf(stderr, "  hills: scanline rmse %.3f max %.2f cov %.3f; multidir "
+            "rmse %.3f max %.2f cov %.3f\n", sl.rmse, sl.max_abs, sl.coverage,
+            md.rmse, md.max_abs, md.coverage);
+    TT_CHECKF(md.rmse < sl.rmse, "multidir %g vs scanline %g", md.rmse,
+              sl.rmse);
+    TT_CHECKF(md.rmse < 0.15 * 10, "multidir rmse %g", md.rmse);
+    TT_CHECKF(sl.rmse < 0.4 * 10, "scanline rmse %g", sl.rmse);
+    td_grid_f32_free(dem);
+}
+
+static void test_saddle(void)
+{
+    td_grid_f32 *dem = truth(S_SADDLE, 320, 300);
+    td_compare_stats sl, md;
+    TT_CHECK(run(dem, 5, method(TD_INTERP_SCANLINE), &sl, NULL) == 0);
+    TT_CHECK(run(dem, 5, method(TD_INTERP_MULTIDIR), &md, NULL) == 0);
+    fprintf(stderr, "  saddle: scanline rmse %.3f max %.2f; multidir rmse "
+            "%.3f max %.2f\n", sl.rmse, sl.max_abs, md.rmse, md.max_abs);
+    TT_CHECKF(sl.rmse < 0.3 * 5, "scanline rmse %g", sl.rmse);
+    TT_CHECKF(md.rmse < 0.2 * 5, "multidir rmse %g", md.rmse);
+    TT_CHECK(md.coverage > 0.9);
+    td_grid_f32_free(dem);
+}
+
+/* RMSE over the cells above the highest contour (the summit ring). */
+static double summit_rmse(const td_grid_f32 *dem, const td_grid_f32 *g,
+                          double top, long *n)
+{
+    double s = 0;
+    int x, y;
+    *n = 0;
+    for (y = 0; y < dem->h; y++)
+        for (x = 0; x < dem->w; x++) {
+            double d;
+            if (TD_AT(dem, x, y) <= top || TD_AT(g, x, y) == g->nodata)
+                continue;
+            d = TD_AT(g, x, y) - TD_AT(dem, x, y);
+            s += d * d;
+            (*n)++;
+        }
+    return *n ? sqrt(s / *n) : 0;
+}
+
+static void check_summit(td_interp_method m)
+{
+    td_grid_f32 *dem = truth(S_CONE, 300, 300), *a = NULL, *b = NULL;
+    td_interp_params p = method(m);
+    td_compare_stats st;
+    double ea, eb;
+    long na, nb;
+    TT_CHECK(run(dem, 30, p, &st, &a) == 0);
+    p.summit = 0;
+    TT_CHECK(run(dem, 30, p, &st, &b) == 0);
+    if (!a || !b)
+        goto done;
+    ea = summit_rmse(dem, a, 180, &na);
+    eb = summit_rmse(dem, b, 180, &nb);
+    fprintf(stderr, "  summit (method %d): extrapolated rmse %.2f, flat %.2f "
+            "(%ld cells)\n", m, ea, eb, na);
+    TT_CHECK(na > 100 && na == nb);
+    /* the cone rises 20 m above the top ring; flat filling misses by ~10 */
+    TT_CHECKF(ea < 0.6 * eb, "extrapolated %g, flat %g", ea, eb);
+    TT_CHECKF(ea < 5, "extrapolated %g", ea);
+done:
+    td_grid_f32_free(a);
+    td_grid_f32_free(b);
+    td_grid_f32_free(dem);
+}
+
+static void test_summit_beats_flat(void)
+{
+    check_summit(TD_INTERP_SCANLINE);
+    check_summit(TD_INTERP_MULTIDIR);
+}
+
+/* The summit is capped: never more than one interval above the top
+ * contour, even where the slopes would go higher (a steep narrow ridge). */
+static void test_summit_capped(void)
+{
+    td_grid_f32 *dem = truth(S_CONE, 300, 300), *g = NULL;
+    td_compare_stats st;
+    int m;
+    for (m = 0; m < 2; m++) {
+        float top = -1e30f;
+        size_t i;
+        TT_CHECK(run(dem, 30, method(m), &st, &g) == 0);
+        if (!g)
+            continue;
+        for (i = 0; i < (size_t)g->w * g->h; i++)
+            top = fmaxf(top, g->data[i]);
+        TT_CHECKF(top <= 180 + 30 + 1e-3, "method %d: top %g", m, top);
+        TT_CHECKF(top > 185, "method %d: top %g (not extrapolated)", m, top);
+        td_grid_f32_free(g);
+        g = NULL;
+    }
+    td_grid_f32_free(dem);
+}
+
+/* --step 2: half-size grid, about the same accuracy against the truth
+ * sampled at the coarse cells' centres. */
+static void test_step(void)
+{
+    td_grid_f32 *dem = truth(S_HILLS, 401, 400), *g = NULL, *coarse;
+    td_lines *ls = NULL;
+    td_interp_params p = td_interp_defaults();
+    td_compare_stats st;
+    td_ctx cx;
+    int x, y;
+    td_ctx_init(&cx);
+    p.step = 2;
+    p.interval = 10;
+    TT_CHECK(td_gen_contours(dem, 0, 10, &ls, &cx) == 0);
+    TT_CHECK(td_interp_lines(ls, 401, 400, &p, &g, &cx) == 0);
+    if (!g)
+        goto done;
+    TT_CHECK(g->w == 201 && g->h == 200);
+    coarse = td_grid_f32_new(g->w, g->h, NULL);
+    for (y = 0; y < g->h; y++)
+        for (x = 0; x < g->w; x++)
+            TD_AT(coarse, x, y) = (float)surface(S_HILLS, 2 * x + 1.0,
+                                                 2 * y + 1.0, 401, 400);
+    td_compare_grids(g, coarse, &st, NULL);
+    TT_CHECKF(st.rmse < 0.2 * 10, "rmse %g", st.rmse);
+    td_grid_f32_free(coarse);
+done:
+    td_grid_f32_free(g);
+    td_lines_free(ls);
+    td_grid_f32_free(dem);
+}
+
+/* Rasterised lines are 4-connected: a diagonal line leaves no gap that a
+ * diagonal scan could slip through. */
+static void test_rasterise_4connected(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_line *l = td_lines_add(ls, NULL);
+    td_grid_f32 *g = td_grid_f32_new(40, 30, NULL);
+    int x, y, gaps = 0, cells = 0;
+    l->has_height = 1;
+    l->height = 7;
+    td_line_push(l, 1.3, 2.7, NULL);
+    td_line_push(l, 37.9, 25.1, NULL);
+    TT_CHECK(td_rasterise_lines(ls, 1, g, NULL) == 0);
+    for (y = 0; y < 30; y++)
+        for (x = 0; x < 40; x++) {
+            int on = TD_AT(g, x, y) == 7;
+            cells += on;
+            /* a diagonal step without a shared side neighbour is a gap */
+            if (on && x + 1 < 40 && y + 1 < 30 && TD_AT(g, x + 1, y + 1) == 7 &&
+                TD_AT(g, x + 1, y) != 7 && TD_AT(g, x, y + 1) != 7)
+                gaps++;
+        }
+    TT_CHECK(gaps == 0);
+    TT_CHECKF(cells >= 36 + 22 && cells <= 36 + 23 + 2, "%d cells", cells);
+    TT_CHECK(TD_AT(g, 1, 2) == 7 && TD_AT(g, 37, 25) == 7);
+    TT_CHECK(isnan(TD_AT(g, 30, 2)));
+    td_grid_f32_free(g);
+    td_lines_free(ls);
+}
+
+static void test_interval(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    double z[] = {50, 30, 40, 30, 35};
+    size_t i;
+    for (i = 0; i < 5; i++) {
+        td_line *l = td_lines_add(ls, NULL);
+        l->has_height = 1;
+        l->height = z[i];
+    }
+    TT_NEAR(td_interp_interval(ls), 5, 1e-12);
+    td_lines_free(ls);
+}
+
+static int bad(td_lines *ls, const char *needle)
+{
+    td_interp_params p = td_interp_defaults();
+    td_grid_f32 *g = NULL;
+    td_ctx cx;
+    int rc;
+    td_ctx_init(&cx);
+    rc = td_interp_lines(ls, 100, 80, &p, &g, &cx);
+    td_grid_f32_free(g);
+    if (rc == 0 || g || !strstr(td_errmsg(&cx), needle)) {
+        fprintf(stderr, "  rc %d, message '%s'\n", rc, td_errmsg(&cx));
+        return 0;
+    }
+    return 1;
+}
+
+static void test_bad_input(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_line *l;
+    TT_CHECK(bad(ls, "no contour lines"));
+    l = td_lines_add(ls, NULL);
+    td_line_push(l, 10, 10, NULL);
+    td_line_push(l, 50, 10, NULL);
+    TT_CHECK(bad(ls, "line 0 has no height"));
+    l->has_height = 1;
+    l->height = 10;
+    l = td_lines_add(ls, NULL);
+    l->has_height = 1;
+    l->height = 20;
+    td_line_push(l, 500, 10, NULL);
+    td_line_push(l, 900, 10, NULL);
+    TT_CHECK(bad(ls, "line 1 lies outside the 100 x 80 grid"));
+    l->xy[0] = NAN;
+    TT_CHECK(bad(ls, "not a finite number"));
+    td_lines_free(ls);
+}
+
+/* One height only: nothing to interpolate between; the flat inside is
+ * filled, the outside is nodata, nothing crashes. */
+static void test_single_ring(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_line *l = td_lines_add(ls, NULL);
+    td_interp_params p = td_interp_defaults();
+    td_grid_f32 *g = NULL;
+    int m, k;
+    l->has_height = 1;
+    l->height = 42;
+    l->closed = 1;
+    for (k = 0; k < 64; k++)
+        td_line_push(l, 50 + 20 * cos(k * M_PI / 32), 40 + 20 * sin(k * M_PI / 32), NULL);
+    for (m = 0; m < 2; m++) {
+        p.method = m;
+        TT_CHECK(td_interp_lines(ls, 100, 80, &p, &g, NULL) == 0);
+        if (!g)
+            continue;
+        TT_CHECKF(fabs(TD_AT(g, 50, 40) - 42) < 1e-4, "method %d: %g", m, TD_AT(g, 50, 40));
+        TT_CHECK(TD_AT(g, 2, 2) == g->nodata);
+        td_grid_f32_free(g);
+        g = NULL;
+    }
+    td_lines_free(ls);
+}
+
+/* The DEM written as GeoTIFF opens in GDAL with the same statistics and
+ * the nodata value. */
+static void test_gdalinfo_stats(void)
+{
+    td_grid_f32 *dem = truth(S_HILLS, 300, 200), *g = NULL;
+    td_compare_stats st;
+    char path[600], cmd[1400], line[512];
+    double gmin = 1e30, gmax = -1e30, fmin_ = NAN, fmax_ = NAN;
+    int nodata_ok = 0;
+    size_t i;
+    FILE *f;
+    if (system("command -v gdalinfo >/dev/null 2>&1") != 0) {
+        fprintf(stderr, "  gdalinfo not installed: skipped\n");
+        goto done;
+    }
+    TT_CHECK(run(dem, 10, td_interp_defaults(), &st, &g) == 0);
+    if (!g)
+        goto done;
+    for (i = 0; i < (size_t)g->w * g->h; i++)
+        if (g->data[i] != g->nodata) {
+            gmin = fmin(gmin, g->data[i]);
+            gmax = fmax(gmax, g->data[i]);
+        }
+    snprintf(path, sizeof path, "%s/dem.tif", tt_tmpdir());
+    TT_CHECK(td_geotiff_write_f32(path, g, NULL, NULL) == 0);
+    snprintf(cmd, sizeof cmd, "gdalinfo -stats '%s' 2>&1", path);
+    if (!(f = popen(cmd, "r")))
+        goto done;
+    while (fgets(line, sizeof line, f)) {
+        sscanf(line, " STATISTICS_MINIMUM=%lf", &fmin_);
+        sscanf(line, " STATISTICS_MAXIMUM=%lf", &fmax_);
+        nodata_ok |= strstr(line, "NoData Value=-9999") != NULL;
+    }
+    pclose(f);
+    snprintf(cmd, sizeof cmd, "rm -f '%s.aux.xml'", path);
+    if (system(cmd) != 0)
+        fprintf(stderr, "  could not remove the .aux.xml\n");
+    TT_CHECK(nodata_ok);
+    TT_NEAR(fmin_, gmin, 1e-3);
+    TT_NEAR(fmax_, gmax, 1e-3);
+done:
+    td_grid_f32_free(g);
+    td_grid_f32_free(dem);
+}
+
+int main(void)
+{
+    TT_RUN(test_rasterise_4connected);
+    TT_RUN(test_interval);
+    TT_RUN(test_plane_exact);
+    TT_RUN(test_plane_tilted);
+    TT_RUN(test_cone);
+    TT_RUN(test_hills_multidir_beats_scanline);
+    TT_RUN(test_saddle);
+    TT_RUN(test_summit_beats_flat);
+    TT_RUN(test_summit_capped);
+    TT_RUN(test_step);
+    TT_RUN(test_single_ring);
+    TT_RUN(test_bad_input);
+    TT_RUN(test_gdalinfo_stats);
+    return tt_summary();
+}
