@@ -51,6 +51,17 @@ if command -v gdal_translate >/dev/null 2>&1; then
 fi
 check "no temporary files left" "! ls '$T' '$T/dbg' | grep -q '\.tmp\.'"
 
+# --- a fresh generated sheet (tdgen) scans into as many lines as its truth
+if [ -x "$BUILD/tdgen" ]; then
+  "$BUILD/tdgen" -o "$T/gen.png" --truth "$T/gen.geojson" --size 400x300 --seed 3 \
+      --width 3 --breaks 4 --quiet
+  ntruth=$(grep -o '"type": *"Feature"' "$T/gen.geojson" | wc -l)
+  "$TD" scan "$T/gen.png" -o "$T/gen_lines.geojson" 2>"$T/err"
+  ngen=$(sed -n 's/^scan: \([0-9]*\) lines.*/\1/p' "$T/err")
+  check "tdgen sheet: $ngen traced lines for $ntruth true contours" \
+    "[ '$ntruth' -gt 5 ] && [ '$ngen' = '$ntruth' ]"
+fi
+
 # --- bad input: one line on stderr, exit 1, nothing written
 expect_fail() { # name, input file, extra args
   name=$1; in=$2; shift 2

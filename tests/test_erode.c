@@ -1,5 +1,6 @@
 /* test_erode: velocity-field erosion (src/erode.h) and the mound generator
- * (src/terrain_gen.h) on small generated terrains with known behaviour. */
+ * (src/terrain_gen.h) on small generated terrains with known behaviour.
+ * Covers src/erode.c and erode_flow.c (the particle tracing). */
 #include "../src/erode.h"
 #include "../src/terrain_gen.h"
 #include "tt.h"

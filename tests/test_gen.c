@@ -1,5 +1,7 @@
 /* test_gen.c: the synthetic-sheet generator's truth is right, and the
- * truth-matching utility reports what it should. */
+ * truth-matching utility reports what it should.  Covers samples/gen/
+ * terrain.c, contours.c, render.c, effects.c (blur, noise, specks, breaks)
+ * and sheet.c; tdgen.c (the CLI) is run by tests/e2e_cli.sh. */
 #include "samples/gen/gen.h"
 #include "tt.h"
 #include "util/match.h"

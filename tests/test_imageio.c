@@ -1,7 +1,8 @@
 /* test_imageio.c: scan readers and raster writers on generated files with a
  * known truth.  TIFFs are written with libtiff directly in every layout the
  * reader claims; PNGs with libpng directly; the readers must return exactly
- * the expected 8-bit pixels. */
+ * the expected 8-bit pixels.  Covers src/imageio.c, tiffio.c, pngio.c,
+ * georef.c and atomic.c (failed writes leave the old file, no temp). */
 #define _POSIX_C_SOURCE 200809L
 #include "tt.h"
 
