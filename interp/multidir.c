@@ -1,4 +1,6 @@
 #include "multidir.h"
+#include "interp_int.h"
+#include "multidir_int.h"
 
 #include "rasterise.h"
 
@@ -38,6 +40,11 @@ static double weight(td_multidir_weight m, double d1, double d2)
     }
 }
 
+float td_multidir_span_weight(td_multidir_weight m, int n, double sl)
+{
+    return (float)weight(m, sl, (n - 1) * sl);
+}
+
 static void add(md_state *st, const td_span *s, int k, double z)
 {
     size_t i = s->ia + (ptrdiff_t)k * s->di;
@@ -62,7 +69,7 @@ static void linear_span(const td_span *s, void *user)
             add(st, s, k, s->za + dz * k);
         return;
     }
-    w = (float)weight(st->p->weight, s->sl, (s->n - 1) * s->sl);
+    w = td_multidir_span_weight(st->p->weight, s->n, s->sl);
     for (k = 1; k < s->n; k++) {
         p += s->di;
         z += dz;
@@ -93,29 +100,52 @@ static void summit_span(const td_span *s, void *user)
                                      (s->n - k) * s->sl, st->p->interval));
 }
 
-/* Undetermined cells with some weight take the blend; acc and wsum are
- * cleared for the next phase. */
+/* Undetermined cells with some weight take the blend; the sums are
+ * cleared for the next phase.  Only the sums of undetermined cells are
+ * read. */
 static void combine(td_grid_f32 *g, md_state *st)
 {
     size_t n = (size_t)g->h * g->stride, i;
     for (i = 0; i < n; i++) {
-        if (g->data[i] != g->data[i] && st->sum[i].w > 0)
+        if (g->data[i] == g->data[i])
+            continue;
+        if (st->sum[i].w > 0)
             g->data[i] = st->sum[i].wz / st->sum[i].w;
         st->sum[i].wz = st->sum[i].w = 0;
     }
 }
 
-/* Phase 1 walks between contour cells (sparse anchors); phase 2 only over
- * the runs of cells phase 1 left undetermined. */
-static int phase(td_grid_f32 *g, md_state *st, int second,
-                 const char *stage, td_ctx *cx)
+/* Phase 1 for the prod weight (one division per cell): the span walker,
+ * one direction after the other, into st->sum. */
+static int phase1_walk(td_grid_f32 *g, md_state *st, td_ctx *cx)
 {
     int d, rc = 0;
     for (d = 0; d < st->p->ndir && rc == 0; d++)
-        rc = second ? td_interp_walk_gaps(g, d, summit_span, st, stage, cx)
-                    : td_interp_walk(g, d, linear_span, st, stage, cx);
+        rc = td_interp_walk(g, d, linear_span, st, "interpolate", cx);
     if (rc == 0)
         combine(g, st);
+    return rc;
+}
+
+/* Phase 2 walks only over the runs of cells phase 1 left undetermined
+ * (found once: the walks write st->sum, not g) and blends them. */
+static int phase2(td_grid_f32 *g, md_state *st, td_ctx *cx)
+{
+    td_nan_runs nr;
+    size_t i, k;
+    int d, rc, r, c;
+    memset(&nr, 0, sizeof nr);
+    rc = td_nan_runs_find(g, &nr, cx);
+    for (d = 0; d < st->p->ndir && rc == 0; d++)
+        rc = td_interp_walk_runs(g, &nr, d, summit_span, st, "summit", cx);
+    for (r = 0; r < g->h && rc == 0; r++)
+        for (i = nr.off[r]; i < nr.off[r + 1]; i++)
+            for (c = nr.run[i][0]; c < nr.run[i][1]; c++) {
+                k = (size_t)r * g->stride + (size_t)c;
+                if (st->sum[k].w > 0)
+                    g->data[k] = st->sum[k].wz / st->sum[k].w;
+            }
+    td_nan_runs_free(&nr);
     return rc;
 }
 
@@ -132,13 +162,17 @@ int td_multidir_fill(td_grid_f32 *g, const td_multidir_params *p,
         return td_seterr(cx, TD_EINVAL, "multidir: 2 or 4 directions");
     st.g = g;
     st.p = p;
+    st.sum = NULL;
+    if (p->weight != TD_MULTIDIR_PROD &&
+        (rc = td_multidir_sweep(g, p, "interpolate", cx)) != 0)
+        goto fail;
     st.sum = td_calloc(n, sizeof *st.sum, cx);
     rc = TD_ENOMEM;
     if (!st.sum)
         goto fail;
-    if ((rc = phase(g, &st, 0, "interpolate", cx)) != 0)
+    if (p->weight == TD_MULTIDIR_PROD && (rc = phase1_walk(g, &st, cx)) != 0)
         goto fail;
-    rc = phase(g, &st, 1, "summit", cx);
+    rc = phase2(g, &st, cx);
 fail:
     free(st.sum);
     return rc;

@@ -19,9 +19,11 @@
  * line meets the same contour on both sides) get the paper's §2.5 summit
  * extrapolation along all 4 lines (slopes from the cells already filled),
  * blended the same way; flat when summit = 0.  Peninsulas need nothing
- * special: the line along the peninsula's axis resolves them.  The
- * slowest part is four passes over the grid; memory 8 bytes per cell on
- * top of the grid. */
+ * special: the line along the peninsula's axis resolves them.
+ * The linear phase runs in one pass down the rows for all directions
+ * (md_sweep.c); the summit phase only over the cells it left.  Memory on
+ * top of the grid: 16 bytes per line cell, then 8 bytes per cell (of
+ * which only the pages holding undetermined cells are touched). */
 #ifndef TD_INTERP_MULTIDIR_H
 #define TD_INTERP_MULTIDIR_H
 
@@ -50,7 +52,9 @@ td_multidir_params td_multidir_defaults(void);
 
 /* Fill g in place as td_scanline_fill does (contour heights on line cells,
  * NaN elsewhere in; heights where determinable, NaN elsewhere out).  Uses
- * two extra float grids.  Returns 0, TD_EINVAL, TD_ENOMEM, TD_ECANCEL. */
+ * two extra float grids (allocated, touched only where undetermined cells
+ * remain after the linear phase).  Returns 0, TD_EINVAL, TD_ENOMEM,
+ * TD_ECANCEL. */
 int td_multidir_fill(td_grid_f32 *g, const td_multidir_params *p,
                      td_ctx *cx);
 

@@ -1,9 +1,11 @@
 #include "rasterise.h"
 
+#include "interp_int.h"
 #include "multidir.h"
 #include "scanline.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -237,43 +239,157 @@ int td_interp_walk(const td_grid_f32 *g, int dir, td_span_fn fn, void *user,
     return rc;
 }
 
-int td_interp_walk_gaps(const td_grid_f32 *g, int dir, td_span_fn fn,
-                        void *user, const char *stage, td_ctx *cx)
+/* Hand fn the x span of the NaN run [c0, c1) of row r, when a
+ * determined cell lies at both ends. */
+static void gap_x(const td_grid_f32 *g, int r, int c0, int c1, td_span *s,
+                  td_span_fn fn, void *user)
 {
-    int w = g->w, h = g->h, r, c, rc = 0;
+    const float *row = g->data + (size_t)r * g->stride;
+    if (c0 < 1 || c1 >= g->w)
+        return;
+    s->ca = c0 - 1;
+    s->ra = r;
+    s->n = c1 - c0 + 1;
+    s->ia = (size_t)r * g->stride + (size_t)(c0 - 1);
+    s->za = row[c0 - 1];
+    s->zb = row[c1];
+    fn(s, user);
+}
+
+/* Gaps along x: from each undetermined cell after a determined one,
+ * along the row to the next determined cell. */
+static void gaps_x(const td_grid_f32 *g, int r, td_span *s, td_span_fn fn,
+                   void *user)
+{
+    const float *row = g->data + (size_t)r * g->stride;
+    int w = g->w, c, e;
+    for (c = td_row_find(row, 1, w, 1); c < w;
+         c = td_row_find(row, c + 1, w, 1)) {
+        if (row[c - 1] != row[c - 1])
+            continue;
+        if ((e = td_row_find(row, c + 1, w, 0)) >= w)
+            break;
+        gap_x(g, r, c, e, s, fn, user);
+    }
+}
+
+/* Gaps along a direction that crosses rows, found row by row from the
+ * undetermined cells and their neighbours on the line in the rows above
+ * and below (no walk down a column): a run opens where the cell before is
+ * determined (open[line] = that cell's row; -1 at the grid edge) and is
+ * handed to fn where the cell after is determined.  This is the step for
+ * the undetermined cell (c, r); base = line - c. */
+static void gap_cross(const td_grid_f32 *g, int r, int c, int *open,
+                      size_t base, td_span *s, td_span_fn fn, void *user)
+{
+    int *op = &open[(size_t)c + base], pc = c - s->dc, nc = c + s->dc;
+    if (r == 0 || pc < 0 || pc >= g->w)
+        *op = -1;
+    else if (TD_AT(g, pc, r - 1) == TD_AT(g, pc, r - 1))
+        *op = r - 1;
+    if (r + 1 >= g->h || nc < 0 || nc >= g->w || *op < 0 ||
+        TD_AT(g, nc, r + 1) != TD_AT(g, nc, r + 1))
+        return;
+    s->ra = *op;
+    s->n = r + 1 - *op;
+    s->ca = nc - s->n * s->dc;
+    s->ia = (size_t)s->ra * g->stride + (size_t)s->ca;
+    s->za = g->data[s->ia];
+    s->zb = TD_AT(g, nc, r + 1);
+    fn(s, user);
+}
+
+static size_t cross_base(const td_grid_f32 *g, const td_span *s, int r)
+{
+    return s->dc == 0 ? 0 : s->dc > 0 ? (size_t)(g->h - 1 - r) : (size_t)r;
+}
+
+/* Both walkers: every row, from its NaN runs when nr is given, else by
+ * scanning it. */
+static int walk_gaps(const td_grid_f32 *g, const td_nan_runs *nr, int dir,
+                     td_span_fn fn, void *user, const char *stage,
+                     td_ctx *cx)
+{
+    int h = g->h, r, c, e, rc = 0;
+    int *open = NULL;
+    size_t i;
     td_span s;
     memset(&s, 0, sizeof s);
     span_geometry(dir, (int)g->stride, &s);
+    if (dir != TD_DIR_X &&
+        !(open = td_malloc(((size_t)g->w + h - 1) * sizeof *open, cx)))
+        return TD_ENOMEM;
     for (r = 0; r < h && rc == 0; r++) {
         const float *row = g->data + (size_t)r * g->stride;
-        for (c = 0; c < w; c++) {
-            int pc = c - s.dc, pr = r - s.dr, k;
-            if (row[c] == row[c] || pc < 0 || pr < 0 || pc >= w ||
-                TD_AT(g, pc, pr) != TD_AT(g, pc, pr))
-                continue;
-            for (k = 1;; k++) {
-                int x = c + k * s.dc, y = r + k * s.dr;
-                if (x < 0 || y >= h || x >= w) {
-                    k = 0;
-                    break;
-                }
-                if (TD_AT(g, x, y) == TD_AT(g, x, y))
-                    break;
-            }
-            if (k == 0)
-                continue;
-            s.ca = pc;
-            s.ra = pr;
-            s.n = k + 1;
-            s.ia = (size_t)pr * g->stride + (size_t)pc;
-            s.za = g->data[s.ia];
-            s.zb = g->data[s.ia + (ptrdiff_t)s.n * s.di];
-            fn(&s, user);
-        }
+        size_t base = cross_base(g, &s, r);
+        if (!nr && dir == TD_DIR_X)
+            gaps_x(g, r, &s, fn, user);
+        else if (!nr)
+            for (c = td_row_find(row, 0, g->w, 1); c < g->w;
+                 c = td_row_find(row, e, g->w, 1))
+                for (e = td_row_find(row, c + 1, g->w, 0); c < e; c++)
+                    gap_cross(g, r, c, open, base, &s, fn, user);
+        else
+            for (i = nr->off[r]; i < nr->off[r + 1]; i++)
+                if (dir == TD_DIR_X)
+                    gap_x(g, r, nr->run[i][0], nr->run[i][1], &s, fn, user);
+                else
+                    for (c = nr->run[i][0]; c < nr->run[i][1]; c++)
+                        gap_cross(g, r, c, open, base, &s, fn, user);
         if (stage && (r & 1023) == 1023)
             rc = td_progress(cx, stage, (double)r / h);
     }
+    free(open);
     return rc;
+}
+
+int td_interp_walk_gaps(const td_grid_f32 *g, int dir, td_span_fn fn,
+                        void *user, const char *stage, td_ctx *cx)
+{
+    return walk_gaps(g, NULL, dir, fn, user, stage, cx);
+}
+
+int td_interp_walk_runs(const td_grid_f32 *g, const td_nan_runs *nr,
+                        int dir, td_span_fn fn, void *user,
+                        const char *stage, td_ctx *cx)
+{
+    return walk_gaps(g, nr, dir, fn, user, stage, cx);
+}
+
+int td_nan_runs_find(const td_grid_f32 *g, td_nan_runs *nr, td_ctx *cx)
+{
+    int r, c, e;
+    if (!(nr->off = td_malloc(((size_t)g->h + 1) * sizeof *nr->off, cx)))
+        return TD_ENOMEM;
+    nr->off[0] = 0;
+    for (r = 0; r < g->h; r++) {
+        const float *row = g->data + (size_t)r * g->stride;
+        for (c = td_row_find(row, 0, g->w, 1); c < g->w;
+             c = td_row_find(row, e, g->w, 1)) {
+            e = td_row_find(row, c + 1, g->w, 0);
+            if (nr->n == nr->cap) {
+                size_t cap = nr->cap + nr->cap / 2 + 1024;
+                void *v = cap < SIZE_MAX / sizeof *nr->run
+                              ? realloc(nr->run, cap * sizeof *nr->run)
+                              : NULL;
+                if (!v)
+                    return td_seterr(cx, TD_ENOMEM, "out of memory");
+                nr->run = v;
+                nr->cap = cap;
+            }
+            nr->run[nr->n][0] = c;
+            nr->run[nr->n++][1] = e;
+        }
+        nr->off[r + 1] = nr->n;
+    }
+    return 0;
+}
+
+void td_nan_runs_free(td_nan_runs *nr)
+{
+    free(nr->off);
+    free(nr->run);
+    memset(nr, 0, sizeof *nr);
 }
 
 int td_interp_slope(const td_grid_f32 *g, const td_span *s, int end,
@@ -373,7 +489,7 @@ static int number(const char *key, const char *val, double lo, double hi,
 static int whole(const char *key, const char *val, int lo, int hi, int *out,
                  td_ctx *cx)
 {
-    double v;
+    double v = 0;
     int rc = number(key, val, lo, hi, &v, cx);
     if (rc == 0 && v != floor(v))
         rc = td_seterr(cx, TD_EINVAL, "--%s: '%s' is not a whole number",
@@ -390,7 +506,7 @@ int td_interp_set(td_interp_params *p, const char *key, const char *val,
     static const char *const summit[] = {"flat", "extrapolate"};
     static const char *const pen[] = {"flat", "diagonal"};
     static const char *const weights[] = {"prod", "span", "span2"}; /* enum order */
-    double v;
+    double v = 0;
     int i = 0, rc;
     if (!strcmp(key, "method")) {
         rc = choose(key, val, methods, 2, &i, cx);

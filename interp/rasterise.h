@@ -72,9 +72,11 @@ int td_interp_walk(const td_grid_f32 *g, int dir, td_span_fn fn, void *user,
 
 /* Like td_interp_walk, but only for spans with NaN cells between their
  * anchors (runs of undetermined cells with a determined cell at both
- * ends), found from the undetermined cells: fast when anchors are dense
- * (a grid already mostly filled).  fn may fill the run's cells in place.
- * Returns 0 or TD_ECANCEL. */
+ * ends), found from the undetermined cells and their neighbours: fast
+ * when anchors are dense (a grid already mostly filled).  Spans are handed
+ * over row by row, x spans at their first cell, the others at their last;
+ * fn may fill the run's cells in place.  Returns 0, TD_ENOMEM or
+ * TD_ECANCEL. */
 int td_interp_walk_gaps(const td_grid_f32 *g, int dir, td_span_fn fn,
                         void *user, const char *stage, td_ctx *cx);
 

@@ -469,6 +469,96 @@ done:
     td_grid_f32_free(dem);
 }
 
+/* Brute force for phase 1 of multidir: for each undetermined cell, along
+ * each direction, the nearest anchor on both sides; lines whose anchors
+ * differ give the linear estimate, blended with the method's weight. */
+static double brute_weight(td_multidir_weight m, double d1, double d2)
+{
+    return m == TD_MULTIDIR_SPAN    ? 1.0 / (d1 + d2)
+           : m == TD_MULTIDIR_SPAN2 ? 1.0 / ((d1 + d2) * (d1 + d2))
+                                    : 1.0 / (d1 * d2);
+}
+
+static int brute_cell(const td_grid_f32 *a, int x, int y, int ndir,
+                      td_multidir_weight m, double *z)
+{
+    static const int dx[4] = {1, 0, 1, -1}, dy[4] = {0, 1, 1, 1};
+    double sw = 0, swz = 0;
+    int d;
+    for (d = 0; d < ndir; d++) {
+        double sl = d < 2 ? 1.0 : sqrt(2.0), w;
+        int k1 = 1, k2 = 1;
+        float za, zb;
+        while (x - k1 * dx[d] >= 0 && x - k1 * dx[d] < a->w &&
+               y - k1 * dy[d] >= 0 &&
+               isnan(TD_AT(a, x - k1 * dx[d], y - k1 * dy[d])))
+            k1++;
+        while (x + k2 * dx[d] >= 0 && x + k2 * dx[d] < a->w &&
+               y + k2 * dy[d] < a->h &&
+               isnan(TD_AT(a, x + k2 * dx[d], y + k2 * dy[d])))
+            k2++;
+        if (x - k1 * dx[d] < 0 || x - k1 * dx[d] >= a->w ||
+            y - k1 * dy[d] < 0 || x + k2 * dx[d] < 0 ||
+            x + k2 * dx[d] >= a->w || y + k2 * dy[d] >= a->h)
+            continue;
+        za = TD_AT(a, x - k1 * dx[d], y - k1 * dy[d]);
+        zb = TD_AT(a, x + k2 * dx[d], y + k2 * dy[d]);
+        if (za == zb)
+            continue;
+        w = brute_weight(m, k1 * sl, k2 * sl);
+        sw += w;
+        swz += w * (za + (zb - za) * k1 / (double)(k1 + k2));
+    }
+    if (sw <= 0)
+        return 0;
+    *z = swz / sw;
+    return 1;
+}
+
+/* The one-pass sweep (span weights) and the per-direction walk (prod)
+ * give every cell a linear estimate can reach the same value as the
+ * brute force, on random anchors with heights in 5 levels. */
+static void test_multidir_brute(void)
+{
+    int w = 97, h = 83, x, y, m, nd;
+    td_grid_f32 *a = td_grid_f32_new(w, h, NULL), *g;
+    unsigned s = 12345;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            s = s * 1103515245u + 12345u;
+            TD_AT(a, x, y) = (s >> 16) % 100 < 4 ? (float)(10 * ((s >> 8) % 5))
+                                                 : NAN;
+        }
+    for (m = 0; m < 3; m++)
+        for (nd = 2; nd <= 4; nd += 2) {
+            td_multidir_params p = td_multidir_defaults();
+            td_ctx cx;
+            double worst = 0, z;
+            long cells = 0;
+            td_ctx_init(&cx);
+            p.interval = 10;
+            p.weight = (td_multidir_weight)m;
+            p.ndir = nd;
+            g = td_grid_f32_new(w, h, NULL);
+            memcpy(g->data, a->data, (size_t)h * a->stride * sizeof *g->data);
+            TT_CHECK(td_multidir_fill(g, &p, &cx) == 0);
+            for (y = 0; y < h; y++)
+                for (x = 0; x < w; x++) {
+                    if (!isnan(TD_AT(a, x, y)))
+                        TT_CHECK(TD_AT(g, x, y) == TD_AT(a, x, y));
+                    else if (brute_cell(a, x, y, nd, p.weight, &z)) {
+                        cells++;
+                        worst = fmax(worst, fabs(TD_AT(g, x, y) - z));
+                    }
+                }
+            TT_CHECKF(worst < 1e-3, "weight %d, %d dirs: max |d| %g over %ld "
+                      "cells", m, nd, worst, cells);
+            TT_CHECK(cells > w * h / 2);
+            td_grid_f32_free(g);
+        }
+    td_grid_f32_free(a);
+}
+
 int main(void)
 {
     TT_RUN(test_rasterise_4connected);
@@ -478,6 +568,7 @@ int main(void)
     TT_RUN(test_cone);
     TT_RUN(test_hills_multidir_beats_scanline);
     TT_RUN(test_saddle);
+    TT_RUN(test_multidir_brute);
     TT_RUN(test_summit_beats_flat);
     TT_RUN(test_summit_capped);
     TT_RUN(test_step);

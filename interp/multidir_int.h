@@ -1,0 +1,23 @@
+/* multidir_int.h: internals shared by the files of the multidir method. */
+#ifndef TD_INTERP_MULTIDIR_INT_H
+#define TD_INTERP_MULTIDIR_INT_H
+
+#include "multidir.h"
+
+/* The span weight of td_multidir_weight m for the cells of a span of n
+ * steps of length sl, where it does not depend on the cell (span, span2;
+ * prod does): w(sl, (n - 1) sl) as a float. */
+float td_multidir_span_weight(td_multidir_weight m, int n, double sl);
+
+/* Phase 1 of td_multidir_fill for the span and span2 weights, streamed in
+ * one pass down the rows: every NaN cell of g that some scan line crosses
+ * between two line cells of different height gets the blend of those
+ * lines' linear estimates, bit for bit what walking each direction with
+ * td_interp_walk and blending would give.  Line cells (non-NaN in g) are
+ * the anchors.  Extra memory: 16 bytes per line cell (up to 2.5 times
+ * that while the list grows), O(w + h) besides.
+ * Returns 0, TD_ENOMEM or TD_ECANCEL (g then partly filled). */
+int td_multidir_sweep(td_grid_f32 *g, const td_multidir_params *p,
+                      const char *stage, td_ctx *cx);
+
+#endif
