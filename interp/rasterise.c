@@ -97,6 +97,11 @@ static int check_line(const td_line *l, double step, int w, int h,
                              "finite number", l->id, k);
         inside += x >= 0 && y >= 0 && x < w && y < h;
     }
+    for (k = 0; k + 1 < l->n && inside == 0; k++) { /* a segment across */
+        double x0 = l->xy[2 * k] / step, y0 = l->xy[2 * k + 1] / step;
+        double x1 = l->xy[2 * k + 2] / step, y1 = l->xy[2 * k + 3] / step;
+        inside += clip(&x0, &y0, &x1, &y1, 0, 0, w, h);
+    }
     if (inside == 0)
         return td_seterr(cx, TD_EINVAL, "line %ld lies outside the %d x %d "
                          "grid (coordinates must be scan pixels, or map "

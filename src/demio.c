@@ -670,12 +670,15 @@ fail:
 /* ---- dispatch ------------------------------------------------------------ */
 
 /* A 16-bit grey PNG: valid cells scaled linearly from min..max onto
- * 1..65535 when there are nodata cells (which become 0), else 0..65535. */
+ * 1..65535 when there are nodata cells (which become 0), else 0..65535.
+ * The mapping back to heights goes into a tEXt "Comment" chunk:
+ * "topodig DEM: height = LO + (value - BASE) * STEP; value 0 = nodata". */
 static int png_dem_write(const char *path, const td_grid_f32 *g, td_ctx *cx)
 {
     td_grid_u16 *o;
     double lo = INFINITY, hi = -INFINITY, s;
     int x, y, any_nd = 0, rc, base;
+    char note[200];
     if (!(o = td_grid_u16_new(g->w, g->h, cx)))
         return cx && cx->code ? cx->code : TD_ENOMEM;
     for (y = 0; y < g->h; y++)
@@ -698,7 +701,12 @@ static int png_dem_write(const char *path, const td_grid_f32 *g, td_ctx *cx)
             else
                 TD_AT(o, x, y) = (uint16_t)(base + floor((v - lo) * s + 0.5));
         }
-    rc = td_png_write_u16(path, o, cx);
+    if (lo > hi)
+        lo = hi = 0;
+    snprintf(note, sizeof note, "topodig DEM: height = %.9g + (value - %d) "
+             "* %.9g%s", lo, base, s > 0 ? 1.0 / s : 0.0,
+             any_nd ? "; value 0 = nodata" : "");
+    rc = td_png_write_u16(path, o, note, cx);
     td_grid_u16_free(o);
     return rc;
 }

@@ -31,7 +31,8 @@ int td_asc_write(const char *path, const td_grid_f32 *g,
                  const td_georef *georef, td_ctx *cx);
 
 /* Write a DEM by the file name's extension: .asc -> ESRI ASCII grid,
- * .png -> 16-bit grey PNG scaled from the grid's min..max (nodata -> 0),
+ * .png -> 16-bit grey PNG scaled from the grid's min..max (nodata -> 0;
+ * the mapping written in a tEXt Comment chunk),
  * anything else -> float32 GeoTIFF. */
 int td_dem_write(const char *path, const td_grid_f32 *g,
                  const td_georef *georef, td_ctx *cx);

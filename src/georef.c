@@ -233,7 +233,8 @@ static void write_epsg_keys(TIFF *tif, int epsg)
 }
 
 /* See imageio_int.h.  Keys are written verbatim when present; the
- * transform as scale + tiepoint when it has no rotation, else as a matrix
+ * transform as scale + tiepoint when it is north-up without rotation,
+ * else as a matrix
  * (undoing the PixelIsPoint half-pixel shift of the reader). */
 int td_georef_to_tiff(TIFF *tif, const td_georef *g, td_ctx *cx)
 {
@@ -246,7 +247,8 @@ int td_georef_to_tiff(TIFF *tif, const td_georef *g, td_ctx *cx)
         gt[0] += 0.5 * gt[1] + 0.5 * gt[2];
         gt[3] += 0.5 * gt[4] + 0.5 * gt[5];
     }
-    if (g->valid && gt[2] == 0.0 && gt[4] == 0.0) {
+    if (g->valid && gt[2] == 0.0 && gt[4] == 0.0 && gt[1] > 0.0 &&
+        gt[5] < 0.0) {
         double sc[3] = {gt[1], -gt[5], 0.0};
         double tp[6] = {0.0, 0.0, 0.0, gt[0], gt[3], 0.0};
         TIFFSetField(tif, TIFFTAG_GEOPIXELSCALE, 3, sc);
@@ -285,4 +287,20 @@ int td_georef_read(const char *path, td_georef *g, td_ctx *cx)
     rc = td_georef_from_tiff(tif, g, cx);
     TIFFClose(tif);
     return rc;
+}
+
+/* See imageio.h. */
+void td_georef_scale(td_georef *g, int step)
+{
+    int k;
+    if (step <= 1)
+        return;
+    if (!g->valid) {
+        memset(g->gt, 0, sizeof g->gt);
+        g->gt[1] = g->gt[5] = 1.0;
+        g->valid = 1;
+    }
+    for (k = 1; k < 6; k++)
+        if (k != 3)
+            g->gt[k] *= step;
 }

@@ -31,6 +31,11 @@ typedef struct td_georef {
 void td_georef_init(td_georef *g);
 void td_georef_clear(td_georef *g);                    /* frees, re-inits */
 int td_georef_copy(td_georef *dst, const td_georef *src, td_ctx *cx);
+/* Cells step pixels wide: the transform's scale and rotation terms times
+ * step.  Without georeferencing, step > 1 gives the scan's pixel frame
+ * (0, step, 0, 0, step, 0) (y down, as GDAL assumes for a plain image), so
+ * the DEM lies over the scan's pixel-unit lines; step 1 changes nothing. */
+void td_georef_scale(td_georef *g, int step);
 /* Pixel coordinates (col,row as reals, 0,0 = top-left corner of the first
  * pixel) to map coordinates; identity when !g->valid. */
 void td_georef_apply(const td_georef *g, double col, double row, double *X,
@@ -69,8 +74,10 @@ int td_png_write(const char *path, const td_image *im, td_ctx *cx);
  * 255 (for masks). */
 int td_png_write_u8(const char *path, const td_grid_u8 *g, int scale01,
                     td_ctx *cx);
-/* Write a 16-bit grey PNG. */
-int td_png_write_u16(const char *path, const td_grid_u16 *g, td_ctx *cx);
+/* Write a 16-bit grey PNG, with a tEXt "Comment" chunk when comment is
+ * not NULL. */
+int td_png_write_u16(const char *path, const td_grid_u16 *g,
+                     const char *comment, td_ctx *cx);
 
 /* Write a single-band float32 GeoTIFF (Deflate, floating-point predictor,
  * tiled 256x256 when larger than 1024 in either side, else striped), with

@@ -274,6 +274,7 @@ typedef struct pio_wjob {
     png_infop info;
     pio_err err;
     uint8_t *tmp;
+    const char *comment; /* a tEXt "Comment" chunk, or NULL */
 } pio_wjob;
 
 /* The part of a write libpng may jump out of; 0, or 1 after an error. */
@@ -288,6 +289,14 @@ static int pio_encode(pio_wjob *j, int w, int h, int ctype, int depth,
                  ctype, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
     png_set_compression_level(j->png, 6);
+    if (j->comment) {
+        png_text t;
+        memset(&t, 0, sizeof t);
+        t.compression = PNG_TEXT_COMPRESSION_NONE;
+        t.key = (png_charp) "Comment";
+        t.text = (png_charp)j->comment;
+        png_set_text(j->png, j->info, &t, 1);
+    }
     png_write_info(j->png, j->info);
     for (y = 0; y < h; y++)
         png_write_row(j->png, row(src, y, j->tmp));
@@ -298,13 +307,14 @@ static int pio_encode(pio_wjob *j, int w, int h, int ctype, int depth,
 /* Write w x h rows from row() as a PNG at path, atomically. */
 static int pio_write_rows(const char *path, int w, int h, int ctype,
                           int depth, pio_row_fn row, const void *src,
-                          td_ctx *cx)
+                          const char *comment, td_ctx *cx)
 {
     pio_wjob j;
     char *tmp = NULL;
     size_t tmpsize = strlen(path) + 32, rowbytes;
     int rc, ch = ctype == PNG_COLOR_TYPE_RGB ? 3 : 1;
     memset(&j, 0, sizeof j);
+    j.comment = comment;
     if ((rc = td_check_dims(w, h, path, cx)) != 0)
         return rc;
     rc = TD_ENOMEM;
@@ -355,7 +365,7 @@ int td_png_write(const char *path, const td_image *im, td_ctx *cx)
     return pio_write_rows(path, im->w, im->h,
                           im->channels == 3 ? PNG_COLOR_TYPE_RGB
                                             : PNG_COLOR_TYPE_GRAY,
-                          8, image_row, im, cx);
+                          8, image_row, im, NULL, cx);
 }
 
 static const uint8_t *u8_row(const void *src, int y, uint8_t *tmp)
@@ -382,7 +392,7 @@ int td_png_write_u8(const char *path, const td_grid_u8 *g, int scale01,
         return td_seterr(cx, TD_EINVAL, "%s: no grid to write",
                          path ? path : "(null)");
     return pio_write_rows(path, g->w, g->h, PNG_COLOR_TYPE_GRAY, 8,
-                          scale01 ? u8_row01 : u8_row, g, cx);
+                          scale01 ? u8_row01 : u8_row, g, NULL, cx);
 }
 
 static const uint8_t *u16_row(const void *src, int y, uint8_t *tmp)
@@ -398,11 +408,12 @@ static const uint8_t *u16_row(const void *src, int y, uint8_t *tmp)
 }
 
 /* See imageio.h. */
-int td_png_write_u16(const char *path, const td_grid_u16 *g, td_ctx *cx)
+int td_png_write_u16(const char *path, const td_grid_u16 *g,
+                     const char *comment, td_ctx *cx)
 {
     if (!path || !g || !g->data || g->stride < (size_t)g->w)
         return td_seterr(cx, TD_EINVAL, "%s: no grid to write",
                          path ? path : "(null)");
     return pio_write_rows(path, g->w, g->h, PNG_COLOR_TYPE_GRAY, 16, u16_row,
-                          g, cx);
+                          g, comment, cx);
 }

@@ -84,6 +84,8 @@ check "compare text names rmse, mae, max, bias, coverage" \
 "$TD" run samples/hills.png -o "$T/run2.tif" --interval 20 --known "$K" --step 3 -q
 if have_gdal; then
   check "run --step 3: 200 x 150" "gdalinfo '$T/run2.tif' | grep -q 'Size is 200, 150'"
+  check "run --step 3 on a plain scan: 3-pixel cells over the pixel frame" \
+    "gdalinfo '$T/run2.tif' | grep -q 'Pixel Size = (3.0*,3.0*)' && gdalinfo '$T/run2.tif' | grep -q 'Origin = (0.0*,0.0*)'"
 fi
 rm -f "$T/x.tif"
 "$TD" run samples/hills.png -o "$T/x.tif" --interval 20 2>"$T/err"

@@ -354,8 +354,10 @@ static void test_tiff_rgb_rejected(void)
     expect_fail(tmp("cut.tif"), TD_EFORMAT, NULL, NULL);
 }
 
-/* Read a 16-bit grey PNG with libpng: 0 and the values, or -1. */
-static int read_png16(const char *path, uint16_t *v, int w, int h)
+/* Read a 16-bit grey PNG with libpng: 0 and the values (and its tEXt
+ * Comment into note, "" when none), or -1. */
+static int read_png16(const char *path, uint16_t *v, int w, int h,
+                      char *note, size_t notesize)
 {
     FILE *f = fopen(path, "rb");
     png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL,
@@ -364,8 +366,15 @@ static int read_png16(const char *path, uint16_t *v, int w, int h)
     int ok = 0, x, y;
     if (f && info && !setjmp(png_jmpbuf(png))) {
         png_bytepp rows;
+        png_textp text;
+        int nt = 0, k;
         png_init_io(png, f);
         png_read_png(png, info, PNG_TRANSFORM_IDENTITY, NULL);
+        note[0] = 0;
+        png_get_text(png, info, &text, &nt);
+        for (k = 0; k < nt; k++)
+            if (!strcmp(text[k].key, "Comment"))
+                snprintf(note, notesize, "%s", text[k].text);
         rows = png_get_rows(png, info);
         ok = png_get_bit_depth(png, info) == 16 &&
              png_get_color_type(png, info) == PNG_COLOR_TYPE_GRAY &&
@@ -389,10 +398,21 @@ static void test_png_write(void)
     size_t i, j, nonmono = 0, nd_bad = 0;
     float lo = FLT_MAX, hi = -FLT_MAX;
     uint16_t vlo = 65535, vhi = 0;
+    char note[256];
+    double z0 = NAN, step = NAN, worst = 0;
+    int base = -1;
     td_ctx_init(&cx);
     TT_CHECKF(td_dem_write(tmp("dem.png"), g, NULL, &cx) == 0, "%s",
               td_errmsg(&cx));
-    TT_CHECK(read_png16(tmp("dem.png"), v, 40, 30) == 0);
+    TT_CHECK(read_png16(tmp("dem.png"), v, 40, 30, note, sizeof note) == 0);
+    /* the Comment gives the heights back to within half a step */
+    TT_CHECKF(sscanf(note, "topodig DEM: height = %lf + (value - %d) * %lf",
+                     &z0, &base, &step) == 3 && base == 1 &&
+                  strstr(note, "value 0 = nodata"), "comment '%s'", note);
+    for (i = 0; i < 40 * 30; i++)
+        if (g->data[i] != g->nodata && v[i] > 0)
+            worst = fmax(worst, fabs(z0 + (v[i] - base) * step - g->data[i]));
+    TT_CHECKF(worst <= 0.5001 * step, "worst %g, step %g", worst, step);
     for (i = 0; i < 40 * 30; i++) {
         float a = g->data[i];
         if (a == g->nodata) {

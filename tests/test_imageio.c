@@ -596,7 +596,7 @@ static void test_png_write_u16(void)
     for (y = 0; y < 9; y++)
         for (x = 0; x < 17; x++)
             TD_AT(g, x, y) = (uint16_t)(x * 3000 + y * 7);
-    TT_CHECK(td_png_write_u16(path, g, &cx) == 0);
+    TT_CHECK(td_png_write_u16(path, g, NULL, &cx) == 0);
     f = fopen(path, "rb");
     TT_CHECK(f != NULL);
     if (!f)

@@ -397,6 +397,28 @@ static void test_bad_input(void)
     td_lines_free(ls);
 }
 
+/* A line whose vertices all lie off the grid but whose segment crosses it
+ * (a contour clipped by the sheet, edited in QGIS) is drawn, not refused. */
+static void test_line_across(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_line *l = td_lines_add(ls, NULL);
+    td_grid_f32 *g = td_grid_f32_new(100, 80, NULL);
+    td_ctx cx;
+    int x, n = 0;
+    td_ctx_init(&cx);
+    l->has_height = 1;
+    l->height = 30;
+    td_line_push(l, -50, 40.5, NULL);
+    td_line_push(l, 700, 40.5, NULL);
+    TT_CHECKF(td_rasterise_lines(ls, 1.0, g, &cx) == 0, "%s", td_errmsg(&cx));
+    for (x = 0; x < 100; x++)
+        n += TD_AT(g, x, 40) == 30.0f;
+    TT_CHECKF(n == 100, "%d of 100 cells of row 40 drawn", n);
+    td_grid_f32_free(g);
+    td_lines_free(ls);
+}
+
 /* One height only: nothing to interpolate between; the flat inside is
  * filled, the outside is nodata, nothing crashes. */
 static void test_single_ring(void)
@@ -574,6 +596,7 @@ int main(void)
     TT_RUN(test_step);
     TT_RUN(test_single_ring);
     TT_RUN(test_bad_input);
+    TT_RUN(test_line_across);
     TT_RUN(test_gdalinfo_stats);
     return tt_summary();
 }

@@ -92,17 +92,6 @@ static int parse_args(int argc, char **argv, ip_opts *o)
     return 0;
 }
 
-/* The DEM's georeferencing: the scan's, with cells step pixels wide. */
-static void scale_georef(td_georef *g, int step)
-{
-    int k;
-    if (!g->valid)
-        return;
-    for (k = 1; k < 6; k++)
-        if (k != 3)
-            g->gt[k] *= step;
-}
-
 static void summary(const td_grid_f32 *g, const td_interp_params *p,
                     double secs)
 {
@@ -149,7 +138,7 @@ int td_cmd_interp(int argc, char **argv)
         name_file(&cx, o.in);
         goto fail;
     }
-    scale_georef(&geo, o.p.step);
+    td_georef_scale(&geo, o.p.step);
     if ((rc = td_dem_write(o.out, dem, &geo, &cx)) != 0)
         goto fail;
     td_cli_progress_done(&pr);

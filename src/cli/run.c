@@ -238,16 +238,13 @@ static int do_interp(const run_opts *o, run_state *s, td_ctx *cx)
 {
     td_interp_params p = o->ip;
     double t0 = td_now();
-    int rc, k;
+    int rc;
     p.interval = o->interval;
     if ((rc = td_interp_lines(s->ls, s->w, s->h, &p, &s->dem, cx)) != 0)
         return rc;
     td_lines_free(s->ls);
     s->ls = NULL;
-    if (s->geo.valid)
-        for (k = 1; k < 6; k++)
-            if (k != 3)
-                s->geo.gt[k] *= p.step;
+    td_georef_scale(&s->geo, p.step);
     s->secs[2] = td_now() - t0;
     rc = td_dem_write(o->out, s->dem, &s->geo, cx);
     s->secs[3] = td_now() - t0 - s->secs[2];
