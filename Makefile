@@ -116,6 +116,6 @@ fuzz: deps
 	ASAN_OPTIONS=allocator_may_return_null=1 build-fuzz/fuzz_readers -max_total_time=$${FUZZ_SECONDS:-60} -max_len=65536 build-fuzz/corpus tests/fuzz/corpus
 
 clean:
-	rm -rf build build-san build-bench build-fuzz
+	rm -rf build build-san build-bench build-fuzz out/demo
 
 -include $(shell find $(BUILD) -name '*.d' 2>/dev/null)
