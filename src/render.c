@@ -1,6 +1,7 @@
 #include "render.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 td_render_params td_render_defaults(void)
@@ -9,7 +10,7 @@ td_render_params td_render_defaults(void)
     p.style = TD_RENDER_HILLSHADE;
     p.azimuth = 315;
     p.altitude = 45;
-    p.zfactor = 1;
+    p.zfactor = 0; /* auto */
     p.cellsize = 1;
     p.interval = 0;
     p.base = 0;
@@ -43,17 +44,60 @@ static double zat(const td_grid_f32 *g, int x, int y, double zc)
     return valid(g, v) ? v : zc;
 }
 
-static double shade(const td_grid_f32 *g, int x, int y,
-                    const td_render_params *p)
+/* Horn's gradient at (x,y) (see render.h). */
+static void horn(const td_grid_f32 *g, int x, int y, double cellsize,
+                 double *dx, double *dy)
 {
-    double zc = TD_AT(g, x, y), n[9], dx, dy, slope, aspect, zen, az;
+    double zc = TD_AT(g, x, y), n[9];
     int i;
     for (i = 0; i < 9; i++)
         n[i] = zat(g, x + i % 3 - 1, y + i / 3 - 1, zc);
-    dx = ((n[2] + 2 * n[5] + n[8]) - (n[0] + 2 * n[3] + n[6])) /
-         (8 * p->cellsize);
-    dy = ((n[6] + 2 * n[7] + n[8]) - (n[0] + 2 * n[1] + n[2])) /
-         (8 * p->cellsize);
+    *dx = ((n[2] + 2 * n[5] + n[8]) - (n[0] + 2 * n[3] + n[6])) /
+          (8 * cellsize);
+    *dy = ((n[6] + 2 * n[7] + n[8]) - (n[0] + 2 * n[1] + n[2])) /
+          (8 * cellsize);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* See render.h: the z factor that draws the 90th percentile of the
+ * nonzero slopes at 45 degrees, from about 65536 cells on a regular
+ * lattice; 1 when nothing slopes. */
+double td_render_auto_zfactor(const td_grid_f32 *dem, double cellsize)
+{
+    enum { NS = 65536 };
+    double *v = malloc(NS * sizeof *v), dx, dy, z = 1;
+    int step = 1, x, y;
+    size_t n = 0;
+    if (!v)
+        return 1;
+    while ((double)(dem->w / step) * (dem->h / step) > NS)
+        step++;
+    for (y = step / 2; y < dem->h; y += step)
+        for (x = step / 2; x < dem->w && n < NS; x += step) {
+            if (!valid(dem, TD_AT(dem, x, y)))
+                continue;
+            horn(dem, x, y, cellsize, &dx, &dy);
+            if (hypot(dx, dy) > 0)
+                v[n++] = hypot(dx, dy);
+        }
+    if (n > 0) {
+        qsort(v, n, sizeof *v, cmp_double);
+        z = 1.0 / v[(size_t)(0.9 * (double)(n - 1))];
+    }
+    free(v);
+    return isfinite(z) && z > 0 ? z : 1;
+}
+
+static double shade(const td_grid_f32 *g, int x, int y,
+                    const td_render_params *p)
+{
+    double dx, dy, slope, aspect, zen, az;
+    horn(g, x, y, p->cellsize, &dx, &dy);
     slope = atan(p->zfactor * hypot(dx, dy));
     aspect = atan2(dy, -dx);
     zen = (90 - p->altitude) * M_PI / 180;
@@ -102,13 +146,17 @@ int td_render_hillshade(const td_grid_f32 *dem, const td_render_params *p,
                         td_image **out, td_ctx *cx)
 {
     td_image *im;
+    td_render_params q = *p;
     double lo, hi;
     int x, y, k;
     *out = NULL;
-    if (!(p->cellsize > 0) || !(p->zfactor > 0) || !(p->interval >= 0) ||
+    if (!(p->cellsize > 0) || !(p->zfactor >= 0) || !(p->interval >= 0) ||
         !(p->altitude >= 0 && p->altitude <= 90))
-        return td_seterr(cx, TD_EINVAL, "render: cell size and z factor "
-                         "must be > 0, altitude 0..90, interval >= 0");
+        return td_seterr(cx, TD_EINVAL, "render: cell size must be > 0, "
+                         "z factor >= 0, altitude 0..90, interval >= 0");
+    if (q.zfactor == 0)
+        q.zfactor = td_render_auto_zfactor(dem, q.cellsize);
+    p = &q;
     if (!(im = td_image_new(dem->w, dem->h, 3, cx)))
         return TD_ENOMEM;
     range(dem, &lo, &hi);

@@ -19,7 +19,7 @@ typedef struct td_render_params {
     td_render_style style;
     double azimuth;   /* light from, degrees clockwise from north (315) */
     double altitude;  /* light above the horizon, degrees (45) */
-    double zfactor;   /* vertical exaggeration (1) */
+    double zfactor;   /* vertical exaggeration; 0 = auto (default) */
     double cellsize;  /* cell size in height units (1: a pixel = 1 m) */
     double interval;  /* contour overlay every interval, 0 = none (0) */
     double base;      /* contours at base + k * interval (0) */
@@ -37,13 +37,19 @@ int td_render_parse_style(const char *s, td_render_style *st, td_ctx *cx);
  *     g h i      shade = cos(zen) cos(slope)
  *                        + sin(zen) sin(slope) cos(az - aspect)
  *
- * Nodata neighbours take the centre's height; nodata cells are drawn pale
+ * with slope = atan(zfactor |grad|).  Nodata neighbours take the centre's height; nodata cells are drawn pale
  * blue-grey.  With interval > 0, cells where the contour band
  * floor((z - base)/interval) changes to the right or below are drawn
  * brown.  *out is a new RGB image of dem's size (td_image_free).  Returns
  * 0, TD_EINVAL (bad parameters), TD_ENOMEM. */
 int td_render_hillshade(const td_grid_f32 *dem, const td_render_params *p,
                         td_image **out, td_ctx *cx);
+
+/* The vertical exaggeration zfactor = 0 stands for: the one that draws the
+ * 90th percentile of dem's nonzero slopes at 45 degrees (so a DEM in
+ * metres on a grid of pixels is not drawn almost black, nor a gentle one
+ * almost flat); 1 when the DEM is flat. */
+double td_render_auto_zfactor(const td_grid_f32 *dem, double cellsize);
 
 #ifdef __cplusplus
 }

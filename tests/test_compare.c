@@ -138,6 +138,23 @@ static void test_hillshade(void)
     td_grid_f32_free(w);
 }
 
+static double tilt_gentle(int x, int y) { (void)y; return 0.01 * x; }
+
+/* Auto z factor: the 90th percentile slope drawn at 45 degrees, so a
+ * steep plane (2 per cell) gets 1/2, a gentle one (0.01) 100, flat 1. */
+static void test_auto_zfactor(void)
+{
+    td_grid_f32 *f = grid(40, 30, flat), *e = grid(40, 30, tilt_east),
+                *g = grid(40, 30, tilt_gentle);
+    TT_NEAR(td_render_auto_zfactor(e, 1.0), 0.5, 1e-6);
+    TT_NEAR(td_render_auto_zfactor(e, 4.0), 2.0, 1e-6);
+    TT_NEAR(td_render_auto_zfactor(g, 1.0), 100.0, 1e-3);
+    TT_NEAR(td_render_auto_zfactor(f, 1.0), 1.0, 0);
+    td_grid_f32_free(f);
+    td_grid_f32_free(e);
+    td_grid_f32_free(g);
+}
+
 /* Contours every 10 on z = 2x: a brown column every 5 cells; nodata pale. */
 static void test_contour_overlay_nodata(void)
 {
@@ -173,6 +190,7 @@ int main(void)
     TT_RUN(test_size_mismatch);
     TT_RUN(test_diff_colours);
     TT_RUN(test_hillshade);
+    TT_RUN(test_auto_zfactor);
     TT_RUN(test_contour_overlay_nodata);
     return tt_summary();
 }

@@ -27,7 +27,9 @@ static const char help[] =
     "      --base B         contours at B + k*I (default 0)\n"
     "      --azimuth DEG    light from (default 315)\n"
     "      --altitude DEG   light height (default 45)\n"
-    "      --zfactor Z      vertical exaggeration (default 1)\n"
+    "      --zfactor Z|auto vertical exaggeration (default auto: the\n"
+    "                       steepest tenth of the slopes drawn at 45\n"
+    "                       degrees or more; 1 = gdaldem's look)\n"
     "      --cellsize C     cell size in height units (default: from the\n"
     "                       DEM's georeferencing, else 1)\n"
     "  -q, --quiet          no progress\n"
@@ -50,6 +52,10 @@ static int parse_num(int c, const char *arg, rd_opts *o, td_ctx *cx)
     double *dst[] = {&o->p.interval, &o->p.base, &o->p.azimuth,
                      &o->p.altitude, &o->p.zfactor, &o->p.cellsize};
     int i = c - O_CONT;
+    if (c == O_ZF && !strcmp(arg, "auto")) {
+        o->p.zfactor = 0;
+        return 0;
+    }
     if (td_cli_parse_double(arg, lo[i], hi[i], dst[i]) != 0)
         return td_seterr(cx, TD_EINVAL, "%s: '%s' is not a number %g..%g",
                          names[i], arg, lo[i], hi[i]);
