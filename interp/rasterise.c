@@ -3,6 +3,7 @@
 #include "interp_int.h"
 #include "multidir.h"
 #include "scanline.h"
+#include "smooth.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -527,6 +528,8 @@ int td_interp_set(td_interp_params *p, const char *key, const char *val,
         p->weight = rc == 0 ? i : p->weight;
     } else if (!strcmp(key, "step")) {
         rc = whole(key, val, 1, 4096, &p->step, cx);
+    } else if (!strcmp(key, "smooth")) {
+        rc = whole(key, val, 0, 10000, &p->smooth, cx);
     } else if (!strcmp(key, "dirs")) {
         if ((rc = whole(key, val, 2, 4, &i, cx)) == 0 && i == 3)
             rc = td_seterr(cx, TD_EINVAL, "--dirs: 2 or 4");
@@ -560,11 +563,34 @@ static int fill(td_grid_f32 *g, const td_interp_params *p, double interval,
     }
 }
 
+/* The rasterised line cells of g (1 byte per cell, rows of g->w). */
+static uint8_t *line_mask(const td_grid_f32 *g, td_ctx *cx)
+{
+    uint8_t *m = td_malloc((size_t)g->w * (size_t)g->h, cx);
+    int x, y;
+    for (y = 0; m && y < g->h; y++)
+        for (x = 0; x < g->w; x++)
+            m[(size_t)y * g->w + x] = TD_AT(g, x, y) == TD_AT(g, x, y);
+    return m;
+}
+
+/* The base the lines' heights are multiples of the interval from. */
+static double band_base(const td_lines *ls, double interval)
+{
+    size_t i;
+    for (i = 0; i < ls->n; i++)
+        if (ls->v[i].has_height)
+            return ls->v[i].height -
+                   interval * floor(ls->v[i].height / interval);
+    return 0;
+}
+
 int td_interp_lines(const td_lines *ls, int w, int h,
                     const td_interp_params *p, td_grid_f32 **out,
                     td_ctx *cx)
 {
     td_grid_f32 *g = NULL;
+    uint8_t *fixed = NULL;
     double interval;
     size_t i, n;
     int rc, step = p->step < 1 ? 1 : p->step;
@@ -579,8 +605,18 @@ int td_interp_lines(const td_lines *ls, int w, int h,
     interval = p->interval > 0 ? p->interval : td_interp_interval(ls);
     if (interval <= 0)
         interval = 1e30; /* one height only: nothing to cap against */
+    if (p->smooth > 0 && interval < 1e30 &&
+        !(fixed = line_mask(g, cx))) {
+        rc = TD_ENOMEM;
+        goto fail;
+    }
     if ((rc = fill(g, p, interval, cx)) != 0)
         goto fail;
+    if (fixed && (rc = td_smooth_bands(g, fixed, band_base(ls, interval),
+                                       interval, p->smooth, cx)) != 0)
+        goto fail;
+    free(fixed);
+    fixed = NULL;
     n = (size_t)g->w * g->h;
     for (i = 0; i < n; i++)
         if (g->data[i] != g->data[i])
@@ -590,6 +626,7 @@ int td_interp_lines(const td_lines *ls, int w, int h,
     *out = g;
     return 0;
 fail:
+    free(fixed);
     td_grid_f32_free(g);
     return rc;
 }

@@ -117,6 +117,7 @@ typedef struct td_interp_params {
     int weight;         /* multidir: td_multidir_weight */
     int ndir;           /* multidir: 2 or 4 directions */
     float nodata;       /* written where undeterminable (-9999) */
+    int smooth;         /* sweeps of td_smooth_bands afterwards (0) */
 } td_interp_params;
 
 td_interp_params td_interp_defaults(void);
@@ -128,7 +129,7 @@ int td_interp_parse_method(const char *s, td_interp_method *m, td_ctx *cx);
 /* Set one option of p from its command-line form (key without "--"):
  * method scanline|multidir, step N (1..4096), interval I (> 0), summit
  * extrapolate|flat, peninsula diagonal|flat, weight prod|span|span2,
- * dirs 2|4, nodata V.  Returns 0, 1 when key is not one of these, or
+ * dirs 2|4, nodata V, smooth N (0..10000).  Returns 0, 1 when key is not one of these, or
  * TD_EINVAL with a message naming the option and the choices. */
 int td_interp_set(td_interp_params *p, const char *key, const char *val,
                   td_ctx *cx);

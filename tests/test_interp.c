@@ -195,6 +195,70 @@ static void test_hills_multidir_beats_scanline(void)
     td_grid_f32_free(dem);
 }
 
+/* Mean |second difference| along x and y over cells valid in g: the
+ * creases a hillshade shows. */
+static double roughness(const td_grid_f32 *g)
+{
+    double sum = 0;
+    long n = 0;
+    int x, y;
+    for (y = 1; y + 1 < g->h; y++)
+        for (x = 1; x + 1 < g->w; x++) {
+            float c = TD_AT(g, x, y), l = TD_AT(g, x - 1, y),
+                  r = TD_AT(g, x + 1, y), u = TD_AT(g, x, y - 1),
+                  d = TD_AT(g, x, y + 1);
+            if (c == g->nodata || l == g->nodata || r == g->nodata ||
+                u == g->nodata || d == g->nodata)
+                continue;
+            sum += fabs(l + r - 2.0 * c) + fabs(u + d - 2.0 * c);
+            n++;
+        }
+    return n ? sum / n : 0;
+}
+
+/* --smooth 30 on Gaussian hills: lower RMSE and half the creases, every
+ * line cell unchanged, every other cell still between its two contours. */
+static void test_smooth_bands(void)
+{
+    td_grid_f32 *dem = truth(S_HILLS, 400, 400), *a = NULL, *b = NULL;
+    td_interp_params p = method(TD_INTERP_MULTIDIR);
+    td_compare_stats sa, sb;
+    td_lines *ls = NULL;
+    td_grid_f32 *lines = td_grid_f32_new(400, 400, NULL);
+    long moved_line = 0, out_band = 0;
+    size_t i;
+    TT_CHECK(td_gen_contours(dem, 0, 10, &ls, NULL) == 0 &&
+             td_rasterise_lines(ls, 1, lines, NULL) == 0);
+    TT_CHECK(run(dem, 10, p, &sa, &a) == 0);
+    p.smooth = 30;
+    TT_CHECK(run(dem, 10, p, &sb, &b) == 0);
+    if (!a || !b)
+        goto done;
+    for (i = 0; i < (size_t)a->w * a->h; i++) {
+        float z0 = a->data[i], z1 = b->data[i];
+        if (z0 == a->nodata)
+            continue;
+        if (lines->data[i] == lines->data[i])
+            moved_line += z1 != z0;
+        else /* 0.001 interval margin: cells exactly on a height move */
+            out_band += fabsf(z1 - z0) > 0.011f &&
+                        floorf(z1 / 10) != floorf(z0 / 10);
+    }
+    fprintf(stderr, "  smooth 30: rmse %.3f -> %.3f, roughness %.4f -> "
+            "%.4f\n", sa.rmse, sb.rmse, roughness(a), roughness(b));
+    TT_CHECKF(sb.rmse < 1.01 * sa.rmse, "rmse %g vs %g", sb.rmse, sa.rmse);
+    TT_CHECKF(roughness(b) < 0.5 * roughness(a), "roughness %g vs %g",
+              roughness(b), roughness(a));
+    TT_CHECKF(moved_line == 0 && out_band == 0, "%ld line cells moved, %ld "
+              "cells left their band", moved_line, out_band);
+done:
+    td_lines_free(ls);
+    td_grid_f32_free(lines);
+    td_grid_f32_free(a);
+    td_grid_f32_free(b);
+    td_grid_f32_free(dem);
+}
+
 static void test_saddle(void)
 {
     td_grid_f32 *dem = truth(S_SADDLE, 320, 300);
@@ -590,6 +654,7 @@ int main(void)
     TT_RUN(test_cone);
     TT_RUN(test_hills_multidir_beats_scanline);
     TT_RUN(test_saddle);
+    TT_RUN(test_smooth_bands);
     TT_RUN(test_multidir_brute);
     TT_RUN(test_summit_beats_flat);
     TT_RUN(test_summit_capped);

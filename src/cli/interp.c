@@ -36,6 +36,9 @@ static const char help[] =
     "      --interval I      contour interval for the summit cap (default:\n"
     "                        the smallest step between line heights)\n"
     "      --nodata V        nodata value (default -9999)\n"
+    "      --smooth N        N sweeps of smoothing within the contour bands\n"
+    "                        (default 0; ours: removes the creases of the\n"
+    "                        linear blend, see docs/interp.md)\n"
     "  -q, --quiet           no progress and no summary\n"
     "  -h, --help            this help\n"
     "\n"
@@ -57,6 +60,7 @@ static int parse_args(int argc, char **argv, ip_opts *o)
         {"summit", 1, 0, O_PASS}, {"peninsula", 1, 0, O_PASS},
         {"weight", 1, 0, O_PASS}, {"dirs", 1, 0, O_PASS},
         {"interval", 1, 0, O_PASS}, {"nodata", 1, 0, O_PASS},
+        {"smooth", 1, 0, O_PASS},
         {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     td_ctx cx;
     int c, li = -1;

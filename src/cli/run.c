@@ -42,6 +42,9 @@ static const char help[] =
     "      --weight W        multidir: span (default) | prod | span2\n"
     "      --dirs N          multidir: 4 (default) or 2\n"
     "      --nodata V        nodata value (default -9999)\n"
+    "      --smooth N        N sweeps of smoothing within the contour bands\n"
+    "                        (default 0; ours: removes the creases of the\n"
+    "                        linear blend, see docs/interp.md)\n"
     "  -q, --quiet           no progress and no summary\n"
     "  -h, --help            this help\n"
     "\n"
@@ -137,6 +140,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         {"step", 1, 0, O_PASS}, {"summit", 1, 0, O_PASS},
         {"peninsula", 1, 0, O_PASS}, {"weight", 1, 0, O_PASS},
         {"dirs", 1, 0, O_PASS}, {"nodata", 1, 0, O_PASS},
+        {"smooth", 1, 0, O_PASS},
         {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     td_ctx cx;
     int c, li = -1;

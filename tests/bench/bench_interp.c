@@ -18,7 +18,9 @@
  *    their own timings (r.surf.contour timed alone, inside GRASS);
  *  - `topodig run` on a --huge N sheet (default 10000) through the CLI,
  *    wall time and peak memory from /usr/bin/time, when --topodig is given.
- * Options: --topodig PATH --dir DIR --big N --huge N --no-anchors. */
+ *  - the default with N sweeps of band-constrained smoothing (--smooth).
+ * Options: --topodig PATH --dir DIR --big N --huge N --no-anchors
+ * --sweeps-only (the smoothing table alone). */
 #define _POSIX_C_SOURCE 200809L
 #include "../../interp/rasterise.h"
 #include "../../samples/gen/gen.h"
@@ -53,7 +55,7 @@ static const variant variants[] = {
 
 typedef struct opts {
     const char *topodig, *dir;
-    int big, huge, anchors;
+    int big, huge, anchors, smooth_only;
 } opts;
 
 static void row(const char *what, const td_compare_stats *st, double I,
@@ -465,6 +467,49 @@ static void seed_sweep(td_ctx *cx)
 }
 
 /* `topodig run` on a huge sheet through the CLI, one thread. */
+/* RMSE (intervals) of the default with N sweeps of band-constrained
+ * smoothing (--smooth N), mean of seeds 1-6 at 800 x 800, and its time. */
+static void smooth_sweep(td_ctx *cx)
+{
+    static const td_gen_terrain_kind kinds[3] = {TD_GEN_HILLS, TD_GEN_CONE,
+                                                 TD_GEN_RIDGES};
+    static const int sweeps[5] = {0, 10, 30, 100, 300};
+    double sum[5][3] = {{0}}, secs[5] = {0};
+    int k, s, v;
+    for (k = 0; k < 3; k++)
+        for (s = 1; s <= 6; s++) {
+            td_gen_params gp = td_gen_defaults();
+            td_lines *tl = NULL;
+            td_grid_f32 *dem = NULL;
+            gp.terrain = kinds[k];
+            gp.seed = (unsigned)s;
+            gp.w = gp.h = 800;
+            if (td_gen_sheet(&gp, NULL, &tl, &dem, cx) != 0)
+                return;
+            for (v = 0; v < 5; v++) {
+                td_interp_params p = td_interp_defaults();
+                td_grid_f32 *g = NULL;
+                td_compare_stats st;
+                double t0 = td_now();
+                p.smooth = sweeps[v];
+                if (td_interp_lines(tl, 800, 800, &p, &g, cx) == 0 &&
+                    td_compare_grids(g, dem, &st, cx) == 0)
+                    sum[v][k] += st.rmse / td_interp_interval(tl) / 6;
+                secs[v] += (td_now() - t0) / 18;
+                td_grid_f32_free(g);
+            }
+            td_lines_free(tl);
+            td_grid_f32_free(dem);
+        }
+    printf("default + --smooth N, mean RMSE over seeds 1-6, 800 x 800, true "
+           "lines (intervals):\n  %-10s %8s %8s %8s %8s %10s\n", "sweeps",
+           "hills", "cone", "ridges", "mean", "s / 0.64 Mpx");
+    for (v = 0; v < 5; v++)
+        printf("  %-10d %8.4f %8.4f %8.4f %8.4f %10.3f\n", sweeps[v],
+               sum[v][0], sum[v][1], sum[v][2],
+               (sum[v][0] + sum[v][1] + sum[v][2]) / 3, secs[v]);
+}
+
 static int huge_run(const opts *o, int size, td_ctx *cx)
 {
     td_gen_params gp = sheet_params(TD_GEN_HILLS, size);
@@ -518,7 +563,7 @@ done:
 
 int main(int argc, char **argv)
 {
-    opts o = {NULL, "build-bench/data", 5000, 10000, 1};
+    opts o = {NULL, "build-bench/data", 5000, 10000, 1, 0};
     td_ctx cx;
     int i;
     for (i = 1; i < argc; i++) {
@@ -532,15 +577,22 @@ int main(int argc, char **argv)
             o.huge = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--no-anchors"))
             o.anchors = 0;
+        else if (!strcmp(argv[i], "--sweeps-only"))
+            o.smooth_only = 1;
     }
     mkdir(o.dir, 0777);
     td_ctx_init(&cx);
     printf("interpolation accuracy and speed (errors in contour intervals; "
            "cov = share of the true grid determined)\n");
-    one_sheet(&o, TD_GEN_HILLS, "hills", 1000, 1, &cx);
-    one_sheet(&o, TD_GEN_CONE, "cone", 1000, 1, &cx);
-    one_sheet(&o, TD_GEN_RIDGES, "ridges", 1000, 1, &cx);
-    seed_sweep(&cx);
+    if (!o.smooth_only) {
+        one_sheet(&o, TD_GEN_HILLS, "hills", 1000, 1, &cx);
+        one_sheet(&o, TD_GEN_CONE, "cone", 1000, 1, &cx);
+        one_sheet(&o, TD_GEN_RIDGES, "ridges", 1000, 1, &cx);
+        seed_sweep(&cx);
+    }
+    smooth_sweep(&cx);
+    if (o.smooth_only)
+        return 0;
     if (o.big > 0) { /* no anchors: r.surf.contour takes minutes at 1000 */
         one_sheet(&o, TD_GEN_HILLS, "hills", o.big, 0, &cx);
         one_sheet(&o, TD_GEN_CONE, "cone", o.big, 0, &cx);
