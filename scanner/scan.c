@@ -13,6 +13,7 @@ td_scan_params td_scan_defaults(void)
     p.trace = td_trace_defaults();
     p.join = td_join_defaults(0, 0);
     p.do_join = 1;
+    p.measure_width = 1;
     return p;
 }
 
@@ -29,7 +30,7 @@ void td_scan_result_free(td_scan_result *res)
 int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             td_ctx *cx)
 {
-    td_grid_u8 *g = NULL;
+    td_grid_u8 *g = NULL, *mask = NULL;
     td_join_params jp = p->join;
     double t0;
     int rc;
@@ -42,6 +43,9 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     res->seconds[0] = td_now() - t0;
     rc = TD_ENOMEM;
     if (p->keep_debug && !(res->mask = td_grid_u8_dup(g, cx)))
+        goto fail;
+    if (p->measure_width && !p->keep_debug &&
+        !(mask = td_grid_u8_dup(g, cx)))
         goto fail;
     t0 = td_now();
     if ((rc = td_thin_hilditch(g, &res->thin, cx)) != 0)
@@ -64,10 +68,15 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     jp.record = jp.record || p->keep_debug; /* the overlay draws the joins */
     if (p->do_join && (rc = td_join(&res->lines, &jp, &res->join, cx)) != 0)
         goto fail;
+    if (p->measure_width &&
+        (rc = td_line_widths(mask ? mask : res->mask, res->lines, cx)) != 0)
+        goto fail;
     res->seconds[4] = td_now() - t0;
     res->despurred = g;
+    td_grid_u8_free(mask);
     return 0;
 fail:
+    td_grid_u8_free(mask);
     td_grid_u8_free(g);
     td_scan_result_free(res);
     return rc;

@@ -30,6 +30,9 @@ typedef struct td_gen_params {
                               interval <= 0: automatic, see
                               td_gen_auto_interval */
     double line_width;     /* ink line width in px (1..6) */
+    double index_width;    /* width of the index contours (every 5th level,
+                              base + 5k * interval) in px; 0: line_width
+                              (the default) */
     double blur;           /* Gaussian blur sigma in px, 0 = none */
     double noise;          /* Gaussian noise sd in grey levels, 0 = none */
     int specks;            /* number of random ink specks (1-6 px blobs) */

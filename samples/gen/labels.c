@@ -239,7 +239,8 @@ static int place_on_line(const td_lines *ls, size_t i, const td_gen_params *p,
             double s = (j + td_rng_range(r, 0.15, 0.85)) * a.len / nl;
             place q;
             int far = 1;
-            if (!size_label(r, l->height, p->line_width, s, &q) ||
+            if (!size_label(r, l->height, td_gen_width_of(l, p, interval), s,
+                            &q) ||
                 (!l->closed && (q.s0 < 50 || q.s1 > a.len - 50)))
                 continue;
             arc_at(&a, q.s0, &q.x0, &q.y0);
@@ -247,7 +248,8 @@ static int place_on_line(const td_lines *ls, size_t i, const td_gen_params *p,
             for (k = 0; k < *np; k++)
                 far &= hypot((*pl)[k].x0 - q.x0, (*pl)[k].y0 - q.y0) > 80;
             if (!far || !straight(&a, &q) ||
-                !clear_of(ls, i, &a, &q, 0.5 * q.H + p->line_width + 4, p))
+                !clear_of(ls, i, &a, &q,
+                          0.5 * q.H + td_gen_width_of(l, p, interval) + 4, p))
                 continue;
             if (*np == *cap) {
                 place *v = realloc(*pl, (*cap = *cap ? 2 * *cap : 32) * sizeof *v);
@@ -284,7 +286,8 @@ int td_gen_labels(const td_lines *truth, const td_gen_params *p,
     if (!(lay = td_calloc((size_t)im->w * (size_t)im->h, 1, cx)))
         goto fail;
     for (i = 0; i < np; i++) {
-        erase_gap(im, &pl[i], p->line_width, im->channels == 3);
+        erase_gap(im, &pl[i], fmax(p->line_width, p->index_width),
+                  im->channels == 3);
         draw_text(lay, im->w, im->h, &pl[i]);
     }
     td_gen_composite(im, lay, im->channels == 3 ? brown : black);

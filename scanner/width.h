@@ -1,0 +1,29 @@
+/* width.h: ink width of traced lines, measured across the mask.
+ *
+ * Ours (not in paper 001): printed sheets draw every 5th contour (the
+ * index contours) thicker; `topodig label --index-every` uses the widths to
+ * check the heights (scanner/label.h). */
+#ifndef TD_WIDTH_H
+#define TD_WIDTH_H
+
+#include "../src/grid.h"
+#include "../src/lines.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Set ls->v[i].width to the median ink width of line i in px: every 2 px
+ * along the line (not within 4 px of an open end), the run of ink (mask
+ * != 0) across the line through the point, along the normal of the chord
+ * from 3 px before to 3 px after it; points off the ink (a bridged gap)
+ * and runs longer than 24 px (a blot, a crossing) are skipped.  Lines with
+ * fewer than 5 runs get width 0 (not measured).  mask is the binarised
+ * scan before thinning, same pixel frame as the lines.  Returns 0 or
+ * TD_ENOMEM (widths then unchanged or partly set). */
+int td_line_widths(const td_grid_u8 *mask, td_lines *ls, td_ctx *cx);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
