@@ -33,6 +33,7 @@ typedef struct jend {
     double x, y, tx, ty;
     double k, ux, uy; /* stage 2: curvature towards the end (1/px, turning
                          as cross(t, t') > 0) and the tangent at the end */
+    double k2;        /* the curvature over a shorter stretch (ARC_L2) */
     size_t line;
     int at_end;   /* 0: the line's first point, 1: its last */
     long partner; /* index of the joined end, -1 when free */
@@ -100,36 +101,56 @@ static void end_of(const td_line *l, int at_end, double tangent, jend *e)
     e->at_end = at_end;
     e->partner = -1;
     e->path = -1;
-    e->k = 0.0;
+    e->k = e->k2 = 0.0;
     e->ux = e->tx, e->uy = e->ty;
 }
 
-/* Stage 2: the end's curvature from the circle through the points 2,
- * 2 + ARC_L/2 and 2 + ARC_L px back (P0, P1, P2), and its tangent at the
- * end: the chord P1-P0 turned on along that circle.  Lines too short keep
- * k = 0 and the chord tangent.
+/* The curvature of the circle through the points 2, 2 + L/2 and 2 + L px
+ * back from an end (P0, P1, P2), with |P0 - P1| in *lb; 0 when the line is
+ * too short (then *lb = 0).
  *
  *    P2 . . . P1 . . . P0 ..end      k = 2 cross(P1-P2, P0-P1) /
  *                                        (|P1-P2| |P0-P1| |P0-P2|)  */
-#define ARC_L 30.0
-static void end_curve(const td_line *l, int at_end, jend *e)
+static double curve_over(const td_line *l, int at_end, double L,
+                         size_t *i0_, size_t *i1_, double *lb_)
 {
     size_t i0 = walk_back(l, at_end, 2.0);
-    size_t i1 = walk_back(l, at_end, 2.0 + 0.5 * ARC_L);
-    size_t i2 = walk_back(l, at_end, 2.0 + ARC_L);
+    size_t i1 = walk_back(l, at_end, 2.0 + 0.5 * L);
+    size_t i2 = walk_back(l, at_end, 2.0 + L);
     const double *p0 = l->xy + 2 * i0, *p1 = l->xy + 2 * i1,
                  *p2 = l->xy + 2 * i2;
     double ax = p1[0] - p2[0], ay = p1[1] - p2[1];
     double bx = p0[0] - p1[0], by = p0[1] - p1[1];
     double la = hypot(ax, ay), lb = hypot(bx, by);
-    double lc = hypot(p0[0] - p2[0], p0[1] - p2[1]), th;
-    if (la < 0.4 * ARC_L || lb < 0.4 * ARC_L || lc <= 0)
+    double lc = hypot(p0[0] - p2[0], p0[1] - p2[1]);
+    *i0_ = i0, *i1_ = i1, *lb_ = 0.0;
+    if (la < 0.4 * L || lb < 0.4 * L || lc <= 0)
+        return 0.0;
+    *lb_ = lb;
+    return 2.0 * (ax * by - ay * bx) / (la * lb * lc);
+}
+
+/* Stage 2: the end's curvature over ARC_L and ARC_L2 px (curve_over), and
+ * its tangent at the end: the chord P1-P0 (over ARC_L) turned on along
+ * that circle.  Lines too short keep k = 0 and the chord tangent. */
+#define ARC_L 30.0
+#define ARC_L2 16.0
+static void end_curve(const td_line *l, int at_end, jend *e)
+{
+    size_t i0, i1, j0, j1;
+    double lb, lb2, bx, by, th;
+    e->k = curve_over(l, at_end, ARC_L, &i0, &i1, &lb);
+    e->k2 = curve_over(l, at_end, ARC_L2, &j0, &j1, &lb2);
+    if (lb2 <= 0)
+        e->k2 = e->k;
+    if (lb <= 0)
         return;
-    e->k = 2.0 * (ax * by - ay * bx) / (la * lb * lc);
-    th = e->k * (0.5 * lb + hypot(e->x - p0[0], e->y - p0[1]));
+    bx = l->xy[2 * i0] - l->xy[2 * i1], by = l->xy[2 * i0 + 1] - l->xy[2 * i1 + 1];
+    th = e->k * (0.5 * lb + hypot(e->x - l->xy[2 * i0], e->y - l->xy[2 * i0 + 1]));
     e->ux = (bx * cos(th) - by * sin(th)) / lb;
     e->uy = (bx * sin(th) + by * cos(th)) / lb;
 }
+
 
 static int on_border(const td_join_params *p, double x, double y)
 {
@@ -199,7 +220,8 @@ static double arc_cost(const jend *a, const jend *b, double gx, double gy,
         return -1.0;
     kj = (sin(pa) + sin(pb)) / d;
     tk = 0.5 * fabs(kj) + ARC_K0;
-    ea = fabs(a->k - kj), eb = fabs(-b->k - kj);
+    ea = fmin(fabs(a->k - kj), fabs(a->k2 - kj));
+    eb = fmin(fabs(-b->k - kj), fabs(-b->k2 - kj));
     if (ea > tk || eb > tk)
         return -1.0;
     return d * (1.0 + shift / tol + 0.5 * (ea + eb) / tk);
@@ -547,7 +569,7 @@ static int sgrid_build(sgrid *g, const td_lines *ls, const td_join_params *p,
         g->head[c] = SIZE_MAX - 1; /* not needed */
     for (i = 0; i < np; i++) {
         const jend *a = &e[pairs[i].a], *b = &e[pairs[i].b];
-        double m = pairs[i].arc ? hypot(b->x - a->x, b->y - a->y) : 0.0;
+        double m = hypot(b->x - a->x, b->y - a->y); /* the curve's bulge */
         int x0 = cell_of(g, fmin(a->x, b->x) - m, g->cw);
         int x1 = cell_of(g, fmax(a->x, b->x) + m, g->cw);
         int y0 = cell_of(g, fmin(a->y, b->y) - m, g->ch);
@@ -655,24 +677,24 @@ static void mark_glyphs(const td_lines *ls, const td_join_params *p,
 
 /* ---- the passes ------------------------------------------------------- */
 
-/* The path of a stage-2 join from a to b into pts (x,y pairs): for a
- * curve join the quadratic Bezier through the crossing C of the two end
- * tangents (so it leaves a and reaches b along their lines), a point about
- * every ARC_STEP px; else, or when C is not ahead of both ends, the
- * chord.  Returns the number of points (2..ARC_MAXPTS).
+/* The path of a stage-2 join from a to b into pts (x,y pairs): the
+ * quadratic Bezier through the crossing C of the two end tangents (so it
+ * leaves a and reaches b along their lines), a point about every ARC_STEP
+ * px; when C is not ahead of both ends within the gap's length (straight
+ * or S-shaped), the chord.  Returns the number of points (2..ARC_MAXPTS).
  *
  *            C             Q(t) = (1-t)^2 a + 2t(1-t) C + t^2 b
  *        .-'   '-.
  *   ===a           b===                                              */
 #define ARC_STEP 4.0
 #define ARC_MAXPTS 32
-static size_t join_path(const jend *a, const jend *b, int arc, double *pts)
+static size_t join_path(const jend *a, const jend *b, double *pts)
 {
     double gx = b->x - a->x, gy = b->y - a->y, d = hypot(gx, gy);
     double den = a->ux * b->uy - a->uy * b->ux, sa = -1, sb = -1, cx, cy;
     size_t n = 1, k;
     pts[0] = a->x, pts[1] = a->y;
-    if (arc && fabs(den) > 1e-9) {
+    if (fabs(den) > 1e-9) {
         sa = (gx * b->uy - gy * b->ux) / den; /* a + sa u_a = b + sb u_b */
         sb = (gx * a->uy - gy * a->ux) / den;
     }
@@ -753,7 +775,7 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
         if (a->partner >= 0 || b->partner >= 0)
             continue;
         if (stage == 2) {
-            n = join_path(a, b, pairs[i].arc, pts);
+            n = join_path(a, b, pts);
             if (path_crosses(&g, ls, a, b, pts, n, *acc, *nacc))
                 continue;
             if ((rc = keep_path(a, b, pts, n, acc, nacc, &cap, paths,

@@ -17,7 +17,8 @@ static const char usage[] =
     "hills|cone|plane|ridges]\n"
     "             [--base B] [--interval I] [--width PX] [--blur SIGMA]\n"
     "             [--noise SD] [--specks N] [--breaks N] [--break-len A,B]\n"
-    "             [--index-width PX] [--labels N] [--colour] [--distractors]\n"
+    "             [--index-width PX] [--labels N] [--label-bend PX]\n"
+    "             [--colour] [--distractors]\n"
     "             [--tiff] [-q|--quiet]\n"
     "\n"
     "Writes a synthetic scanned contour sheet (PNG, or grey GeoTIFF with\n"
@@ -27,7 +28,8 @@ static const char usage[] =
     "noise, specks or breaks, break length 1,3.  --index-width: draw every\n"
     "5th contour (base + 5k * interval) this wide.  --labels N: up to N\n"
     "inline height labels per index contour cutting the line (one per\n"
-    "250 px).  --colour: brown ink on cream (RGB, PNG only); --distractors\n"
+    "250 px) where the line stays within --label-bend px (default 2.5) of\n"
+    "the label's chord.  --colour: brown ink on cream (RGB, PNG only); --distractors\n"
     "adds a blue river and black lettering to a colour sheet.\n";
 
 typedef struct opts {
@@ -120,6 +122,7 @@ static int value_opt(const char *o, const char *v, opts *op)
         {"--breaks", 0, 1e7, &breaks},
         {"--index-width", 0, 50, &p->index_width},
         {"--labels", 0, 1000, &labels},
+        {"--label-bend", 0, 1000, &p->label_bend},
     };
     size_t i;
     for (i = 0; i < sizeof nums / sizeof nums[0]; i++)
