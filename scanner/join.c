@@ -56,6 +56,7 @@ td_join_params td_join_defaults(int w, int h)
     p.min_length = 25.0;
     p.long_gap = 70.0;
     p.long_tangent = 20.0;
+    p.curves = 1;
     p.record = 0;
     p.w = w;
     p.h = h;
@@ -202,12 +203,24 @@ static double long_cost(const jend *a, const jend *b, double gx, double gy,
  * ends.  With pa the signed turn from a's end tangent to the gap and pb
  * from the gap to b's arriving direction (-b.u), a circle through both
  * ends has pa = pb (the sideways shift d |sin pa - sin pb| / 2 at most
- * max(2.5, 0.15 d)) and curvature (sin pa + sin pb) / d; each end's own
- * curvature must agree with it within half of it + ARC_K0 (a contour
+ * max(2.5, 0.15 d)) and curvature kj = (sin pa + sin pb) / d; each end's
+ * own curvature (over 30 or 16 px) must agree with it: within half of it
+ * + ARC_K0, or turning the same way within a factor of 3 (a contour
  * curving through a label gap keeps curving; two contours' ends do not
  * line up like that), and neither turn may pass ARC_TURN. */
 #define ARC_TURN (60.0 * M_PI / 180.0)
 #define ARC_K0 0.006
+
+/* How far an end's curvature k is from the join's kj: |k - kj| when
+ * within tk; tk when it turns the same way within a factor of 3 (a
+ * contour's curvature varies along it); else infinite. */
+static double k_err(double k, double kj, double tk)
+{
+    double r = kj != 0 ? k / kj : 0;
+    if (fabs(k - kj) <= tk)
+        return fabs(k - kj);
+    return r >= 1.0 / 3.0 && r <= 3.0 ? tk : INFINITY;
+}
 static double arc_cost(const jend *a, const jend *b, double gx, double gy,
                        double d)
 {
@@ -220,9 +233,9 @@ static double arc_cost(const jend *a, const jend *b, double gx, double gy,
         return -1.0;
     kj = (sin(pa) + sin(pb)) / d;
     tk = 0.5 * fabs(kj) + ARC_K0;
-    ea = fmin(fabs(a->k - kj), fabs(a->k2 - kj));
-    eb = fmin(fabs(-b->k - kj), fabs(-b->k2 - kj));
-    if (ea > tk || eb > tk)
+    ea = fmin(k_err(a->k, kj, tk), k_err(a->k2, kj, tk));
+    eb = fmin(k_err(-b->k, kj, tk), k_err(-b->k2, kj, tk));
+    if (!(ea <= tk && eb <= tk))
         return -1.0;
     return d * (1.0 + shift / tol + 0.5 * (ea + eb) / tk);
 }
@@ -243,7 +256,7 @@ static double pair_cost(const td_lines *ls, const jend *a, const jend *b,
     if (stage == 2) {
         double c = long_cost(a, b, gx, gy, d);
         *arc = c < 0;
-        return c >= 0 ? c : arc_cost(a, b, gx, gy, d);
+        return c >= 0 || !p->curves ? c : arc_cost(a, b, gx, gy, d);
     }
     if (d <= 3.0) /* too short for a direction: any two ends that close */
         return d;
@@ -776,6 +789,8 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
             continue;
         if (stage == 2) {
             n = join_path(a, b, pts);
+            if (!p->curves) /* the chord */
+                pts[2] = b->x, pts[3] = b->y, n = 2;
             if (path_crosses(&g, ls, a, b, pts, n, *acc, *nacc))
                 continue;
             if ((rc = keep_path(a, b, pts, n, acc, nacc, &cap, paths,
