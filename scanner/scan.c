@@ -2,6 +2,7 @@
  * file; this one only sequences them and keeps the debug copies. */
 #include "scan.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 td_scan_params td_scan_defaults(void)
@@ -30,7 +31,8 @@ void td_scan_result_free(td_scan_result *res)
 int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             td_ctx *cx)
 {
-    td_grid_u8 *g = NULL, *mask = NULL;
+    td_grid_u8 *g = NULL;
+    uint8_t *bits = NULL;
     td_join_params jp = p->join;
     double t0;
     int rc;
@@ -44,8 +46,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     rc = TD_ENOMEM;
     if (p->keep_debug && !(res->mask = td_grid_u8_dup(g, cx)))
         goto fail;
-    if (p->measure_width && !p->keep_debug &&
-        !(mask = td_grid_u8_dup(g, cx)))
+    if (p->measure_width && !(bits = td_width_pack(g, cx)))
         goto fail;
     t0 = td_now();
     if ((rc = td_thin_hilditch(g, &res->thin, cx)) != 0)
@@ -69,14 +70,14 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     if (p->do_join && (rc = td_join(&res->lines, &jp, &res->join, cx)) != 0)
         goto fail;
     if (p->measure_width &&
-        (rc = td_line_widths(mask ? mask : res->mask, res->lines, cx)) != 0)
+        (rc = td_line_widths_packed(bits, im->w, im->h, res->lines, cx)) != 0)
         goto fail;
     res->seconds[4] = td_now() - t0;
     res->despurred = g;
-    td_grid_u8_free(mask);
+    free(bits);
     return 0;
 fail:
-    td_grid_u8_free(mask);
+    free(bits);
     td_grid_u8_free(g);
     td_scan_result_free(res);
     return rc;

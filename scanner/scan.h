@@ -5,8 +5,8 @@
  *         -> td_line_widths (each line's ink width, from the mask)
  *
  * Memory: the mask is thinned, despurred and traced in place; a copy of it
- * is kept until the widths are measured (+1 byte per pixel; none with
- * measure_width 0).  With keep_debug, copies of the mask and the thinned
+ * packed one bit per pixel is kept until the widths are measured (+1/8
+ * byte per pixel; none with measure_width 0).  With keep_debug, copies of the mask and the thinned
  * skeleton are kept in the result (+2 bytes per pixel). */
 #ifndef TD_SCAN_H
 #define TD_SCAN_H

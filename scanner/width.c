@@ -18,16 +18,26 @@
 #define W_MAX 24.0   /* longer runs are not a line's width */
 #define W_MIN_RUNS 5
 
-static int ink_at(const td_grid_u8 *m, double x, double y)
+/* The mask: bytes (a td_grid_u8) or bits (packed rows, bit c & 7 of byte
+ * c >> 3 is column c). */
+typedef struct wmask {
+    int w, h;
+    size_t stride;
+    const uint8_t *bytes, *bits;
+} wmask;
+
+static int ink_at(const wmask *m, double x, double y)
 {
     long c = (long)floor(x), r = (long)floor(y);
     if (c < 0 || r < 0 || c >= m->w || r >= m->h)
         return 0;
-    return m->data[(size_t)r * m->stride + (size_t)c] != 0;
+    if (m->bits)
+        return m->bits[(size_t)r * m->stride + (size_t)(c >> 3)] >> (c & 7) & 1;
+    return m->bytes[(size_t)r * m->stride + (size_t)c] != 0;
 }
 
 /* Distance from (x,y) along (dx,dy) to the first paper, at most W_MAX. */
-static double run(const td_grid_u8 *m, double x, double y, double dx,
+static double run(const wmask *m, double x, double y, double dx,
                   double dy)
 {
     double t;
@@ -63,7 +73,7 @@ static int cmp_d(const void *a, const void *b)
 }
 
 /* The median run of one line, 0 when fewer than W_MIN_RUNS. */
-static double line_width(const td_grid_u8 *m, const td_line *l, double *cum,
+static double line_width(const wmask *m, const td_line *l, double *cum,
                          double *runs, size_t maxruns)
 {
     size_t n = l->n, k, nr = 0;
@@ -97,8 +107,7 @@ static double line_width(const td_grid_u8 *m, const td_line *l, double *cum,
     return nr % 2 ? runs[nr / 2] : 0.5 * (runs[nr / 2 - 1] + runs[nr / 2]);
 }
 
-/* Contract in width.h. */
-int td_line_widths(const td_grid_u8 *mask, td_lines *ls, td_ctx *cx)
+static int widths(const wmask *mask, td_lines *ls, td_ctx *cx)
 {
     size_t i, maxn = 1, maxruns = 4096;
     double *cum = NULL, *runs = NULL;
@@ -117,4 +126,33 @@ fail:
     free(cum);
     free(runs);
     return rc;
+}
+
+/* Contract in width.h. */
+int td_line_widths(const td_grid_u8 *mask, td_lines *ls, td_ctx *cx)
+{
+    wmask m = {mask->w, mask->h, mask->stride, mask->data, NULL};
+    return widths(&m, ls, cx);
+}
+
+/* Contract in width.h. */
+uint8_t *td_width_pack(const td_grid_u8 *mask, td_ctx *cx)
+{
+    size_t bs = ((size_t)mask->w + 7) / 8, r, c;
+    uint8_t *bits = td_calloc((size_t)mask->h * bs + 1, 1, cx);
+    if (!bits)
+        return NULL;
+    for (r = 0; r < (size_t)mask->h; r++)
+        for (c = 0; c < (size_t)mask->w; c++)
+            if (mask->data[r * mask->stride + c])
+                bits[r * bs + (c >> 3)] |= (uint8_t)(1u << (c & 7));
+    return bits;
+}
+
+/* Contract in width.h. */
+int td_line_widths_packed(const uint8_t *bits, int w, int h, td_lines *ls,
+                          td_ctx *cx)
+{
+    wmask m = {w, h, ((size_t)w + 7) / 8, NULL, bits};
+    return widths(&m, ls, cx);
 }

@@ -23,6 +23,15 @@ extern "C" {
  * TD_ENOMEM (widths then unchanged or partly set). */
 int td_line_widths(const td_grid_u8 *mask, td_lines *ls, td_ctx *cx);
 
+/* The mask packed one bit per pixel (rows of (w + 7) / 8 bytes, column c
+ * in bit c & 7 of byte c >> 3), so a scan can keep it at 1/8 byte per
+ * pixel while it thins the mask in place.  free() it; NULL on TD_ENOMEM. */
+uint8_t *td_width_pack(const td_grid_u8 *mask, td_ctx *cx);
+
+/* td_line_widths on a packed w x h mask. */
+int td_line_widths_packed(const uint8_t *bits, int w, int h, td_lines *ls,
+                          td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif
