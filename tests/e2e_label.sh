@@ -119,6 +119,18 @@ JSON
         --known 200,150,418 --index-every 5 --like "$T/cone.png" 2>"$T/err"
     check "index check: widths measured on --like SCAN" \
       "grep -q 'heights look +20 off' '$T/err'"
+
+    # Inline labels on curved stretches: joined along the curves by default.
+    "$BUILD/tdgen" -o "$T/lab.png" --size 1000x800 --width 2.5 --labels 3 \
+        --label-bend 15 -q
+    "$BUILD/tdgen" -o "$T/nolab.png" --size 1000x800 --width 2.5 -q
+    check "tdgen --labels draws labels" "! cmp -s '$T/lab.png' '$T/nolab.png'"
+    "$TD" scan "$T/lab.png" -o "$T/lab.geojson" 2>"$T/err"
+    "$TD" scan "$T/lab.png" -o "$T/lab2.geojson" --no-curves 2>"$T/err2"
+    n1=$(sed -n 's/.* \([0-9]*\) lines,.*/\1/p' "$T/err")
+    n2=$(sed -n 's/.* \([0-9]*\) lines,.*/\1/p' "$T/err2")
+    check "curved label gaps joined (fewer lines than with --no-curves)" \
+      "[ -n '$n1' ] && [ -n '$n2' ] && [ $n1 -lt $n2 ]"
 fi
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]
