@@ -12,9 +12,9 @@
 #include <math.h>
 #include <stdlib.h>
 
-#define W_STEP 2.0   /* px between samples along the line */
-#define W_CHORD 3.0  /* px either side for the local direction */
-#define W_END 4.0    /* px skipped at an open line's ends */
+#define W_STEP 4     /* vertices (about px) between samples */
+#define W_CHORD 3    /* vertices either side for the local direction */
+#define W_END 4      /* vertices skipped at an open line's ends */
 #define W_MAX 24.0   /* longer runs are not a line's width */
 #define W_MIN_RUNS 5
 
@@ -41,29 +41,10 @@ static double run(const wmask *m, double x, double y, double dx,
                   double dy)
 {
     double t;
-    for (t = 0.0; t <= W_MAX; t += 0.125)
+    for (t = 0.0; t <= W_MAX; t += 0.25)
         if (!ink_at(m, x + t * dx, y + t * dy))
             return t;
     return W_MAX + 1.0;
-}
-
-/* Point at arc length s of l (cum: cumulative lengths, n + 1 entries). */
-static void at(const td_line *l, const double *cum, double s, double *x,
-               double *y)
-{
-    size_t n = l->n, lo = 0, hi = l->closed ? n : n - 1, k, k1;
-    double t, len = cum[hi];
-    if (l->closed)
-        s = fmod(fmod(s, len) + len, len);
-    s = s < 0 ? 0 : s > len ? len : s;
-    while (hi - lo > 1) {
-        size_t mid = (lo + hi) / 2;
-        *(cum[mid] <= s ? &lo : &hi) = mid;
-    }
-    k = lo, k1 = (k + 1) % n;
-    t = cum[k + 1] > cum[k] ? (s - cum[k]) / (cum[k + 1] - cum[k]) : 0;
-    *x = l->xy[2 * k] + t * (l->xy[2 * k1] - l->xy[2 * k]);
-    *y = l->xy[2 * k + 1] + t * (l->xy[2 * k1 + 1] - l->xy[2 * k + 1]);
 }
 
 static int cmp_d(const void *a, const void *b)
@@ -72,29 +53,26 @@ static int cmp_d(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* The median run of one line, 0 when fewer than W_MIN_RUNS. */
-static double line_width(const wmask *m, const td_line *l, double *cum,
-                         double *runs, size_t maxruns)
+/* The median run of one line, 0 when fewer than W_MIN_RUNS.  Traced lines
+ * have a vertex per pixel step (1 to 1.41 px), so samples are taken at
+ * every W_STEP-th vertex and the chord spans W_CHORD vertices each way
+ * (skipping W_END vertices at an open line's ends); no arc lengths. */
+static double line_width(const wmask *m, const td_line *l, double *runs,
+                         size_t maxruns)
 {
-    size_t n = l->n, k, nr = 0;
-    double len, s, lo, hi, step;
-    cum[0] = 0;
-    for (k = 1; k <= n; k++) {
-        size_t j = k % n;
-        cum[k] = cum[k - 1];
-        if (k < n || l->closed)
-            cum[k] += hypot(l->xy[2 * j] - l->xy[2 * k - 2],
-                            l->xy[2 * j + 1] - l->xy[2 * k - 1]);
-    }
-    len = cum[l->closed ? n : n - 1];
-    lo = l->closed ? 0 : W_END, hi = l->closed ? len : len - W_END;
-    step = fmax(W_STEP, (hi - lo) / (double)(maxruns - 1));
-    for (s = lo; s <= hi && nr < maxruns; s += step) {
-        double x, y, ax, ay, bx, by, dx, dy, d, r;
-        at(l, cum, s, &x, &y);
-        at(l, cum, s - W_CHORD, &ax, &ay);
-        at(l, cum, s + W_CHORD, &bx, &by);
-        dx = bx - ax, dy = by - ay, d = hypot(dx, dy);
+    size_t n = l->n, k, nr = 0, lo, hi, step;
+    lo = l->closed ? 0 : W_END;
+    hi = l->closed ? n : (n > W_END ? n - W_END : 0);
+    step = hi > lo ? (hi - lo) / maxruns + 1 : 1;
+    step = step < W_STEP ? W_STEP : step;
+    for (k = lo; k < hi && nr < maxruns; k += step) {
+        size_t ka = l->closed ? (k + n - W_CHORD % n) % n
+                              : (k >= W_CHORD ? k - W_CHORD : 0);
+        size_t kb = l->closed ? (k + W_CHORD) % n
+                              : (k + W_CHORD < n ? k + W_CHORD : n - 1);
+        double x = l->xy[2 * k], y = l->xy[2 * k + 1];
+        double dx = l->xy[2 * kb] - l->xy[2 * ka];
+        double dy = l->xy[2 * kb + 1] - l->xy[2 * ka + 1], d = hypot(dx, dy), r;
         if (d < 1.0 || !ink_at(m, x, y))
             continue;
         r = run(m, x, y, -dy / d, dx / d) + run(m, x, y, dy / d, -dx / d);
@@ -109,23 +87,16 @@ static double line_width(const wmask *m, const td_line *l, double *cum,
 
 static int widths(const wmask *mask, td_lines *ls, td_ctx *cx)
 {
-    size_t i, maxn = 1, maxruns = 4096;
-    double *cum = NULL, *runs = NULL;
-    int rc = TD_ENOMEM;
-    for (i = 0; i < ls->n; i++)
-        maxn = ls->v[i].n > maxn ? ls->v[i].n : maxn;
-    if (!(cum = td_calloc(maxn + 1, sizeof *cum, cx)) ||
-        !(runs = td_calloc(maxruns, sizeof *runs, cx)))
-        goto fail;
+    size_t i, maxruns = 512;
+    double *runs = td_calloc(maxruns, sizeof *runs, cx);
+    if (!runs)
+        return TD_ENOMEM;
     for (i = 0; i < ls->n; i++) {
         td_line *l = &ls->v[i];
-        l->width = l->n < 2 ? 0.0 : line_width(mask, l, cum, runs, maxruns);
+        l->width = l->n < 2 ? 0.0 : line_width(mask, l, runs, maxruns);
     }
-    rc = 0;
-fail:
-    free(cum);
     free(runs);
-    return rc;
+    return 0;
 }
 
 /* Contract in width.h. */
@@ -142,10 +113,21 @@ uint8_t *td_width_pack(const td_grid_u8 *mask, td_ctx *cx)
     uint8_t *bits = td_calloc((size_t)mask->h * bs + 1, 1, cx);
     if (!bits)
         return NULL;
-    for (r = 0; r < (size_t)mask->h; r++)
-        for (c = 0; c < (size_t)mask->w; c++)
-            if (mask->data[r * mask->stride + c])
-                bits[r * bs + (c >> 3)] |= (uint8_t)(1u << (c & 7));
+    for (r = 0; r < (size_t)mask->h; r++) {
+        const uint8_t *src = mask->data + r * mask->stride;
+        uint8_t *dst = bits + r * bs;
+        size_t w8 = (size_t)mask->w / 8 * 8;
+        for (c = 0; c < w8; c += 8) /* eight pixels a byte, no branch */
+            dst[c >> 3] = (uint8_t)((src[c] != 0) | (src[c + 1] != 0) << 1 |
+                                    (src[c + 2] != 0) << 2 |
+                                    (src[c + 3] != 0) << 3 |
+                                    (src[c + 4] != 0) << 4 |
+                                    (src[c + 5] != 0) << 5 |
+                                    (src[c + 6] != 0) << 6 |
+                                    (src[c + 7] != 0) << 7);
+        for (; c < (size_t)mask->w; c++)
+            dst[c >> 3] |= (uint8_t)((src[c] != 0) << (c & 7));
+    }
     return bits;
 }
 

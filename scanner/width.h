@@ -13,11 +13,12 @@
 extern "C" {
 #endif
 
-/* Set ls->v[i].width to the median ink width of line i in px: every 2 px
- * along the line (not within 4 px of an open end), the run of ink (mask
- * != 0) across the line through the point, along the normal of the chord
- * from 3 px before to 3 px after it; points off the ink (a bridged gap)
- * and runs longer than 24 px (a blot, a crossing) are skipped.  Lines with
+/* Set ls->v[i].width to the median ink width of line i in px: at every
+ * 2nd vertex (traced lines have one per pixel step; not the 4 at an open
+ * line's ends; at most 512 samples per line), the run of ink (mask != 0)
+ * across the line through the vertex, along the normal of the chord from 3
+ * vertices before to 3 after it; vertices off the ink (a bridged gap) and
+ * runs longer than 24 px (a blot, a crossing) are skipped.  Lines with
  * fewer than 5 runs get width 0 (not measured).  mask is the binarised
  * scan before thinning, same pixel frame as the lines.  Returns 0 or
  * TD_ENOMEM (widths then unchanged or partly set). */
