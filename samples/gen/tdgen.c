@@ -29,8 +29,9 @@ static const char usage[] =
     "5th contour (base + 5k * interval) this wide.  --labels N: up to N\n"
     "inline height labels per index contour cutting the line (one per\n"
     "250 px) where the line stays within --label-bend px (default 2.5) of\n"
-    "the label's chord.  --colour: brown ink on cream (RGB, PNG only); --distractors\n"
-    "adds a blue river and black lettering to a colour sheet.\n";
+    "the label's chord.  --colour: brown ink on cream (RGB, PNG only);\n"
+    "--distractors adds a blue river and black lettering to a colour\n"
+    "sheet.\n";
 
 typedef struct opts {
     td_gen_params p;
