@@ -32,7 +32,7 @@ typedef struct td_join_params {
                           stage-2 join follows a curve along both end
                           tangents; 0: straight rule and chords only
                           (default 1) */
-    int record;        /* keep the stage-2 join segments in the stats */
+    int record;        /* keep the stage-2 join paths in the stats */
 } td_join_params;
 
 typedef struct td_join_stats {
@@ -43,8 +43,9 @@ typedef struct td_join_stats {
     size_t long_joins; /* of joins: made by stage 2 */
     size_t glyphs;     /* small closed rings (digits such as 0, 6, 8, 9)
                           removed because a stage-2 join passes through */
-    td_lines *segments; /* p->record only: each stage-2 join as a 2-point
-                           line; free with td_join_stats_free */
+    td_lines *segments; /* p->record only: each stage-2 join as a line
+                           (its path: 2 points for a chord, more along a
+                           curve); free with td_join_stats_free */
 } td_join_stats;
 
 td_join_params td_join_defaults(int w, int h);
