@@ -331,7 +331,7 @@ static size_t path_lines(solver *s, size_t j, long *out)
         out[m++] = f - 1;
     if (s->c[j].kind == K_LINE)
         out[m++] = s->c[j].line;
-    if (s->c[0].kind == K_LINE && s->c[0].line != out[m - 1])
+    if (s->c[0].kind == K_LINE && (m == 0 || s->c[0].line != out[m - 1]))
         out[m++] = s->c[0].line;
     return m;
 }
