@@ -233,10 +233,9 @@ static void test_short_piece_kept(void)
     td_lines_free(ls);
 }
 
-/* Number of proper crossings between segment s and the lines. */
-static int crossings(const td_line *s, const td_lines *ls)
+/* Number of proper crossings between segment ab and the lines. */
+static int seg_crossings(const double *a, const double *b, const td_lines *ls)
 {
-    const double *a = s->xy, *b = s->xy + 2;
     size_t i, k;
     int n = 0;
     for (i = 0; i < ls->n; i++) {
@@ -251,6 +250,17 @@ static int crossings(const td_line *s, const td_lines *ls)
             n += o1 * o2 < 0 && o3 * o4 < 0;
         }
     }
+    return n;
+}
+
+/* Number of proper crossings between the pieces of join path s and the
+ * lines. */
+static int crossings(const td_line *s, const td_lines *ls)
+{
+    size_t j;
+    int n = 0;
+    for (j = 0; j + 1 < s->n; j++)
+        n += seg_crossings(s->xy + 2 * j, s->xy + 2 * j + 2, ls);
     return n;
 }
 
