@@ -360,17 +360,26 @@ static void put_warnings(const char *text)
     }
 }
 
-/* The lines whose up/down is only assumed (a note, not a warning). */
-static void put_assumed(td_label_report *rep, const pts *heights)
+/* Whether id is among the points' ids. */
+static int has_id(const pts *a, long id)
 {
-    size_t i, j, m = 0;
-    for (i = 0; i < rep->assumed; i++) { /* --heights rows are not guesses */
-        for (j = 0; j < heights->n && heights->v[j].id != rep->assumed_ids[i];
-             j++)
-            ;
-        if (j == heights->n)
+    size_t j;
+    for (j = 0; j < a->n; j++)
+        if (a->v[j].id == id)
+            return 1;
+    return 0;
+}
+
+/* The lines whose up/down is only assumed (a note, not a warning); lines
+ * given by --heights or answered in --interactive are not guesses. */
+static void put_assumed(td_label_report *rep, const pts *heights,
+                        const pts *seen)
+{
+    size_t i, m = 0;
+    for (i = 0; i < rep->assumed; i++)
+        if (!has_id(heights, rep->assumed_ids[i]) &&
+            !has_id(seen, rep->assumed_ids[i]))
             rep->assumed_ids[m++] = rep->assumed_ids[i];
-    }
     rep->assumed = m;
     if (rep->assumed == 0)
         return;
@@ -385,14 +394,14 @@ static void put_assumed(td_label_report *rep, const pts *heights)
 
 static void summary(const td_lines *ls, td_label_report *rep,
                     const td_label_report *checks, const pts *heights,
-                    size_t more)
+                    const pts *seen, size_t more)
 {
     size_t i, lab = 0, shown = 0;
     for (i = 0; i < ls->n; i++)
         lab += ls->v[i].has_height != 0;
     put_warnings(rep->text);
     put_warnings(checks->text);
-    put_assumed(rep, heights);
+    put_assumed(rep, heights, seen);
     fprintf(stderr, "label: %zu lines, %zu labelled, %zu undetermined, %zu "
             "warnings", ls->n, lab, ls->n - lab,
             rep->warnings + checks->warnings + more);
@@ -596,14 +605,16 @@ static int read_answer(FILE *in, double *v)
 }
 
 /* Ask each line's height in id order (the paper's operator), re-suggesting
- * the others after each typed height.  Returns the number of warnings. */
+ * the others after each typed height.  Returns the number of warnings;
+ * *asked gets the number of lines answered (accepted or typed). */
 static size_t interact(td_lines *ls, td_label_params *p, const pts *known,
                        const pts *heights, const double *idxy,
-                       td_label_report *rep, FILE *in)
+                       td_label_report *rep, FILE *in, size_t *asked)
 {
     pts typed = {NULL, 0, 0};
     size_t i, warnings = 0;
     for (i = 0; i < ls->n; i++) {
+        *asked = i; /* lines before i were answered */
         td_line *l = &ls->v[i];
         double x = idxy[2 * i], y = idxy[2 * i + 1], v, k;
         char sug[64] = "?";
@@ -618,6 +629,7 @@ static size_t interact(td_lines *ls, td_label_params *p, const pts *known,
                 fputc('\n', stderr);
             break;
         }
+        *asked = i + 1;
         if (a == 3) {
             fprintf(stderr, "  a height, Enter to accept, q to stop\n");
             i--;
@@ -701,7 +713,7 @@ static int final_checks(const label_opts *o, td_lines *ls,
 int td_cmd_label(int argc, char **argv)
 {
     label_opts o;
-    pts heights;
+    pts heights, seen = {NULL, 0, 0};
     td_ctx cx;
     td_lines *ls = NULL;
     td_label_report rep, checks;
@@ -736,15 +748,22 @@ int td_cmd_label(int argc, char **argv)
         (o.interactive && (rc = id_places(ls, &idxy, &cx)) != 0) ||
         (o.interactive && (rc = write_sheet(&o, ls, idxy, &cx)) != 0))
         goto fail;
-    if (o.interactive)
-        more += interact(ls, &p, &o.known, &heights, idxy, &rep, stdin);
+    if (o.interactive) {
+        size_t asked = 0, i;
+        more += interact(ls, &p, &o.known, &heights, idxy, &rep, stdin,
+                         &asked);
+        for (i = 0; i < asked && rc == 0; i++) /* seen: not "assumed" */
+            rc = push_pt(&seen, 0, 0, ls->v[i].height, ls->v[i].id, &cx);
+        if (rc != 0)
+            goto fail;
+    }
     more += (size_t)ncross;
     if ((rc = final_checks(&o, ls, &p, &checks, &cx)) != 0 ||
         (rc = td_geojson_write_lines(o.out, ls, NULL, &cx)) != 0 ||
         (o.csv_out && (rc = export_csv(o.csv_out, ls, &cx)) != 0))
         goto fail;
     if (!o.quiet)
-        summary(ls, &rep, &checks, &heights, more);
+        summary(ls, &rep, &checks, &heights, &seen, more);
 fail:
     if (rc)
         rc = td_cli_fail("label", &cx);
@@ -756,5 +775,6 @@ done:
     free(o.known.v);
     free(o.dep);
     free(heights.v);
+    free(seen.v);
     return rc == 2 ? 0 : rc;
 }
