@@ -31,14 +31,20 @@
 
 typedef struct jend {
     double x, y, tx, ty;
+    double k, ux, uy; /* stage 2: curvature towards the end (1/px, turning
+                         as cross(t, t') > 0) and the tangent at the end */
+    double k2;        /* the curvature over a shorter stretch (ARC_L2) */
     size_t line;
     int at_end;   /* 0: the line's first point, 1: its last */
     long partner; /* index of the joined end, -1 when free */
+    long path;    /* stage 2 arc joins: index of the join's path, -1 */
+    int path_from; /* the path runs from this end */
 } jend;
 
 typedef struct jpair {
     double cost;
     size_t a, b;
+    int arc; /* stage 2: accepted by the curve rule (arc_cost) */
 } jpair;
 
 td_join_params td_join_defaults(int w, int h)
@@ -50,6 +56,7 @@ td_join_params td_join_defaults(int w, int h)
     p.min_length = 25.0;
     p.long_gap = 70.0;
     p.long_tangent = 20.0;
+    p.curves = 1;
     p.record = 0;
     p.w = w;
     p.h = h;
@@ -94,7 +101,57 @@ static void end_of(const td_line *l, int at_end, double tangent, jend *e)
     e->ty = d > 0 ? dy / d : 0.0;
     e->at_end = at_end;
     e->partner = -1;
+    e->path = -1;
+    e->k = e->k2 = 0.0;
+    e->ux = e->tx, e->uy = e->ty;
 }
+
+/* The curvature of the circle through the points 2, 2 + L/2 and 2 + L px
+ * back from an end (P0, P1, P2), with |P0 - P1| in *lb; 0 when the line is
+ * too short (then *lb = 0).
+ *
+ *    P2 . . . P1 . . . P0 ..end      k = 2 cross(P1-P2, P0-P1) /
+ *                                        (|P1-P2| |P0-P1| |P0-P2|)  */
+static double curve_over(const td_line *l, int at_end, double L,
+                         size_t *i0_, size_t *i1_, double *lb_)
+{
+    size_t i0 = walk_back(l, at_end, 2.0);
+    size_t i1 = walk_back(l, at_end, 2.0 + 0.5 * L);
+    size_t i2 = walk_back(l, at_end, 2.0 + L);
+    const double *p0 = l->xy + 2 * i0, *p1 = l->xy + 2 * i1,
+                 *p2 = l->xy + 2 * i2;
+    double ax = p1[0] - p2[0], ay = p1[1] - p2[1];
+    double bx = p0[0] - p1[0], by = p0[1] - p1[1];
+    double la = hypot(ax, ay), lb = hypot(bx, by);
+    double lc = hypot(p0[0] - p2[0], p0[1] - p2[1]);
+    *i0_ = i0, *i1_ = i1, *lb_ = 0.0;
+    if (la < 0.4 * L || lb < 0.4 * L || lc <= 0)
+        return 0.0;
+    *lb_ = lb;
+    return 2.0 * (ax * by - ay * bx) / (la * lb * lc);
+}
+
+/* Stage 2: the end's curvature over ARC_L and ARC_L2 px (curve_over), and
+ * its tangent at the end: the chord P1-P0 (over ARC_L) turned on along
+ * that circle.  Lines too short keep k = 0 and the chord tangent. */
+#define ARC_L 30.0
+#define ARC_L2 16.0
+static void end_curve(const td_line *l, int at_end, jend *e)
+{
+    size_t i0, i1, j0, j1;
+    double lb, lb2, bx, by, th;
+    e->k = curve_over(l, at_end, ARC_L, &i0, &i1, &lb);
+    e->k2 = curve_over(l, at_end, ARC_L2, &j0, &j1, &lb2);
+    if (lb2 <= 0)
+        e->k2 = e->k;
+    if (lb <= 0)
+        return;
+    bx = l->xy[2 * i0] - l->xy[2 * i1], by = l->xy[2 * i0 + 1] - l->xy[2 * i1 + 1];
+    th = e->k * (0.5 * lb + hypot(e->x - l->xy[2 * i0], e->y - l->xy[2 * i0 + 1]));
+    e->ux = (bx * cos(th) - by * sin(th)) / lb;
+    e->uy = (bx * sin(th) + by * cos(th)) / lb;
+}
+
 
 static int on_border(const td_join_params *p, double x, double y)
 {
@@ -142,10 +199,51 @@ static double long_cost(const jend *a, const jend *b, double gx, double gy,
     return d * (1.0 + shift / tol + bend / (0.3 * d));
 }
 
+/* Stage 2 on a curve: the bend is over 0.3 d, but one circle fits the
+ * ends.  With pa the signed turn from a's end tangent to the gap and pb
+ * from the gap to b's arriving direction (-b.u), a circle through both
+ * ends has pa = pb (the sideways shift d |sin pa - sin pb| / 2 at most
+ * max(2.5, 0.15 d)) and curvature kj = (sin pa + sin pb) / d; each end's
+ * own curvature (over 30 or 16 px) must agree with it: within half of it
+ * + ARC_K0, or turning the same way within a factor of 3 (a contour
+ * curving through a label gap keeps curving; two contours' ends do not
+ * line up like that), and neither turn may pass ARC_TURN. */
+#define ARC_TURN (60.0 * M_PI / 180.0)
+#define ARC_K0 0.006
+
+/* How far an end's curvature k is from the join's kj: |k - kj| when
+ * within tk; tk when it turns the same way within a factor of 3 (a
+ * contour's curvature varies along it); else infinite. */
+static double k_err(double k, double kj, double tk)
+{
+    double r = kj != 0 ? k / kj : 0;
+    if (fabs(k - kj) <= tk)
+        return fabs(k - kj);
+    return r >= 1.0 / 3.0 && r <= 3.0 ? tk : INFINITY;
+}
+static double arc_cost(const jend *a, const jend *b, double gx, double gy,
+                       double d)
+{
+    double ux = gx / d, uy = gy / d, tol = fmax(TD_JOIN_SIDE, 0.15 * d);
+    double pa = atan2(a->ux * uy - a->uy * ux, a->ux * ux + a->uy * uy);
+    double pb = atan2(-ux * b->uy + uy * b->ux, -ux * b->ux - uy * b->uy);
+    double shift = 0.5 * d * fabs(sin(pa) - sin(pb)), kj, tk, ea, eb;
+    if (fabs(pa) > ARC_TURN || fabs(pb) > ARC_TURN || pa * pb <= 0 ||
+        shift > tol)
+        return -1.0;
+    kj = (sin(pa) + sin(pb)) / d;
+    tk = 0.5 * fabs(kj) + ARC_K0;
+    ea = fmin(k_err(a->k, kj, tk), k_err(a->k2, kj, tk));
+    eb = fmin(k_err(-b->k, kj, tk), k_err(-b->k2, kj, tk));
+    if (!(ea <= tk && eb <= tk))
+        return -1.0;
+    return d * (1.0 + shift / tol + 0.5 * (ea + eb) / tk);
+}
+
 /* Cost of joining ends a and b in stage 1 or 2, or a negative value when
  * not allowed. */
 static double pair_cost(const td_lines *ls, const jend *a, const jend *b,
-                        const td_join_params *p, int stage)
+                        const td_join_params *p, int stage, int *arc)
 {
     double gx = b->x - a->x, gy = b->y - a->y, d = hypot(gx, gy), ga, gb;
     if (d > (stage == 2 ? p->long_gap : p->max_gap))
@@ -153,8 +251,13 @@ static double pair_cost(const td_lines *ls, const jend *a, const jend *b,
     if (a->line == b->line &&
         (ls->v[a->line].n < 4 || td_line_length(&ls->v[a->line]) < 4 * d))
         return -1.0;
-    if (stage == 2)
-        return d > 0 ? long_cost(a, b, gx, gy, d) : 0.0;
+    if (stage == 2 && d <= 0)
+        return 0.0;
+    if (stage == 2) {
+        double c = long_cost(a, b, gx, gy, d);
+        *arc = c < 0;
+        return c >= 0 || !p->curves ? c : arc_cost(a, b, gx, gy, d);
+    }
     if (d <= 3.0) /* too short for a direction: any two ends that close */
         return d;
     ga = angle_to(a->tx, a->ty, gx, gy);
@@ -204,7 +307,9 @@ static int find_pairs(const td_lines *ls, const jend *e, size_t ne,
                     continue;
                 for (j = head[(size_t)by * cw + bx]; j != SIZE_MAX; j = nxt[j]) {
                     double c;
-                    if (j <= i || (c = pair_cost(ls, &e[i], &e[j], p, stage)) < 0)
+                    int arc = 0;
+                    if (j <= i ||
+                        (c = pair_cost(ls, &e[i], &e[j], p, stage, &arc)) < 0)
                         continue;
                     if (np == cap) {
                         jpair *q = realloc(pairs, (cap = cap ? 2 * cap : 256) * sizeof *q);
@@ -213,6 +318,7 @@ static int find_pairs(const td_lines *ls, const jend *e, size_t ne,
                         pairs = q;
                     }
                     pairs[np].cost = c;
+                    pairs[np].arc = arc;
                     pairs[np].a = i;
                     pairs[np++].b = j;
                 }
@@ -245,11 +351,25 @@ static int append(td_line *dst, const td_line *src, int rev, td_ctx *cx)
     return 0;
 }
 
+/* Append the inner points of a join's path (forward when it runs from the
+ * end the chain leaves by). */
+static int path_inside(td_line *d, const td_line *path, int forward,
+                       td_ctx *cx)
+{
+    size_t k;
+    for (k = 1; k + 1 < path->n; k++) {
+        size_t j = forward ? k : path->n - 1 - k;
+        if (td_line_push(d, path->xy[2 * j], path->xy[2 * j + 1], cx) != 0)
+            return TD_ENOMEM;
+    }
+    return 0;
+}
+
 /* Build one chain starting at line i entered through end `first` (0: its
  * start, so it is walked forward).  Marks used lines. */
 static int build_chain(const td_lines *ls, const jend *e, const long *end_of_line,
-                       uint8_t *used, size_t i, int first, td_lines *out,
-                       td_ctx *cx)
+                       const td_lines *paths, uint8_t *used, size_t i,
+                       int first, td_lines *out, td_ctx *cx)
 {
     td_line *d = td_lines_add(out, cx);
     size_t line = i;
@@ -266,6 +386,10 @@ static int build_chain(const td_lines *ls, const jend *e, const long *end_of_lin
         {
             const jend *to = &e[e[exit_end].partner];
             d->bridged++;
+            if (e[exit_end].path >= 0 &&
+                path_inside(d, &paths->v[e[exit_end].path],
+                            e[exit_end].path_from, cx) != 0)
+                return TD_ENOMEM;
             if (used[to->line]) { /* back where the chain began: a ring */
                 d->closed = 1;
                 return 0;
@@ -279,7 +403,8 @@ static int build_chain(const td_lines *ls, const jend *e, const long *end_of_lin
 /* Chains of joined lines into out; closed lines flagged in drop (may be
  * NULL) are left out. */
 static int assemble(const td_lines *ls, const jend *e, const long *eol,
-                    const uint8_t *drop, td_lines *out, td_ctx *cx)
+                    const td_lines *paths, const uint8_t *drop,
+                    td_lines *out, td_ctx *cx)
 {
     uint8_t *used = calloc(ls->n + 1, 1);
     size_t i;
@@ -292,9 +417,9 @@ static int assemble(const td_lines *ls, const jend *e, const long *eol,
         if (used[i] || ls->v[i].closed)
             continue;
         if (s < 0 || e[s].partner < 0)
-            rc = build_chain(ls, e, eol, used, i, 0, out, cx);
+            rc = build_chain(ls, e, eol, paths, used, i, 0, out, cx);
         else if (t < 0 || e[t].partner < 0)
-            rc = build_chain(ls, e, eol, used, i, 1, out, cx);
+            rc = build_chain(ls, e, eol, paths, used, i, 1, out, cx);
     }
     for (i = 0; i < ls->n && rc == 0; i++) {
         if (used[i] || (drop && drop[i]))
@@ -305,7 +430,7 @@ static int assemble(const td_lines *ls, const jend *e, const long *eol,
             if (d)
                 d->closed = 1;
         } else {
-            rc = build_chain(ls, e, eol, used, i, 0, out, cx);
+            rc = build_chain(ls, e, eol, paths, used, i, 0, out, cx);
         }
     }
     free(used);
@@ -315,7 +440,7 @@ static int assemble(const td_lines *ls, const jend *e, const long *eol,
 /* The open ends of ls off the border, with tangents over `tangent` px;
  * eol[2i + k] is the index of line i's end k, or -1. */
 static int collect_ends(const td_lines *ls, const td_join_params *p,
-                        double tangent, jend **out, size_t *nout,
+                        double tangent, int stage, jend **out, size_t *nout,
                         long **eol_out, td_ctx *cx)
 {
     jend *e = td_calloc(2 * ls->n + 1, sizeof *e, cx);
@@ -336,6 +461,8 @@ static int collect_ends(const td_lines *ls, const td_join_params *p,
             end_of(l, k, tangent, &e[n]);
             if (on_border(p, e[n].x, e[n].y))
                 continue;
+            if (stage == 2)
+                end_curve(l, k, &e[n]);
             e[n].line = i;
             eol[2 * i + k] = (long)n++;
         }
@@ -455,10 +582,11 @@ static int sgrid_build(sgrid *g, const td_lines *ls, const td_join_params *p,
         g->head[c] = SIZE_MAX - 1; /* not needed */
     for (i = 0; i < np; i++) {
         const jend *a = &e[pairs[i].a], *b = &e[pairs[i].b];
-        int x0 = cell_of(g, fmin(a->x, b->x), g->cw);
-        int x1 = cell_of(g, fmax(a->x, b->x), g->cw);
-        int y0 = cell_of(g, fmin(a->y, b->y), g->ch);
-        int y1 = cell_of(g, fmax(a->y, b->y), g->ch), x, y;
+        double m = hypot(b->x - a->x, b->y - a->y); /* the curve's bulge */
+        int x0 = cell_of(g, fmin(a->x, b->x) - m, g->cw);
+        int x1 = cell_of(g, fmax(a->x, b->x) + m, g->cw);
+        int y0 = cell_of(g, fmin(a->y, b->y) - m, g->ch);
+        int y1 = cell_of(g, fmax(a->y, b->y) + m, g->ch), x, y;
         for (y = y0; y <= y1; y++)
             for (x = x0; x <= x1; x++)
                 g->head[(size_t)y * g->cw + x] = SIZE_MAX;
@@ -498,12 +626,13 @@ static int near_end(const td_lines *ls, size_t i, size_t k, const jend *e)
     return e->at_end ? k + 3 >= nseg : k < 3;
 }
 
-/* Whether the join a-b meets a line of the grid (other than the last 3
- * segments at its own two ends) or an accepted join. */
+/* Whether the piece pa-pb of the join a-b meets a line of the grid (other
+ * than the last 3 segments at the join's own two ends) or an accepted
+ * join's piece (acc). */
 static int crosses(const sgrid *g, const td_lines *ls, const jend *a,
-                   const jend *b, const double *acc, size_t nacc)
+                   const jend *b, const double *pa, const double *pb,
+                   const double *acc, size_t nacc)
 {
-    double pa[2] = {a->x, a->y}, pb[2] = {b->x, b->y};
     int x0 = cell_of(g, fmin(pa[0], pb[0]), g->cw);
     int x1 = cell_of(g, fmax(pa[0], pb[0]), g->cw);
     int y0 = cell_of(g, fmin(pa[1], pb[1]), g->ch);
@@ -561,36 +690,112 @@ static void mark_glyphs(const td_lines *ls, const td_join_params *p,
 
 /* ---- the passes ------------------------------------------------------- */
 
-/* Greedy acceptance, cheapest first; stage 2 also rejects crossings and
- * collects the accepted segments (x0,y0,x1,y1) in *acc. */
+/* The path of a stage-2 join from a to b into pts (x,y pairs): the
+ * quadratic Bezier through the crossing C of the two end tangents (so it
+ * leaves a and reaches b along their lines), a point about every ARC_STEP
+ * px; when C is not ahead of both ends within the gap's length (straight
+ * or S-shaped), the chord.  Returns the number of points (2..ARC_MAXPTS).
+ *
+ *            C             Q(t) = (1-t)^2 a + 2t(1-t) C + t^2 b
+ *        .-'   '-.
+ *   ===a           b===                                              */
+#define ARC_STEP 4.0
+#define ARC_MAXPTS 32
+static size_t join_path(const jend *a, const jend *b, double *pts)
+{
+    double gx = b->x - a->x, gy = b->y - a->y, d = hypot(gx, gy);
+    double den = a->ux * b->uy - a->uy * b->ux, sa = -1, sb = -1, cx, cy;
+    size_t n = 1, k;
+    pts[0] = a->x, pts[1] = a->y;
+    if (fabs(den) > 1e-9) {
+        sa = (gx * b->uy - gy * b->ux) / den; /* a + sa u_a = b + sb u_b */
+        sb = (gx * a->uy - gy * a->ux) / den;
+    }
+    if (sa > 0 && sb > 0 && sa < d && sb < d) {
+        cx = a->x + sa * a->ux, cy = a->y + sa * a->uy;
+        n = (size_t)ceil((sa + sb) / ARC_STEP);
+        n = n < 2 ? 2 : n > ARC_MAXPTS - 1 ? ARC_MAXPTS - 1 : n;
+        for (k = 1; k < n; k++) {
+            double t = (double)k / (double)n, u = 1.0 - t;
+            pts[2 * k] = u * u * a->x + 2 * t * u * cx + t * t * b->x;
+            pts[2 * k + 1] = u * u * a->y + 2 * t * u * cy + t * t * b->y;
+        }
+    }
+    pts[2 * n] = b->x, pts[2 * n + 1] = b->y;
+    return n + 1;
+}
+
+/* Whether the path pts (np points) of join a-b meets a line or an
+ * accepted join. */
+static int path_crosses(const sgrid *g, const td_lines *ls, const jend *a,
+                        const jend *b, const double *pts, size_t np,
+                        const double *acc, size_t nacc)
+{
+    size_t k;
+    for (k = 0; k + 1 < np; k++)
+        if (crosses(g, ls, a, b, pts + 2 * k, pts + 2 * k + 2, acc, nacc))
+            return 1;
+    return 0;
+}
+
+/* Keep an accepted stage-2 join: its pieces in acc (x0,y0,x1,y1, grown
+ * as needed) and its path in paths, linked from both ends. */
+static int keep_path(jend *a, jend *b, const double *pts, size_t np,
+                     double **acc, size_t *nacc, size_t *cap,
+                     td_lines *paths, td_ctx *cx)
+{
+    td_line *l;
+    size_t k;
+    if (*nacc + np > *cap) {
+        size_t c = 2 * (*nacc + np) + 64;
+        double *v = realloc(*acc, 4 * c * sizeof *v);
+        if (!v)
+            return td_seterr(cx, TD_ENOMEM, "join: out of memory");
+        *acc = v, *cap = c;
+    }
+    for (k = 0; k + 1 < np; k++, ++*nacc)
+        memcpy(*acc + 4 * *nacc, pts + 2 * k, 4 * sizeof **acc);
+    if (!(l = td_lines_add(paths, cx)))
+        return TD_ENOMEM;
+    for (k = 0; k < np; k++)
+        if (td_line_push(l, pts[2 * k], pts[2 * k + 1], cx) != 0)
+            return TD_ENOMEM;
+    a->path = b->path = (long)paths->n - 1;
+    a->path_from = 1, b->path_from = 0;
+    return 0;
+}
+
+/* Greedy acceptance, cheapest first; stage 2 also rejects joins whose path
+ * meets a line or an accepted join, and keeps the accepted paths (pieces
+ * in *acc, polylines in paths). */
 static int accept_pairs(const td_lines *ls, const td_join_params *p,
                         int stage, jend *e, jpair *pairs, size_t np,
-                        double **acc, size_t *nacc, td_join_stats *st,
-                        td_ctx *cx)
+                        double **acc, size_t *nacc, td_lines *paths,
+                        td_join_stats *st, td_ctx *cx)
 {
     sgrid g;
-    size_t i;
+    size_t i, cap = 0;
+    int rc = 0;
     memset(&g, 0, sizeof g);
     if (np > 0)
         qsort(pairs, np, sizeof *pairs, cmp_pair);
-    if (stage == 2 && np > 0) {
-        if (sgrid_build(&g, ls, p, e, pairs, np, cx) != 0)
-            return TD_ENOMEM;
-        if (!(*acc = malloc(4 * np * sizeof **acc))) {
-            sgrid_free(&g);
-            return td_seterr(cx, TD_ENOMEM, "join: out of memory");
-        }
-    }
-    for (i = 0; i < np; i++) {
+    if (stage == 2 && np > 0 && sgrid_build(&g, ls, p, e, pairs, np, cx) != 0)
+        return TD_ENOMEM;
+    for (i = 0; i < np && rc == 0; i++) {
         jend *a = &e[pairs[i].a], *b = &e[pairs[i].b];
+        double pts[2 * ARC_MAXPTS];
+        size_t n;
         if (a->partner >= 0 || b->partner >= 0)
             continue;
         if (stage == 2) {
-            double *s = *acc + 4 * *nacc;
-            if (crosses(&g, ls, a, b, *acc, *nacc))
+            n = join_path(a, b, pts);
+            if (!p->curves) /* the chord */
+                pts[2] = b->x, pts[3] = b->y, n = 2;
+            if (path_crosses(&g, ls, a, b, pts, n, *acc, *nacc))
                 continue;
-            s[0] = a->x, s[1] = a->y, s[2] = b->x, s[3] = b->y;
-            ++*nacc;
+            if ((rc = keep_path(a, b, pts, n, acc, nacc, &cap, paths,
+                                cx)) != 0)
+                break;
             st->long_joins++;
         }
         a->partner = (long)pairs[i].b;
@@ -600,20 +805,22 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
     }
     if (stage == 2 && np > 0)
         sgrid_free(&g);
-    return 0;
+    return rc;
 }
 
-/* Stage 2's join segments as 2-point lines in st->segments. */
-static int record(td_join_stats *st, const double *acc, size_t nacc,
-                  td_ctx *cx)
+/* Stage 2's joins as lines (their paths) in st->segments. */
+static int record(td_join_stats *st, const td_lines *paths, td_ctx *cx)
 {
-    size_t j;
+    size_t j, k;
     if (!st->segments && !(st->segments = td_lines_new(cx)))
         return TD_ENOMEM;
-    for (j = 0; j < nacc; j++) {
+    for (j = 0; j < paths->n; j++) {
         td_line *l = td_lines_add(st->segments, cx);
-        if (!l || td_line_push(l, acc[4 * j], acc[4 * j + 1], cx) != 0 ||
-            td_line_push(l, acc[4 * j + 2], acc[4 * j + 3], cx) != 0)
+        for (k = 0; l && k < paths->v[j].n; k++)
+            if (td_line_push(l, paths->v[j].xy[2 * k],
+                             paths->v[j].xy[2 * k + 1], cx) != 0)
+                return TD_ENOMEM;
+        if (!l)
             return TD_ENOMEM;
     }
     return 0;
@@ -623,36 +830,39 @@ static int record(td_join_stats *st, const double *acc, size_t nacc,
 static int join_pass(td_lines **lsp, const td_join_params *p, int stage,
                      td_join_stats *st, td_ctx *cx)
 {
-    td_lines *ls = *lsp, *out = NULL;
+    td_lines *ls = *lsp, *out = NULL, *paths = NULL;
     jend *e = NULL;
     long *eol = NULL;
     jpair *pairs = NULL;
     double *acc = NULL;
     uint8_t *drop = NULL;
     size_t ne = 0, np = 0, nacc = 0;
-    int rc;
+    int rc = TD_ENOMEM;
+    if (!(paths = td_lines_new(cx)))
+        goto fail;
     if ((rc = collect_ends(ls, p, stage == 2 ? p->long_tangent : p->tangent,
-                           &e, &ne, &eol, cx)) != 0 ||
+                           stage, &e, &ne, &eol, cx)) != 0 ||
         (rc = find_pairs(ls, e, ne, p, stage, &pairs, &np, cx)) != 0 ||
-        (rc = accept_pairs(ls, p, stage, e, pairs, np, &acc, &nacc, st,
-                           cx)) != 0)
+        (rc = accept_pairs(ls, p, stage, e, pairs, np, &acc, &nacc, paths,
+                           st, cx)) != 0)
         goto fail;
     rc = TD_ENOMEM;
     if (!(drop = td_calloc(ls->n + 1, 1, cx)))
         goto fail;
     if (stage == 2)
         mark_glyphs(ls, p, acc, nacc, drop, st);
-    if (stage == 2 && p->record && (rc = record(st, acc, nacc, cx)) != 0)
+    if (stage == 2 && p->record && (rc = record(st, paths, cx)) != 0)
         goto fail;
     rc = TD_ENOMEM;
     if (!(out = td_lines_new(cx)) ||
-        (rc = assemble(ls, e, eol, drop, out, cx)) != 0)
+        (rc = assemble(ls, e, eol, paths, drop, out, cx)) != 0)
         goto fail;
     td_lines_free(ls);
     *lsp = out;
     out = NULL;
 fail:
     td_lines_free(out);
+    td_lines_free(paths);
     free(e);
     free(eol);
     free(pairs);
@@ -677,7 +887,7 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
     uint8_t *cand = NULL, *cont = NULL;
     size_t ne = 0, np = 0, i;
     int rc;
-    if ((rc = collect_ends(ls, p, p->tangent, &e, &ne, &eol, cx)) != 0 ||
+    if ((rc = collect_ends(ls, p, p->tangent, 1, &e, &ne, &eol, cx)) != 0 ||
         (rc = find_pairs(ls, e, ne, p, 1, &pairs, &np, cx)) != 0)
         goto fail;
     rc = TD_ENOMEM;

@@ -27,7 +27,12 @@ typedef struct td_join_params {
                           70: a 60-px label gap plus the skeleton's pull-back
                           at both ends; <= max_gap: off) */
     double long_tangent; /* stage 2 tangent chord length, px (default 20) */
-    int record;        /* keep the stage-2 join segments in the stats */
+    int curves;        /* stage 2 also joins curved gaps (one circle fits
+                          both ends, each end curving alike) and every
+                          stage-2 join follows a curve along both end
+                          tangents; 0: straight rule and chords only
+                          (default 1) */
+    int record;        /* keep the stage-2 join paths in the stats */
 } td_join_params;
 
 typedef struct td_join_stats {
@@ -38,8 +43,9 @@ typedef struct td_join_stats {
     size_t long_joins; /* of joins: made by stage 2 */
     size_t glyphs;     /* small closed rings (digits such as 0, 6, 8, 9)
                           removed because a stage-2 join passes through */
-    td_lines *segments; /* p->record only: each stage-2 join as a 2-point
-                           line; free with td_join_stats_free */
+    td_lines *segments; /* p->record only: each stage-2 join as a line
+                           (its path: 2 points for a chord, more along a
+                           curve); free with td_join_stats_free */
 } td_join_stats;
 
 td_join_params td_join_defaults(int w, int h);
@@ -55,10 +61,11 @@ void td_join_stats_free(td_join_stats *st);
  *   1. small gaps up to max_gap: both end tangents point across the gap;
  *   2. (long_gap > max_gap) label gaps up to long_gap: both tangents face
  *      the gap, the ends' sideways shift is at most max(2.5, 0.15 * gap) px
- *      and their common bend at most 0.3 * gap (join.c), and the join
- *      crosses no other line (small closed rings excepted: a ring under
- *      min_length that a stage-2 join passes through is a digit and is
- *      removed).
+ *      and their common bend at most 0.3 * gap, or (curves) a circle fits
+ *      both ends and their own curvature agrees with it (join.c), and the
+ *      join crosses no other line (small closed rings excepted: a ring
+ *      under min_length that a stage-2 join passes through is a digit and
+ *      is removed).
  * Pairs are taken cheapest first (gap length weighted by the tangent
  * disagreement), each end at most once.  *ls is replaced by the joined set
  * (ids renumbered in order); bridged counts add up.  st may be NULL (and

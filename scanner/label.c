@@ -24,8 +24,10 @@ enum { K_FACE, K_LINE };
 
 typedef struct cons {
     int kind;
-    long face, line, k; /* face: its level is k; line: its height is k */
-    size_t src;         /* index into p->known */
+    long face, line;
+    long k, k2, kpref; /* face: its level is in [k, k2], kpref when it fixes
+                          the levels; line: its height is k (= k2) */
+    size_t src;        /* index into p->known */
 } cons;
 
 typedef struct solver {
@@ -33,13 +35,12 @@ typedef struct solver {
     const td_label_params *p;
     td_contain ct;
     size_t n;
-    int *d;
+    int *d, *skip, *fixed; /* skip: a missing contour across the line */
     long *unit, *upar, *lock, *rel, *order, *mark;
     long off;
     cons *c;
     size_t nc;
     td_label_report *rep;
-    size_t textlen;
 } solver;
 
 td_label_params td_label_defaults(void)
@@ -48,34 +49,44 @@ td_label_params td_label_defaults(void)
     memset(&p, 0, sizeof p);
     p.near = 3.0;
     p.far = 150.0;
+    p.thick_ratio = 1.3;
+    p.missing = 1;
     return p;
 }
 
 void td_label_report_free(td_label_report *rep)
 {
     free(rep->undetermined_ids);
+    free(rep->assumed_ids);
     free(rep->text);
     memset(rep, 0, sizeof *rep);
 }
 
-static void warn(solver *s, const char *fmt, ...)
+/* Contract in label.h. */
+void td_label_warn(td_label_report *rep, const char *fmt, ...)
 {
     char buf[400];
     va_list ap;
-    size_t len;
+    size_t len, have = rep->text ? strlen(rep->text) : 0;
     char *t;
     va_start(ap, fmt);
     vsnprintf(buf, sizeof buf, fmt, ap);
     va_end(ap);
     len = strlen(buf);
-    s->rep->warnings++;
-    if (!(t = realloc(s->rep->text, s->textlen + len + 2)))
+    rep->warnings++;
+    if (!(t = realloc(rep->text, have + len + 2)))
         return; /* the count is still right; the text is best effort */
-    memcpy(t + s->textlen, buf, len);
-    t[s->textlen + len] = '\n';
-    t[s->textlen + len + 1] = '\0';
-    s->textlen += len + 1;
-    s->rep->text = t;
+    memcpy(t + have, buf, len);
+    t[have + len] = '\n';
+    t[have + len + 1] = '\0';
+    rep->text = t;
+}
+
+/* Contract in label.h. */
+void td_label_where(const td_line *l, double *x, double *y)
+{
+    *x = l->n ? l->xy[2 * (l->n / 2)] : 0;
+    *y = l->n ? l->xy[2 * (l->n / 2) + 1] : 0;
 }
 
 static long face_out(const solver *s, size_t i)
@@ -181,11 +192,22 @@ static int make_order(solver *s, td_ctx *cx)
     return 0;
 }
 
+/* The level change across line l (inside minus outside): d, or 2d where
+ * a contour is missing next to it; its height is the inside level, + 1
+ * when the inside is lower. */
+static long step_of(const solver *s, long l)
+{
+    return s->d[l] + s->skip[l];
+}
+
 static long residual_raw(const solver *s, const cons *c)
 {
-    if (c->kind == K_FACE)
-        return s->rel[c->face] + s->off - c->k;
-    return s->rel[c->face] + s->off + (s->d[c->line] + 1) / 2 - c->k;
+    long lv;
+    if (c->kind == K_LINE)
+        return s->rel[c->line + 1] + s->off + (step_of(s, c->line) < 0) -
+               c->k;
+    lv = s->rel[c->face] + s->off;
+    return lv < c->k ? lv - c->k : lv > c->k2 ? lv - c->k2 : 0;
 }
 
 static void relevel(solver *s)
@@ -194,10 +216,12 @@ static void relevel(solver *s)
     s->rel[0] = 0;
     for (i = 0; i < s->n && s->order[i] >= 0; i++) {
         long l = s->order[i];
-        s->rel[l + 1] = s->rel[face_out(s, (size_t)l)] + s->d[l];
+        s->rel[l + 1] = s->rel[face_out(s, (size_t)l)] + step_of(s, l);
     }
     s->off = 0;
-    if (s->nc > 0)
+    if (s->nc > 0 && s->c[0].kind == K_FACE)
+        s->off = s->c[0].kpref - s->rel[s->c[0].face];
+    else if (s->nc > 0)
         s->off = -residual_raw(s, &s->c[0]);
 }
 
@@ -248,8 +272,154 @@ static void describe(const solver *s, const cons *c, char *buf, size_t len)
                  q->height);
 }
 
+/* ---- a missing contour: one interval off across a double gap ---- */
+
+static int in_subtree(const solver *s, long m, long l)
+{
+    for (; m >= 0; m = s->ct.parent[m])
+        if (m == l)
+            return 1;
+    return 0;
+}
+
+/* Mean distance from (up to 32 of) line l's vertices to the nearest line
+ * outside l (not l, not inside it, not dangling); *near gets the line
+ * nearest l's middle vertex.  A missing contour leaves a double gap. */
+static double outward_gap(const solver *s, long l, long *near)
+{
+    const td_line *L = &s->ls->v[l];
+    size_t k, m, step = L->n / 32 + 1, cnt = 0;
+    double sum = 0;
+    *near = -1;
+    for (k = 0; k < L->n; k += step) {
+        double x = L->xy[2 * k], y = L->xy[2 * k + 1], best = INFINITY;
+        for (m = 0; m < s->n; m++) {
+            double dd;
+            if (s->ct.parent[m] == -2 || in_subtree(s, (long)m, l))
+                continue;
+            dd = td_contain_dist(&s->ls->v[m], x, y);
+            if (dd < best) {
+                best = dd;
+                if (k == (L->n / 2) / step * step)
+                    *near = (long)m;
+            }
+        }
+        if (isfinite(best))
+            sum += best, cnt++;
+    }
+    return cnt ? sum / (double)cnt : 0.0;
+}
+
+/* Lines whose step could hold point j: those on the tree path between the
+ * first point's face and j's, and the lines the two points lie on. */
+static size_t path_lines(solver *s, size_t j, long *out)
+{
+    long a = s->c[0].face, b = s->c[j].face, f;
+    size_t m = 0, i;
+    for (i = 0; i <= s->n; i++)
+        s->mark[i] = 0;
+    for (f = a; f > 0; f = face_out(s, (size_t)(f - 1)))
+        s->mark[f] = 1;
+    s->mark[0] = 1;
+    for (f = b; !s->mark[f]; f = face_out(s, (size_t)(f - 1)))
+        out[m++] = f - 1;
+    for (i = 0; i <= s->n; i++)
+        s->mark[i] = 0;
+    for (f = b; f > 0; f = face_out(s, (size_t)(f - 1)))
+        s->mark[f] = 1;
+    for (f = a; f > 0 && !s->mark[f]; f = face_out(s, (size_t)(f - 1)))
+        out[m++] = f - 1;
+    if (s->c[j].kind == K_LINE)
+        out[m++] = s->c[j].line;
+    if (s->c[0].kind == K_LINE && (m == 0 || s->c[0].line != out[m - 1]))
+        out[m++] = s->c[0].line;
+    return m;
+}
+
+static int cmp_dbl(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median outward gap of the path lines other than `best` and best's
+ * parent and children: what one interval's gap looks like here. */
+static double usual_gap(solver *s, const long *ln, size_t m, long best,
+                        double *g)
+{
+    size_t i, k = 0;
+    long nb;
+    for (i = 0; i < m; i++)
+        if (ln[i] != best)
+            g[k++] = outward_gap(s, ln[i], &nb);
+    for (i = 0; i < s->n && k < 2 * s->n; i++)
+        if ((long)i != best && (s->ct.parent[i] == best ||
+                                s->ct.parent[best] == (long)i))
+            g[k++] = outward_gap(s, (long)i, &nb);
+    if (k == 0)
+        return 0.0;
+    qsort(g, k, sizeof *g, cmp_dbl);
+    return g[k / 2];
+}
+
+/* Point j is one interval off the nesting after flipping: suspect a
+ * contour missing across one path line (its step doubled, in the
+ * direction of its d), among those that meet every point so far the one
+ * with the widest gap outward, if at least 1.5 times the usual gap.
+ * Warns and returns 1 when done, 0 when no line fits, or TD_ENOMEM. */
+static int try_missing(solver *s, size_t j, td_ctx *cx)
+{
+    long *ln = td_calloc(2 * s->n + 4, sizeof *ln, cx), best = -1, near = -1;
+    double *g = td_calloc(2 * s->n + 4, sizeof *g, cx), bgap = -1, usual;
+    size_t m, i, q;
+    int rc = TD_ENOMEM;
+    if (!ln || !g)
+        goto fail;
+    m = path_lines(s, j, ln);
+    for (i = 0; i < m; i++) {
+        long l = ln[i], nb;
+        int ok = 1;
+        double gl;
+        if (s->skip[l] != 0)
+            continue;
+        s->skip[l] = s->d[l];
+        relevel(s);
+        for (q = 0; q <= j && ok; q++)
+            ok = residual_raw(s, &s->c[q]) == 0;
+        s->skip[l] = 0;
+        if (ok && (gl = outward_gap(s, l, &nb)) > bgap)
+            bgap = gl, best = l, near = nb;
+    }
+    rc = 0;
+    usual = best >= 0 ? usual_gap(s, ln, m, best, g) : 0.0;
+    if (best >= 0 && bgap >= 1.5 * usual) {
+        char b[160], t[80] = "";
+        double x, y;
+        s->skip[best] = s->d[best];
+        describe(s, &s->c[j], b, sizeof b);
+        if (near >= 0) {
+            td_label_where(&s->ls->v[near], &x, &y);
+            snprintf(t, sizeof t, " and line %ld (near %.0f,%.0f)",
+                     s->ls->v[near].id, x, y);
+        }
+        td_label_where(&s->ls->v[best], &x, &y);
+        td_label_warn(s->rep, "a contour seems missing between line %ld "
+                      "(near %.0f,%.0f)%s: %s is one interval off the "
+                      "nesting and the gap there is %.0f px against %.0f px "
+                      "usual; heights follow the known points on both sides",
+                      s->ls->v[best].id, x, y, t, b, bgap, usual);
+        rc = 1;
+    }
+    relevel(s);
+fail:
+    free(ln);
+    free(g);
+    return rc;
+}
+
 /* Flip free units on the path from the first point to point j until j is
- * met; lock the path's units for j. */
+ * met (or, one interval off, a missing contour explains it); lock the
+ * path's units for j. */
 static int meet(solver *s, size_t j, long *cand, td_ctx *cx)
 {
     cons *c = &s->c[j];
@@ -279,6 +449,12 @@ static int meet(solver *s, size_t j, long *cand, td_ctx *cx)
             relevel(s);
         }
     }
+    if (labs(r) == 1 && s->p->missing) {
+        int rm = try_missing(s, j, cx);
+        if (rm < 0)
+            return rm;
+        r = rm ? 0 : r;
+    }
     if (r != 0) {
         char a[160], b[160];
         describe(s, &s->c[blocker ? blocker - 1 : 0], a, sizeof a);
@@ -299,13 +475,15 @@ static void depression(solver *s, double x, double y)
 {
     long l = td_contain_locate(&s->ct, x, y);
     if (l < 0) {
-        warn(s, "depression mark (%g,%g) lies outside every contour", x, y);
+        td_label_warn(s->rep, "depression mark (%g,%g) lies outside every "
+                      "contour", x, y);
         return;
     }
     for (;;) {
         long par = s->ct.parent[l];
         size_t i, kids = 0;
         s->d[l] = -1;
+        s->fixed[l] = 1;
         if (par < 0 || !s->ls->v[par].closed)
             return;
         for (i = 0; i < s->n; i++)
@@ -331,6 +509,15 @@ static long nearest_line(const solver *s, double x, double y, double *dist)
     return best;
 }
 
+static int has_child(const solver *s, long l)
+{
+    size_t i;
+    for (i = 0; i < s->n; i++)
+        if (s->ct.parent[i] == l)
+            return 1;
+    return 0;
+}
+
 /* Turn known point q into constraint *c; 1 when it only sets the height of
  * a dangling line (*line set), 0 for a constraint, or an error. */
 static int to_cons(solver *s, size_t qi, cons *c, long *line, td_ctx *cx)
@@ -353,29 +540,37 @@ static int to_cons(solver *s, size_t qi, cons *c, long *line, td_ctx *cx)
         l = nearest_line(s, q->x, q->y, &dist);
     }
     if (l >= 0 && (q->id >= 0 || dist <= s->p->near)) {
-        if (fabs(t - floor(t + 0.5)) > 1e-6)
-            warn(s, "known height %g at line %ld is not base %g + a multiple "
-                 "of %g; rounded", q->height, s->ls->v[l].id, s->p->base,
-                 s->p->interval);
+        if (fabs(t - floor(t + 0.5)) > 1e-6) {
+            double x = q->x, y = q->y;
+            if (q->id >= 0)
+                td_label_where(&s->ls->v[l], &x, &y);
+            td_label_warn(s->rep, "known height %g on line %ld at (%g,%g) is "
+                          "not base %g + a multiple of %g; rounded",
+                          q->height, s->ls->v[l].id, x, y, s->p->base,
+                          s->p->interval);
+        }
         c->kind = K_LINE;
         c->line = l;
-        c->k = (long)floor(t + 0.5);
+        c->k = c->k2 = c->kpref = (long)floor(t + 0.5);
         c->face = s->ct.parent[l] == -2 ? -1 : face_out(s, (size_t)l);
         *line = l;
         return c->face < 0;
     }
     if (dist > s->p->far)
-        warn(s, "known point (%g,%g)=%g is %.0f px from the nearest line",
-             q->x, q->y, q->height, dist);
+        td_label_warn(s->rep, "known point (%g,%g)=%g is %.0f px from the "
+                      "nearest line", q->x, q->y, q->height, dist);
     l = td_contain_locate(&s->ct, q->x, q->y);
     c->kind = K_FACE;
     c->face = l + 1;
     c->line = -1;
-    /* a spot exactly on a multiple: the summit (or pit) reaches it */
-    if (fabs(t - floor(t + 0.5)) <= 1e-6)
-        c->k = (long)floor(t + 0.5) - (l >= 0 && s->d[l] < 0 ? 0 : 1);
-    else
-        c->k = (long)floor(t);
+    c->k = c->k2 = c->kpref = (long)floor(t);
+    if (fabs(t - floor(t + 0.5)) <= 1e-6) { /* on a multiple: either level */
+        c->k2 = (long)floor(t + 0.5);
+        c->k = c->k2 - 1;
+        /* preferred: an innermost face is a summit (or pit) reaching it,
+           a face with lines inside is their foot */
+        c->kpref = has_child(s, l) || (l >= 0 && s->d[l] < 0) ? c->k2 : c->k;
+    }
     return 0;
 }
 
@@ -386,6 +581,8 @@ static int setup(solver *s, td_ctx *cx)
     size_t n = s->n, i;
     long *first = NULL, *second = NULL;
     s->d = td_calloc(n + 1, sizeof *s->d, cx);
+    s->skip = td_calloc(n + 1, sizeof *s->skip, cx);
+    s->fixed = td_calloc(n + 1, sizeof *s->fixed, cx);
     s->unit = td_calloc(n + 1, sizeof *s->unit, cx);
     s->upar = td_calloc(n + 1, sizeof *s->upar, cx);
     s->lock = td_calloc(n + 1, sizeof *s->lock, cx);
@@ -395,7 +592,7 @@ static int setup(solver *s, td_ctx *cx)
     s->c = td_calloc(s->p->nknown + 1, sizeof *s->c, cx);
     first = td_calloc(n + 2, sizeof *first, cx);
     second = td_calloc(n + 2, sizeof *second, cx);
-    if (!s->d || !s->unit || !s->upar || !s->lock || !s->rel || !s->order ||
+    if (!s->d || !s->skip || !s->fixed || !s->unit || !s->upar || !s->lock || !s->rel || !s->order ||
         !s->mark || !s->c || !first || !second || make_order(s, cx) != 0) {
         free(first);
         free(second);
@@ -423,24 +620,34 @@ static int setup(solver *s, td_ctx *cx)
 static int solve(solver *s, td_ctx *cx)
 {
     long *cand = td_calloc(2 * s->n + 2, sizeof *cand, cx);
+    cons *all = td_calloc(s->p->nknown + 1, sizeof *all, cx);
+    char *use = td_calloc(s->p->nknown + 1, 1, cx);
     size_t i;
-    int rc = 0;
-    if (!cand)
-        return TD_ENOMEM;
-    for (i = 0; i < s->p->nknown && rc >= 0; i++) {
-        cons c;
+    int rc = TD_ENOMEM, pass;
+    if (!cand || !all || !use)
+        goto fail;
+    for (i = 0, rc = 0; i < s->p->nknown && rc >= 0; i++) {
         long l = -1;
-        rc = to_cons(s, i, &c, &l, cx);
+        rc = to_cons(s, i, &all[i], &l, cx);
         if (rc == 1) { /* a dangling line: its own height only */
             s->ls->v[l].has_height = 1;
-            s->ls->v[l].height = s->p->base + c.k * s->p->interval;
-        } else if (rc == 0) {
-            s->c[s->nc++] = c; /* the first fixes the offset only */
-            if (s->nc > 1)
-                rc = meet(s, s->nc - 1, cand, cx);
+            s->ls->v[l].height = s->p->base + all[i].k * s->p->interval;
         }
+        use[i] = rc == 0;
     }
+    /* exact points first, spots on a multiple (two possible levels) last,
+       so that an exact one fixes the levels when there is one */
+    for (pass = 0; pass < 2 && rc >= 0; pass++)
+        for (i = 0, rc = 0; i < s->p->nknown && rc >= 0; i++)
+            if (use[i] && (all[i].k != all[i].k2) == pass) {
+                s->c[s->nc++] = all[i]; /* the first fixes the offset */
+                if (s->nc > 1)
+                    rc = meet(s, s->nc - 1, cand, cx);
+            }
+fail:
     free(cand);
+    free(all);
+    free(use);
     return rc < 0 ? rc : 0;
 }
 
@@ -450,14 +657,23 @@ static void assign(solver *s)
     relevel(s);
     for (i = 0; i < s->n; i++) {
         td_line *l = &s->ls->v[i];
-        long a, b;
+        long in;
         if (s->ct.parent[i] == -2 || s->nc == 0)
             continue;
-        a = s->rel[face_out(s, i)] + s->off;
-        b = s->rel[i + 1] + s->off;
+        in = s->rel[i + 1] + s->off + (step_of(s, (long)i) < 0);
         l->has_height = 1;
-        l->height = s->p->base + s->p->interval * (double)(a > b ? a : b);
+        l->height = s->p->base + s->p->interval * (double)in;
     }
+}
+
+/* Does a known point lie on line l? */
+static int known_on(const solver *s, long l)
+{
+    size_t j;
+    for (j = 0; j < s->nc; j++)
+        if (s->c[j].kind == K_LINE && s->c[j].line == l)
+            return 1;
+    return 0;
 }
 
 /* Contract in label.h. */
@@ -483,20 +699,26 @@ int td_label_auto(td_lines *ls, const td_label_params *p,
         goto fail;
     assign(&s);
     rc = TD_ENOMEM;
-    if (!(rep->undetermined_ids = td_calloc(ls->n + 1, sizeof(long), cx)))
+    if (!(rep->undetermined_ids = td_calloc(ls->n + 1, sizeof(long), cx)) ||
+        !(rep->assumed_ids = td_calloc(ls->n + 1, sizeof(long), cx)))
         goto fail;
     for (i = 0; i < ls->n; i++) {
+        int par;
         if (ls->v[i].has_height)
             rep->labelled++;
         else
             rep->undetermined_ids[rep->undetermined++] = ls->v[i].id;
+        if (ls->v[i].has_height && s.ct.parent[i] != -2 && !s.fixed[i] &&
+            !s.lock[find(&s, (long)i, &par)] && !known_on(&s, (long)i))
+            rep->assumed_ids[rep->assumed++] = ls->v[i].id;
     }
     rc = 0;
 fail:
     if (rc)
         td_label_report_free(rep);
     td_contain_free(&s.ct);
-    free(s.d), free(s.unit), free(s.upar), free(s.lock);
+    free(s.d), free(s.skip), free(s.fixed);
+    free(s.unit), free(s.upar), free(s.lock);
     free(s.rel), free(s.order), free(s.mark), free(s.c);
     return rc;
 }

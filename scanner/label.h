@@ -15,11 +15,16 @@
  *   - border-closed lines: a face bounded by exactly two border-closed
  *     lines is a slope strip: its two lines differ by one interval (they
  *     flip together as one unit).
- * Known points: the first fixes the levels; each further point is met by
- * flipping units on the tree path between it and the points before, the
- * ones nearest the new point first, never a unit an earlier point relied
- * on.  If that cannot meet it, the points contradict (an error naming
- * both and their lines). */
+ * Known points: points on lines and spot heights off a multiple of the
+ * interval first, then spots exactly on a multiple (their face may be at
+ * either level: the summit reaching it or the foot of the rings inside).
+ * The first fixes the levels; each further point is met by flipping units
+ * on the tree path between it and the points before, the ones nearest the
+ * new point first, never a unit an earlier point relied on.  Still one
+ * interval off: a contour is taken as missing next to the path line with
+ * the widest gap to the next line out (when 1.5 times the usual gap; a
+ * warning).  Otherwise the points contradict (an error naming both and
+ * their lines). */
 #ifndef TD_LABEL_H
 #define TD_LABEL_H
 
@@ -47,16 +52,31 @@ typedef struct td_label_params {
     size_t nknown;
     const double *depressions; /* x,y pairs */
     size_t ndepressions;
+    int index_every;       /* index contours every this many levels (base +
+                              k * index_every * interval), drawn thicker:
+                              td_label_check_index; 0 = no check (default) */
+    double thick_ratio;    /* thick / thin mean width at least this for the
+                              widths to tell index lines (default 1.3) */
+    int missing;           /* a known point one interval off the nesting
+                              across a gap 1.5 times the usual: a missing
+                              contour (warned), not a contradiction
+                              (default 1) */
 } td_label_params;
 
 typedef struct td_label_report {
     size_t labelled, undetermined, warnings;
+    size_t index_mismatches; /* td_label_check_index: lines whose width
+                                disagrees with their height */
     long *undetermined_ids; /* ids of the lines left without a height */
+    size_t assumed;         /* labelled lines whose up/down (d) is only the
+                               default: not between two known points, not
+                               a --depressions ring */
+    long *assumed_ids;
     char *text;             /* warnings, one per line ('\n'), or NULL */
 } td_label_report;
 
 /* Defaults: base 0, interval 0 (must be set), w = h = 0 (must be set),
- * near 3, far 150, no points. */
+ * near 3, far 150, no points, index_every 0, thick_ratio 1.3, missing 1. */
 td_label_params td_label_defaults(void);
 
 /* Give every line of ls its parent (containment) and, when p has known
@@ -69,6 +89,31 @@ int td_label_auto(td_lines *ls, const td_label_params *p,
                   td_label_report *rep, td_ctx *cx);
 
 void td_label_report_free(td_label_report *rep);
+
+/* Append one warning (printf format, no newline, no prefix) to rep:
+ * counted in rep->warnings; the text is best effort (kept when memory
+ * runs out). */
+void td_label_warn(td_label_report *rep, const char *fmt, ...)
+#ifdef __GNUC__
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* A point to name line l by in messages: its middle vertex. */
+void td_label_where(const td_line *l, double *x, double *y);
+
+/* The index-contour check (p->index_every > 0): lines with a measured
+ * width (td_line.width > 0, scanner/width.h) and at least 30 px long are
+ * split into thin and thick by Otsu's rule on their log widths; when the
+ * thick class's mean is at least p->thick_ratio times the thin one's, a
+ * thick line whose height is not base + a multiple of index_every *
+ * interval, or a thin one whose height is, is a mismatch: one warning each
+ * (id, position, width, height), counted in rep->index_mismatches.  When
+ * the thick lines fit heights shifted by j intervals better, one more
+ * warning says so.  No contrast in the widths, or no widths: one warning,
+ * nothing checked.  Returns 0, TD_EINVAL (index_every < 0) or TD_ENOMEM. */
+int td_label_check_index(const td_lines *ls, const td_label_params *p,
+                         td_label_report *rep, td_ctx *cx);
 
 #ifdef __cplusplus
 }

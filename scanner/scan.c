@@ -2,6 +2,7 @@
  * file; this one only sequences them and keeps the debug copies. */
 #include "scan.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 td_scan_params td_scan_defaults(void)
@@ -13,6 +14,7 @@ td_scan_params td_scan_defaults(void)
     p.trace = td_trace_defaults();
     p.join = td_join_defaults(0, 0);
     p.do_join = 1;
+    p.measure_width = 1;
     return p;
 }
 
@@ -30,6 +32,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             td_ctx *cx)
 {
     td_grid_u8 *g = NULL;
+    uint8_t *bits = NULL;
     td_join_params jp = p->join;
     double t0;
     int rc;
@@ -42,6 +45,8 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     res->seconds[0] = td_now() - t0;
     rc = TD_ENOMEM;
     if (p->keep_debug && !(res->mask = td_grid_u8_dup(g, cx)))
+        goto fail;
+    if (p->measure_width && !(bits = td_width_pack(g, cx)))
         goto fail;
     t0 = td_now();
     if ((rc = td_thin_hilditch(g, &res->thin, cx)) != 0)
@@ -64,10 +69,15 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     jp.record = jp.record || p->keep_debug; /* the overlay draws the joins */
     if (p->do_join && (rc = td_join(&res->lines, &jp, &res->join, cx)) != 0)
         goto fail;
+    if (p->measure_width &&
+        (rc = td_line_widths_packed(bits, im->w, im->h, res->lines, cx)) != 0)
+        goto fail;
     res->seconds[4] = td_now() - t0;
     res->despurred = g;
+    free(bits);
     return 0;
 fail:
+    free(bits);
     td_grid_u8_free(g);
     td_scan_result_free(res);
     return rc;

@@ -2,10 +2,12 @@
  *
  *   image -> td_binarise -> mask -> td_thin_hilditch -> skeleton
  *         -> td_despur -> td_trace (CCW 3x3, 5x5 bridge) -> td_join -> lines
+ *         -> td_line_widths (each line's ink width, from the mask)
  *
- * Memory: the mask is the only full-size buffer (1 byte per pixel); it is
- * thinned, despurred and traced in place.  With keep_debug, copies of the
- * mask and the thinned skeleton are kept (+2 bytes per pixel). */
+ * Memory: the mask is thinned, despurred and traced in place; a copy of it
+ * packed one bit per pixel is kept until the widths are measured (+1/8
+ * byte per pixel; none with measure_width 0).  With keep_debug, copies of the mask and the thinned
+ * skeleton are kept in the result (+2 bytes per pixel). */
 #ifndef TD_SCAN_H
 #define TD_SCAN_H
 
@@ -14,6 +16,7 @@
 #include "join.h"
 #include "thin.h"
 #include "trace.h"
+#include "width.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -25,6 +28,7 @@ typedef struct td_scan_params {
     td_trace_params trace;
     td_join_params join;  /* w,h filled in by td_scan */
     int do_join;          /* default 1 */
+    int measure_width;    /* set each line's width (width.h), default 1 */
     int keep_debug;       /* keep mask and skeleton copies in the result */
 } td_scan_params;
 

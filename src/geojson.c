@@ -102,7 +102,7 @@ static int fmt_coord(char *p, double v, int map)
 /* The feature's properties object. */
 static void put_properties(jbuf *j, const td_line *l)
 {
-    char s[320], h[40], par[32];
+    char s[360], h[40], par[32], wd[40] = "";
     if (l->has_height && isfinite(l->height))
         snprintf(h, sizeof h, "%.10g", l->height);
     else
@@ -111,13 +111,15 @@ static void put_properties(jbuf *j, const td_line *l)
         snprintf(par, sizeof par, "%ld", l->parent);
     else
         snprintf(par, sizeof par, "null");
+    if (l->width > 0 && isfinite(l->width))
+        snprintf(wd, sizeof wd, ",\"width\":%.2f", l->width);
     snprintf(s, sizeof s,
              "{\"type\":\"Feature\",\"properties\":{\"id\":%ld,"
              "\"height\":%s,\"closed\":%s,\"edge\":%s,\"parent\":%s,"
-             "\"bridged\":%d},\"geometry\":{\"type\":\"LineString\","
+             "\"bridged\":%d%s},\"geometry\":{\"type\":\"LineString\","
              "\"coordinates\":[",
              l->id, h, l->closed ? "true" : "false",
-             l->edge ? "true" : "false", par, l->bridged);
+             l->edge ? "true" : "false", par, l->bridged, wd);
     jputs(j, s);
 }
 

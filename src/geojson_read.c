@@ -40,7 +40,7 @@ typedef struct jkey {
 typedef struct fprops {
     int has_id, has_height, closed, edge, bridged; /* closed -1: unknown */
     long id, parent;
-    double height;
+    double height, width;
 } fprops;
 
 /* Reader state: the points of the current geometry (positions with their
@@ -395,7 +395,8 @@ static int read_prop(jp *p, const jkey *k, fprops *P, size_t fi)
     double v;
     int is_int;
     if (!is(k, "id") && !is(k, "height") && !is(k, "closed") &&
-        !is(k, "edge") && !is(k, "parent") && !is(k, "bridged"))
+        !is(k, "edge") && !is(k, "parent") && !is(k, "bridged") &&
+        !is(k, "width"))
         return jskip(p, 1);
     if ((rc = jscalar(p, &kind, &v)) != 0)
         return rc;
@@ -406,6 +407,10 @@ static int read_prop(jp *p, const jkey *k, fprops *P, size_t fi)
             return type_err(p, fi, k->s, "a number or null");
         P->has_height = kind == V_NUM && isfinite(v);
         P->height = v;
+    } else if (is(k, "width")) {
+        if (kind != V_NUM && kind != V_NULL)
+            return type_err(p, fi, k->s, "a number or null");
+        P->width = kind == V_NUM && isfinite(v) && v > 0 ? v : 0.0;
     } else if (is(k, "id") || is(k, "parent")) {
         if (!is_int && kind != V_NULL)
             return type_err(p, fi, k->s, "an integer or null");
@@ -566,6 +571,7 @@ static int emit(rd *R, size_t a, size_t b, const fprops *P, long id,
     l->has_height = P->has_height;
     l->height = P->has_height ? P->height : 0.0;
     l->parent = P->parent;
+    l->width = P->width;
     return 0;
 }
 
@@ -600,7 +606,7 @@ static int emit_feature(jp *p, rd *R, const jkey *t, const fprops *P,
 /* One feature object (cursor at '{'). */
 static int feature(jp *p, rd *R, size_t fi)
 {
-    fprops P = {0, 0, -1, 0, 0, 0, -1, 0.0};
+    fprops P = {0, 0, -1, 0, 0, 0, -1, 0.0, 0.0};
     jkey k, t = {"", 0}, ft = {"Feature", 7};
     int first = 1, r;
     R->n = R->np = 0;

@@ -24,6 +24,8 @@ typedef struct td_line {
     int has_height;
     double height;
     long parent;      /* id of the enclosing line, -1 when none/unknown */
+    double width;     /* ink width in px measured from the mask (the scanner,
+                         scanner/width.h), 0 when not measured */
 } td_line;
 
 typedef struct td_lines {
@@ -49,7 +51,7 @@ double td_line_length(const td_line *l);
 
 /* Write lines as a GeoJSON FeatureCollection of LineStrings, atomically.
  * Properties: id, height (null unless has_height), closed, edge, parent
- * (null when -1), bridged.  When georef is valid, coordinates are mapped
+ * (null when -1), bridged, and width (px, only when measured, > 0).  When georef is valid, coordinates are mapped
  * through it and its EPSG code (if known) is named in a "crs" member, which
  * GDAL/OGR and QGIS read.  Returns 0 or an error naming the file. */
 int td_geojson_write_lines(const char *path, const td_lines *ls,
@@ -58,7 +60,7 @@ int td_geojson_write_lines(const char *path, const td_lines *ls,
 /* Read a GeoJSON FeatureCollection of LineString (and MultiLineString,
  * one line per part) features, as written by td_geojson_write_lines or
  * edited in QGIS: properties id, height (number or null), closed, edge,
- * parent are read when present (missing id: the feature's index; missing
+ * parent, width are read when present (missing id: the feature's index; missing
  * closed: first point == last point, the repeated last point dropped).
  * When georef is valid, coordinates are map coordinates and are mapped back
  * to pixel units through its inverse.  Other geometry types are skipped

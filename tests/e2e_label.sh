@@ -76,6 +76,61 @@ JSON
         --size 100x100 2>"$T/err"
     check "crossing lines: warning naming both and the place" \
       "[ $? = 0 ] && grep -q 'warning: lines 7 and 9 cross at (50.6,50.5)' '$T/err' && grep -q ', 1 warnings' '$T/err'"
+
+    # Undetermined lines export as "id," and read back as no height.
+    "$TD" label "$T/lines.geojson" -o "$T/u.geojson" --interval 20 \
+        --export-csv "$T/u.csv" -q
+    "$TD" label "$T/lines.geojson" -o "$T/u2.geojson" --interval 20 \
+        --heights "$T/u.csv" --export-csv "$T/u2.csv" 2>"$T/err"
+    check "CSV round trip with undetermined lines" \
+      "[ $? = 0 ] && grep -q '^0,\$' '$T/u.csv' && cmp -s '$T/u.csv' '$T/u2.csv'"
+    sed 's/^3,.*/3,245/' "$T/h.csv" >"$T/h3.csv"
+    "$TD" label "$T/lines.geojson" -o "$T/h3.geojson" --interval 20 \
+        --heights "$T/h3.csv" 2>"$T/err"
+    check "--heights off the interval: warned with the place, counted" \
+      "[ $? = 0 ] && grep -q '^label: warning: --heights: height 245 of line 3 (near [0-9]*,[0-9]*)' '$T/err' && grep -q ', 1 warnings' '$T/err'"
+    printf '180\n\n\n\n300\n' | "$TD" label "$T/lines.geojson" \
+        -o "$T/c.geojson" --interval 20 --interactive --sheet "$T/c.png" \
+        2>"$T/err"
+    check "interactive: contradicting typed heights counted" \
+      "grep -q 'heights not re-suggested' '$T/err' && grep -q ', 1 warnings' '$T/err'"
+    "$TD" label "$T/lines.geojson" -o "$T/one.geojson" --interval 20 \
+        --known 210.5,260.8,180 2>"$T/err"
+    check "one known point: the assumed lines listed" \
+      "grep -q '^label: note: 25 lines are higher or lower' '$T/err'"
+
+    # Index contours drawn thicker: the scan measures widths, label checks.
+    "$BUILD/tdgen" -o "$T/cone.png" --terrain cone --size 400x300 \
+        --index-width 4 -q
+    check "tdgen -q and --index-width" "[ $? = 0 ] && [ -s '$T/cone.png' ]"
+    "$TD" scan "$T/cone.png" -o "$T/cone.geojson" -q
+    check "scan writes line widths" "grep -q '\"width\":4' '$T/cone.geojson'"
+    # rings only (the corner lines need a point per corner)
+    "$TD" label "$T/cone.geojson" -o "$T/cl.geojson" --interval 20 \
+        --known 200,150,398 --index-every 5 2>"$T/err"
+    check "index check: right heights, at most the 3 corner lines flagged" \
+      "[ $? = 0 ] && [ \$(grep -c 'drawn' '$T/err') -le 3 ] && ! grep -q 'look' '$T/err'"
+    "$TD" label "$T/cone.geojson" -o "$T/cl.geojson" --interval 20 \
+        --known 200,150,418 --index-every 5 2>"$T/err"
+    check "index check: heights one interval high named" \
+      "[ $? = 0 ] && [ \$(grep -c 'is drawn thick' '$T/err') -ge 5 ] && grep -q 'heights look +20 off' '$T/err'"
+    sed 's/,"width":[0-9.]*//' "$T/cone.geojson" >"$T/nw.geojson"
+    "$TD" label "$T/nw.geojson" -o "$T/cl.geojson" --interval 20 \
+        --known 200,150,418 --index-every 5 --like "$T/cone.png" 2>"$T/err"
+    check "index check: widths measured on --like SCAN" \
+      "grep -q 'heights look +20 off' '$T/err'"
+
+    # Inline labels on curved stretches: joined along the curves by default.
+    "$BUILD/tdgen" -o "$T/lab.png" --size 1000x800 --width 2.5 --labels 3 \
+        --label-bend 15 -q
+    "$BUILD/tdgen" -o "$T/nolab.png" --size 1000x800 --width 2.5 -q
+    check "tdgen --labels draws labels" "! cmp -s '$T/lab.png' '$T/nolab.png'"
+    "$TD" scan "$T/lab.png" -o "$T/lab.geojson" 2>"$T/err"
+    "$TD" scan "$T/lab.png" -o "$T/lab2.geojson" --no-curves 2>"$T/err2"
+    n1=$(sed -n 's/.* \([0-9]*\) lines,.*/\1/p' "$T/err")
+    n2=$(sed -n 's/.* \([0-9]*\) lines,.*/\1/p' "$T/err2")
+    check "curved label gaps joined (fewer lines than with --no-curves)" \
+      "[ -n '$n1' ] && [ -n '$n2' ] && [ $n1 -lt $n2 ]"
 fi
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]

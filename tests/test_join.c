@@ -6,6 +6,7 @@
 #include "tt.h"
 #include "util/match.h"
 #include "../samples/gen/gen.h"
+#include "../scanner/contain.h"
 #include "../scanner/scan.h"
 
 #include <string.h>
@@ -115,6 +116,62 @@ static void test_shift_and_bend(void)
     td_lines_free(ls);
 }
 
+/* Points on a circle about (cx,cy) of radius r, rounded to pixel centres
+ * (a traced skeleton), from angle a0 to a1 (degrees), one per px. */
+static void add_arc(td_lines *ls, double cx, double cy, double r, double a0,
+                    double a1)
+{
+    td_line *l = td_lines_add(ls, NULL);
+    double a, step = (a1 > a0 ? 1 : -1) * 180.0 / (M_PI * r);
+    for (a = a0; a1 > a0 ? a <= a1 : a >= a1; a += step) {
+        double x = floor(cx + r * cos(a * M_PI / 180)) + 0.5;
+        double y = floor(cy + r * sin(a * M_PI / 180)) + 0.5;
+        if (l->n == 0 || x != l->xy[2 * l->n - 2] || y != l->xy[2 * l->n - 1])
+            td_line_push(l, x, y, NULL);
+    }
+}
+
+/* A ring of radius 50 (pixel-rounded) cut by a 45-px gap: about 52
+ * degrees of turn across it, beyond the straight rule (17 per end); the
+ * curve rule joins and closes it, and the join follows the circle within
+ * 1 px (the chord's middle is 5 px off).  A straight line whose end lies
+ * on the circle's way and points along it does not curve like the ring:
+ * not joined to it. */
+static void test_curved_gap(void)
+{
+    td_join_params p = td_join_defaults(W, H);
+    td_join_stats st;
+    td_lines *ls = td_lines_new(NULL);
+    size_t k, far = 0;
+    add_arc(ls, 150, 100, 50, -65, 240);
+    p.record = 1;
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    TT_CHECKF(ls->n == 1 && count_closed(ls) == 1 && st.long_joins == 1,
+              "%zu lines, %zu label joins", ls->n, st.long_joins);
+    TT_CHECK(st.segments && st.segments->n == 1 && st.segments->v[0].n > 5);
+    for (k = 0; st.segments && st.segments->n && k < st.segments->v[0].n; k++)
+        far += fabs(hypot(st.segments->v[0].xy[2 * k] - 150,
+                          st.segments->v[0].xy[2 * k + 1] - 100) - 50) > 1.0;
+    TT_CHECKF(far == 0, "%zu join points more than 1 px off the circle", far);
+    td_join_stats_free(&st);
+    td_lines_free(ls);
+
+    ls = td_lines_new(NULL); /* the arc's end, then a straight line */
+    add_arc(ls, 150, 100, 50, -65, 200);
+    {
+        double a = 240 * M_PI / 180, tx = -sin(a), ty = cos(a);
+        double x0 = 150 + 50 * cos(a), y0 = 100 + 50 * sin(a), xy[120];
+        for (k = 0; k < 60; k++) /* from the circle's point at 240 deg on */
+            xy[2 * k] = x0 + tx * k, xy[2 * k + 1] = y0 + ty * k;
+        add_line(ls, xy, 60, 0);
+    }
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    TT_CHECKF(ls->n == 2 && st.long_joins == 0, "%zu lines, %zu joins",
+              ls->n, st.long_joins);
+    td_join_stats_free(&st);
+    td_lines_free(ls);
+}
+
 /* A label: a bent digit fragment (a "2") and a digit ring (a "0") in a
  * 44-px gap of a rectangular ring.  The fragment is removed, the gap joined, the ring
  * closed, and the digit ring under the join removed; a tiny true ring
@@ -176,10 +233,9 @@ static void test_short_piece_kept(void)
     td_lines_free(ls);
 }
 
-/* Number of proper crossings between segment s and the lines. */
-static int crossings(const td_line *s, const td_lines *ls)
+/* Number of proper crossings between segment ab and the lines. */
+static int seg_crossings(const double *a, const double *b, const td_lines *ls)
 {
-    const double *a = s->xy, *b = s->xy + 2;
     size_t i, k;
     int n = 0;
     for (i = 0; i < ls->n; i++) {
@@ -194,6 +250,17 @@ static int crossings(const td_line *s, const td_lines *ls)
             n += o1 * o2 < 0 && o3 * o4 < 0;
         }
     }
+    return n;
+}
+
+/* Number of proper crossings between the pieces of join path s and the
+ * lines. */
+static int crossings(const td_line *s, const td_lines *ls)
+{
+    size_t j;
+    int n = 0;
+    for (j = 0; j + 1 < s->n; j++)
+        n += seg_crossings(s->xy + 2 * j, s->xy + 2 * j + 2, ls);
     return n;
 }
 
@@ -254,6 +321,79 @@ static void test_labelled_noisy(void)
     labelled_sheet(13, 1200, 1000, 3.0, 8, 15);
 }
 
+/* Scan a sheet; joins and whole contours summed into *whole, *joins. */
+static void scan_count(const td_gen_params *gp, int curves, long *whole,
+                       long *total, size_t *joins, size_t *false_joins)
+{
+    td_scan_params sp = td_scan_defaults();
+    td_image *im = NULL;
+    td_lines *truth = NULL;
+    td_scan_result res;
+    td_match_report r;
+    size_t j;
+    sp.join.record = 1, sp.join.curves = curves;
+    TT_CHECK(td_gen_sheet(gp, &im, &truth, NULL, NULL) == 0);
+    TT_CHECK(im && td_scan(im, &sp, &res, NULL) == 0);
+    if (!im)
+        return;
+    TT_CHECK(td_match_lines(truth, res.lines, gp->w, gp->h, NULL, &r, NULL) == 0);
+    *whole += r.n_matched, *total += r.n_truth;
+    *joins += res.join.long_joins;
+    for (j = 0; res.join.segments && j < res.join.segments->n; j++) {
+        const td_line *s = &res.join.segments->v[j]; /* ends on one contour */
+        size_t i, ia = 0, ib = 0;
+        double da = 1e9, db = 1e9;
+        for (i = 0; i < truth->n; i++) {
+            double a = td_contain_dist(&truth->v[i], s->xy[0], s->xy[1]);
+            double b = td_contain_dist(&truth->v[i], s->xy[2 * s->n - 2],
+                                       s->xy[2 * s->n - 1]);
+            if (a < da)
+                da = a, ia = i;
+            if (b < db)
+                db = b, ib = i;
+        }
+        *false_joins += ia != ib || da > 3 || db > 3;
+        TT_CHECK(crossings(s, res.lines) == 0);
+    }
+    TT_CHECK(r.n_mixed == 0);
+    td_scan_result_free(&res);
+    td_lines_free(truth);
+    td_image_free(im);
+}
+
+/* Labels on curved stretches (within 15 px of their chord) and breaks of
+ * 20-60 px anywhere: the curve rule joins more (docs/scanner.md has the
+ * numbers) and no join links two contours or crosses a line. */
+static void test_curved_sheets(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    long whole[2] = {0, 0}, total = 0;
+    size_t joins[2] = {0, 0}, bad = 0, c;
+    unsigned seed;
+    for (c = 0; c < 2; c++)
+        for (seed = 1; seed <= 5; seed++) {
+            gp = td_gen_defaults();
+            gp.w = 1000, gp.h = 800, gp.seed = seed, gp.line_width = 2.5;
+            gp.labels = 3, gp.label_bend = 15;
+            scan_count(&gp, (int)c, &whole[c], &total, &joins[c], &bad);
+        }
+    TT_CHECKF(whole[1] >= 138 && total == 2 * 142 && whole[0] <= 132 &&
+              joins[1] >= joins[0] + 10, "labels: %ld / %ld whole with "
+              "curves, %ld without; %zu / %zu joins", whole[1], total / 2,
+              whole[0], joins[1], joins[0]);
+    joins[0] = joins[1] = 0;
+    for (c = 0; c < 2; c++)
+        for (seed = 1; seed <= 3; seed++) {
+            gp = td_gen_defaults();
+            gp.seed = seed, gp.breaks = 20, gp.break_min = 20;
+            gp.break_max = 60;
+            scan_count(&gp, (int)c, &whole[c], &total, &joins[c], &bad);
+        }
+    TT_CHECKF(joins[1] >= 55 && joins[0] <= 48, "breaks: %zu of 60 joined "
+              "with curves, %zu without", joins[1], joins[0]);
+    TT_CHECKF(bad == 0, "%zu joins between two contours", bad);
+}
+
 /* The default sheet (labels off) is unchanged: no label drawn. */
 static void test_labels_off(void)
 {
@@ -276,10 +416,12 @@ int main(void)
 {
     TT_RUN(test_crossing_rejected);
     TT_RUN(test_shift_and_bend);
+    TT_RUN(test_curved_gap);
     TT_RUN(test_label_gap);
     TT_RUN(test_short_piece_kept);
     TT_RUN(test_labels_off);
     TT_RUN(test_labelled_sheets);
     TT_RUN(test_labelled_noisy);
+    TT_RUN(test_curved_sheets);
     return tt_summary();
 }

@@ -196,8 +196,21 @@ static void label_hills(int w, int h, int use_mark)
 static void test_hills_spot(void) { label_hills(600, 450, 0); label_hills(800, 800, 0); }
 static void test_hills_mark(void) { label_hills(600, 450, 1); }
 
+/* How many wrongly labelled lines the report lists as assumed. */
+static size_t assumed_wrong(const td_lines *got, const td_lines *want,
+                            const td_label_report *rep)
+{
+    size_t i, j, n = 0;
+    for (i = 0; i < got->n; i++)
+        if (got->v[i].height != want->v[i].height)
+            for (j = 0; j < rep->assumed; j++)
+                n += rep->assumed_ids[j] == got->v[i].id;
+    return n;
+}
+
 /* Without the depression's point, only the depression is wrong: the rest
- * does not depend on it. */
+ * does not depend on it, and the depression's rings are among the lines
+ * reported as assumed. */
 static void test_hills_without_pit(void)
 {
     truth t;
@@ -222,6 +235,7 @@ static void test_hills_without_pit(void)
     bad = count_wrong(ls, t.lines, 0);
     TT_CHECKF(bad >= 1 && bad <= 4, "%zu wrong", bad); /* the pit's rings */
     TT_CHECK(ls->v[pit].height != t.lines->v[pit].height);
+    TT_CHECK(assumed_wrong(ls, t.lines, &rep) == bad); /* all are listed */
     td_label_report_free(&rep);
     td_lines_free(ls);
     free_truth(&t);
@@ -274,16 +288,29 @@ static void test_warnings(void)
     td_label_report rep;
     td_label_point q[2];
     td_ctx cx;
+    char at[64];
     td_ctx_init(&cx);
     TT_CHECK(make_truth(&t, TD_GEN_PLANE, 300, 300) == 0);
     ls = unlabelled(t.lines);
     q[0] = on_line(&t.lines->v[0], t.lines->v[0].height + 1);
     p.interval = t.interval, p.w = 300, p.h = 300, p.known = q, p.nknown = 1;
-    p.far = 1; /* so that a spot height between the lines is "far" */
     q[1].x = 0.5 * (q[0].x + 150), q[1].y = 150, q[1].id = -1;
+    q[1].height = dem_at(t.dem, q[1].x, q[1].y);
     TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == 0);
     TT_CHECK(rep.warnings == 1 && rep.text && strstr(rep.text, "multiple"));
+    snprintf(at, sizeof at, "at (%g,%g)", q[0].x, q[0].y); /* position */
+    TT_CHECKF(strstr(rep.text, at), "%s", rep.text);
     td_label_report_free(&rep);
+    p.far = 1; /* so that a spot height between the lines is "far" */
+    p.near = 0.01;
+    q[1].y = 150.3, q[1].height = dem_at(t.dem, q[1].x, q[1].y);
+    p.nknown = 2;
+    TT_CHECKF(td_label_auto(ls, &p, &rep, &cx) == 0, "%s", cx.msg);
+    TT_CHECKF(rep.warnings == 2 && strstr(rep.text, "px from the nearest"),
+              "%s", rep.text ? rep.text : "");
+    TT_CHECK(count_wrong(ls, t.lines, 1) == 0);
+    td_label_report_free(&rep);
+    p.far = 150, p.near = 3;
     q[1].x = 301;
     p.nknown = 2;
     TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == TD_EINVAL);
@@ -325,6 +352,173 @@ static void test_crossings(void)
     free_truth(&t);
 }
 
+/* The cone's closed rings, outermost first (they nest: longer is
+ * outside); the open corner lines removed from t. */
+static size_t cone_chain(truth *t, long *chain, size_t max)
+{
+    size_t i, j, n = 0;
+    for (i = t->lines->n; i-- > 0;)
+        if (!t->lines->v[i].closed)
+            td_lines_remove(t->lines, i);
+    for (i = 0; i < t->lines->n && n < max; i++)
+        chain[n++] = (long)i;
+    for (i = 1; i < n; i++) /* insertion sort by length, longest first */
+        for (j = i; j > 0 && t->lines->v[chain[j]].n >
+                              t->lines->v[chain[j - 1]].n; j--) {
+            long x = chain[j];
+            chain[j] = chain[j - 1], chain[j - 1] = x;
+        }
+    return n;
+}
+
+/* A ring deleted from the traced lines (a missing line): a point on the
+ * outer ring and a spot at the summit are one interval off the nesting.
+ * The double gap tells where the contour is missing: a warning naming the
+ * ring inside it, and every height right; with missing = 0 the same points
+ * are a contradiction.  Without the spot, the heights inside are one
+ * interval low and the index widths catch it. */
+static void test_missing_line(void)
+{
+    truth t;
+    td_lines *ls;
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_label_point q[2];
+    td_ctx cx;
+    long chain[64], gone, inner_id;
+    size_t n, i;
+    char name[32];
+    td_ctx_init(&cx);
+    TT_CHECK(make_truth(&t, TD_GEN_CONE, 400, 300) == 0);
+    n = cone_chain(&t, chain, 64);
+    TT_CHECK(n >= 5);
+    gone = chain[2];
+    q[0] = on_line(&t.lines->v[chain[0]], t.lines->v[chain[0]].height);
+    q[1].x = 200, q[1].y = 150, q[1].id = -1;
+    q[1].height = dem_at(t.dem, q[1].x, q[1].y);
+    ls = unlabelled(t.lines);
+    inner_id = ls->v[chain[3]].id;
+    td_lines_remove(ls, (size_t)gone);
+    td_lines_remove(t.lines, (size_t)gone);
+    p.interval = t.interval, p.w = 400, p.h = 300, p.known = q, p.nknown = 2;
+    TT_CHECKF(td_label_auto(ls, &p, &rep, &cx) == 0, "%s", cx.msg);
+    TT_CHECK(count_wrong(ls, t.lines, 1) == 0);
+    snprintf(name, sizeof name, "between line %ld ", inner_id);
+    TT_CHECKF(rep.warnings == 1 && strstr(rep.text, "missing") &&
+              strstr(rep.text, name), "%s", rep.text ? rep.text : "");
+    td_label_report_free(&rep);
+    p.missing = 0;
+    TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == TD_EINVAL &&
+             strstr(cx.msg, "contradict"));
+    p.missing = 1, p.nknown = 1; /* no spot: wrong inside, no warning... */
+    TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == 0 && rep.warnings == 0);
+    TT_CHECK(count_wrong(ls, t.lines, 0) > 0);
+    td_label_report_free(&rep);
+    for (i = 0; i < ls->n; i++) /* ...but index lines drawn 2x as wide */
+        ls->v[i].width = fmod(t.lines->v[i].height, 5 * t.interval) ? 2 : 4;
+    p.index_every = 5;
+    TT_CHECK(td_label_check_index(ls, &p, &rep, &cx) == 0);
+    TT_CHECKF(rep.index_mismatches > 0 && strstr(rep.text, "look -"), "%s",
+              rep.text ? rep.text : "");
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+    free_truth(&t);
+}
+
+/* A spot height exactly on a multiple, outside a ring one interval above
+ * it (90 outside a 100 ring): the face between may be at either level; with
+ * a point on the ring, or alone, every height is right. */
+static void test_spot_on_multiple(void)
+{
+    truth t;
+    td_lines *ls;
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_label_point q[2];
+    td_ctx cx;
+    long chain[64], r;
+    double vx, vy, d, gap;
+    td_ctx_init(&cx);
+    TT_CHECK(make_truth(&t, TD_GEN_CONE, 400, 300) == 0);
+    TT_CHECK(cone_chain(&t, chain, 64) >= 4);
+    r = chain[2];
+    q[0] = on_line(&t.lines->v[r], t.lines->v[r].height);
+    vx = q[0].x - 200, vy = q[0].y - 150, d = hypot(vx, vy);
+    gap = td_contain_dist(&t.lines->v[chain[1]], q[0].x, q[0].y);
+    q[1].x = q[0].x + vx / d * 0.5 * gap, q[1].y = q[0].y + vy / d * 0.5 * gap;
+    q[1].height = t.lines->v[r].height - t.interval, q[1].id = -1;
+    ls = unlabelled(t.lines);
+    p.interval = t.interval, p.w = 400, p.h = 300, p.known = q, p.nknown = 2;
+    TT_CHECKF(td_label_auto(ls, &p, &rep, &cx) == 0, "%s", cx.msg);
+    TT_CHECK(count_wrong(ls, t.lines, 1) == 0 && rep.warnings == 0);
+    td_label_report_free(&rep);
+    p.known = q + 1, p.nknown = 1;
+    TT_CHECKF(td_label_auto(ls, &p, &rep, &cx) == 0, "%s", cx.msg);
+    TT_CHECK(count_wrong(ls, t.lines, 1) == 0);
+    TT_CHECK(rep.assumed == ls->n); /* one point fixes no direction */
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+    free_truth(&t);
+}
+
+/* Index contours drawn 4 px wide among 2 px lines, scanned: the widths
+ * separate them, a right labelling has no mismatch, a labelling one
+ * interval high has one per checked index line and the shift is named. */
+static void test_index_widths(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_image *im = NULL;
+    td_lines *truth_ls = NULL;
+    td_grid_f32 *dem = NULL;
+    td_scan_result res;
+    td_scan_params sp = td_scan_defaults();
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_label_point q[3];
+    td_ctx cx;
+    truth tr;
+    double I;
+    long a, b;
+    size_t i, thick = 0, thin = 0;
+    td_ctx_init(&cx);
+    gp.w = 600, gp.h = 450, gp.index_width = 4;
+    TT_CHECK(td_gen_sheet(&gp, &im, &truth_ls, &dem, &cx) == 0);
+    I = td_gen_auto_interval(&gp, dem);
+    TT_CHECKF(td_scan(im, &sp, &res, &cx) == 0, "%s", cx.msg);
+    for (i = 0; i < res.lines->n; i++) {
+        double w = res.lines->v[i].width;
+        thick += w > 3.5 && w < 5;
+        thin += w > 1.5 && w < 3;
+    }
+    TT_CHECKF(thick >= 3 && thin + thick == res.lines->n, "%zu thick %zu "
+              "thin of %zu", thick, thin, res.lines->n);
+    a = longest_open(truth_ls, NAN);
+    b = longest_open(truth_ls, truth_ls->v[a].height);
+    q[0] = on_line(&truth_ls->v[a], truth_ls->v[a].height);
+    q[1] = on_line(&truth_ls->v[b], truth_ls->v[b].height);
+    tr.dem = dem, tr.lines = truth_ls, tr.interval = I;
+    TT_CHECK(find_pit(&tr, &q[2].x, &q[2].y) >= 0); /* the depression */
+    q[2].height = dem_at(dem, q[2].x, q[2].y), q[2].id = -1;
+    p.interval = I, p.w = 600, p.h = 450, p.known = q, p.nknown = 3;
+    p.index_every = 5;
+    TT_CHECKF(td_label_auto(res.lines, &p, &rep, &cx) == 0, "%s", cx.msg);
+    TT_CHECK(td_label_check_index(res.lines, &p, &rep, &cx) == 0);
+    TT_CHECKF(rep.index_mismatches == 0 && rep.warnings == 0, "%s",
+              rep.text ? rep.text : "");
+    td_label_report_free(&rep);
+    q[0].height += I, q[1].height += I, q[2].height += I; /* one high */
+    TT_CHECKF(td_label_auto(res.lines, &p, &rep, &cx) == 0, "%s", cx.msg);
+    TT_CHECK(td_label_check_index(res.lines, &p, &rep, &cx) == 0);
+    TT_CHECKF(rep.index_mismatches >= 2 * thick - 2 &&
+              strstr(rep.text, "drawn thick") && strstr(rep.text, "look +"),
+              "%zu: %s", rep.index_mismatches, rep.text ? rep.text : "");
+    td_label_report_free(&rep);
+    td_scan_result_free(&res);
+    td_image_free(im);
+    td_lines_free(truth_ls);
+    td_grid_f32_free(dem);
+}
+
 int main(void)
 {
     TT_RUN(test_cone_one_point);
@@ -334,5 +528,8 @@ int main(void)
     TT_RUN(test_contradiction);
     TT_RUN(test_warnings);
     TT_RUN(test_crossings);
+    TT_RUN(test_missing_line);
+    TT_RUN(test_spot_on_multiple);
+    TT_RUN(test_index_widths);
     return tt_summary();
 }

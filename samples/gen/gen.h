@@ -30,6 +30,9 @@ typedef struct td_gen_params {
                               interval <= 0: automatic, see
                               td_gen_auto_interval */
     double line_width;     /* ink line width in px (1..6) */
+    double index_width;    /* width of the index contours (every 5th level,
+                              base + 5k * interval) in px; 0: line_width
+                              (the default) */
     double blur;           /* Gaussian blur sigma in px, 0 = none */
     double noise;          /* Gaussian noise sd in grey levels, 0 = none */
     int specks;            /* number of random ink specks (1-6 px blobs) */
@@ -42,6 +45,10 @@ typedef struct td_gen_params {
     int labels; /* inline elevation labels per index contour (every 5th
                    level, base + 5k * interval), 0 = none (the default):
                    see td_gen_labels */
+    double label_bend; /* labels only where the line stays within this many
+                          px of the chord over the label and 25 px either
+                          side; 0: 2.5 (straight stretches, the default);
+                          larger puts labels on curves too */
 } td_gen_params;
 
 /* Defaults: 1000 x 1000, seed 1, HILLS, base 0, interval 0 (automatic),
@@ -127,9 +134,11 @@ int td_gen_sheet(const td_gen_params *p, td_image **sheet, td_lines **truth,
 
 /* Inline elevation labels, as printed maps write them: on each index
  * contour of truth (height base + 5k * interval) up to p->labels places
- * (one per 250 px of line) where the line is straight within 2.5 px over
- * the label and 25 px either side and no other line comes within the digits' half height + line width
- * + 4 px, the line is erased over a gap of 20-60 px along it and its height
+ * (one per 250 px of line) where the line is straight within
+ * p->label_bend px (default 2.5) over the label and 25 px either side and
+ * no other line comes within the digits' half height + line width + 4 px
+ * of the chord, the line is erased over a gap of 20-60 px along it (along
+ * its curve) and its height
  * is drawn inside the gap as stroke digits (seven-segment shapes, 10-16 px
  * tall, 1.5-2 px strokes, along the line, reading left to right) in the
  * contour ink.  Drawn into im (td_gen_render's output before blur and

@@ -58,6 +58,15 @@ static inline uint64_t td_rng_below(td_rng *r, uint64_t n)
 void td_gen_draw_seg(uint8_t *lay, int w, int h, double x0, double y0,
                      double x1, double y1, double r);
 
+/* The contour interval of truth lines: p->interval when > 0, else the
+ * smallest difference between the heights of lines near in order. */
+double td_gen_line_interval(const td_lines *lines, const td_gen_params *p);
+
+/* The ink width line l is drawn with: p->index_width for an index contour
+ * (height base + 5k * interval) when index_width > 0, else line_width. */
+double td_gen_width_of(const td_line *l, const td_gen_params *p,
+                       double interval);
+
 /* Specks: p->specks blobs of 1..6 px at full coverage, each at least 4 px
  * from any coverage already in lay and 15 px from any break's middle. */
 void td_gen_specks(uint8_t *lay, const td_gen_params *p, const td_gen_break *br,

@@ -87,20 +87,22 @@ static double seg_dist(double px, double py, double ax, double ay, double bx,
 /* A label's place: the gap [s0, s1] on a line, its chord and text. */
 typedef struct place {
     double s0, s1, x0, y0, x1, y1, H, stroke;
+    size_t line;
     char text[24];
 } place;
 
-/* Straight within 2.5 px over [s0 - 25, s1 + 25] (printed labels sit on
- * smooth stretches; a joiner reads the direction of the line next to the
- * gap). */
-static int straight(const arc *a, const place *q)
+/* Straight within p->label_bend px (default 2.5) over [s0 - 25, s1 + 25]
+ * (printed labels sit on smooth stretches; a joiner reads the direction of
+ * the line next to the gap). */
+static int straight(const arc *a, const place *q, const td_gen_params *p)
 {
+    double tol = p->label_bend > 0 ? p->label_bend : 2.5;
     double ax, ay, bx, by, s, x, y;
     arc_at(a, q->s0 - 25, &ax, &ay);
     arc_at(a, q->s1 + 25, &bx, &by);
     for (s = q->s0 - 25; s <= q->s1 + 25; s += 2) {
         arc_at(a, s, &x, &y);
-        if (seg_dist(x, y, ax, ay, bx, by) > 2.5)
+        if (seg_dist(x, y, ax, ay, bx, by) > tol)
             return 0;
     }
     return 1;
@@ -113,12 +115,25 @@ static double arc_off(const arc *a, double s, double mid)
     return a->l->closed ? fmin(d, a->len - d) : d;
 }
 
+/* Whether (x,y) lies in the text's box grown by g px (chord frame). */
+static int in_text_box(const place *q, double x, double y, double g)
+{
+    double dx = q->x1 - q->x0, dy = q->y1 - q->y0, L = hypot(dx, dy);
+    double px = x - 0.5 * (q->x0 + q->x1), py = y - 0.5 * (q->y0 + q->y1);
+    int nd = (int)strlen(q->text);
+    double tw = nd * 0.55 * q->H + (nd - 1) * 0.4 * q->H;
+    double u = (px * dx + py * dy) / L, v = (-px * dy + py * dx) / L;
+    return fabs(u) <= 0.5 * tw + g && fabs(v) <= 0.5 * q->H + g;
+}
+
 /* No other line (nor this one away from the gap) within clear px of the
- * chord, and the chord at least 12 px inside the sheet. */
+ * chord, this line outside the gap clear of the text (on a curve it may
+ * come back towards it), and the chord at least 12 px inside the sheet. */
 static int clear_of(const td_lines *ls, size_t self, const arc *a,
                     const place *q, double clear, const td_gen_params *p)
 {
     double mid = 0.5 * (q->s0 + q->s1), half = 0.5 * (q->s1 - q->s0);
+    double W = fmax(p->line_width, p->index_width);
     size_t i, k;
     double m = clear + 2;
     if (fmin(q->x0, q->x1) < m || fmin(q->y0, q->y1) < m ||
@@ -128,6 +143,9 @@ static int clear_of(const td_lines *ls, size_t self, const arc *a,
         const td_line *l = &ls->v[i];
         for (k = 0; k < l->n; k++) {
             double x = l->xy[2 * k], y = l->xy[2 * k + 1];
+            if (i == self && arc_off(a, a->cum[k], mid) > half &&
+                in_text_box(q, x, y, W + 2))
+                return 0;
             if (i == self && arc_off(a, a->cum[k], mid) < half + clear + 6)
                 continue;
             if (seg_dist(x, y, q->x0, q->y0, q->x1, q->y1) < clear)
@@ -162,18 +180,22 @@ static int size_label(td_rng *r, double height, double W, double s,
     return 1;
 }
 
-/* Erase the line over the gap: |v| <= W/2 + 3.5 across the chord. */
-static void erase_gap(td_image *im, const place *q, double W, int colour)
+/* Paint paper over |v| <= R across segment (x0,y0)-(x1,y1), 0 <= u <= L
+ * along it (square ends). */
+static void erase_rect(td_image *im, double x0, double y0, double x1,
+                       double y1, double R, int colour)
 {
     static const uint8_t cream[3] = {245, 235, 210};
-    double dx = q->x1 - q->x0, dy = q->y1 - q->y0, L = hypot(dx, dy);
-    double R = 0.5 * W + 3.5, ux = dx / L, uy = dy / L;
+    double dx = x1 - x0, dy = y1 - y0, L = hypot(dx, dy), ux, uy;
     int x, y, c, ch = im->channels;
-    int xa = (int)floor(fmin(q->x0, q->x1) - R), xb = (int)ceil(fmax(q->x0, q->x1) + R);
-    int ya = (int)floor(fmin(q->y0, q->y1) - R), yb = (int)ceil(fmax(q->y0, q->y1) + R);
+    int xa = (int)floor(fmin(x0, x1) - R), xb = (int)ceil(fmax(x0, x1) + R);
+    int ya = (int)floor(fmin(y0, y1) - R), yb = (int)ceil(fmax(y0, y1) + R);
+    if (!(L > 0))
+        return;
+    ux = dx / L, uy = dy / L;
     for (y = ya < 0 ? 0 : ya; y <= yb && y < im->h; y++)
         for (x = xa < 0 ? 0 : xa; x <= xb && x < im->w; x++) {
-            double px = x + 0.5 - q->x0, py = y + 0.5 - q->y0;
+            double px = x + 0.5 - x0, py = y + 0.5 - y0;
             double u = px * ux + py * uy, v = -px * uy + py * ux;
             if (u < 0 || u > L || fabs(v) > R)
                 continue;
@@ -181,6 +203,27 @@ static void erase_gap(td_image *im, const place *q, double W, int colour)
                 im->data[((size_t)y * im->w + x) * ch + c] =
                     colour ? cream[c] : 255;
         }
+}
+
+/* Erase the line over the gap: |v| <= W/2 + 3.5 across the chord, and
+ * across the line itself in 1-px pieces from s0 to s1 (on a curve the
+ * line leaves the chord). */
+static int erase_gap(td_image *im, const td_line *l, const place *q,
+                     double W, int colour)
+{
+    double R = 0.5 * W + 3.5, s, xa, ya, xb, yb;
+    arc a;
+    erase_rect(im, q->x0, q->y0, q->x1, q->y1, R, colour);
+    if (arc_make(l, &a) != 0)
+        return TD_ENOMEM;
+    arc_at(&a, q->s0, &xa, &ya);
+    for (s = q->s0; s < q->s1; s += 1.0) {
+        arc_at(&a, fmin(s + 1.0, q->s1), &xb, &yb);
+        erase_rect(im, xa, ya, xb, yb, R, colour);
+        xa = xb, ya = yb;
+    }
+    free(a.cum);
+    return 0;
 }
 
 /* Draw the text centred on the chord, reading left to right. */
@@ -239,15 +282,17 @@ static int place_on_line(const td_lines *ls, size_t i, const td_gen_params *p,
             double s = (j + td_rng_range(r, 0.15, 0.85)) * a.len / nl;
             place q;
             int far = 1;
-            if (!size_label(r, l->height, p->line_width, s, &q) ||
+            if (!size_label(r, l->height, td_gen_width_of(l, p, interval), s,
+                            &q) ||
                 (!l->closed && (q.s0 < 50 || q.s1 > a.len - 50)))
                 continue;
             arc_at(&a, q.s0, &q.x0, &q.y0);
             arc_at(&a, q.s1, &q.x1, &q.y1);
             for (k = 0; k < *np; k++)
                 far &= hypot((*pl)[k].x0 - q.x0, (*pl)[k].y0 - q.y0) > 80;
-            if (!far || !straight(&a, &q) ||
-                !clear_of(ls, i, &a, &q, 0.5 * q.H + p->line_width + 4, p))
+            if (!far || !straight(&a, &q, p) ||
+                !clear_of(ls, i, &a, &q,
+                          0.5 * q.H + td_gen_width_of(l, p, interval) + 4, p))
                 continue;
             if (*np == *cap) {
                 place *v = realloc(*pl, (*cap = *cap ? 2 * *cap : 32) * sizeof *v);
@@ -257,6 +302,7 @@ static int place_on_line(const td_lines *ls, size_t i, const td_gen_params *p,
                 }
                 *pl = v;
             }
+            q.line = i;
             (*pl)[(*np)++] = q;
             break;
         }
@@ -284,7 +330,10 @@ int td_gen_labels(const td_lines *truth, const td_gen_params *p,
     if (!(lay = td_calloc((size_t)im->w * (size_t)im->h, 1, cx)))
         goto fail;
     for (i = 0; i < np; i++) {
-        erase_gap(im, &pl[i], p->line_width, im->channels == 3);
+        if (erase_gap(im, &truth->v[pl[i].line], &pl[i],
+                      fmax(p->line_width, p->index_width),
+                      im->channels == 3) != 0)
+            goto fail;
         draw_text(lay, im->w, im->h, &pl[i]);
     }
     td_gen_composite(im, lay, im->channels == 3 ? brown : black);

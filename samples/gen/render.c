@@ -176,6 +176,33 @@ fail:
     return rc;
 }
 
+/* Contract in gen_int.h. */
+double td_gen_line_interval(const td_lines *lines, const td_gen_params *p)
+{
+    double best = INFINITY;
+    size_t i, j;
+    if (p->interval > 0.0)
+        return p->interval;
+    for (i = 0; i < lines->n; i++) /* distinct heights are few: fast */
+        for (j = i + 1; j < lines->n && j < i + 64; j++) {
+            double d = fabs(lines->v[i].height - lines->v[j].height);
+            if (d > 1e-9 && d < best)
+                best = d;
+        }
+    return isfinite(best) ? best : 0.0;
+}
+
+/* Contract in gen_int.h. */
+double td_gen_width_of(const td_line *l, const td_gen_params *p,
+                       double interval)
+{
+    double k;
+    if (!(p->index_width > 0.0) || !(interval > 0.0) || !l->has_height)
+        return p->line_width;
+    k = floor((l->height - p->base) / interval + 0.5);
+    return fabs(fmod(k, 5.0)) < 0.5 ? p->index_width : p->line_width;
+}
+
 /* Draw one line, leaving out the stretches [s0 - W/2, s1 + W/2] of its
  * breaks (cuts, sorted by s0). */
 static void draw_line(uint8_t *lay, int w, int h, const td_line *l,
@@ -215,6 +242,7 @@ static int draw_lines(uint8_t *lay, const td_lines *lines,
                       const td_gen_params *p, const td_gen_break *br,
                       size_t nbr, td_ctx *cx)
 {
+    double interval = td_gen_line_interval(lines, p);
     size_t i, b = 0;
     for (i = 0; i < lines->n; i++) {
         size_t e = b;
@@ -223,7 +251,8 @@ static int draw_lines(uint8_t *lay, const td_lines *lines,
         e = b;
         while (e < nbr && br[e].line == i)
             e++;
-        draw_line(lay, p->w, p->h, &lines->v[i], br + b, e - b, p->line_width);
+        draw_line(lay, p->w, p->h, &lines->v[i], br + b, e - b,
+                  td_gen_width_of(&lines->v[i], p, interval));
         if ((i & 4095) == 4095 &&
             td_progress(cx, "render", 0.8 * (double)i / lines->n) != 0)
             return TD_ECANCEL;
@@ -236,9 +265,11 @@ static int check_params(const td_gen_params *p, td_ctx *cx)
     int rc = td_check_dims(p->w, p->h, "sheet", cx);
     if (rc)
         return rc;
-    if (!(p->line_width > 0.0 && p->line_width <= 50.0))
-        return td_seterr(cx, TD_EINVAL, "render: line width %g not in (0,50]",
-                         p->line_width);
+    if (!(p->line_width > 0.0 && p->line_width <= 50.0) ||
+        !(p->index_width >= 0.0 && p->index_width <= 50.0))
+        return td_seterr(cx, TD_EINVAL, "render: line width %g or index "
+                         "width %g not in (0,50]", p->line_width,
+                         p->index_width);
     if (!(p->blur >= 0.0 && p->blur <= 50.0) ||
         !(p->noise >= 0.0 && p->noise <= 255.0))
         return td_seterr(cx, TD_EINVAL,

@@ -17,15 +17,21 @@ static const char usage[] =
     "hills|cone|plane|ridges]\n"
     "             [--base B] [--interval I] [--width PX] [--blur SIGMA]\n"
     "             [--noise SD] [--specks N] [--breaks N] [--break-len A,B]\n"
-    "             [--colour] [--distractors] [--tiff] [--quiet]\n"
+    "             [--index-width PX] [--labels N] [--label-bend PX]\n"
+    "             [--colour] [--distractors]\n"
+    "             [--tiff] [-q|--quiet]\n"
     "\n"
     "Writes a synthetic scanned contour sheet (PNG, or grey GeoTIFF with\n"
     "--tiff), its true contour lines (GeoJSON: height, closed, edge) and the\n"
     "true DEM (float32 GeoTIFF).  Defaults: 1000x1000, seed 1, hills, base 0,\n"
     "interval automatic (>= 10, contours >= 6.5 px apart), width 2, no blur,\n"
-    "noise, specks or breaks, break length 1,3.  --colour: brown ink on\n"
-    "cream (RGB, PNG only); --distractors adds a blue river and black\n"
-    "lettering to a colour sheet.\n";
+    "noise, specks or breaks, break length 1,3.  --index-width: draw every\n"
+    "5th contour (base + 5k * interval) this wide.  --labels N: up to N\n"
+    "inline height labels per index contour cutting the line (one per\n"
+    "250 px) where the line stays within --label-bend px (default 2.5) of\n"
+    "the label's chord.  --colour: brown ink on cream (RGB, PNG only);\n"
+    "--distractors adds a blue river and black lettering to a colour\n"
+    "sheet.\n";
 
 typedef struct opts {
     td_gen_params p;
@@ -101,7 +107,8 @@ static int parse_break_len(const char *v, td_gen_params *p)
 static int value_opt(const char *o, const char *v, opts *op)
 {
     td_gen_params *p = &op->p;
-    double seed = p->seed, specks = p->specks, breaks = p->breaks;
+    double seed = p->seed, specks = p->specks, breaks = p->breaks,
+           labels = p->labels;
     const struct {
         const char *name;
         double lo, hi, *dst;
@@ -114,6 +121,9 @@ static int value_opt(const char *o, const char *v, opts *op)
         {"--noise", 0, 255, &p->noise},
         {"--specks", 0, 1e7, &specks},
         {"--breaks", 0, 1e7, &breaks},
+        {"--index-width", 0, 50, &p->index_width},
+        {"--labels", 0, 1000, &labels},
+        {"--label-bend", 0, 1000, &p->label_bend},
     };
     size_t i;
     for (i = 0; i < sizeof nums / sizeof nums[0]; i++)
@@ -123,6 +133,7 @@ static int value_opt(const char *o, const char *v, opts *op)
             p->seed = (unsigned)seed;
             p->specks = (int)specks;
             p->breaks = (int)breaks;
+            p->labels = (int)labels;
             return 0;
         }
     if (!strcmp(o, "-o"))
@@ -151,7 +162,7 @@ static int flag_opt(const char *o, opts *op)
         op->p.distractors = 1;
     else if (!strcmp(o, "--tiff"))
         op->tiff = 1;
-    else if (!strcmp(o, "--quiet"))
+    else if (!strcmp(o, "--quiet") || !strcmp(o, "-q"))
         op->quiet = 1;
     else
         return 0;

@@ -8,8 +8,10 @@
 #include "../draw.h"
 #include "../imageio.h"
 #include "../lines.h"
+#include "../../scanner/binarise.h"
 #include "../../scanner/contain.h"
 #include "../../scanner/label.h"
+#include "../../scanner/width.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -38,7 +40,8 @@ static const char help[] =
     "      --known-file CSV   x,y,height rows (a header line is skipped)\n"
     "      --depressions X,Y  the ring around X,Y is a depression (repeatable)\n"
     "      --heights CSV      id,height rows: these lines' heights (e.g. an\n"
-    "                         edited --export-csv file)\n"
+    "                         edited --export-csv file; an empty height:\n"
+    "                         none given)\n"
     "      --export-csv FILE  write id,height of every line\n"
     "      --size WxH         sheet size in px (default: the lines' extent)\n"
     "      --interactive      the paper's way: write a label sheet PNG, then\n"
@@ -48,7 +51,17 @@ static const char help[] =
     "                         others are re-suggested from it), q keeps the\n"
     "                         rest automatic; end of input accepts the rest\n"
     "      --sheet PNG        the label sheet (default LABELLED.geojson.png)\n"
-    "      --like SCAN        draw the label sheet over the scan\n"
+    "      --like SCAN        draw the label sheet over the scan; with\n"
+    "                         --index-every, measure the line widths on it\n"
+    "                         when the lines carry none\n"
+    "      --index-every N    every Nth level (base + k*N*I) is an index\n"
+    "                         contour drawn thicker: warn about each line\n"
+    "                         whose ink width (the scan's 'width' property)\n"
+    "                         disagrees with its height\n"
+    "      --thick-ratio R    thick/thin width ratio that tells index lines\n"
+    "                         (default 1.3)\n"
+    "      --no-missing       a known point one interval off the nesting is\n"
+    "                         a contradiction, not a missing contour\n"
     "  -q, --quiet            no summary or warnings\n"
     "  -h, --help             this help\n"
     "\n"
@@ -63,15 +76,16 @@ typedef struct pts {
 
 typedef struct label_opts {
     const char *in, *out, *csv_out, *sheet, *like;
-    int quiet, w, h, interactive;
-    double base, interval;
+    int quiet, w, h, interactive, index_every, no_missing;
+    double base, interval, thick_ratio;
     pts known;
     double *dep;
     size_t ndep;
 } label_opts;
 
 enum { O_INTERVAL = 256, O_BASE, O_KNOWN, O_KNOWNF, O_DEPR, O_HEIGHTS,
-       O_EXPORT, O_SIZE, O_INTER, O_SHEET, O_LIKE };
+       O_EXPORT, O_SIZE, O_INTER, O_SHEET, O_LIKE, O_INDEX, O_THICK,
+       O_NOMISS };
 
 static int push_pt(pts *a, double x, double y, double h, long id, td_ctx *cx)
 {
@@ -105,7 +119,26 @@ static int parse_nums(const char *s, double *v, int n)
     return k == n ? 0 : -1;
 }
 
-/* Rows of a CSV file: x,y,height (ids 0) or id,height (ids 1). */
+/* "id," or "id" (spaces allowed): a row without a height; the id in v[0]. */
+static int empty_height(const char *line, double *v)
+{
+    char buf[64];
+    size_t n = strcspn(line, ",");
+    const char *t = line + n;
+    if (n >= sizeof buf)
+        return 0;
+    if (*t == ',')
+        for (t++; *t == ' ' || *t == '\t'; t++)
+            ;
+    if (*t != '\0')
+        return 0;
+    memcpy(buf, line, n);
+    buf[n] = '\0';
+    return parse_nums(buf, v, 1) == 0;
+}
+
+/* Rows of a CSV file: x,y,height (ids 0) or id,height (ids 1); in id
+ * files an empty height is no height (undetermined). */
 static int read_csv(const char *path, int ids, pts *a, td_ctx *cx)
 {
     FILE *f = fopen(path, "r");
@@ -121,6 +154,11 @@ static int read_csv(const char *path, int ids, pts *a, td_ctx *cx)
         line[strcspn(line, "\r\n")] = '\0';
         if (line[0] == '\0' || line[0] == '#')
             continue;
+        if (ids && empty_height(line, v)) {
+            if (v[0] < 0 || v[0] != floor(v[0]))
+                rc = td_seterr(cx, TD_EINVAL, "%s:%ld: bad id", path, no);
+            continue; /* "id," : undetermined, no height given */
+        }
         if (parse_nums(line, v, ids ? 2 : 3) != 0) {
             if (no == 1 && strpbrk(line, "abcdefghijklmnopqrstuvwxyz"))
                 continue; /* a header */
@@ -148,6 +186,21 @@ static int parse_opt(int c, const char *arg, label_opts *o, pts *heights,
     case O_INTER: o->interactive = 1; return 0;
     case O_SHEET: o->sheet = arg; return 0;
     case O_LIKE: o->like = arg; return 0;
+    case O_NOMISS: o->no_missing = 1; return 0;
+    case O_INDEX: {
+        long n;
+        if (td_cli_parse_int(arg, 2, 1000, &n) != 0)
+            return td_seterr(cx, TD_EINVAL, "--index-every: '%s' is not an "
+                             "integer in 2..1000", arg);
+        o->index_every = (int)n;
+        return 0;
+    }
+    case O_THICK:
+        if (td_cli_parse_double(arg, 1.01, 100, v) != 0)
+            return td_seterr(cx, TD_EINVAL, "--thick-ratio: '%s' is not a "
+                             "number in 1.01..100", arg);
+        o->thick_ratio = v[0];
+        return 0;
     case O_INTERVAL:
     case O_BASE:
         if (td_cli_parse_double(arg, c == O_BASE ? -1e9 : 1e-9, 1e9, v) != 0)
@@ -198,7 +251,9 @@ static int parse_args(int argc, char **argv, label_opts *o, pts *heights)
         {"depressions", 1, 0, O_DEPR}, {"heights", 1, 0, O_HEIGHTS},
         {"export-csv", 1, 0, O_EXPORT}, {"size", 1, 0, O_SIZE},
         {"interactive", 0, 0, O_INTER}, {"sheet", 1, 0, O_SHEET},
-        {"like", 1, 0, O_LIKE}, {0, 0, 0, 0}};
+        {"like", 1, 0, O_LIKE}, {"index-every", 1, 0, O_INDEX},
+        {"thick-ratio", 1, 0, O_THICK}, {"no-missing", 0, 0, O_NOMISS},
+        {0, 0, 0, 0}};
     td_ctx cx;
     int c;
     td_ctx_init(&cx);
@@ -240,8 +295,11 @@ static void extent(const td_lines *ls, int *w, int *h)
     *h = (int)ceil(my + 0.5 - 1e-9);
 }
 
-/* --heights rows: the operator's heights win over the automatic ones. */
-static int apply_heights(td_lines *ls, const pts *hs, td_ctx *cx)
+/* --heights rows: the operator's heights win over the automatic ones;
+ * rows off base + k * interval are warned about into checks (may be NULL)
+ * and kept. */
+static int apply_heights(td_lines *ls, const pts *hs, td_label_report *checks,
+                         const td_label_params *p, td_ctx *cx)
 {
     size_t i, j;
     for (j = 0; j < hs->n; j++) {
@@ -252,6 +310,16 @@ static int apply_heights(td_lines *ls, const pts *hs, td_ctx *cx)
                              hs->v[j].id);
         ls->v[i].has_height = 1;
         ls->v[i].height = hs->v[j].height;
+        if (checks) {
+            double k = (hs->v[j].height - p->base) / p->interval, x, y;
+            if (fabs(k - floor(k + 0.5)) <= 1e-6)
+                continue;
+            td_label_where(&ls->v[i], &x, &y);
+            td_label_warn(checks, "--heights: height %g of line %ld (near "
+                          "%.0f,%.0f) is not base %g + a multiple of %g; "
+                          "kept", hs->v[j].height, hs->v[j].id, x, y,
+                          p->base, p->interval);
+        }
     }
     return 0;
 }
@@ -282,15 +350,61 @@ static int export_csv(const char *path, const td_lines *ls, td_ctx *cx)
     return 0;
 }
 
-static void summary(const td_lines *ls, const td_label_report *rep)
+/* Each line of a report's text as "label: warning: ...". */
+static void put_warnings(const char *text)
+{
+    while (text && *text) {
+        size_t n = strcspn(text, "\n");
+        fprintf(stderr, "label: warning: %.*s\n", (int)n, text);
+        text += n + (text[n] == '\n');
+    }
+}
+
+/* Whether id is among the points' ids. */
+static int has_id(const pts *a, long id)
+{
+    size_t j;
+    for (j = 0; j < a->n; j++)
+        if (a->v[j].id == id)
+            return 1;
+    return 0;
+}
+
+/* The lines whose up/down is only assumed (a note, not a warning); lines
+ * given by --heights or answered in --interactive are not guesses. */
+static void put_assumed(td_label_report *rep, const pts *heights,
+                        const pts *seen)
+{
+    size_t i, m = 0;
+    for (i = 0; i < rep->assumed; i++)
+        if (!has_id(heights, rep->assumed_ids[i]) &&
+            !has_id(seen, rep->assumed_ids[i]))
+            rep->assumed_ids[m++] = rep->assumed_ids[i];
+    rep->assumed = m;
+    if (rep->assumed == 0)
+        return;
+    fprintf(stderr, "label: note: %zu lines are higher or lower than their "
+            "surroundings by assumption only (no two known points or "
+            "--depressions fix it; rings taken as rising), ids ",
+            rep->assumed);
+    for (i = 0; i < rep->assumed && i < 20; i++)
+        fprintf(stderr, "%s%ld", i ? "," : "", rep->assumed_ids[i]);
+    fputs(rep->assumed > 20 ? ",...\n" : "\n", stderr);
+}
+
+static void summary(const td_lines *ls, td_label_report *rep,
+                    const td_label_report *checks, const pts *heights,
+                    const pts *seen, size_t more)
 {
     size_t i, lab = 0, shown = 0;
     for (i = 0; i < ls->n; i++)
         lab += ls->v[i].has_height != 0;
-    if (rep->text)
-        fputs(rep->text, stderr);
+    put_warnings(rep->text);
+    put_warnings(checks->text);
+    put_assumed(rep, heights, seen);
     fprintf(stderr, "label: %zu lines, %zu labelled, %zu undetermined, %zu "
-            "warnings", ls->n, lab, ls->n - lab, rep->warnings);
+            "warnings", ls->n, lab, ls->n - lab,
+            rep->warnings + checks->warnings + more);
     for (i = 0; i < ls->n && shown < 20; i++)
         if (!ls->v[i].has_height)
             fprintf(stderr, "%s%ld", shown++ ? "," : " (undetermined ids: ",
@@ -433,7 +547,7 @@ fail:
  * and a warning is printed. */
 static void repropagate(td_lines *ls, td_label_params *p, const pts *typed,
                         const pts *known, const pts *heights,
-                        td_label_report *rep)
+                        td_label_report *rep, size_t *warnings)
 {
     td_label_point *all = NULL;
     double *saved = malloc((ls->n + 1) * 2 * sizeof *saved);
@@ -453,9 +567,10 @@ static void repropagate(td_lines *ls, td_label_params *p, const pts *typed,
         memcpy(all + known->n, typed->v, typed->n * sizeof *all);
     p->known = all, p->nknown = known->n + typed->n;
     if (td_label_auto(ls, p, &r2, &cx) != 0 ||
-        apply_heights(ls, heights, &cx) != 0) {
+        apply_heights(ls, heights, NULL, p, &cx) != 0) {
         fprintf(stderr, "label: warning: %s; heights not re-suggested\n",
                 td_errmsg(&cx));
+        (*warnings)++;
         for (i = 0; i < ls->n; i++)
             ls->v[i].has_height = (int)saved[2 * i],
             ls->v[i].height = saved[2 * i + 1];
@@ -490,14 +605,16 @@ static int read_answer(FILE *in, double *v)
 }
 
 /* Ask each line's height in id order (the paper's operator), re-suggesting
- * the others after each typed height.  Returns the number of warnings. */
+ * the others after each typed height.  Returns the number of warnings;
+ * *asked gets the number of lines answered (accepted or typed). */
 static size_t interact(td_lines *ls, td_label_params *p, const pts *known,
                        const pts *heights, const double *idxy,
-                       td_label_report *rep, FILE *in)
+                       td_label_report *rep, FILE *in, size_t *asked)
 {
     pts typed = {NULL, 0, 0};
     size_t i, warnings = 0;
     for (i = 0; i < ls->n; i++) {
+        *asked = i; /* lines before i were answered */
         td_line *l = &ls->v[i];
         double x = idxy[2 * i], y = idxy[2 * i + 1], v, k;
         char sug[64] = "?";
@@ -512,6 +629,7 @@ static size_t interact(td_lines *ls, td_label_params *p, const pts *known,
                 fputc('\n', stderr);
             break;
         }
+        *asked = i + 1;
         if (a == 3) {
             fprintf(stderr, "  a height, Enter to accept, q to stop\n");
             i--;
@@ -529,7 +647,7 @@ static size_t interact(td_lines *ls, td_label_params *p, const pts *known,
         if (push_pt(&typed, 0, 0, v, l->id, NULL) != 0)
             break;
         l->has_height = 1, l->height = v;
-        repropagate(ls, p, &typed, known, heights, rep);
+        repropagate(ls, p, &typed, known, heights, rep, &warnings);
         l = &ls->v[i];
         l->has_height = 1, l->height = v; /* the operator's word stands */
     }
@@ -552,20 +670,62 @@ static long warn_crossings(const td_lines *ls, int quiet, td_ctx *cx)
     return (long)n;
 }
 
+/* Widths for --index-every from the scan (--like) when the lines carry
+ * none (a GeoJSON not written by topodig scan): binarised with the
+ * scanner's defaults. */
+static int widths_from_scan(const char *scan, td_lines *ls, td_ctx *cx)
+{
+    td_image *im = NULL;
+    td_grid_u8 *m = NULL;
+    td_binarise_params bp = td_binarise_defaults();
+    size_t i;
+    int rc;
+    for (i = 0; i < ls->n; i++)
+        if (ls->v[i].width > 0)
+            return 0;
+    if ((rc = td_image_read(scan, &im, NULL, cx)) != 0)
+        goto fail;
+    rc = TD_ENOMEM;
+    if (!(m = td_grid_u8_new(im->w, im->h, cx)))
+        goto fail;
+    if ((rc = td_binarise(im, &bp, m, cx)) == 0)
+        rc = td_line_widths(m, ls, cx);
+fail:
+    td_image_free(im);
+    td_grid_u8_free(m);
+    return rc;
+}
+
+/* After the heights are final: the interval check of --heights rows and
+ * typed heights is done where they come in; here the index widths. */
+static int final_checks(const label_opts *o, td_lines *ls,
+                        const td_label_params *p, td_label_report *checks,
+                        td_ctx *cx)
+{
+    int rc = 0;
+    if (o->index_every > 0 && o->like)
+        rc = widths_from_scan(o->like, ls, cx);
+    if (rc == 0)
+        rc = td_label_check_index(ls, p, checks, cx);
+    return rc;
+}
+
 int td_cmd_label(int argc, char **argv)
 {
     label_opts o;
-    pts heights;
+    pts heights, seen = {NULL, 0, 0};
     td_ctx cx;
     td_lines *ls = NULL;
-    td_label_report rep;
+    td_label_report rep, checks;
     td_label_params p = td_label_defaults();
     double *idxy = NULL;
+    size_t more = 0;
     long ncross = 0;
     int rc;
     memset(&o, 0, sizeof o);
     memset(&heights, 0, sizeof heights);
     memset(&rep, 0, sizeof rep);
+    memset(&checks, 0, sizeof checks);
     td_ctx_init(&cx);
     if ((rc = parse_args(argc, argv, &o, &heights)) != 0)
         goto done;
@@ -576,35 +736,45 @@ int td_cmd_label(int argc, char **argv)
     p.base = o.base, p.interval = o.interval, p.w = o.w, p.h = o.h;
     p.known = o.known.v, p.nknown = o.known.n;
     p.depressions = o.dep, p.ndepressions = o.ndep;
+    p.index_every = o.index_every, p.missing = !o.no_missing;
+    if (o.thick_ratio > 0)
+        p.thick_ratio = o.thick_ratio;
     if ((ncross = warn_crossings(ls, o.quiet, &cx)) < 0) {
         rc = TD_ENOMEM;
         goto fail;
     }
     if ((rc = td_label_auto(ls, &p, &rep, &cx)) != 0 ||
-        (rc = apply_heights(ls, &heights, &cx)) != 0 ||
+        (rc = apply_heights(ls, &heights, &checks, &p, &cx)) != 0 ||
         (o.interactive && (rc = id_places(ls, &idxy, &cx)) != 0) ||
         (o.interactive && (rc = write_sheet(&o, ls, idxy, &cx)) != 0))
         goto fail;
     if (o.interactive) {
-        size_t typed_warnings = interact(ls, &p, &o.known, &heights, idxy,
-                                         &rep, stdin);
-        rep.warnings += typed_warnings;
+        size_t asked = 0, i;
+        more += interact(ls, &p, &o.known, &heights, idxy, &rep, stdin,
+                         &asked);
+        for (i = 0; i < asked && rc == 0; i++) /* seen: not "assumed" */
+            rc = push_pt(&seen, 0, 0, ls->v[i].height, ls->v[i].id, &cx);
+        if (rc != 0)
+            goto fail;
     }
-    rep.warnings += (size_t)ncross;
-    if ((rc = td_geojson_write_lines(o.out, ls, NULL, &cx)) != 0 ||
+    more += (size_t)ncross;
+    if ((rc = final_checks(&o, ls, &p, &checks, &cx)) != 0 ||
+        (rc = td_geojson_write_lines(o.out, ls, NULL, &cx)) != 0 ||
         (o.csv_out && (rc = export_csv(o.csv_out, ls, &cx)) != 0))
         goto fail;
     if (!o.quiet)
-        summary(ls, &rep);
+        summary(ls, &rep, &checks, &heights, &seen, more);
 fail:
     if (rc)
         rc = td_cli_fail("label", &cx);
 done:
     td_label_report_free(&rep);
+    td_label_report_free(&checks);
     td_lines_free(ls);
     free(idxy);
     free(o.known.v);
     free(o.dep);
     free(heights.v);
+    free(seen.v);
     return rc == 2 ? 0 : rc;
 }

@@ -36,7 +36,10 @@ static const char help[] =
     "                         when both ends point across it (default 16)\n"
     "      --max-gap PX       label-gap stage: longest gap joined when the\n"
     "                         ends continue each other and the join crosses\n"
-    "                         no line (default 70; <= --small-gap: off)\n"
+    "                         no line (default 70; <= --small-gap: off);\n"
+    "                         curved gaps too when each end curves alike,\n"
+    "                         the join following the curve\n"
+    "      --no-curves        label-gap stage: straight rule and chords only\n"
     "      --min-length PX    remove open fragments (label digits, text)\n"
     "                         shorter than PX or fitting in a PX box,\n"
     "                         unless both ends continue lines (default 25;\n"
@@ -58,7 +61,7 @@ typedef struct scan_opts {
 } scan_opts;
 
 enum { O_INK = 256, O_THR, O_SPECK, O_HOLE, O_SPUR, O_SPURMAX, O_NOBRIDGE, O_NOJOIN,
-       O_MAXGAP, O_DEBUG, O_SMALLGAP, O_MINLEN };
+       O_MAXGAP, O_DEBUG, O_SMALLGAP, O_MINLEN, O_NOCURVES };
 
 static int parse_opt(int c, const char *arg, scan_opts *o, td_ctx *cx)
 {
@@ -72,6 +75,7 @@ static int parse_opt(int c, const char *arg, scan_opts *o, td_ctx *cx)
     case O_SPUR: return td_despur_parse_mode(arg, &o->p.spur, cx);
     case O_NOBRIDGE: o->p.trace.bridge = 0; return 0;
     case O_NOJOIN: o->p.do_join = 0; return 0;
+    case O_NOCURVES: o->p.join.curves = 0; return 0;
     case O_DEBUG: o->debug_dir = arg; return 0;
     case O_SPECK:
     case O_HOLE:
@@ -116,7 +120,8 @@ static int parse_args(int argc, char **argv, scan_opts *o)
         {"spur-max", 1, 0, O_SPURMAX}, {"no-bridge", 0, 0, O_NOBRIDGE},
         {"no-join", 0, 0, O_NOJOIN}, {"max-gap", 1, 0, O_MAXGAP},
         {"debug-dir", 1, 0, O_DEBUG}, {"small-gap", 1, 0, O_SMALLGAP},
-        {"min-length", 1, 0, O_MINLEN}, {0, 0, 0, 0}};
+        {"min-length", 1, 0, O_MINLEN}, {"no-curves", 0, 0, O_NOCURVES},
+        {0, 0, 0, 0}};
     td_ctx cx;
     int c;
     td_ctx_init(&cx);

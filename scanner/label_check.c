@@ -1,0 +1,146 @@
+/* Checks of labelled heights (label.h): the interval and base, and the
+ * index contours' ink widths (ours; printed sheets draw every 5th contour
+ * thicker, so a labelling one interval off shows as thick lines at the
+ * wrong heights).
+ *
+ *   widths (log)   thin |||||||        thick |||      Otsu's split of the
+ *                  -----+-------+------+-----+---     log widths; checked
+ *                      2.2     ratio >= 1.3  4.2      only with contrast
+ */
+#include "label.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MIN_CHECK_LEN 30.0 /* px: shorter lines' widths are not trusted */
+
+static long level_of(const td_label_params *p, double h, int *off)
+{
+    double t = (h - p->base) / p->interval;
+    long k = (long)floor(t + 0.5);
+    *off = fabs(t - (double)k) > 1e-6;
+    return k;
+}
+
+/* Otsu's split of sorted log widths v[0..n-1]: the first thick index
+ * (1..n-1), the class means in *thin and *thick (as widths). */
+static size_t otsu_split(const double *v, size_t n, double *thin,
+                         double *thick)
+{
+    double total = 0, left = 0, best = -1;
+    size_t i, cut = 1;
+    for (i = 0; i < n; i++)
+        total += v[i];
+    for (i = 1; i < n; i++) {
+        double m0, m1, between;
+        left += v[i - 1];
+        m0 = left / (double)i;
+        m1 = (total - left) / (double)(n - i);
+        between = (double)i * (double)(n - i) * (m1 - m0) * (m1 - m0);
+        if (between > best)
+            best = between, cut = i, *thin = exp(m0), *thick = exp(m1);
+    }
+    return cut;
+}
+
+static int cmp_d(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Is level k an index level when the index levels are shifted by j? */
+static int is_index(long k, long j, int every)
+{
+    long r = (k - j) % every;
+    return r == 0;
+}
+
+/* How many checked lines agree with index levels shifted by j. */
+static size_t agree(const td_lines *ls, const td_label_params *p,
+                    double cut, long j)
+{
+    size_t i, n = 0;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        int off;
+        long k;
+        if (!l->has_height || !(l->width > 0) ||
+            td_line_length(l) < MIN_CHECK_LEN)
+            continue;
+        k = level_of(p, l->height, &off);
+        n += is_index(k, j, p->index_every) == (l->width >= cut);
+    }
+    return n;
+}
+
+/* One warning per line whose width and height disagree. */
+static void mismatches(const td_lines *ls, const td_label_params *p,
+                       double cut, double thin, double thick,
+                       td_label_report *rep)
+{
+    size_t i;
+    double every = p->index_every * p->interval;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        int off, idx;
+        double x, y;
+        if (!l->has_height || !(l->width > 0) ||
+            td_line_length(l) < MIN_CHECK_LEN)
+            continue;
+        idx = is_index(level_of(p, l->height, &off), 0, p->index_every);
+        if (idx == (l->width >= cut))
+            continue;
+        td_label_where(l, &x, &y);
+        td_label_warn(rep, "line %ld (near %.0f,%.0f) is drawn %s (%.1f px; "
+                      "%s lines %.1f px) but its height %g is %san index "
+                      "height (base %g + a multiple of %g)", l->id, x, y,
+                      idx ? "thin" : "thick", l->width,
+                      idx ? "index" : "other", idx ? thick : thin, l->height,
+                      idx ? "" : "not ", p->base, every);
+        rep->index_mismatches++;
+    }
+}
+
+/* Contract in label.h. */
+int td_label_check_index(const td_lines *ls, const td_label_params *p,
+                         td_label_report *rep, td_ctx *cx)
+{
+    double *v, thin = 0, thick = 0, cut;
+    size_t i, n = 0, best = 0, cnt;
+    long j, bestj = 0;
+    if (p->index_every < 0)
+        return td_seterr(cx, TD_EINVAL, "label: index-every must be >= 0");
+    if (p->index_every == 0 || !(p->interval > 0))
+        return 0;
+    if (!(v = td_calloc(ls->n + 1, sizeof *v, cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < ls->n; i++)
+        if (ls->v[i].width > 0 && td_line_length(&ls->v[i]) >= MIN_CHECK_LEN)
+            v[n++] = log(ls->v[i].width);
+    qsort(v, n, sizeof *v, cmp_d);
+    if (n < 2 || (otsu_split(v, n, &thin, &thick), thick < p->thick_ratio *
+                  thin)) {
+        td_label_warn(rep, "index check skipped: %s", n < 2 ? "no measured "
+                      "line widths (scan the sheet again, or give --like "
+                      "SCAN)" : "no thicker lines among the widths");
+        free(v);
+        return 0;
+    }
+    cut = sqrt(thin * thick); /* the geometric middle */
+    free(v);
+    mismatches(ls, p, cut, thin, thick, rep);
+    for (j = 0; j < p->index_every; j++)
+        if ((cnt = agree(ls, p, cut, j)) > best)
+            best = cnt, bestj = j;
+    if (bestj != 0 && best > (cnt = agree(ls, p, cut, 0))) {
+        long sh = bestj <= p->index_every / 2 ? bestj : bestj - p->index_every;
+        td_label_warn(rep, "the heights look %+g off: with the index heights "
+                      "moved by that, %zu lines' widths agree against %zu; "
+                      "check the known points", (double)sh * p->interval,
+                      best, cnt);
+    }
+    return 0;
+}

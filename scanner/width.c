@@ -1,0 +1,140 @@
+/* Ink width of traced lines (width.h).  At a sample point P with unit
+ * normal n, the run is the ink on both sides of P along n:
+ *
+ *        paper . . . . . . .
+ *        ink   ####^#######     run = a + b, stepped in 1/8 px, each
+ *        ink   ####P#######     step read from the pixel it falls in
+ *        ink   ####v#######
+ *        paper . . . . . . .
+ */
+#include "width.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#define W_STEP 4     /* vertices (about px) between samples */
+#define W_CHORD 3    /* vertices either side for the local direction */
+#define W_END 4      /* vertices skipped at an open line's ends */
+#define W_MAX 24.0   /* longer runs are not a line's width */
+#define W_MIN_RUNS 5
+
+/* The mask: bytes (a td_grid_u8) or bits (packed rows, bit c & 7 of byte
+ * c >> 3 is column c). */
+typedef struct wmask {
+    int w, h;
+    size_t stride;
+    const uint8_t *bytes, *bits;
+} wmask;
+
+static int ink_at(const wmask *m, double x, double y)
+{
+    long c = (long)floor(x), r = (long)floor(y);
+    if (c < 0 || r < 0 || c >= m->w || r >= m->h)
+        return 0;
+    if (m->bits)
+        return m->bits[(size_t)r * m->stride + (size_t)(c >> 3)] >> (c & 7) & 1;
+    return m->bytes[(size_t)r * m->stride + (size_t)c] != 0;
+}
+
+/* Distance from (x,y) along (dx,dy) to the first paper, at most W_MAX. */
+static double run(const wmask *m, double x, double y, double dx,
+                  double dy)
+{
+    double t;
+    for (t = 0.0; t <= W_MAX; t += 0.25)
+        if (!ink_at(m, x + t * dx, y + t * dy))
+            return t;
+    return W_MAX + 1.0;
+}
+
+static int cmp_d(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The median run of one line, 0 when fewer than W_MIN_RUNS.  Traced lines
+ * have a vertex per pixel step (1 to 1.41 px), so samples are taken at
+ * every W_STEP-th vertex and the chord spans W_CHORD vertices each way
+ * (skipping W_END vertices at an open line's ends); no arc lengths. */
+static double line_width(const wmask *m, const td_line *l, double *runs,
+                         size_t maxruns)
+{
+    size_t n = l->n, k, nr = 0, lo, hi, step;
+    lo = l->closed ? 0 : W_END;
+    hi = l->closed ? n : (n > W_END ? n - W_END : 0);
+    step = hi > lo ? (hi - lo) / maxruns + 1 : 1;
+    step = step < W_STEP ? W_STEP : step;
+    for (k = lo; k < hi && nr < maxruns; k += step) {
+        size_t ka = l->closed ? (k + n - W_CHORD % n) % n
+                              : (k >= W_CHORD ? k - W_CHORD : 0);
+        size_t kb = l->closed ? (k + W_CHORD) % n
+                              : (k + W_CHORD < n ? k + W_CHORD : n - 1);
+        double x = l->xy[2 * k], y = l->xy[2 * k + 1];
+        double dx = l->xy[2 * kb] - l->xy[2 * ka];
+        double dy = l->xy[2 * kb + 1] - l->xy[2 * ka + 1], d = hypot(dx, dy), r;
+        if (d < 1.0 || !ink_at(m, x, y))
+            continue;
+        r = run(m, x, y, -dy / d, dx / d) + run(m, x, y, dy / d, -dx / d);
+        if (r <= W_MAX)
+            runs[nr++] = r;
+    }
+    if (nr < W_MIN_RUNS)
+        return 0.0;
+    qsort(runs, nr, sizeof *runs, cmp_d);
+    return nr % 2 ? runs[nr / 2] : 0.5 * (runs[nr / 2 - 1] + runs[nr / 2]);
+}
+
+static int widths(const wmask *mask, td_lines *ls, td_ctx *cx)
+{
+    size_t i, maxruns = 512;
+    double *runs = td_calloc(maxruns, sizeof *runs, cx);
+    if (!runs)
+        return TD_ENOMEM;
+    for (i = 0; i < ls->n; i++) {
+        td_line *l = &ls->v[i];
+        l->width = l->n < 2 ? 0.0 : line_width(mask, l, runs, maxruns);
+    }
+    free(runs);
+    return 0;
+}
+
+/* Contract in width.h. */
+int td_line_widths(const td_grid_u8 *mask, td_lines *ls, td_ctx *cx)
+{
+    wmask m = {mask->w, mask->h, mask->stride, mask->data, NULL};
+    return widths(&m, ls, cx);
+}
+
+/* Contract in width.h. */
+uint8_t *td_width_pack(const td_grid_u8 *mask, td_ctx *cx)
+{
+    size_t bs = ((size_t)mask->w + 7) / 8, r, c;
+    uint8_t *bits = td_calloc((size_t)mask->h * bs + 1, 1, cx);
+    if (!bits)
+        return NULL;
+    for (r = 0; r < (size_t)mask->h; r++) {
+        const uint8_t *src = mask->data + r * mask->stride;
+        uint8_t *dst = bits + r * bs;
+        size_t w8 = (size_t)mask->w / 8 * 8;
+        for (c = 0; c < w8; c += 8) /* eight pixels a byte, no branch */
+            dst[c >> 3] = (uint8_t)((src[c] != 0) | (src[c + 1] != 0) << 1 |
+                                    (src[c + 2] != 0) << 2 |
+                                    (src[c + 3] != 0) << 3 |
+                                    (src[c + 4] != 0) << 4 |
+                                    (src[c + 5] != 0) << 5 |
+                                    (src[c + 6] != 0) << 6 |
+                                    (src[c + 7] != 0) << 7);
+        for (; c < (size_t)mask->w; c++)
+            dst[c >> 3] |= (uint8_t)((src[c] != 0) << (c & 7));
+    }
+    return bits;
+}
+
+/* Contract in width.h. */
+int td_line_widths_packed(const uint8_t *bits, int w, int h, td_lines *ls,
+                          td_ctx *cx)
+{
+    wmask m = {w, h, ((size_t)w + 7) / 8, NULL, bits};
+    return widths(&m, ls, cx);
+}

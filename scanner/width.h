@@ -1,0 +1,39 @@
+/* width.h: ink width of traced lines, measured across the mask.
+ *
+ * Ours (not in paper 001): printed sheets draw every 5th contour (the
+ * index contours) thicker; `topodig label --index-every` uses the widths to
+ * check the heights (scanner/label.h). */
+#ifndef TD_WIDTH_H
+#define TD_WIDTH_H
+
+#include "../src/grid.h"
+#include "../src/lines.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Set ls->v[i].width to the median ink width of line i in px: at every
+ * 2nd vertex (traced lines have one per pixel step; not the 4 at an open
+ * line's ends; at most 512 samples per line), the run of ink (mask != 0)
+ * across the line through the vertex, along the normal of the chord from 3
+ * vertices before to 3 after it; vertices off the ink (a bridged gap) and
+ * runs longer than 24 px (a blot, a crossing) are skipped.  Lines with
+ * fewer than 5 runs get width 0 (not measured).  mask is the binarised
+ * scan before thinning, same pixel frame as the lines.  Returns 0 or
+ * TD_ENOMEM (widths then unchanged or partly set). */
+int td_line_widths(const td_grid_u8 *mask, td_lines *ls, td_ctx *cx);
+
+/* The mask packed one bit per pixel (rows of (w + 7) / 8 bytes, column c
+ * in bit c & 7 of byte c >> 3), so a scan can keep it at 1/8 byte per
+ * pixel while it thins the mask in place.  free() it; NULL on TD_ENOMEM. */
+uint8_t *td_width_pack(const td_grid_u8 *mask, td_ctx *cx);
+
+/* td_line_widths on a packed w x h mask. */
+int td_line_widths_packed(const uint8_t *bits, int w, int h, td_lines *ls,
+                          td_ctx *cx);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
