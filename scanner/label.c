@@ -16,6 +16,7 @@
 
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -420,35 +421,104 @@ fail:
 /* Flip free units on the path from the first point to point j until j is
  * met (or, one interval off, a missing contour explains it); lock the
  * path's units for j. */
+enum { TD_DP_CELLS = 1 << 22 }; /* bound on the table of meet_dp */
+
+/* Choose which of the m candidate units to flip so that c's residual r
+ * becomes 0: the fewest flips, the ones nearest the new point when there
+ * is a choice (dynamic programming over the reachable changes; the
+ * greedy one-at-a-time search misses pairs that only work together).
+ * Returns 1 and flips them, 0 when no subset works, TD_ENOMEM. */
+static int meet_dp(solver *s, const cons *c, const long *cand, size_t m,
+                   long r, td_ctx *cx)
+{
+    long *delta = td_calloc(m + 1, sizeof *delta, cx), span = 0, need, v;
+    uint16_t *suf = NULL;
+    size_t i, w;
+    int rc = TD_ENOMEM;
+    if (!delta)
+        return rc;
+    for (i = 0; i < m; i++) { /* each flip's own effect (they add up) */
+        if (s->lock[cand[i]])
+            continue;
+        flip(s, cand[i]);
+        relevel(s);
+        delta[i] = residual_raw(s, c) - r;
+        flip(s, cand[i]);
+        span += labs(delta[i]);
+    }
+    relevel(s);
+    rc = 0;
+    w = 2 * (size_t)span + 1;
+    if (labs(r) > span || (m + 1) * w > TD_DP_CELLS ||
+        !(suf = td_malloc((m + 1) * w * sizeof *suf, cx)))
+        goto done;
+    /* suf[i][v + span]: fewest flips among cand[i..m) changing r by v */
+    for (v = -span; v <= span; v++)
+        suf[m * w + (size_t)(v + span)] = v == 0 ? 0 : UINT16_MAX;
+    for (i = m; i-- > 0;)
+        for (v = -span; v <= span; v++) {
+            uint16_t keep = suf[(i + 1) * w + (size_t)(v + span)], take;
+            long u = v - delta[i];
+            take = delta[i] != 0 && u >= -span && u <= span &&
+                           suf[(i + 1) * w + (size_t)(u + span)] < UINT16_MAX
+                       ? suf[(i + 1) * w + (size_t)(u + span)] + 1
+                       : UINT16_MAX;
+            suf[i * w + (size_t)(v + span)] = take <= keep ? take : keep;
+        }
+    need = -r;
+    if (suf[need + span] == UINT16_MAX)
+        goto done;
+    for (i = 0; i < m; i++) {
+        long u = need - delta[i];
+        if (delta[i] != 0 && u >= -span && u <= span &&
+            suf[(i + 1) * w + (size_t)(u + span)] < UINT16_MAX &&
+            suf[(i + 1) * w + (size_t)(u + span)] + 1 ==
+                suf[i * w + (size_t)(need + span)]) {
+            flip(s, cand[i]);
+            need = u;
+        }
+    }
+    relevel(s);
+    rc = 1;
+done:
+    free(suf);
+    free(delta);
+    return rc;
+}
+
+/* Flip free units among the new point's own line, the tree path from the
+ * first point to point j and the first point's line until j is met; lock
+ * those units for j. */
 static int meet(solver *s, size_t j, long *cand, td_ctx *cx)
 {
     cons *c = &s->c[j];
-    size_t m = 0, i;
+    size_t m = 0, i, k;
     long r, blocker = 0;
+    int rc;
     if (c->kind == K_LINE) {
         int par;
         cand[m++] = find(s, c->line, &par);
     }
     m += path_units(s, s->c[0].face, c->face, cand + m);
+    if (s->c[0].kind == K_LINE) { /* the first point's line: its d picks
+                                     which side's level is its height */
+        int par;
+        cand[m++] = find(s, s->c[0].line, &par);
+    }
+    for (i = 0, k = 0; i < m; i++) { /* each unit once, nearest first */
+        size_t q;
+        for (q = 0; q < k && cand[q] != cand[i]; q++)
+            ;
+        if (q == k)
+            cand[k++] = cand[i];
+    }
+    for (i = 0, m = k; i < m && !blocker; i++)
+        blocker = s->lock[cand[i]];
     relevel(s);
     r = residual_raw(s, c);
-    for (i = 0; i < m && r != 0; i++) {
-        long r2;
-        if (s->lock[cand[i]]) {
-            if (!blocker)
-                blocker = s->lock[cand[i]];
-            continue;
-        }
-        flip(s, cand[i]);
-        relevel(s);
-        r2 = residual_raw(s, c);
-        if (labs(r2) < labs(r)) {
-            r = r2;
-        } else {
-            flip(s, cand[i]);
-            relevel(s);
-        }
-    }
+    if (r != 0 && (rc = meet_dp(s, c, cand, m, r, cx)) < 0)
+        return rc;
+    r = residual_raw(s, c);
     if (labs(r) == 1 && s->p->missing) {
         int rm = try_missing(s, j, cx);
         if (rm < 0)

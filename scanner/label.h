@@ -18,9 +18,10 @@
  * Known points: points on lines and spot heights off a multiple of the
  * interval first, then spots exactly on a multiple (their face may be at
  * either level: the summit reaching it or the foot of the rings inside).
- * The first fixes the levels; each further point is met by flipping units
- * on the tree path between it and the points before, the ones nearest the
- * new point first, never a unit an earlier point relied on.  Still one
+ * The first fixes the levels; each further point is met by flipping the
+ * fewest units among its line, the tree path between it and the first
+ * point and the first point's line (the nearest to the new point when
+ * there is a choice), never a unit an earlier point relied on.  Still one
  * interval off: a contour is taken as missing next to the path line with
  * the widest gap to the next line out (when 1.5 times the usual gap; a
  * warning).  Otherwise the points contradict (an error naming both and

@@ -154,6 +154,49 @@ static void test_cone_one_point(void)
     free_truth(&t);
 }
 
+/* Correct known points never contradict: on the hills (a depression of
+ * nested rings, a saddle, lines leaving the sheet), 40 random sets of 2-12
+ * points on true lines all label, and each known line gets its height. */
+static void test_true_points_agree(void)
+{
+    truth t;
+    td_label_point q[12];
+    long which[12];
+    unsigned seed = 7;
+    int set, failed = 0, wrong_known = 0;
+    TT_CHECK(make_truth(&t, TD_GEN_HILLS, 600, 450) == 0);
+    for (set = 0; set < 40; set++) {
+        td_lines *ls = unlabelled(t.lines);
+        td_label_params p = td_label_defaults();
+        td_label_report rep;
+        td_ctx cx;
+        int k, nk = 2 + set % 11;
+        td_ctx_init(&cx);
+        for (k = 0; k < nk; k++) {
+            seed = seed * 1103515245u + 12345u;
+            which[k] = (long)((seed >> 8) % t.lines->n);
+            q[k] = on_line(&t.lines->v[which[k]],
+                           t.lines->v[which[k]].height);
+        }
+        p.interval = t.interval, p.w = 600, p.h = 450;
+        p.known = q, p.nknown = (size_t)nk;
+        if (td_label_auto(ls, &p, &rep, &cx) != 0) {
+            if (failed++ < 3)
+                fprintf(stderr, "  set %d (%d points): %s\n", set, nk,
+                        cx.msg);
+        } else {
+            for (k = 0; k < nk; k++)
+                wrong_known += ls->v[which[k]].height !=
+                               t.lines->v[which[k]].height;
+            td_label_report_free(&rep);
+        }
+        td_lines_free(ls);
+    }
+    TT_CHECKF(failed == 0, "%d of 40 sets refused", failed);
+    TT_CHECKF(wrong_known == 0, "%d known lines off their height", wrong_known);
+    free_truth(&t);
+}
+
 /* HILLS: two summits at a saddle, a depression, lines leaving the sheet.
  * Known: two points on open lines (the slope's direction across the
  * border-closed lines is not in the topology) and one spot height in the
@@ -522,6 +565,7 @@ static void test_index_widths(void)
 int main(void)
 {
     TT_RUN(test_cone_one_point);
+    TT_RUN(test_true_points_agree);
     TT_RUN(test_hills_spot);
     TT_RUN(test_hills_mark);
     TT_RUN(test_hills_without_pit);
