@@ -1,5 +1,6 @@
 #include "rasterise.h"
 
+#include "homotopy.h"
 #include "interp_int.h"
 #include "multidir.h"
 #include "scanline.h"
@@ -444,6 +445,7 @@ td_interp_params td_interp_defaults(void)
     p.weight = TD_MULTIDIR_SPAN;
     p.ndir = 4;
     p.nodata = -9999.0f;
+    p.epsilon = td_homotopy_defaults().epsilon;
     return p;
 }
 
@@ -453,9 +455,11 @@ int td_interp_parse_method(const char *s, td_interp_method *m, td_ctx *cx)
         *m = TD_INTERP_SCANLINE;
     else if (!strcmp(s, "multidir"))
         *m = TD_INTERP_MULTIDIR;
+    else if (!strcmp(s, "homotopy"))
+        *m = TD_INTERP_HOMOTOPY;
     else
         return td_seterr(cx, TD_EINVAL, "--method: '%s' is not one of "
-                         "scanline, multidir", s);
+                         "scanline, multidir, homotopy", s);
     return 0;
 }
 
@@ -502,14 +506,15 @@ static int whole(const char *key, const char *val, int lo, int hi, int *out,
 int td_interp_set(td_interp_params *p, const char *key, const char *val,
                   td_ctx *cx)
 {
-    static const char *const methods[] = {"scanline", "multidir"};
+    static const char *const methods[] = {"scanline", "multidir",
+                                          "homotopy"};
     static const char *const summit[] = {"flat", "extrapolate"};
     static const char *const pen[] = {"flat", "diagonal"};
     static const char *const weights[] = {"prod", "span", "span2"}; /* enum order */
     double v = 0;
     int i = 0, rc;
     if (!strcmp(key, "method")) {
-        rc = choose(key, val, methods, 2, &i, cx);
+        rc = choose(key, val, methods, 3, &i, cx);
         p->method = rc == 0 ? (td_interp_method)i : p->method;
     } else if (!strcmp(key, "summit")) {
         rc = choose(key, val, summit, 2, &i, cx);
@@ -526,6 +531,8 @@ int td_interp_set(td_interp_params *p, const char *key, const char *val,
         if ((rc = whole(key, val, 2, 4, &i, cx)) == 0 && i == 3)
             rc = td_seterr(cx, TD_EINVAL, "--dirs: 2 or 4");
         p->ndir = rc == 0 ? i : p->ndir;
+    } else if (!strcmp(key, "epsilon")) {
+        rc = number(key, val, 0, 180, &p->epsilon, cx);
     } else if (!strcmp(key, "interval")) {
         rc = number(key, val, 1e-9, 1e9, &p->interval, cx);
     } else if (!strcmp(key, "nodata")) {
@@ -536,10 +543,16 @@ int td_interp_set(td_interp_params *p, const char *key, const char *val,
     return rc;
 }
 
-static int fill(td_grid_f32 *g, const td_interp_params *p, double interval,
-                td_ctx *cx)
+static int fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
+                const td_interp_params *p, double interval, td_ctx *cx)
 {
-    if (p->method == TD_INTERP_SCANLINE) {
+    if (p->method == TD_INTERP_HOMOTOPY) {
+        td_homotopy_params hp = td_homotopy_defaults();
+        hp.epsilon = p->epsilon;
+        return td_homotopy_fill(g, ls, w, h, p->step < 1 ? 1 : p->step, &hp,
+                                interval, p->summit, p->peninsula, p->hstats,
+                                cx);
+    } else if (p->method == TD_INTERP_SCANLINE) {
         td_scanline_params sp = td_scanline_defaults();
         sp.interval = interval;
         sp.summit = p->summit;
@@ -574,7 +587,7 @@ int td_interp_lines(const td_lines *ls, int w, int h,
     interval = p->interval > 0 ? p->interval : td_interp_interval(ls);
     if (interval <= 0)
         interval = 1e30; /* one height only: nothing to cap against */
-    if ((rc = fill(g, p, interval, cx)) != 0)
+    if ((rc = fill(g, ls, w, h, p, interval, cx)) != 0)
         goto fail;
     n = (size_t)g->w * g->h;
     for (i = 0; i < n; i++)

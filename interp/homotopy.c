@@ -1,0 +1,365 @@
+/* homotopy.c: patch-wise interpolation between two adjacent contours
+ * along the ridge, valley and inflection links (003 §3, §4 last
+ * paragraph; ALGORITHMS.md B2 step 6).
+ *
+ * For a band between an outer contour f (region p) and the one contour g
+ * nested in it (region c, another height), the links between them give
+ * anchor pairs (s_f, s_g) of arc lengths.  The anchors kept are the
+ * longest subsequence that is monotone (cyclically, on rings), so no two
+ * correspondences cross; U maps s_f to s_g piecewise linearly between
+ * consecutive anchors (open lines: their ends are anchors too).  The
+ * homotopy
+ *
+ *     F(s, t) = (1 - t) f(s) + t g(U(s)),   z(s, t) = (1 - t) z_f + t z_g
+ *
+ *      f(s_k)    f(s_k+1)      is sampled every half cell along both
+ *        *--------*            curves; each quad of consecutive samples
+ *        |      / |            is two triangles, scan-converted with
+ *        |    /   |            barycentric z into the band's cells only
+ *        |  /     |            (cells whose label is p).
+ *        *--------*
+ *      g(U(s_k)) g(U(s_k+1))
+ *
+ * Not handled here (the scanline fallback fills them, counted): bands
+ * with several nested contours (branching faces), a ring nested in an
+ * open line, the regions inside the innermost contours (summits, pits)
+ * and outside the outermost, and lines that bound no region. */
+#include "homotopy_int.h"
+
+#include "scanline.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+td_homotopy_params td_homotopy_defaults(void)
+{
+    td_homotopy_params p;
+    p.spacing = 2;
+    p.smooth = 3;
+    p.epsilon = 20;
+    p.link_factor = 3;
+    p.join_factor = 2;
+    return p;
+}
+
+typedef struct anchor {
+    double f, g;
+} anchor;
+
+typedef struct band {
+    td_grid_f32 *g;
+    const int32_t *lab;
+    long id;
+    double step, zf, zg;
+    size_t filled;
+} band;
+
+/* Scan-convert triangle (x,y,z)[3] (cell units) into the band's NaN
+ * cells. */
+static void tri(band *b, const double *v)
+{
+    double x0 = v[0], y0 = v[1], x1 = v[3], y1 = v[4], x2 = v[6], y2 = v[7];
+    double det = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
+    double ylo = fmin(y0, fmin(y1, y2)), yhi = fmax(y0, fmax(y1, y2));
+    long r, r0 = (long)ceil(ylo - 0.5), r1 = (long)floor(yhi - 0.5);
+    if (fabs(det) < 1e-12)
+        return;
+    r0 = r0 < 0 ? 0 : r0;
+    r1 = r1 >= b->g->h ? b->g->h - 1 : r1;
+    for (r = r0; r <= r1; r++) {
+        double yc = r + 0.5, xl = INFINITY, xr = -INFINITY;
+        long c, k;
+        for (k = 0; k < 3; k++) { /* the row's span across the edges */
+            const double *a = v + 3 * k, *e = v + 3 * ((k + 1) % 3);
+            double t;
+            if ((a[1] > yc) == (e[1] > yc) && a[1] != yc)
+                continue;
+            t = e[1] != a[1] ? (yc - a[1]) / (e[1] - a[1]) : 0;
+            xl = fmin(xl, a[0] + t * (e[0] - a[0]));
+            xr = fmax(xr, a[0] + t * (e[0] - a[0]));
+        }
+        for (c = (long)ceil(xl - 0.5 - 1e-9); c <= (long)floor(xr - 0.5 + 1e-9);
+             c++) {
+            size_t i = (size_t)r * b->g->stride + (size_t)c;
+            double xc = c + 0.5, l1, l2;
+            if (c < 0 || c >= b->g->w || b->g->data[i] == b->g->data[i] ||
+                b->lab[(size_t)r * b->g->w + c] != b->id)
+                continue;
+            l1 = ((xc - x0) * (y2 - y0) - (x2 - x0) * (yc - y0)) / det;
+            l2 = ((x1 - x0) * (yc - y0) - (xc - x0) * (y1 - y0)) / det;
+            b->g->data[i] = (float)((1 - l1 - l2) * v[2] + l1 * v[5] + l2 * v[8]);
+            b->filled++;
+        }
+    }
+}
+
+/* The strip between f on [sf, sf+df] and g on [sg, sg+dg]. */
+static void strip(band *b, const td_rv_curve *f, const td_rv_curve *g,
+                  double sf, double df, double sg, double dg)
+{
+    long n = (long)ceil(fmax(df, dg) / b->step / 0.5), k;
+    double v[12], q[12];
+    if (n < 1)
+        n = 1;
+    for (k = 0; k <= n; k++) {
+        double t = (double)k / n;
+        hm_curve_at(f, sf + df * t, &q[0], &q[1]);
+        hm_curve_at(g, sg + dg * t, &q[3], &q[4]);
+        q[0] /= b->step, q[1] /= b->step, q[3] /= b->step, q[4] /= b->step;
+        q[2] = b->zf, q[5] = b->zg;
+        if (k > 0) { /* v: f_k-1, g_k-1, f_k, g_k */
+            double t1[9] = {v[0], v[1], v[2], q[0], q[1], q[2], v[3], v[4], v[5]};
+            double t2[9] = {q[0], q[1], q[2], q[3], q[4], q[5], v[3], v[4], v[5]};
+            tri(b, t1);
+            tri(b, t2);
+        }
+        memcpy(v, q, 6 * sizeof *q);
+    }
+}
+
+static int cmp_anchor(const void *x, const void *y)
+{
+    double a = ((const anchor *)x)->f, b = ((const anchor *)y)->f;
+    return (a > b) - (a < b);
+}
+
+/* Longest chain of anchors v[0..n) (sorted by f) with g non-decreasing,
+ * on a ring (lg > 0) unwrapped from and rooted at v[start]; written to
+ * out (when not NULL) in f order from start; returns its length.
+ * prev, len: n scratch entries.  O(n^2). */
+static size_t monotone(const anchor *v, size_t n, size_t start, double lg,
+                       long *prev, size_t *len, anchor *out)
+{
+    size_t i, j, best = 0, m = 0;
+    long k;
+#define UG(i) (lg > 0 ? fmod(v[(start + (i)) % n].g - v[start].g + 2 * lg, lg) \
+                      : v[i].g)
+    for (i = 0; i < n; i++) {
+        len[i] = lg > 0 && i > 0 ? 0 : 1, prev[i] = -1;
+        for (j = 0; j < i; j++)
+            if (len[j] > 0 && UG(j) <= UG(i) && len[j] + 1 > len[i])
+                len[i] = len[j] + 1, prev[i] = (long)j;
+        if (len[i] > len[best])
+            best = i;
+    }
+#undef UG
+    for (k = (long)best; k >= 0; k = prev[k])
+        m++;
+    if (out)
+        for (k = (long)best, j = m; k >= 0; k = prev[k])
+            out[--j] = v[lg > 0 ? (start + (size_t)k) % n : (size_t)k];
+    return m;
+}
+
+/* The links between curves cf and cg as anchors (joins left out).
+ * *out has room for 3 more. */
+static int band_anchors(const td_ridges *r, size_t cf, size_t cg,
+                        anchor **out, size_t *n, td_ctx *cx)
+{
+    size_t i, k = 0;
+    anchor *v = td_malloc((r->nlink + 3) * sizeof *v, cx);
+    if (!v)
+        return TD_ENOMEM;
+    for (i = 0; i < r->nlink; i++) {
+        const td_rv_point *a = &r->pt[r->link[i].a], *b = &r->pt[r->link[i].b];
+        if (r->link[i].join)
+            continue;
+        if (a->curve == cf && b->curve == cg)
+            v[k].f = a->s, v[k++].g = b->s;
+        else if (a->curve == cg && b->curve == cf)
+            v[k].f = b->s, v[k++].g = a->s;
+    }
+    *out = v, *n = k;
+    return 0;
+}
+
+/* Arc length on g of the sample nearest f's start. */
+static double nearest_start(const td_rv_curve *f, const td_rv_curve *g)
+{
+    double x, y, best = INFINITY, s = 0;
+    size_t i;
+    hm_curve_at(f, 0, &x, &y);
+    for (i = 0; i < g->n; i++) {
+        double d = hypot(g->x[i] - x, g->y[i] - y);
+        if (d < best)
+            best = d, s = g->s[i];
+    }
+    return s;
+}
+
+/* The correspondence U between curve cf (outer) and cg, strip by strip. */
+static int fill_band(band *b, const td_ridges *r, size_t cf, size_t cg,
+                     td_ctx *cx)
+{
+    const td_rv_curve *f = &r->curve[cf], *g = &r->curve[cg];
+    anchor *v = NULL, *ch = NULL;
+    long *prev = NULL;
+    size_t n, m, j, *len = NULL, st, best = 0, bm = 0;
+    int rc;
+    if ((rc = band_anchors(r, cf, cg, &v, &n, cx)) != 0)
+        return rc;
+    if (!f->closed) {
+        v[n].f = 0, v[n++].g = 0;
+        v[n].f = f->len, v[n++].g = g->len;
+    } else if (n == 0)
+        v[n].f = 0, v[n++].g = nearest_start(f, g);
+    qsort(v, n, sizeof *v, cmp_anchor);
+    rc = TD_ENOMEM;
+    if (!(ch = td_malloc(n * sizeof *ch, cx)) ||
+        !(prev = td_malloc(n * sizeof *prev, cx)) ||
+        !(len = td_malloc(n * sizeof *len, cx)))
+        goto fail;
+    for (st = 0; st < (f->closed ? n : 1); st++)
+        if ((m = monotone(v, n, st, f->closed ? g->len : 0, prev, len,
+                          NULL)) > bm)
+            bm = m, best = st;
+    m = monotone(v, n, best, f->closed ? g->len : 0, prev, len, ch);
+    for (j = 0; j + (f->closed ? 0 : 1) < m; j++) {
+        const anchor *a = &ch[j], *e = &ch[(j + 1) % m];
+        double df = e->f - a->f, dg = e->g - a->g;
+        if (f->closed) {
+            df = m == 1 ? f->len : fmod(df + 2 * f->len, f->len);
+            dg = m == 1 ? g->len : fmod(dg + 2 * g->len, g->len);
+        }
+        strip(b, f, g, a->f, df, a->g, dg);
+    }
+    rc = 0;
+fail:
+    free(v);
+    free(ch);
+    free(prev);
+    free(len);
+    return rc;
+}
+
+/* The two lines bounding band b (a region, or -1: outside every region)
+ * when exactly two do: the region's own line first.  0 when not. */
+static int band_pair(const td_ridges *r, const size_t *nchild,
+                     const long *first, long b, size_t *f, size_t *g)
+{
+    size_t i;
+    if (b >= 0 && nchild[b] == 1) {
+        *f = (size_t)b, *g = (size_t)first[b];
+        return 1;
+    }
+    if (b >= 0 || nchild[r->ncurve] != 2)
+        return 0;
+    *f = (size_t)first[r->ncurve];
+    for (i = *f + 1; i < r->ncurve; i++)
+        if (r->cparent[i] == -1)
+            break;
+    *g = i;
+    return 1;
+}
+
+/* Bands between exactly two lines of different heights and of one kind
+ * (ring around ring, open line beside open line). */
+static int fill_bands(td_grid_f32 *g, const td_ridges *r, const int32_t *lab,
+                      double step, td_homotopy_stats *st, td_ctx *cx)
+{
+    size_t nc = r->ncurve, i, f, k;
+    size_t *nchild = td_calloc(nc + 1, sizeof *nchild, cx);
+    long *first = td_malloc((nc + 1) * sizeof *first, cx), b;
+    band bd;
+    int rc = 0;
+    if (!nchild || !first) {
+        free(nchild);
+        free(first);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i <= nc; i++)
+        first[i] = -1;
+    for (i = 0; i < nc; i++) { /* slot nc: outside every region */
+        long pp = r->cparent[i] == -1 ? (long)nc : r->cparent[i];
+        if (pp < 0)
+            continue;
+        if (nchild[pp]++ == 0)
+            first[pp] = (long)i;
+    }
+    for (b = -1; b < (long)nc && rc == 0; b++) {
+        const td_rv_curve *cf, *cg;
+        st->bands += b < 0 || nchild[b] > 0;
+        if (!band_pair(r, nchild, first, b, &f, &k))
+            continue;
+        cf = &r->curve[f], cg = &r->curve[k];
+        if (cf->z == cg->z || !cf->orient || !cg->orient ||
+            cf->closed != cg->closed || (b < 0 && cf->closed) ||
+            cf->n < 2 || cg->n < 2)
+            continue;
+        memset(&bd, 0, sizeof bd);
+        bd.g = g, bd.lab = lab, bd.id = b, bd.step = step;
+        bd.zf = cf->z, bd.zg = cg->z;
+        rc = fill_band(&bd, r, f, k, cx);
+        st->cells_homotopy += bd.filled;
+        st->bands_homotopy++;
+        if (rc == 0 && (b & 63) == 63)
+            rc = td_progress(cx, "homotopy", (double)b / nc);
+    }
+    free(nchild);
+    free(first);
+    return rc;
+}
+
+static size_t count_nan(const td_grid_f32 *g)
+{
+    size_t n = 0, r, c;
+    for (r = 0; r < (size_t)g->h; r++)
+        for (c = 0; c < (size_t)g->w; c++)
+            n += g->data[r * g->stride + c] != g->data[r * g->stride + c];
+    return n;
+}
+
+int td_homotopy_fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
+                     int step, const td_homotopy_params *p, double interval,
+                     int summit, int peninsula, td_homotopy_stats *st,
+                     td_ctx *cx)
+{
+    td_homotopy_stats s0;
+    td_scanline_params sp = td_scanline_defaults();
+    td_contain ct;
+    td_ridges *r = NULL;
+    int32_t *lab = NULL, *clab = NULL;
+    size_t i, nan0, nan1, ncell = (size_t)g->w * g->h;
+    int rc = TD_ENOMEM;
+    memset(&ct, 0, sizeof ct);
+    st = st ? st : &s0;
+    memset(st, 0, sizeof *st);
+    if (step < 1 || (rc = td_check_dims(w, h, "scan", cx)) != 0)
+        return step < 1 ? td_seterr(cx, TD_EINVAL, "step must be >= 1") : rc;
+    if (!(lab = td_malloc((size_t)w * h * sizeof *lab, cx)))
+        return TD_ENOMEM;
+    if ((rc = hm_find(ls, w, h, p, &r, &ct, lab, cx)) != 0)
+        goto fail;
+    clab = lab;
+    if (step != 1 || g->w != w || g->h != h) {
+        rc = TD_ENOMEM;
+        if (!(clab = td_malloc(ncell * sizeof *clab, cx)) ||
+            (rc = hm_label(&ct, g->w, g->h, step, clab, cx)) != 0)
+            goto fail;
+    }
+    for (i = 0; i < r->npt; i++) {
+        st->ridge_points += r->pt[i].kind == TD_RV_RIDGE;
+        st->valley_points += r->pt[i].kind == TD_RV_VALLEY;
+    }
+    st->links = r->nlink;
+    nan0 = count_nan(g);
+    st->cells_line = ncell - nan0;
+    if ((rc = fill_bands(g, r, clab, step, st, cx)) != 0)
+        goto fail;
+    sp.interval = interval;
+    sp.summit = summit;
+    sp.peninsula = peninsula;
+    nan1 = count_nan(g);
+    if ((rc = td_scanline_fill(g, &sp, cx)) != 0)
+        goto fail;
+    st->cells_none = count_nan(g);
+    st->cells_fallback = nan1 - st->cells_none;
+fail:
+    if (clab != lab)
+        free(clab);
+    free(lab);
+    td_contain_free(&ct);
+    td_ridges_free(r);
+    return rc;
+}

@@ -1,0 +1,267 @@
+/* ridgelink.c: ridge, valley and inflection lines across contours and the
+ * branching of ridges into trees (003 §4 last paragraph, §5; ALGORITHMS.md
+ * B2 steps 4-5).
+ *
+ * Adjacent contours: two lines at different heights that bound one band
+ * (a region of the containment tree less the regions nested in it, or
+ * what lies outside every region): a line and its parent or child, or
+ * two siblings.
+ * Each ridge (inflection) point links uphill, each valley point downhill,
+ * to the nearest point of the same kind on an adjacent contour, when the
+ * link
+ *   - is at most link_factor x the gap + 4 px long (gap: the point's
+ *     distance to that contour), and
+ *   - stays inside the band between the two contours (every sample of
+ *     the segment, 1.5 px from its ends on, has the band's label), so it
+ *     crosses no contour.
+ *
+ *     z+2   ----*-----        ridge tree: union of the points a link
+ *              / \            joins; the lowest contour first, so two
+ *     z+1  ---*---*---        ridges meeting at one point above get one
+ *             |   |           number (Steps 1-2).  A point with no
+ *     z    ---*---*---        partner above is Suspended (Step 3) and
+ *                             joins the nearest ridge point above within
+ *                             join_factor x the link limit (Step 4).
+ *
+ * Valleys run the same from the top down: valleys merge downstream. */
+#include "homotopy_int.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Distance from (x,y) to the oriented input polyline of c. */
+static double dist_curve(const td_rv_curve *c, double x, double y)
+{
+    double best = INFINITY;
+    size_t i, m = c->closed ? c->no : c->no - 1;
+    if (c->no == 1)
+        return hypot(x - c->oxy[0], y - c->oxy[1]);
+    for (i = 0; i < m; i++) {
+        const double *a = c->oxy + 2 * i, *b = c->oxy + 2 * ((i + 1) % c->no);
+        double dx = b[0] - a[0], dy = b[1] - a[1], l2 = dx * dx + dy * dy;
+        double t = l2 > 0 ? ((x - a[0]) * dx + (y - a[1]) * dy) / l2 : 0;
+        t = fmin(fmax(t, 0), 1);
+        best = fmin(best, hypot(x - a[0] - t * dx, y - a[1] - t * dy));
+    }
+    return best;
+}
+
+/* The segment a-b inside band `band`: no contour crossed. */
+static int band_ok(const int32_t *lab, int w, int h, const td_rv_point *a,
+                   const td_rv_point *b, long band)
+{
+    double len = hypot(b->x - a->x, b->y - a->y), d;
+    for (d = 1.5; d < len - 1.5; d += 0.5) {
+        double x = a->x + (b->x - a->x) * d / len;
+        double y = a->y + (b->y - a->y) * d / len;
+        long cx = (long)floor(x), cy = (long)floor(y);
+        if (cx < 0 || cy < 0 || cx >= w || cy >= h ||
+            lab[(size_t)cy * w + cx] != band)
+            return 0;
+    }
+    return 1;
+}
+
+typedef struct lctx {
+    td_ridges *r;
+    const td_contain *ct;
+    const int32_t *lab;
+    int w, h;
+    size_t *pstart; /* points of curve c: pstart[c] .. pstart[c+1] */
+    long *next;     /* per point: the link leaving it, -1 none */
+    size_t lcap;
+} lctx;
+
+static int add_link(lctx *L, size_t a, size_t b, int join, td_ctx *cx)
+{
+    td_ridges *r = L->r;
+    if (r->nlink == L->lcap) {
+        size_t nc = L->lcap * 2 + 64;
+        void *t = realloc(r->link, nc * sizeof *r->link);
+        if (!t)
+            return td_seterr(cx, TD_ENOMEM, "out of memory");
+        r->link = t, L->lcap = nc;
+    }
+    r->link[r->nlink].a = a, r->link[r->nlink].b = b;
+    r->link[r->nlink].kind = r->pt[a].kind, r->link[r->nlink].join = join;
+    L->next[a] = (long)r->nlink++;
+    return 0;
+}
+
+/* The band lines l and m both bound (the parent's region for a parent
+ * and child, the common parent's for two siblings, -1 outside every
+ * region), or -2 when they bound none together. */
+static long common_band(const long *par, size_t l, size_t m)
+{
+    if (par[l] == (long)m)
+        return (long)m;
+    if (par[m] == (long)l)
+        return (long)l;
+    if (par[l] == par[m] && par[l] != -2)
+        return par[l];
+    return -2;
+}
+
+/* Is line m adjacent to line l in direction dir (+1 up, -1 down)? */
+static int adjacent(const lctx *L, size_t l, size_t m, int dir)
+{
+    const td_ridges *r = L->r;
+    double dz = r->curve[m].z - r->curve[l].z;
+    if (m == l || dz * dir <= 0 || r->curve[m].orient == 0)
+        return 0;
+    return common_band(L->ct->parent, l, m) != -2;
+}
+
+/* The best partner of point a on the adjacent lines (dir), -1 none;
+ * strict: the link rules, else the Suspended join (no band test). */
+static long partner(const lctx *L, size_t a, int dir, int strict,
+                    const td_homotopy_params *p)
+{
+    const td_ridges *r = L->r;
+    const td_rv_point *pa = &r->pt[a];
+    size_t l = pa->curve, m, k;
+    double gap = INFINITY, lim, best = INFINITY;
+    long bi = -1;
+    for (m = 0; m < r->ncurve; m++)
+        if (adjacent(L, l, m, dir))
+            gap = fmin(gap, dist_curve(&r->curve[m], pa->x, pa->y));
+    if (!isfinite(gap))
+        return -1;
+    lim = p->link_factor * gap + 4;
+    if (!strict)
+        lim *= p->join_factor;
+    for (m = 0; m < r->ncurve; m++) {
+        long band = common_band(L->ct->parent, l, m);
+        if (!adjacent(L, l, m, dir))
+            continue;
+        for (k = L->pstart[m]; k < L->pstart[m + 1]; k++) {
+            const td_rv_point *pb = &r->pt[k];
+            double d = hypot(pb->x - pa->x, pb->y - pa->y);
+            if (pb->kind != pa->kind || d > lim || d >= best)
+                continue;
+            if (strict && !band_ok(L->lab, L->w, L->h, pa, pb, band))
+                continue;
+            best = d, bi = (long)k;
+        }
+    }
+    return bi;
+}
+
+/* Does the line of point a have an adjacent line in direction dir? */
+static int has_next(const lctx *L, size_t a, int dir)
+{
+    size_t m;
+    for (m = 0; m < L->r->ncurve; m++)
+        if (adjacent(L, L->r->pt[a].curve, m, dir))
+            return 1;
+    return 0;
+}
+
+static long uf_find(long *u, long i)
+{
+    while (u[i] != i)
+        i = u[i] = u[u[i]];
+    return i;
+}
+
+/* Tree ids: the union of linked points (the paper's renumbering),
+ * numbered 0.. per kind. */
+static int number_trees(td_ridges *r, td_ctx *cx)
+{
+    long *u = td_malloc((r->npt + 1) * sizeof *u, cx), *id = NULL;
+    size_t i;
+    if (!u || !(id = td_malloc((r->npt + 1) * sizeof *id, cx))) {
+        free(u);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < r->npt; i++)
+        u[i] = (long)i, id[i] = -1;
+    for (i = 0; i < r->nlink; i++) {
+        long a = uf_find(u, (long)r->link[i].a), b = uf_find(u, (long)r->link[i].b);
+        if (a != b)
+            u[a > b ? a : b] = a < b ? a : b;
+    }
+    r->nridge = r->nvalley = 0;
+    for (i = 0; i < r->npt; i++) {
+        long root = uf_find(u, (long)i);
+        td_rv_point *q = &r->pt[i];
+        if (q->kind == TD_RV_INFLECT)
+            continue;
+        if (id[root] < 0)
+            id[root] = q->kind == TD_RV_RIDGE ? r->nridge++ : r->nvalley++;
+        q->tree = id[root];
+    }
+    free(u);
+    free(id);
+    return 0;
+}
+
+/* Points in processing order: uphill for ridges and inflections,
+ * downhill for valleys, each kind from its own end (003 §5 Step 0). */
+typedef struct okey {
+    double z;
+    size_t i;
+} okey;
+
+static int by_key(const void *x, const void *y)
+{
+    double a = ((const okey *)x)->z, b = ((const okey *)y)->z;
+    return (a > b) - (a < b);
+}
+
+static int link_all(lctx *L, const td_homotopy_params *p, td_ctx *cx)
+{
+    td_ridges *r = L->r;
+    size_t i;
+    okey *ord = td_malloc((r->npt + 1) * sizeof *ord, cx);
+    int rc = 0;
+    if (!ord)
+        return TD_ENOMEM;
+    for (i = 0; i < r->npt; i++) {
+        ord[i].i = i;
+        ord[i].z = r->pt[i].kind == TD_RV_VALLEY ? -r->pt[i].z : r->pt[i].z;
+    }
+    qsort(ord, r->npt, sizeof *ord, by_key);
+    for (i = 0; i < r->npt && rc == 0; i++) {
+        size_t a = ord[i].i;
+        int dir = r->pt[a].kind == TD_RV_VALLEY ? -1 : 1;
+        long b = partner(L, a, dir, 1, p);
+        if (b < 0 && r->pt[a].kind != TD_RV_INFLECT && has_next(L, a, dir)) {
+            b = partner(L, a, dir, 0, p); /* Suspended: Step 4 */
+            if (b < 0)
+                r->suspended++;
+            else
+                rc = add_link(L, a, (size_t)b, 1, cx);
+        } else if (b >= 0)
+            rc = add_link(L, a, (size_t)b, 0, cx);
+    }
+    free(ord);
+    return rc;
+}
+
+int hm_link(td_ridges *r, const td_contain *ct, const int32_t *lab, int w,
+            int h, const td_homotopy_params *p, td_ctx *cx)
+{
+    lctx L;
+    size_t i;
+    int rc = TD_ENOMEM;
+    memset(&L, 0, sizeof L);
+    L.r = r, L.ct = ct, L.lab = lab, L.w = w, L.h = h;
+    if (!(L.pstart = td_calloc(r->ncurve + 2, sizeof *L.pstart, cx)) ||
+        !(L.next = td_malloc((r->npt + 1) * sizeof *L.next, cx)))
+        goto fail;
+    for (i = 0; i < r->npt; i++) /* points are stored curve by curve */
+        L.pstart[r->pt[i].curve + 1] = i + 1;
+    for (i = 1; i <= r->ncurve; i++)
+        if (L.pstart[i] < L.pstart[i - 1])
+            L.pstart[i] = L.pstart[i - 1];
+    for (i = 0; i < r->npt; i++)
+        L.next[i] = -1;
+    if ((rc = link_all(&L, p, cx)) == 0)
+        rc = number_trees(r, cx);
+fail:
+    free(L.pstart);
+    free(L.next);
+    return rc;
+}
