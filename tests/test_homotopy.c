@@ -33,18 +33,24 @@ static double ray_dist(double x, double y, double ox, double oy, double dx,
 /* Analytic surfaces, heights in m, x,y in px (y down the sheet).
  *   valley: z = 150 + 0.4 sqrt((x-X0)^2 + 100) - 0.5 y   thalweg x = X0
  *   ridge:  z = 300 - 0.4 sqrt((x-X0)^2 + 100) - 0.5 y   crest   x = X0
- *   spur:   the ridge, and a second crest from (X0, 80) down towards
- *           the lower right at 45 degrees, joined by a smooth maximum */
+ *   spur:   the ridge, and a steeper-sided spur whose crest is the ray
+ *           from (X0, 60) at 30 degrees to the right of straight down,
+ *           falling 0.5 m/px along it (the spur surface falls behind its
+ *           start, under the main ridge); a smooth maximum of the two */
+#define SPUR_DX 0.5
+#define SPUR_DY 0.8660254037844386
 static double surface(int kind, double x, double y)
 {
-    double r1 = -0.4 * sqrt((x - X0) * (x - X0) + 100), r2, k = 8;
+    double r1 = -0.4 * sqrt((x - X0) * (x - X0) + 100), r2, t, k = 4;
     switch (kind) {
     case S_VALLEY: return 150 - r1 - 0.5 * y;
     case S_RIDGE: return 300 + r1 - 0.5 * y;
     default:
-        r2 = -0.4 * sqrt(pow(ray_dist(x, y, X0, 80, M_SQRT1_2, M_SQRT1_2), 2) +
-                         100);
-        return 300 - 0.5 * y + k * log(exp(r1 / k) + exp(r2 / k));
+        t = (x - X0) * SPUR_DX + (y - 60) * SPUR_DY;
+        r2 = (x - X0) * SPUR_DY - (y - 60) * SPUR_DX; /* across the spur */
+        r2 = 270 - 0.8 * sqrt(r2 * r2 + 25) - 0.5 * t + (t < 0 ? t : 0);
+        r1 += 300 - 0.5 * y;
+        return k * log(exp(r1 / k) + exp(r2 / k));
     }
 }
 
@@ -147,9 +153,91 @@ done:
     td_grid_f32_free(g);
 }
 
+/* Ridge points of the spur: near its crest (the ray from (X0, 60)) below
+ * y = 140, where the smooth maximum no longer bends it; all in one tree
+ * with the main ridge. */
+static void test_spur_tree(void)
+{
+    td_grid_f32 *g = truth(S_SPUR);
+    td_lines *ls = contours(g, 5);
+    td_homotopy_params p = td_homotopy_defaults();
+    td_ridges *r = NULL;
+    size_t i, nspur = 0, nmain = 0;
+    double worst = 0;
+    TT_CHECK(td_ridges_find(ls, W, H, &p, &r, NULL) == 0);
+    if (!r)
+        goto done;
+    for (i = 0; i < r->npt; i++) {
+        const td_rv_point *q = &r->pt[i];
+        double d = ray_dist(q->x, q->y, X0, 60, SPUR_DX, SPUR_DY);
+        if (q->kind != TD_RV_RIDGE || q->y < 140 || q->y > H - 10 ||
+            q->x > W - 10)
+            continue;
+        if (fabs(q->x - X0) < 3)
+            nmain++;
+        else if (d < 10) {
+            nspur++;
+            worst = fmax(worst, d);
+        }
+    }
+    TT_CHECKF(nspur >= 8, "%zu spur ridge points", nspur);
+    TT_CHECKF(nmain >= 10, "%zu main ridge points", nmain);
+    TT_CHECKF(worst <= 2.0, "spur ridge point %.2f px from its crest", worst);
+    TT_CHECKF(r->nridge == 1, "%ld ridge trees (spur and main: one)",
+              r->nridge);
+done:
+    td_ridges_free(r);
+    td_lines_free(ls);
+    td_grid_f32_free(g);
+}
+
+/* RMSE of the DEM by method m against the truth; *vfloor: the RMSE along
+ * the thalweg (x = X0, 20 < y < H - 20). */
+static double dem_rmse(const td_grid_f32 *t, const td_lines *ls, int m,
+                       double *vfloor, td_homotopy_stats *hs)
+{
+    td_interp_params p = td_interp_defaults();
+    td_grid_f32 *d = NULL;
+    td_compare_stats cs;
+    double e = 0;
+    int y, n = 0;
+    p.method = (td_interp_method)m;
+    p.hstats = hs;
+    if (td_interp_lines(ls, W, H, &p, &d, NULL) != 0)
+        return INFINITY;
+    td_compare_grids(d, t, &cs, NULL);
+    for (y = 20; y < H - 20; y++, n++) {
+        double v = TD_AT(d, (int)X0, y) - TD_AT(t, (int)X0, y);
+        e += v * v;
+    }
+    *vfloor = sqrt(e / n);
+    td_grid_f32_free(d);
+    return cs.coverage > 0.9 ? cs.rmse : INFINITY;
+}
+
+static void test_valley_dem(void)
+{
+    td_grid_f32 *t = truth(S_VALLEY);
+    td_lines *ls = contours(t, 5);
+    td_homotopy_stats hs;
+    double vh, vs, vm;
+    double rh = dem_rmse(t, ls, TD_INTERP_HOMOTOPY, &vh, &hs);
+    double rs = dem_rmse(t, ls, TD_INTERP_SCANLINE, &vs, NULL);
+    double rm = dem_rmse(t, ls, TD_INTERP_MULTIDIR, &vm, NULL);
+    fprintf(stderr, "  valley: rmse homotopy %.3f scanline %.3f multidir %.3f;"
+            " thalweg %.3f %.3f %.3f; cells homotopy %zu fallback %zu\n",
+            rh, rs, rm, vh, vs, vm, hs.cells_homotopy, hs.cells_fallback);
+    TT_CHECKF(rh < rs, "homotopy %.3f vs scanline %.3f", rh, rs);
+    TT_CHECKF(vh < 0.7 * vs, "thalweg %.3f vs scanline %.3f", vh, vs);
+    td_lines_free(ls);
+    td_grid_f32_free(t);
+}
+
 int main(void)
 {
     TT_RUN(test_valley_line);
     TT_RUN(test_ridge_line);
+    TT_RUN(test_spur_tree);
+    TT_RUN(test_valley_dem);
     return tt_summary();
 }
