@@ -12,7 +12,7 @@
  *
  *     F(s, t) = (1 - t) f(s) + t g(U(s)),   z(s, t) = (1 - t) z_f + t z_g
  *
- *      f(s_k)    f(s_k+1)      is sampled every half cell along both
+ *      f(s_k)    f(s_k+1)      is sampled about every cell along both
  *        *--------*            curves; each quad of consecutive samples
  *        |      / |            is two triangles, scan-converted with
  *        |    /   |            barycentric z into the band's cells only
@@ -55,35 +55,49 @@ typedef struct band {
     size_t filled;
 } band;
 
+static double mn3(double a, double b, double c)
+{
+    return a < b ? (a < c ? a : c) : (b < c ? b : c);
+}
+
+static double mx3(double a, double b, double c)
+{
+    return a > b ? (a > c ? a : c) : (b > c ? b : c);
+}
+
 /* Scan-convert triangle (x,y,z)[3] (cell units) into the band's NaN
- * cells. */
+ * cells: per row the span between the edges it crosses, barycentric z. */
 static void tri(band *b, const double *v)
 {
     double x0 = v[0], y0 = v[1], x1 = v[3], y1 = v[4], x2 = v[6], y2 = v[7];
     double det = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
-    double ylo = fmin(y0, fmin(y1, y2)), yhi = fmax(y0, fmax(y1, y2));
-    long r, r0 = (long)ceil(ylo - 0.5), r1 = (long)floor(yhi - 0.5);
-    if (fabs(det) < 1e-12)
+    long r, r0 = (long)ceil(mn3(y0, y1, y2) - 0.5);
+    long r1 = (long)floor(mx3(y0, y1, y2) - 0.5);
+    if (det > -1e-12 && det < 1e-12)
         return;
     r0 = r0 < 0 ? 0 : r0;
     r1 = r1 >= b->g->h ? b->g->h - 1 : r1;
     for (r = r0; r <= r1; r++) {
-        double yc = r + 0.5, xl = INFINITY, xr = -INFINITY;
-        long c, k;
+        double yc = r + 0.5, xl = 1e300, xr = -1e300;
+        long c, k, c1;
         for (k = 0; k < 3; k++) { /* the row's span across the edges */
             const double *a = v + 3 * k, *e = v + 3 * ((k + 1) % 3);
-            double t;
+            double t, x;
             if ((a[1] > yc) == (e[1] > yc) && a[1] != yc)
                 continue;
             t = e[1] != a[1] ? (yc - a[1]) / (e[1] - a[1]) : 0;
-            xl = fmin(xl, a[0] + t * (e[0] - a[0]));
-            xr = fmax(xr, a[0] + t * (e[0] - a[0]));
+            x = a[0] + t * (e[0] - a[0]);
+            xl = x < xl ? x : xl;
+            xr = x > xr ? x : xr;
         }
-        for (c = (long)ceil(xl - 0.5 - 1e-9); c <= (long)floor(xr - 0.5 + 1e-9);
-             c++) {
+        c = (long)ceil(xl - 0.5 - 1e-9);
+        c1 = (long)floor(xr - 0.5 + 1e-9);
+        c = c < 0 ? 0 : c;
+        c1 = c1 >= b->g->w ? b->g->w - 1 : c1;
+        for (; c <= c1; c++) {
             size_t i = (size_t)r * b->g->stride + (size_t)c;
             double xc = c + 0.5, l1, l2;
-            if (c < 0 || c >= b->g->w || b->g->data[i] == b->g->data[i] ||
+            if (b->g->data[i] == b->g->data[i] ||
                 b->lab[(size_t)r * b->g->w + c] != b->id)
                 continue;
             l1 = ((xc - x0) * (y2 - y0) - (x2 - x0) * (yc - y0)) / det;
@@ -98,7 +112,7 @@ static void tri(band *b, const double *v)
 static void strip(band *b, const td_rv_curve *f, const td_rv_curve *g,
                   double sf, double df, double sg, double dg)
 {
-    long n = (long)ceil(fmax(df, dg) / b->step / 0.5), k;
+    long n = (long)ceil((df > dg ? df : dg) / b->step), k;
     double v[12], q[12];
     if (n < 1)
         n = 1;

@@ -30,21 +30,25 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Distance from (x,y) to the oriented input polyline of c. */
-static double dist_curve(const td_rv_curve *c, double x, double y)
+/* Distance from (x,y) to the oriented input polyline of c, or a value
+ * >= lim when it is at least lim. */
+static double dist_curve(const td_rv_curve *c, double x, double y,
+                         double lim)
 {
-    double best = INFINITY;
+    double best = lim * lim;
     size_t i, m = c->closed ? c->no : c->no - 1;
     if (c->no == 1)
         return hypot(x - c->oxy[0], y - c->oxy[1]);
     for (i = 0; i < m; i++) {
         const double *a = c->oxy + 2 * i, *b = c->oxy + 2 * ((i + 1) % c->no);
         double dx = b[0] - a[0], dy = b[1] - a[1], l2 = dx * dx + dy * dy;
-        double t = l2 > 0 ? ((x - a[0]) * dx + (y - a[1]) * dy) / l2 : 0;
-        t = fmin(fmax(t, 0), 1);
-        best = fmin(best, hypot(x - a[0] - t * dx, y - a[1] - t * dy));
+        double t = l2 > 0 ? ((x - a[0]) * dx + (y - a[1]) * dy) / l2 : 0, ex, ey;
+        t = t < 0 ? 0 : t > 1 ? 1 : t;
+        ex = x - a[0] - t * dx, ey = y - a[1] - t * dy;
+        if (ex * ex + ey * ey < best)
+            best = ex * ex + ey * ey;
     }
-    return best;
+    return sqrt(best);
 }
 
 /* The segment a-b inside band `band`: no contour crossed. */
@@ -125,7 +129,7 @@ static long partner(const lctx *L, size_t a, int dir, int strict,
     long bi = -1;
     for (m = 0; m < r->ncurve; m++)
         if (adjacent(L, l, m, dir))
-            gap = fmin(gap, dist_curve(&r->curve[m], pa->x, pa->y));
+            gap = dist_curve(&r->curve[m], pa->x, pa->y, gap);
     if (!isfinite(gap))
         return -1;
     lim = p->link_factor * gap + 4;

@@ -1,0 +1,241 @@
+/* bench_homotopy: the homotopy interpolation (interp/homotopy.h) against
+ * the scanline and multidir methods on surfaces with a known truth, from
+ * the TRUE contour lines (numbers for docs/homotopy.md):
+ *  - an analytic valley network (a main valley and four tributaries cut
+ *    into a tilted plane, V-shaped, ridges between them) at 1000 x 1000:
+ *    RMSE, the error along the true valley floors, seconds;
+ *  - the generator's HILLS sheet at 1000 x 1000 (rings, saddles);
+ *  - the valley network at --big N (default 5000): runtime against the
+ *    scanline method (a few hundred contours).
+ * Pictures into --dir: hillshade of each DEM with contours, ridge (red),
+ * valley (blue) and inflection (green) lines over the homotopy DEM, and
+ * the contours coloured by the sign of their curvature.
+ * Options: --dir DIR --big N (--topodig is accepted and ignored). */
+#define _POSIX_C_SOURCE 200809L
+#include "../../interp/homotopy.h"
+#include "../../interp/rasterise.h"
+#include "../../samples/gen/gen.h"
+#include "compare.h"
+#include "draw.h"
+#include "imageio.h"
+#include "render.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+/* The valley network: segments (x0,y0)-(x1,y1) in sheet fractions. */
+static const double vseg[5][4] = {
+    {0.50, 0.00, 0.50, 1.00}, /* main valley, flowing down the sheet */
+    {0.15, 0.05, 0.50, 0.55}, /* tributaries joining it */
+    {0.85, 0.02, 0.50, 0.40},
+    {0.05, 0.50, 0.50, 0.85},
+    {0.95, 0.45, 0.50, 0.75},
+};
+#define NSEG 5
+
+static double seg_dist(double x, double y, const double *s, double S)
+{
+    double ax = s[0] * S, ay = s[1] * S, dx = s[2] * S - ax, dy = s[3] * S - ay;
+    double t = ((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy);
+    t = fmin(fmax(t, 0), 1);
+    return hypot(x - ax - t * dx, y - ay - t * dy);
+}
+
+/* z = 0.3 (S - y) + 0.35 softmin_k sqrt(d_k^2 + 64): V valleys 0.35 m/px
+ * steep across, the plane falling 0.3 m/px down the sheet. */
+static double network(double x, double y, double S)
+{
+    double s = 0, k = 6;
+    int i;
+    for (i = 0; i < NSEG; i++)
+        s += exp(-0.35 * sqrt(pow(seg_dist(x, y, vseg[i], S), 2) + 64) / k);
+    return 0.3 * (S - y) - k * log(s);
+}
+
+static td_grid_f32 *network_grid(int S)
+{
+    td_grid_f32 *g = td_grid_f32_new(S, S, NULL);
+    int x, y;
+    for (y = 0; g && y < S; y++)
+        for (x = 0; x < S; x++)
+            TD_AT(g, x, y) = (float)network(x + 0.5, y + 0.5, S);
+    return g;
+}
+
+/* RMSE of d against t along the true valley floors (every px, 3% of the
+ * sheet from its border left out). */
+static double floor_rmse(const td_grid_f32 *d, const td_grid_f32 *t)
+{
+    double e = 0, S = t->w;
+    size_t n = 0;
+    int i, k;
+    for (i = 0; i < NSEG; i++) {
+        const double *s = vseg[i];
+        int m = (int)(hypot(s[2] - s[0], s[3] - s[1]) * S);
+        for (k = 0; k <= m; k++) {
+            double x = (s[0] + (s[2] - s[0]) * k / m) * S;
+            double y = (s[1] + (s[3] - s[1]) * k / m) * S;
+            int c = (int)x, r = (int)y;
+            float v;
+            if (x < 0.03 * S || y < 0.03 * S || x > 0.97 * S || y > 0.97 * S)
+                continue;
+            v = TD_AT(d, c, r);
+            if (v == d->nodata)
+                continue;
+            e += pow(v - TD_AT(t, c, r), 2);
+            n++;
+        }
+    }
+    return n ? sqrt(e / n) : NAN;
+}
+
+static void picture(const char *dir, const char *name, const td_grid_f32 *d,
+                    double iv, const td_rv_path *p, size_t np)
+{
+    td_render_params rp = td_render_defaults();
+    td_image *im = NULL;
+    char path[1024];
+    size_t i, k;
+    rp.interval = iv;
+    if (!dir || td_render_hillshade(d, &rp, &im, NULL) != 0)
+        return;
+    for (i = 0; i < np; i++) {
+        static const uint8_t col[3][3] = {{220, 30, 30}, {30, 60, 230},
+                                          {40, 170, 60}};
+        td_line l;
+        memset(&l, 0, sizeof l);
+        l.n = p[i].n;
+        if (!(l.xy = malloc(2 * l.n * sizeof *l.xy)))
+            continue;
+        for (k = 0; k < l.n; k++)
+            l.xy[2 * k] = p[i].xyz[3 * k], l.xy[2 * k + 1] = p[i].xyz[3 * k + 1];
+        td_draw_line(im, &l, col[p[i].kind]);
+        free(l.xy);
+    }
+    snprintf(path, sizeof path, "%s/%s.png", dir, name);
+    if (td_png_write(path, im, NULL) == 0)
+        printf("   picture %s\n", path);
+    td_image_free(im);
+}
+
+/* The contours coloured by the sign of kappa: red convex, blue concave. */
+static void curvature_picture(const char *dir, const td_ridges *r, int w,
+                              int h)
+{
+    td_image *im = td_image_new(w, h, 3, NULL);
+    char path[1024];
+    size_t i, k;
+    if (!dir || !im)
+        return;
+    memset(im->data, 255, im->stride * h);
+    for (i = 0; i < r->ncurve; i++) {
+        const td_rv_curve *c = &r->curve[i];
+        for (k = 0; c->orient && k + 1 < c->n + (size_t)c->closed; k++) {
+            double xy[4] = {c->x[k], c->y[k], c->x[(k + 1) % c->n],
+                            c->y[(k + 1) % c->n]};
+            uint8_t red[3] = {210, 40, 40}, blue[3] = {40, 70, 220};
+            td_line l;
+            memset(&l, 0, sizeof l);
+            l.xy = xy, l.n = 2;
+            td_draw_line(im, &l, c->kappa[k] >= 0 ? red : blue);
+        }
+    }
+    snprintf(path, sizeof path, "%s/homotopy_curvature.png", dir);
+    if (td_png_write(path, im, NULL) == 0)
+        printf("   picture %s\n", path);
+    td_image_free(im);
+}
+
+/* One method: DEM, seconds, RMSE, valley-floor RMSE (network only). */
+static td_grid_f32 *run(const td_lines *ls, const td_grid_f32 *t, int m,
+                        int network_case, td_homotopy_stats *hs,
+                        const char *label)
+{
+    td_interp_params p = td_interp_defaults();
+    td_grid_f32 *d = NULL;
+    td_compare_stats cs;
+    double t0 = td_now(), secs;
+    p.method = (td_interp_method)m;
+    p.hstats = hs;
+    if (td_interp_lines(ls, t->w, t->h, &p, &d, NULL) != 0) {
+        printf("   %-10s failed\n", label);
+        return NULL;
+    }
+    secs = td_now() - t0;
+    td_compare_grids(d, t, &cs, NULL);
+    printf("   %-10s rmse %7.3f  mae %7.3f  max %7.2f  coverage %.4f", label,
+           cs.rmse, cs.mae, cs.max_abs, cs.coverage);
+    if (network_case)
+        printf("  valley floor rmse %7.3f", floor_rmse(d, t));
+    printf("  %6.2f s\n", secs);
+    return d;
+}
+
+static void one_case(const char *name, td_grid_f32 *t, double iv,
+                     int network_case, const char *dir, int pictures)
+{
+    static const char *const names[3] = {"scanline", "multidir", "homotopy"};
+    td_lines *ls = NULL;
+    td_homotopy_stats hs;
+    int m;
+    memset(&hs, 0, sizeof hs);
+    if (td_gen_contours(t, 0, iv, &ls, NULL) != 0)
+        return;
+    printf("%s: %d x %d, interval %g m, %zu contours\n", name, t->w, t->h,
+           iv, ls->n);
+    for (m = 0; m < 3; m++) {
+        td_grid_f32 *d = run(ls, t, m, network_case, m == 2 ? &hs : NULL,
+                             names[m]);
+        if (d && pictures) {
+            char pn[128];
+            td_ridges *r = NULL;
+            td_rv_path *p = NULL;
+            size_t np = 0;
+            td_homotopy_params hp = td_homotopy_defaults();
+            if (m == 2 && td_ridges_find(ls, t->w, t->h, &hp, &r, NULL) == 0 &&
+                td_ridges_paths(r, &p, &np, NULL) == 0 && network_case)
+                curvature_picture(dir, r, t->w, t->h);
+            snprintf(pn, sizeof pn, "homotopy_%s_%s", name, names[m]);
+            picture(dir, pn, d, iv, p, np);
+            td_rv_paths_free(p, np);
+            td_ridges_free(r);
+        }
+        td_grid_f32_free(d);
+    }
+    printf("   homotopy: %zu of %zu bands, %zu cells homotopy, %zu fallback,"
+           " %zu ridge / %zu valley points, %zu links\n", hs.bands_homotopy,
+           hs.bands, hs.cells_homotopy, hs.cells_fallback, hs.ridge_points,
+           hs.valley_points, hs.links);
+    td_lines_free(ls);
+}
+
+int main(int argc, char **argv)
+{
+    const char *dir = NULL;
+    int big = 5000, i;
+    td_grid_f32 *t = NULL;
+    td_gen_params gp = td_gen_defaults();
+    for (i = 1; i + 1 < argc; i++) {
+        if (!strcmp(argv[i], "--dir"))
+            dir = argv[++i];
+        else if (!strcmp(argv[i], "--big"))
+            big = atoi(argv[++i]);
+    }
+    if (dir)
+        mkdir(dir, 0777);
+    t = network_grid(1000);
+    one_case("network", t, 5, 1, dir, 1);
+    td_grid_f32_free(t);
+    t = NULL;
+    if (td_gen_terrain(&gp, &t, NULL) == 0)
+        one_case("hills", t, td_gen_auto_interval(&gp, t), 0, dir, 1);
+    td_grid_f32_free(t);
+    t = NULL;
+    if (big > 0 && (t = network_grid(big)) != NULL)
+        one_case("network_big", t, 10, 1, dir, 0);
+    td_grid_f32_free(t);
+    return 0;
+}
