@@ -10,7 +10,9 @@
  * Pictures into --dir: hillshade of each DEM with contours, ridge (red),
  * valley (blue) and inflection (green) lines over the homotopy DEM, and
  * the contours coloured by the sign of their curvature.
- * Options: --dir DIR --big N (--topodig is accepted and ignored). */
+ *  - --sweep: the epsilon threshold from 0 to 60 degrees on both small
+ *    cases (RMSE, valley-floor RMSE, ridge/valley points).
+ * Options: --dir DIR --big N --sweep (--topodig is accepted and ignored). */
 #define _POSIX_C_SOURCE 200809L
 #include "../../interp/homotopy.h"
 #include "../../interp/rasterise.h"
@@ -149,6 +151,8 @@ static void curvature_picture(const char *dir, const td_ridges *r, int w,
     td_image_free(im);
 }
 
+static double g_epsilon = -1; /* bench option: homotopy epsilon */
+
 /* One method: DEM, seconds, RMSE, valley-floor RMSE (network only). */
 static td_grid_f32 *run(const td_lines *ls, const td_grid_f32 *t, int m,
                         int network_case, td_homotopy_stats *hs,
@@ -160,13 +164,15 @@ static td_grid_f32 *run(const td_lines *ls, const td_grid_f32 *t, int m,
     double t0 = td_now(), secs;
     p.method = (td_interp_method)m;
     p.hstats = hs;
+    if (g_epsilon >= 0)
+        p.epsilon = g_epsilon;
     if (td_interp_lines(ls, t->w, t->h, &p, &d, NULL) != 0) {
         printf("   %-10s failed\n", label);
         return NULL;
     }
     secs = td_now() - t0;
     td_compare_grids(d, t, &cs, NULL);
-    printf("   %-10s rmse %7.3f  mae %7.3f  max %7.2f  coverage %.4f", label,
+    printf("   %-16s rmse %7.3f  mae %7.3f  max %7.2f  coverage %.4f", label,
            cs.rmse, cs.mae, cs.max_abs, cs.coverage);
     if (network_case)
         printf("  valley floor rmse %7.3f", floor_rmse(d, t));
@@ -212,6 +218,39 @@ static void one_case(const char *name, td_grid_f32 *t, double iv,
     td_lines_free(ls);
 }
 
+/* Epsilon against accuracy: homotopy only. */
+static void sweep(void)
+{
+    static const double eps[] = {0, 5, 10, 20, 30, 45, 60};
+    td_gen_params gp = td_gen_defaults();
+    td_grid_f32 *t[2] = {network_grid(1000), NULL};
+    td_lines *ls[2] = {NULL, NULL};
+    size_t e;
+    int k;
+    td_gen_terrain(&gp, &t[1], NULL);
+    td_gen_contours(t[0], 0, 5, &ls[0], NULL);
+    td_gen_contours(t[1], 0, td_gen_auto_interval(&gp, t[1]), &ls[1], NULL);
+    for (e = 0; e < sizeof eps / sizeof *eps; e++)
+        for (k = 0; k < 2; k++) {
+            td_homotopy_stats hs;
+            td_grid_f32 *d;
+            char lab[64];
+            memset(&hs, 0, sizeof hs);
+            g_epsilon = eps[e];
+            snprintf(lab, sizeof lab, "eps %2.0f %s", eps[e],
+                     k ? "hills" : "network");
+            d = run(ls[k], t[k], TD_INTERP_HOMOTOPY, k == 0, &hs, lab);
+            printf("      %zu ridge, %zu valley points, %zu links\n",
+                   hs.ridge_points, hs.valley_points, hs.links);
+            td_grid_f32_free(d);
+        }
+    for (k = 0; k < 2; k++) {
+        td_lines_free(ls[k]);
+        td_grid_f32_free(t[k]);
+    }
+    g_epsilon = -1;
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = NULL;
@@ -224,6 +263,11 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--big"))
             big = atoi(argv[++i]);
     }
+    for (i = 1; i < argc; i++)
+        if (!strcmp(argv[i], "--sweep")) {
+            sweep();
+            return 0;
+        }
     if (dir)
         mkdir(dir, 0777);
     t = network_grid(1000);
