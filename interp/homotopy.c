@@ -55,56 +55,67 @@ typedef struct band {
     size_t filled;
 } band;
 
-static double mn3(double a, double b, double c)
+static long ifloor(double x)
 {
-    return a < b ? (a < c ? a : c) : (b < c ? b : c);
+    long i = (long)x;
+    return i - (x < (double)i);
 }
 
-static double mx3(double a, double b, double c)
+static long iceil(double x)
 {
-    return a > b ? (a > c ? a : c) : (b > c ? b : c);
+    long i = (long)x;
+    return i + (x > (double)i);
 }
 
 /* Scan-convert triangle (x,y,z)[3] (cell units) into the band's NaN
- * cells: per row the span between the edges it crosses, barycentric z. */
+ * cells: vertices sorted by y, each row's span between the long edge
+ * (top to bottom) and the short edge it meets; z from the triangle's
+ * plane z = z0 + zx (x - x0) + zy (y - y0) (barycentric interpolation). */
 static void tri(band *b, const double *v)
 {
-    double x0 = v[0], y0 = v[1], x1 = v[3], y1 = v[4], x2 = v[6], y2 = v[7];
-    double det = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0);
-    long r, r0 = (long)ceil(mn3(y0, y1, y2) - 0.5);
-    long r1 = (long)floor(mx3(y0, y1, y2) - 0.5);
+    const double *p[3] = {v, v + 3, v + 6}, *t;
+    double det, zx, zy, ya, yb, yc, sl, s1, s2;
+    long r, r0, r1;
+    if (p[0][1] > p[1][1])
+        t = p[0], p[0] = p[1], p[1] = t;
+    if (p[1][1] > p[2][1])
+        t = p[1], p[1] = p[2], p[2] = t;
+    if (p[0][1] > p[1][1])
+        t = p[0], p[0] = p[1], p[1] = t;
+    det = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
+          (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
     if (det > -1e-12 && det < 1e-12)
         return;
+    zx = ((p[1][2] - p[0][2]) * (p[2][1] - p[0][1]) -
+          (p[2][2] - p[0][2]) * (p[1][1] - p[0][1])) / det;
+    zy = ((p[2][2] - p[0][2]) * (p[1][0] - p[0][0]) -
+          (p[1][2] - p[0][2]) * (p[2][0] - p[0][0])) / det;
+    ya = p[0][1], yb = p[1][1], yc = p[2][1];
+    sl = (p[2][0] - p[0][0]) / (yc - ya); /* dx/dy of the three edges */
+    s1 = yb > ya ? (p[1][0] - p[0][0]) / (yb - ya) : 0;
+    s2 = yc > yb ? (p[2][0] - p[1][0]) / (yc - yb) : 0;
+    r0 = iceil(ya - 0.5), r1 = ifloor(yc - 0.5);
     r0 = r0 < 0 ? 0 : r0;
     r1 = r1 >= b->g->h ? b->g->h - 1 : r1;
     for (r = r0; r <= r1; r++) {
-        double yc = r + 0.5, xl = 1e300, xr = -1e300;
-        long c, k, c1;
-        for (k = 0; k < 3; k++) { /* the row's span across the edges */
-            const double *a = v + 3 * k, *e = v + 3 * ((k + 1) % 3);
-            double t, x;
-            if ((a[1] > yc) == (e[1] > yc) && a[1] != yc)
-                continue;
-            t = e[1] != a[1] ? (yc - a[1]) / (e[1] - a[1]) : 0;
-            x = a[0] + t * (e[0] - a[0]);
-            xl = x < xl ? x : xl;
-            xr = x > xr ? x : xr;
-        }
-        c = (long)ceil(xl - 0.5 - 1e-9);
-        c1 = (long)floor(xr - 0.5 + 1e-9);
+        double y = r + 0.5, xl, xr, zrow;
+        long c, c1;
+        float *row = b->g->data + (size_t)r * b->g->stride;
+        const int32_t *lab = b->lab + (size_t)r * b->g->w;
+        xl = p[0][0] + (y - ya) * sl;
+        xr = y < yb ? p[0][0] + (y - ya) * s1 : p[1][0] + (y - yb) * s2;
+        if (xl > xr)
+            zrow = xl, xl = xr, xr = zrow;
+        c = iceil(xl - 0.5 - 1e-9);
+        c1 = ifloor(xr - 0.5 + 1e-9);
         c = c < 0 ? 0 : c;
         c1 = c1 >= b->g->w ? b->g->w - 1 : c1;
-        for (; c <= c1; c++) {
-            size_t i = (size_t)r * b->g->stride + (size_t)c;
-            double xc = c + 0.5, l1, l2;
-            if (b->g->data[i] == b->g->data[i] ||
-                b->lab[(size_t)r * b->g->w + c] != b->id)
-                continue;
-            l1 = ((xc - x0) * (y2 - y0) - (x2 - x0) * (yc - y0)) / det;
-            l2 = ((x1 - x0) * (yc - y0) - (xc - x0) * (y1 - y0)) / det;
-            b->g->data[i] = (float)((1 - l1 - l2) * v[2] + l1 * v[5] + l2 * v[8]);
-            b->filled++;
-        }
+        zrow = p[0][2] + zy * (y - ya) + zx * (0.5 - p[0][0]);
+        for (; c <= c1; c++)
+            if (row[c] != row[c] && lab[c] == b->id) {
+                row[c] = (float)(zrow + zx * c);
+                b->filled++;
+            }
     }
 }
 
