@@ -123,7 +123,7 @@ static void tri(band *b, const double *v)
 static void strip(band *b, const td_rv_curve *f, const td_rv_curve *g,
                   double sf, double df, double sg, double dg)
 {
-    long n = (long)ceil((df > dg ? df : dg) / b->step), k;
+    long n = (long)ceil((df > dg ? df : dg) / b->step / 2), k;
     double v[12], q[12];
     if (n < 1)
         n = 1;

@@ -81,8 +81,8 @@ static void edge_rows(const double *a, const double *b, int h, long *r0,
 }
 
 /* Two passes over every edge: count, then fill. */
-static void cross_pass(const td_contain *ct, int h, double scale, xrow *xr,
-                       size_t *fill)
+static void cross_pass(const td_contain *ct, int w, int h, double scale,
+                       xrow *xr, size_t *fill)
 {
     size_t i, k;
     for (i = 0; i < ct->n; i++) {
@@ -95,6 +95,8 @@ static void cross_pass(const td_contain *ct, int h, double scale, xrow *xr,
             double b[2] = {r->xy[2 * k2] / scale, r->xy[2 * k2 + 1] / scale};
             long y, y0, y1;
             edge_rows(a, b, h, &y0, &y1);
+            if (a[0] >= w - 0.5 && b[0] >= w - 0.5)
+                continue; /* right of every cell centre: toggles nothing */
             for (y = y0; y < y1; y++) {
                 double yc = y + 0.5, t = (yc - a[1]) / (b[1] - a[1]);
                 if (!fill) {
@@ -158,14 +160,14 @@ int hm_label(const td_contain *ct, int w, int h, double scale, int32_t *lab,
         while (p >= 0 && (p = ct->parent[p]) >= 0)
             depth[i]++;
     }
-    cross_pass(ct, h, scale, &xr, NULL);
+    cross_pass(ct, w, h, scale, &xr, NULL);
     for (r = 0; r < h; r++)
         xr.off[r + 1] += xr.off[r];
     tot = xr.off[h];
     if (!(xr.c = td_malloc((tot + 1) * sizeof *xr.c, cx)))
         goto fail;
     memcpy(fill, xr.off, ((size_t)h + 1) * sizeof *fill);
-    cross_pass(ct, h, scale, &xr, fill);
+    cross_pass(ct, w, h, scale, &xr, fill);
     for (r = 0; r < h; r++) {
         size_t o = xr.off[r], n = xr.off[r + 1] - o;
         qsort(xr.c + o, n, sizeof *xr.c, cmp_xing);

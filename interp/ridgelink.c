@@ -75,7 +75,50 @@ typedef struct lctx {
     size_t *pstart; /* points of curve c: pstart[c] .. pstart[c+1] */
     long *next;     /* per point: the link leaving it, -1 none */
     size_t lcap;
+    size_t *coff, *cidx; /* children of line p: cidx[coff[p+1] ..
+                            coff[p+2]); slot 0: the roots (parent -1) */
 } lctx;
+
+/* The lines that may bound a band with line l: its parent, its children
+ * and its siblings, into out (room for ncurve + 1); returns how many. */
+static size_t neighbours(const lctx *L, size_t l, size_t *out)
+{
+    const long *par = L->ct->parent;
+    size_t k = 0, i;
+    long p = par[l];
+    if (p == -2)
+        return 0;
+    if (p >= 0)
+        out[k++] = (size_t)p;
+    for (i = L->coff[l + 1]; i < L->coff[l + 2]; i++)
+        out[k++] = L->cidx[i];
+    for (i = L->coff[p + 1]; i < L->coff[p + 2]; i++)
+        if (L->cidx[i] != l)
+            out[k++] = L->cidx[i];
+    return k;
+}
+
+/* Children lists (CSR) of the containment tree. */
+static int children(lctx *L, td_ctx *cx)
+{
+    const long *par = L->ct->parent;
+    size_t n = L->r->ncurve, i, *fill;
+    if (!(L->coff = td_calloc(n + 3, sizeof *L->coff, cx)) ||
+        !(L->cidx = td_malloc((n + 1) * sizeof *L->cidx, cx)) ||
+        !(fill = td_malloc((n + 3) * sizeof *fill, cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < n; i++)
+        if (par[i] >= -1)
+            L->coff[par[i] + 2]++;
+    for (i = 1; i < n + 3; i++)
+        L->coff[i] += L->coff[i - 1];
+    memcpy(fill, L->coff, (n + 3) * sizeof *fill);
+    for (i = 0; i < n; i++)
+        if (par[i] >= -1)
+            L->cidx[fill[par[i] + 1]++] = i;
+    free(fill);
+    return 0;
+}
 
 static int add_link(lctx *L, size_t a, size_t b, int join, td_ctx *cx)
 {
@@ -118,24 +161,26 @@ static int adjacent(const lctx *L, size_t l, size_t m, int dir)
 }
 
 /* The best partner of point a on the adjacent lines (dir), -1 none;
- * strict: the link rules, else the Suspended join (no band test). */
+ * strict: the link rules, else the Suspended join (no band test).  nb:
+ * scratch for the neighbour list. */
 static long partner(const lctx *L, size_t a, int dir, int strict,
-                    const td_homotopy_params *p)
+                    const td_homotopy_params *p, size_t *nb)
 {
     const td_ridges *r = L->r;
     const td_rv_point *pa = &r->pt[a];
-    size_t l = pa->curve, m, k;
+    size_t l = pa->curve, j, k, nn = neighbours(L, l, nb);
     double gap = INFINITY, lim, best = INFINITY;
     long bi = -1;
-    for (m = 0; m < r->ncurve; m++)
-        if (adjacent(L, l, m, dir))
-            gap = dist_curve(&r->curve[m], pa->x, pa->y, gap);
+    for (j = 0; j < nn; j++)
+        if (adjacent(L, l, nb[j], dir))
+            gap = dist_curve(&r->curve[nb[j]], pa->x, pa->y, gap);
     if (!isfinite(gap))
         return -1;
     lim = p->link_factor * gap + 4;
     if (!strict)
         lim *= p->join_factor;
-    for (m = 0; m < r->ncurve; m++) {
+    for (j = 0; j < nn; j++) {
+        size_t m = nb[j];
         long band = common_band(L->ct->parent, l, m);
         if (!adjacent(L, l, m, dir))
             continue;
@@ -153,11 +198,11 @@ static long partner(const lctx *L, size_t a, int dir, int strict,
 }
 
 /* Does the line of point a have an adjacent line in direction dir? */
-static int has_next(const lctx *L, size_t a, int dir)
+static int has_next(const lctx *L, size_t a, int dir, size_t *nb)
 {
-    size_t m;
-    for (m = 0; m < L->r->ncurve; m++)
-        if (adjacent(L, L->r->pt[a].curve, m, dir))
+    size_t l = L->r->pt[a].curve, j, nn = neighbours(L, l, nb);
+    for (j = 0; j < nn; j++)
+        if (adjacent(L, l, nb[j], dir))
             return 1;
     return 0;
 }
@@ -217,11 +262,14 @@ static int by_key(const void *x, const void *y)
 static int link_all(lctx *L, const td_homotopy_params *p, td_ctx *cx)
 {
     td_ridges *r = L->r;
-    size_t i;
+    size_t i, *nb = td_malloc((r->ncurve + 1) * sizeof *nb, cx);
     okey *ord = td_malloc((r->npt + 1) * sizeof *ord, cx);
     int rc = 0;
-    if (!ord)
+    if (!ord || !nb) {
+        free(ord);
+        free(nb);
         return TD_ENOMEM;
+    }
     for (i = 0; i < r->npt; i++) {
         ord[i].i = i;
         ord[i].z = r->pt[i].kind == TD_RV_VALLEY ? -r->pt[i].z : r->pt[i].z;
@@ -230,9 +278,10 @@ static int link_all(lctx *L, const td_homotopy_params *p, td_ctx *cx)
     for (i = 0; i < r->npt && rc == 0; i++) {
         size_t a = ord[i].i;
         int dir = r->pt[a].kind == TD_RV_VALLEY ? -1 : 1;
-        long b = partner(L, a, dir, 1, p);
-        if (b < 0 && r->pt[a].kind != TD_RV_INFLECT && has_next(L, a, dir)) {
-            b = partner(L, a, dir, 0, p); /* Suspended: Step 4 */
+        long b = partner(L, a, dir, 1, p, nb);
+        if (b < 0 && r->pt[a].kind != TD_RV_INFLECT &&
+            has_next(L, a, dir, nb)) {
+            b = partner(L, a, dir, 0, p, nb); /* Suspended: Step 4 */
             if (b < 0)
                 r->suspended++;
             else
@@ -241,6 +290,7 @@ static int link_all(lctx *L, const td_homotopy_params *p, td_ctx *cx)
             rc = add_link(L, a, (size_t)b, 0, cx);
     }
     free(ord);
+    free(nb);
     return rc;
 }
 
@@ -262,10 +312,12 @@ int hm_link(td_ridges *r, const td_contain *ct, const int32_t *lab, int w,
             L.pstart[i] = L.pstart[i - 1];
     for (i = 0; i < r->npt; i++)
         L.next[i] = -1;
-    if ((rc = link_all(&L, p, cx)) == 0)
+    if ((rc = children(&L, cx)) == 0 && (rc = link_all(&L, p, cx)) == 0)
         rc = number_trees(r, cx);
 fail:
     free(L.pstart);
     free(L.next);
+    free(L.coff);
+    free(L.cidx);
     return rc;
 }

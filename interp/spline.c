@@ -124,21 +124,21 @@ static void spline_m(const double *v, size_t n, int closed, double h,
                      double *m)
 {
     size_t i, it;
-    long nn = (long)n;
-    for (i = 0; i < n; i++) {
-        long a = (long)i - 1, b = (long)i + 1;
-        m[i] = 0;
-        if (closed || (a >= 0 && b < nn))
-            m[i] = (v[(b + nn) % nn] - 2 * v[i] + v[(a + nn) % nn]) / (h * h);
+    double k = 6 / (h * h);
+    if (n < 3)
+        return;
+    for (i = 1; i + 1 < n; i++)
+        m[i] = (v[i + 1] - 2 * v[i] + v[i - 1]) / (h * h);
+    m[0] = closed ? (v[1] - 2 * v[0] + v[n - 1]) / (h * h) : 0;
+    m[n - 1] = closed ? (v[0] - 2 * v[n - 1] + v[n - 2]) / (h * h) : 0;
+    for (it = 0; it < 20; it++) {
+        if (closed)
+            m[0] = (k * (v[1] - 2 * v[0] + v[n - 1]) - m[n - 1] - m[1]) / 4;
+        for (i = 1; i + 1 < n; i++)
+            m[i] = (k * (v[i + 1] - 2 * v[i] + v[i - 1]) - m[i - 1] - m[i + 1]) / 4;
+        if (closed)
+            m[n - 1] = (k * (v[0] - 2 * v[n - 1] + v[n - 2]) - m[n - 2] - m[0]) / 4;
     }
-    for (it = 0; it < 20; it++)
-        for (i = 0; i < n; i++) {
-            long a = (long)i - 1, b = (long)i + 1;
-            if (!closed && (a < 0 || b >= nn))
-                continue;
-            a = (a + nn) % nn, b = b % nn;
-            m[i] = (6 * (v[b] - 2 * v[i] + v[a]) / (h * h) - m[a] - m[b]) / 4;
-        }
 }
 
 /* First derivative of the spline at knot i. */
