@@ -169,8 +169,14 @@ int hm_label(const td_contain *ct, int w, int h, double scale, int32_t *lab,
     memcpy(fill, xr.off, ((size_t)h + 1) * sizeof *fill);
     cross_pass(ct, w, h, scale, &xr, fill);
     for (r = 0; r < h; r++) {
-        size_t o = xr.off[r], n = xr.off[r + 1] - o;
-        qsort(xr.c + o, n, sizeof *xr.c, cmp_xing);
+        size_t o = xr.off[r], n = xr.off[r + 1] - o, k, lo = 0;
+        for (k = 0; k < n; k++) /* left of every centre: any order */
+            if (xr.c[o + k].x < 0.5) {
+                xing t = xr.c[o + k];
+                xr.c[o + k] = xr.c[o + lo];
+                xr.c[o + lo++] = t;
+            }
+        qsort(xr.c + o + lo, n - lo, sizeof *xr.c, cmp_xing);
         label_row(ct, depth, in, xr.c + o, n, w, lab + (size_t)r * w);
     }
     rc = 0;

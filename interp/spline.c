@@ -192,7 +192,7 @@ static int fit(td_rv_curve *c, const td_homotopy_params *p, td_ctx *cx)
         for (i = 0; i < n; i++) {
             double dx = spline_d1(c->x, mx, n, c->closed, h, i);
             double dy = spline_d1(c->y, my, n, c->closed, h, i);
-            double d = pow(dx * dx + dy * dy, 1.5);
+            double d2 = dx * dx + dy * dy, d = d2 * sqrt(d2);
             c->kappa[i] = d > 0 ? -(dx * my[i] - dy * mx[i]) / d : 0;
         }
     }

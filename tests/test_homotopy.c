@@ -233,11 +233,127 @@ static void test_valley_dem(void)
     td_grid_f32_free(t);
 }
 
+/* A ring of radius rad about the sheet centre at height z, n points,
+ * clockwise in pixel rows when cw. */
+static void ring(td_lines *ls, double rad, double z, int cw)
+{
+    td_line *l = td_lines_add(ls, NULL);
+    int k, n = 400;
+    for (k = 0; k < n; k++) {
+        double a = 2 * M_PI * k / n * (cw ? 1 : -1);
+        td_line_push(l, W / 2.0 + rad * cos(a), H / 2.0 + rad * sin(a), NULL);
+    }
+    l->closed = 1, l->has_height = 1, l->height = z;
+}
+
+/* Shoelace sum of a curve's samples, pixel rows (< 0: clockwise). */
+static double curve_area(const td_rv_curve *c)
+{
+    double a = 0;
+    size_t i;
+    for (i = 0; i < c->n; i++) {
+        size_t j = (i + 1) % c->n;
+        a += c->x[i] * c->y[j] - c->x[j] * c->y[i];
+    }
+    return a / 2;
+}
+
+/* Summit rings run clockwise in pixel rows with kappa = +1/R; pit rings
+ * the other way with kappa = -1/R, whatever the input direction. */
+static void test_orient_circle(void)
+{
+    int pit;
+    for (pit = 0; pit < 2; pit++) {
+        td_lines *ls = td_lines_new(NULL);
+        td_homotopy_params p = td_homotopy_defaults();
+        td_ridges *r = NULL;
+        size_t i, k;
+        ring(ls, 80, 100, 0);
+        ring(ls, 40, pit ? 90 : 110, 1);
+        TT_CHECK(td_ridges_find(ls, W, H, &p, &r, NULL) == 0);
+        for (i = 0; r && i < 2; i++) {
+            const td_rv_curve *c = &r->curve[i];
+            double rad = i ? 40 : 80, worst = 0;
+            TT_CHECKF(pit ? curve_area(c) > 0 : curve_area(c) < 0,
+                      "ring %zu (%s) runs the wrong way", i,
+                      pit ? "pit" : "summit");
+            for (k = 0; k < c->n; k++)
+                worst = fmax(worst, fabs(c->kappa[k] - (pit ? -1 : 1) / rad));
+            TT_CHECKF(worst < 0.05 / rad, "kappa off 1/R by %g (R %g)", worst,
+                      rad);
+        }
+        for (i = 0; r && i < r->npt; i++)
+            TT_CHECK(r->pt[i].kind == (pit ? TD_RV_VALLEY : TD_RV_RIDGE));
+        td_ridges_free(r);
+        td_lines_free(ls);
+    }
+}
+
+/* A cone's rings: homotopy between rings without links. */
+static void test_cone_dem(void)
+{
+    td_grid_f32 *t = td_grid_f32_new(W, H, NULL);
+    td_lines *ls;
+    td_homotopy_stats hs;
+    int x, y;
+    double v;
+    for (y = 0; y < H; y++)
+        for (x = 0; x < W; x++)
+            TD_AT(t, x, y) = (float)(200 - 0.8 * hypot(x + 0.5 - W / 2.0,
+                                                      y + 0.5 - H / 2.0));
+    ls = contours(t, 10);
+    {
+        td_interp_params p = td_interp_defaults();
+        td_grid_f32 *d = NULL;
+        td_compare_stats cs;
+        p.method = TD_INTERP_HOMOTOPY;
+        p.hstats = &hs;
+        TT_CHECK(td_interp_lines(ls, W, H, &p, &d, NULL) == 0);
+        if (d) {
+            td_compare_grids(d, t, &cs, NULL);
+            v = cs.rmse;
+            TT_CHECKF(v < 0.3, "cone RMSE %.3f m (interval 10)", v);
+            TT_CHECKF(hs.bands_homotopy >= 10 && hs.cells_homotopy > 50000,
+                      "%zu bands, %zu cells by the homotopy",
+                      hs.bands_homotopy, hs.cells_homotopy);
+        }
+        td_grid_f32_free(d);
+    }
+    td_lines_free(ls);
+    td_grid_f32_free(t);
+}
+
+static void test_bad_input(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_homotopy_params p = td_homotopy_defaults();
+    td_ridges *r = NULL;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    TT_CHECK(td_ridges_find(ls, W, H, &p, &r, &cx) == TD_EINVAL && !r);
+    ring(ls, 30, 10, 1);
+    ls->v[0].has_height = 0;
+    td_ctx_clear(&cx);
+    TT_CHECK(td_ridges_find(ls, W, H, &p, &r, &cx) == TD_EINVAL && !r);
+    TT_CHECK(strstr(td_errmsg(&cx), "label") != NULL);
+    ls->v[0].has_height = 1;
+    p.spacing = 0;
+    TT_CHECK(td_ridges_find(ls, W, H, &p, &r, &cx) == TD_EINVAL && !r);
+    p = td_homotopy_defaults(); /* one ring alone: no points, no links */
+    TT_CHECK(td_ridges_find(ls, W, H, &p, &r, NULL) == 0 && r &&
+             r->nlink == 0);
+    td_ridges_free(r);
+    td_lines_free(ls);
+}
+
 int main(void)
 {
     TT_RUN(test_valley_line);
     TT_RUN(test_ridge_line);
     TT_RUN(test_spur_tree);
     TT_RUN(test_valley_dem);
+    TT_RUN(test_orient_circle);
+    TT_RUN(test_cone_dem);
+    TT_RUN(test_bad_input);
     return tt_summary();
 }
