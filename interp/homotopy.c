@@ -45,6 +45,7 @@ td_homotopy_params td_homotopy_defaults(void)
 
 typedef struct anchor {
     double f, g;
+    size_t curve; /* branching faces: the inner line g is on */
 } anchor;
 
 typedef struct band {
@@ -199,18 +200,37 @@ static int band_anchors(const td_ridges *r, size_t cf, size_t cg,
     return 0;
 }
 
-/* Arc length on g of the sample nearest f's start. */
-static double nearest_start(const td_rv_curve *f, const td_rv_curve *g)
+/* Arc length on g of the sample nearest f at arc length sf. */
+static double nearest_on(const td_rv_curve *f, double sf, const td_rv_curve *g)
 {
     double x, y, best = INFINITY, s = 0;
     size_t i;
-    hm_curve_at(f, 0, &x, &y);
+    hm_curve_at(f, sf, &x, &y);
     for (i = 0; i < g->n; i++) {
         double d = hypot(g->x[i] - x, g->y[i] - y);
         if (d < best)
             best = d, s = g->s[i];
     }
     return s;
+}
+
+/* An open line f around a ring g (a hill in the region of a line that
+ * leaves the sheet): the strips between the anchors as usual; the ring's
+ * rest goes to the two ends of f, split in proportion to their lengths,
+ * so both ends of f meet at one point of the ring. */
+static void open_ends(band *b, const td_rv_curve *f, const td_rv_curve *g,
+                      const anchor *ch, size_t m)
+{
+    double cov = 0, l1 = ch[0].f, l2 = f->len - ch[m - 1].f, rest, r1;
+    size_t j;
+    for (j = 0; j + 1 < m; j++)
+        cov += fmod(ch[j + 1].g - ch[j].g + 2 * g->len, g->len);
+    rest = g->len - cov;
+    if (rest < 0 || l1 + l2 <= 0)
+        return;
+    r1 = rest * l1 / (l1 + l2);
+    strip(b, f, g, 0, l1, ch[0].g - r1, r1);
+    strip(b, f, g, ch[m - 1].f, l2, ch[m - 1].g, rest - r1);
 }
 
 /* The correspondence U between curve cf (outer) and cg, strip by strip. */
@@ -222,13 +242,14 @@ static int fill_band(band *b, const td_ridges *r, size_t cf, size_t cg,
     long *prev = NULL;
     size_t n, m, j, *len = NULL, st, best = 0, bm = 0;
     int rc;
+    int mixed = !f->closed && g->closed, ring = f->closed || mixed;
     if ((rc = band_anchors(r, cf, cg, &v, &n, cx)) != 0)
         return rc;
-    if (!f->closed) {
+    if (!ring) {
         v[n].f = 0, v[n++].g = 0;
         v[n].f = f->len, v[n++].g = g->len;
     } else if (n == 0)
-        v[n].f = 0, v[n++].g = nearest_start(f, g);
+        v[n].f = f->len / 2, v[n].g = nearest_on(f, f->len / 2, g), n++;
     qsort(v, n, sizeof *v, cmp_anchor);
     rc = TD_ENOMEM;
     if (!(ch = td_malloc(n * sizeof *ch, cx)) ||
@@ -236,19 +257,20 @@ static int fill_band(band *b, const td_ridges *r, size_t cf, size_t cg,
         !(len = td_malloc(n * sizeof *len, cx)))
         goto fail;
     for (st = 0; st < (f->closed ? n : 1); st++)
-        if ((m = monotone(v, n, st, f->closed ? g->len : 0, prev, len,
-                          NULL)) > bm)
+        if ((m = monotone(v, n, st, ring ? g->len : 0, prev, len, NULL)) > bm)
             bm = m, best = st;
-    m = monotone(v, n, best, f->closed ? g->len : 0, prev, len, ch);
+    m = monotone(v, n, best, ring ? g->len : 0, prev, len, ch);
     for (j = 0; j + (f->closed ? 0 : 1) < m; j++) {
         const anchor *a = &ch[j], *e = &ch[(j + 1) % m];
         double df = e->f - a->f, dg = e->g - a->g;
-        if (f->closed) {
+        if (f->closed)
             df = m == 1 ? f->len : fmod(df + 2 * f->len, f->len);
-            dg = m == 1 ? g->len : fmod(dg + 2 * g->len, g->len);
-        }
+        if (ring)
+            dg = m == 1 && f->closed ? g->len : fmod(dg + 2 * g->len, g->len);
         strip(b, f, g, a->f, df, a->g, dg);
     }
+    if (mixed)
+        open_ends(b, f, g, ch, m);
     rc = 0;
 fail:
     free(v);
@@ -256,6 +278,53 @@ fail:
     free(prev);
     free(len);
     return rc;
+}
+
+/* A branching face (003 §5, last paragraph): the outer line f holds
+ * several lines.  Each link from f to one of them is an anchor; between
+ * two anchors next to each other along f that go to the same inner line
+ * the strip is filled as in a two-line band (when both stretches are
+ * under half their lines: a longer one would wrap the wrong way round).
+ * Stretches of f between anchors to different lines face the saddle
+ * between them and are left to the fallback. */
+static int fill_branching(band *b, const td_ridges *r, size_t cf,
+                          td_ctx *cx)
+{
+    const td_rv_curve *f = &r->curve[cf];
+    anchor *v = td_malloc((r->nlink + 1) * sizeof *v, cx);
+    size_t i, n = 0;
+    if (!v)
+        return TD_ENOMEM;
+    for (i = 0; i < r->nlink; i++) {
+        const td_rv_point *a = &r->pt[r->link[i].a], *e = &r->pt[r->link[i].b];
+        if (r->link[i].join)
+            continue;
+        if (e->curve == cf)
+            a = e, e = &r->pt[r->link[i].a];
+        else if (a->curve != cf)
+            continue;
+        if (r->cparent[e->curve] != (long)cf || r->curve[e->curve].z == f->z)
+            continue;
+        v[n].f = a->s, v[n].g = e->s, v[n++].curve = e->curve;
+    }
+    qsort(v, n, sizeof *v, cmp_anchor);
+    for (i = 0; i + (f->closed ? 0 : 1) < n && n > 1; i++) {
+        const anchor *a = &v[i], *e = &v[(i + 1) % n];
+        const td_rv_curve *g = &r->curve[a->curve];
+        double df = e->f - a->f, dg = e->g - a->g;
+        if (e->curve != a->curve)
+            continue;
+        if (f->closed)
+            df = fmod(df + 2 * f->len, f->len);
+        if (g->closed)
+            dg = fmod(dg + 2 * g->len, g->len);
+        if (df > f->len / 2 || dg < 0 || dg > g->len / 2)
+            continue;
+        b->zg = g->z;
+        strip(b, f, g, a->f, df, a->g, dg);
+    }
+    free(v);
+    return 0;
 }
 
 /* The two lines bounding band b (a region, or -1: outside every region)
@@ -305,12 +374,21 @@ static int fill_bands(td_grid_f32 *g, const td_ridges *r, const int32_t *lab,
     for (b = -1; b < (long)nc && rc == 0; b++) {
         const td_rv_curve *cf, *cg;
         st->bands += b < 0 || nchild[b] > 0;
+        if (b >= 0 && nchild[b] >= 2 && r->curve[b].orient) {
+            memset(&bd, 0, sizeof bd);
+            bd.g = g, bd.lab = lab, bd.id = b, bd.step = step;
+            bd.zf = r->curve[b].z;
+            rc = fill_branching(&bd, r, (size_t)b, cx);
+            st->cells_homotopy += bd.filled;
+            st->bands_branching += bd.filled > 0;
+            continue;
+        }
         if (!band_pair(r, nchild, first, b, &f, &k))
             continue;
         cf = &r->curve[f], cg = &r->curve[k];
         if (cf->z == cg->z || !cf->orient || !cg->orient ||
-            cf->closed != cg->closed || (b < 0 && cf->closed) ||
-            cf->n < 2 || cg->n < 2)
+            (cf->closed && !cg->closed) || (b < 0 && cf->closed != cg->closed) ||
+            (b < 0 && cf->closed) || cf->n < 2 || cg->n < 2)
             continue;
         memset(&bd, 0, sizeof bd);
         bd.g = g, bd.lab = lab, bd.id = b, bd.step = step;

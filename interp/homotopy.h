@@ -115,7 +115,8 @@ typedef struct td_homotopy_stats {
     size_t cells_homotopy; /* interpolated along the homotopy */
     size_t cells_fallback; /* by the scanline method */
     size_t cells_none;     /* left undetermined */
-    size_t bands, bands_homotopy; /* bands between nested contours */
+    size_t bands, bands_homotopy; /* bands; those between two lines */
+    size_t bands_branching; /* branching faces partly filled */
     size_t ridge_points, valley_points, links;
 } td_homotopy_stats;
 
