@@ -286,7 +286,10 @@ fail:
  * the strip is filled as in a two-line band (when both stretches are
  * under half their lines: a longer one would wrap the wrong way round).
  * Stretches of f between anchors to different lines face the saddle
- * between them and are left to the fallback. */
+ * between them and are left to the fallback.  Only faces whose inner
+ * lines share one height other than f's: with a pit and a summit inside,
+ * or a line at f's own height, the surface is not monotone between f and
+ * a nested line. */
 static int fill_branching(band *b, const td_ridges *r, size_t cf,
                           td_ctx *cx)
 {
@@ -325,6 +328,22 @@ static int fill_branching(band *b, const td_ridges *r, size_t cf,
     }
     free(v);
     return 0;
+}
+
+/* Do all lines nested in line b lie at one height other than b's (a
+ * proper branching face, so the surface in it runs between two heights)? */
+static int one_side(const td_ridges *r, size_t b)
+{
+    size_t i;
+    double zc = NAN;
+    for (i = 0; i < r->ncurve; i++) {
+        if (r->cparent[i] != (long)b)
+            continue;
+        if (r->curve[i].z == r->curve[b].z || (zc == zc && r->curve[i].z != zc))
+            return 0;
+        zc = r->curve[i].z;
+    }
+    return zc == zc;
 }
 
 /* The two lines bounding band b (a region, or -1: outside every region)
@@ -374,7 +393,8 @@ static int fill_bands(td_grid_f32 *g, const td_ridges *r, const int32_t *lab,
     for (b = -1; b < (long)nc && rc == 0; b++) {
         const td_rv_curve *cf, *cg;
         st->bands += b < 0 || nchild[b] > 0;
-        if (b >= 0 && nchild[b] >= 2 && r->curve[b].orient) {
+        if (b >= 0 && nchild[b] >= 2 && r->curve[b].orient &&
+            one_side(r, (size_t)b)) {
             memset(&bd, 0, sizeof bd);
             bd.g = g, bd.lab = lab, bd.id = b, bd.step = step;
             bd.zf = r->curve[b].z;
@@ -404,6 +424,28 @@ static int fill_bands(td_grid_f32 *g, const td_ridges *r, const int32_t *lab,
     return rc;
 }
 
+/* The cells the homotopy left take the scanline method's heights,
+ * interpolated from the contours alone (sl), so a band filled in part
+ * does not feed the scanline's spans and summit slopes. */
+static void fallback(td_grid_f32 *g, const td_grid_f32 *sl,
+                     td_homotopy_stats *st)
+{
+    size_t r, c;
+    for (r = 0; r < (size_t)g->h; r++) {
+        float *row = g->data + r * g->stride;
+        const float *srow = sl->data + r * sl->stride;
+        for (c = 0; c < (size_t)g->w; c++) {
+            if (row[c] == row[c])
+                continue;
+            row[c] = srow[c];
+            if (srow[c] == srow[c])
+                st->cells_fallback++;
+            else
+                st->cells_none++;
+        }
+    }
+}
+
 static size_t count_nan(const td_grid_f32 *g)
 {
     size_t n = 0, r, c;
@@ -422,8 +464,9 @@ int td_homotopy_fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
     td_scanline_params sp = td_scanline_defaults();
     td_contain ct;
     td_ridges *r = NULL;
+    td_grid_f32 *sl = NULL;
     int32_t *lab = NULL, *clab = NULL;
-    size_t i, nan0, nan1, ncell = (size_t)g->w * g->h;
+    size_t i, nan0, ncell = (size_t)g->w * g->h;
     int rc = TD_ENOMEM;
     memset(&ct, 0, sizeof ct);
     st = st ? st : &s0;
@@ -448,17 +491,23 @@ int td_homotopy_fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
     st->links = r->nlink;
     nan0 = count_nan(g);
     st->cells_line = ncell - nan0;
+    if (!(sl = td_grid_f32_new(g->w, g->h, cx))) {
+        rc = TD_ENOMEM;
+        goto fail;
+    }
+    for (i = 0; i < (size_t)g->h; i++)
+        memcpy(sl->data + i * sl->stride, g->data + i * g->stride,
+               (size_t)g->w * sizeof *g->data);
     if ((rc = fill_bands(g, r, clab, step, st, cx)) != 0)
         goto fail;
     sp.interval = interval;
     sp.summit = summit;
     sp.peninsula = peninsula;
-    nan1 = count_nan(g);
-    if ((rc = td_scanline_fill(g, &sp, cx)) != 0)
+    if ((rc = td_scanline_fill(sl, &sp, cx)) != 0)
         goto fail;
-    st->cells_none = count_nan(g);
-    st->cells_fallback = nan1 - st->cells_none;
+    fallback(g, sl, st);
 fail:
+    td_grid_f32_free(sl);
     if (clab != lab)
         free(clab);
     free(lab);
