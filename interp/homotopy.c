@@ -467,7 +467,8 @@ int td_homotopy_fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
     td_grid_f32 *sl = NULL;
     int32_t *lab = NULL, *clab = NULL;
     size_t i, nan0, ncell = (size_t)g->w * g->h;
-    int rc = TD_ENOMEM;
+    int rc = TD_ENOMEM, rc2 = 0;
+    td_ctx cx2;
     memset(&ct, 0, sizeof ct);
     st = st ? st : &s0;
     memset(st, 0, sizeof *st);
@@ -498,12 +499,20 @@ int td_homotopy_fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
     for (i = 0; i < (size_t)g->h; i++)
         memcpy(sl->data + i * sl->stride, g->data + i * g->stride,
                (size_t)g->w * sizeof *g->data);
-    if ((rc = fill_bands(g, r, clab, step, st, cx)) != 0)
-        goto fail;
     sp.interval = interval;
     sp.summit = summit;
     sp.peninsula = peninsula;
-    if ((rc = td_scanline_fill(sl, &sp, cx)) != 0)
+    td_ctx_init(&cx2);
+#pragma omp parallel sections num_threads(2)
+    { /* independent grids: the homotopy into g, the fallback into sl */
+#pragma omp section
+        rc = fill_bands(g, r, clab, step, st, cx);
+#pragma omp section
+        rc2 = td_scanline_fill(sl, &sp, &cx2);
+    }
+    if (rc == 0 && rc2 != 0)
+        rc = td_seterr(cx, rc2, "%s", td_errmsg(&cx2));
+    if (rc != 0)
         goto fail;
     fallback(g, sl, st);
 fail:

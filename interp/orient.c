@@ -143,17 +143,45 @@ static void label_row(const td_contain *ct, const int *depth, char *in,
         in[xc[j].ring] = 0;
 }
 
+/* Sort the crossings of every row (those left of every cell centre need
+ * no order) and label it; rows in parallel, each thread its own flags. */
+static int label_rows(const td_contain *ct, const int *depth, xrow *xr,
+                      int w, int h, int32_t *lab)
+{
+    int bad = 0;
+#pragma omp parallel reduction(| : bad)
+    {
+        char *in = calloc(ct->n + 1, 1);
+        long r;
+        bad |= in == NULL;
+#pragma omp for schedule(dynamic, 32)
+        for (r = 0; r < h; r++) {
+            size_t o = xr->off[r], n = xr->off[r + 1] - o, k, lo = 0;
+            if (!in)
+                continue;
+            for (k = 0; k < n; k++)
+                if (xr->c[o + k].x < 0.5) {
+                    xing t = xr->c[o + k];
+                    xr->c[o + k] = xr->c[o + lo];
+                    xr->c[o + lo++] = t;
+                }
+            qsort(xr->c + o + lo, n - lo, sizeof *xr->c, cmp_xing);
+            label_row(ct, depth, in, xr->c + o, n, w, lab + (size_t)r * w);
+        }
+        free(in);
+    }
+    return bad ? TD_ENOMEM : 0;
+}
+
 int hm_label(const td_contain *ct, int w, int h, double scale, int32_t *lab,
              td_ctx *cx)
 {
     xrow xr = {NULL, NULL};
     size_t *fill = NULL, i, tot;
     int *depth = NULL, r, rc = TD_ENOMEM;
-    char *in = NULL;
     if (!(xr.off = td_calloc((size_t)h + 1, sizeof *xr.off, cx)) ||
         !(fill = td_malloc(((size_t)h + 1) * sizeof *fill, cx)) ||
-        !(depth = td_calloc(ct->n + 1, sizeof *depth, cx)) ||
-        !(in = td_calloc(ct->n + 1, 1, cx)))
+        !(depth = td_calloc(ct->n + 1, sizeof *depth, cx)))
         goto fail;
     for (i = 0; i < ct->n; i++) {
         long p = (long)i;
@@ -168,23 +196,12 @@ int hm_label(const td_contain *ct, int w, int h, double scale, int32_t *lab,
         goto fail;
     memcpy(fill, xr.off, ((size_t)h + 1) * sizeof *fill);
     cross_pass(ct, w, h, scale, &xr, fill);
-    for (r = 0; r < h; r++) {
-        size_t o = xr.off[r], n = xr.off[r + 1] - o, k, lo = 0;
-        for (k = 0; k < n; k++) /* left of every centre: any order */
-            if (xr.c[o + k].x < 0.5) {
-                xing t = xr.c[o + k];
-                xr.c[o + k] = xr.c[o + lo];
-                xr.c[o + lo++] = t;
-            }
-        qsort(xr.c + o + lo, n - lo, sizeof *xr.c, cmp_xing);
-        label_row(ct, depth, in, xr.c + o, n, w, lab + (size_t)r * w);
-    }
-    rc = 0;
+    if ((rc = label_rows(ct, depth, &xr, w, h, lab)) != 0)
+        td_seterr(cx, rc, "out of memory");
 fail:
     free(xr.off);
     free(xr.c);
     free(fill);
     free(depth);
-    free(in);
     return rc;
 }

@@ -39,15 +39,19 @@ static int check_lines(const td_lines *ls, const td_homotopy_params *p,
     return 0;
 }
 
-/* Curves and their points, one line after the other. */
+/* Curves (in parallel, one line each) and their points. */
 static int curves(td_ridges *r, const td_lines *ls, const int *orient,
                   const td_homotopy_params *p, td_ctx *cx)
 {
     size_t i, cap = 0;
-    int rc = 0;
-    for (i = 0; i < ls->n && rc == 0; i++)
-        rc = hm_curve_build(&ls->v[i], (long)i, orient[i], p, &r->curve[i],
-                            cx);
+    long k;
+    int rc = 0, bad = 0;
+#pragma omp parallel for schedule(dynamic, 4) reduction(| : bad)
+    for (k = 0; k < (long)ls->n; k++) /* independent: one line each */
+        bad |= hm_curve_build(&ls->v[k], k, orient[k], p, &r->curve[k],
+                              NULL) != 0;
+    if (bad)
+        return td_seterr(cx, TD_ENOMEM, "out of memory");
     for (i = 0; i < ls->n && rc == 0; i++)
         rc = hm_points(r, i, p, &cap, cx);
     return rc;
