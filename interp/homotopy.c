@@ -12,7 +12,7 @@
  *
  *     F(s, t) = (1 - t) f(s) + t g(U(s)),   z(s, t) = (1 - t) z_f + t z_g
  *
- *      f(s_k)    f(s_k+1)      is sampled about every cell along both
+ *      f(s_k)    f(s_k+1)      is sampled about every 3 cells along both
  *        *--------*            curves; each quad of consecutive samples
  *        |      / |            is two triangles, scan-converted with
  *        |    /   |            barycentric z into the band's cells only
@@ -124,14 +124,15 @@ static void tri(band *b, const double *v)
 static void strip(band *b, const td_rv_curve *f, const td_rv_curve *g,
                   double sf, double df, double sg, double dg)
 {
-    long n = (long)ceil((df > dg ? df : dg) / b->step / 2), k;
+    long n = (long)ceil((df > dg ? df : dg) / b->step / 3), k;
     double v[12], q[12];
+    size_t hf = 0, hg = 0;
     if (n < 1)
         n = 1;
     for (k = 0; k <= n; k++) {
         double t = (double)k / n;
-        hm_curve_at(f, sf + df * t, &q[0], &q[1]);
-        hm_curve_at(g, sg + dg * t, &q[3], &q[4]);
+        hm_curve_at_hint(f, sf + df * t, &q[0], &q[1], &hf);
+        hm_curve_at_hint(g, sg + dg * t, &q[3], &q[4], &hg);
         q[0] /= b->step, q[1] /= b->step, q[3] /= b->step, q[4] /= b->step;
         q[2] = b->zf, q[5] = b->zg;
         if (k > 0) { /* v: f_k-1, g_k-1, f_k, g_k */

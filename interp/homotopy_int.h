@@ -28,6 +28,10 @@ void hm_curve_free(td_rv_curve *c);
 /* The oriented input polyline at arc length s (wrapped on rings, clamped
  * on open lines). */
 void hm_curve_at(const td_rv_curve *c, double s, double *x, double *y);
+/* The same, starting the search at segment *hint (updated): fast when s
+ * grows in small steps. */
+void hm_curve_at_hint(const td_rv_curve *c, double s, double *x, double *y,
+                      size_t *hint);
 
 /* Ridge, valley and inflection points of curve ci appended to r->pt
  * (curvature.c).  0 or TD_ENOMEM. */

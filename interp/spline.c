@@ -36,7 +36,14 @@ void hm_curve_free(td_rv_curve *c)
 
 void hm_curve_at(const td_rv_curve *c, double s, double *x, double *y)
 {
-    size_t lo = 0, hi, i, j;
+    size_t hint = 0;
+    hm_curve_at_hint(c, s, x, y, &hint);
+}
+
+void hm_curve_at_hint(const td_rv_curve *c, double s, double *x, double *y,
+                      size_t *hint)
+{
+    size_t lo = 0, hi, i, j, k;
     double t, seg;
     if (c->no == 1 || c->len <= 0) {
         *x = c->oxy[0], *y = c->oxy[1];
@@ -47,13 +54,20 @@ void hm_curve_at(const td_rv_curve *c, double s, double *x, double *y)
     else
         s = fmin(fmax(s, 0), c->len);
     hi = c->closed ? c->no : c->no - 1; /* ocum[hi] = len */
-    while (hi - lo > 1) {
-        size_t m = (lo + hi) / 2;
-        if (c->ocum[m] <= s)
-            lo = m;
-        else
-            hi = m;
-    }
+    for (k = *hint, i = 0; i < 4 && k < hi; i++, k++) /* walking forward */
+        if (c->ocum[k] <= s && s < c->ocum[k + 1])
+            break;
+    if (i < 4 && k < hi && c->ocum[k] <= s && s < c->ocum[k + 1])
+        lo = k;
+    else
+        while (hi - lo > 1) {
+            size_t m = (lo + hi) / 2;
+            if (c->ocum[m] <= s)
+                lo = m;
+            else
+                hi = m;
+        }
+    *hint = lo;
     i = lo, j = (lo + 1) % c->no;
     seg = c->ocum[lo + 1] - c->ocum[lo];
     t = seg > 0 ? (s - c->ocum[lo]) / seg : 0;
@@ -156,7 +170,7 @@ static double spline_d1(const double *v, const double *m, size_t n, int closed,
  * cross product with its sign flipped). */
 static int fit(td_rv_curve *c, const td_homotopy_params *p, td_ctx *cx)
 {
-    size_t n, i;
+    size_t n, i, k;
     double h, *tmp = NULL, *mx = NULL, *my = NULL;
     int rc = TD_ENOMEM;
     n = (size_t)fmax(c->closed ? 4 : 2, floor(c->len / p->spacing + 0.5) +
@@ -171,9 +185,9 @@ static int fit(td_rv_curve *c, const td_homotopy_params *p, td_ctx *cx)
         !(my = td_malloc(n * sizeof *my, cx)))
         goto fail;
     c->n = n;
-    for (i = 0; i < n; i++) {
+    for (i = 0, k = 0; i < n; i++) {
         c->s[i] = i * h;
-        hm_curve_at(c, c->s[i], &c->x[i], &c->y[i]);
+        hm_curve_at_hint(c, c->s[i], &c->x[i], &c->y[i], &k);
     }
     if (h > 0 && p->smooth > 0) {
         double sg = fmin(p->smooth / h, (double)n); /* wider is pointless */
