@@ -456,6 +456,37 @@ static size_t count_nan(const td_grid_f32 *g)
     return n;
 }
 
+/* The homotopy into g and the scanline method into a copy of g (the
+ * contours alone), side by side; then the fallback cells from the copy. */
+static int fill_both(td_grid_f32 *g, const td_ridges *r, const int32_t *clab,
+                     int step, const td_scanline_params *sp,
+                     td_homotopy_stats *st, td_ctx *cx)
+{
+    td_grid_f32 *sl = td_grid_f32_new(g->w, g->h, cx);
+    td_ctx cx2;
+    size_t i;
+    int rc = 0, rc2 = 0;
+    if (!sl)
+        return TD_ENOMEM;
+    for (i = 0; i < (size_t)g->h; i++)
+        memcpy(sl->data + i * sl->stride, g->data + i * g->stride,
+               (size_t)g->w * sizeof *g->data);
+    td_ctx_init(&cx2);
+#pragma omp parallel sections num_threads(2)
+    { /* independent grids: the homotopy into g, the fallback into sl */
+#pragma omp section
+        rc = fill_bands(g, r, clab, step, st, cx);
+#pragma omp section
+        rc2 = td_scanline_fill(sl, sp, &cx2);
+    }
+    if (rc == 0 && rc2 != 0)
+        rc = td_seterr(cx, rc2, "%s", td_errmsg(&cx2));
+    if (rc == 0)
+        fallback(g, sl, st);
+    td_grid_f32_free(sl);
+    return rc;
+}
+
 int td_homotopy_fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
                      int step, const td_homotopy_params *p, double interval,
                      int summit, int peninsula, td_homotopy_stats *st,
@@ -465,11 +496,9 @@ int td_homotopy_fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
     td_scanline_params sp = td_scanline_defaults();
     td_contain ct;
     td_ridges *r = NULL;
-    td_grid_f32 *sl = NULL;
     int32_t *lab = NULL, *clab = NULL;
-    size_t i, nan0, ncell = (size_t)g->w * g->h;
-    int rc = TD_ENOMEM, rc2 = 0;
-    td_ctx cx2;
+    size_t i, ncell = (size_t)g->w * g->h;
+    int rc = TD_ENOMEM;
     memset(&ct, 0, sizeof ct);
     st = st ? st : &s0;
     memset(st, 0, sizeof *st);
@@ -491,33 +520,12 @@ int td_homotopy_fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
         st->valley_points += r->pt[i].kind == TD_RV_VALLEY;
     }
     st->links = r->nlink;
-    nan0 = count_nan(g);
-    st->cells_line = ncell - nan0;
-    if (!(sl = td_grid_f32_new(g->w, g->h, cx))) {
-        rc = TD_ENOMEM;
-        goto fail;
-    }
-    for (i = 0; i < (size_t)g->h; i++)
-        memcpy(sl->data + i * sl->stride, g->data + i * g->stride,
-               (size_t)g->w * sizeof *g->data);
+    st->cells_line = ncell - count_nan(g);
     sp.interval = interval;
     sp.summit = summit;
     sp.peninsula = peninsula;
-    td_ctx_init(&cx2);
-#pragma omp parallel sections num_threads(2)
-    { /* independent grids: the homotopy into g, the fallback into sl */
-#pragma omp section
-        rc = fill_bands(g, r, clab, step, st, cx);
-#pragma omp section
-        rc2 = td_scanline_fill(sl, &sp, &cx2);
-    }
-    if (rc == 0 && rc2 != 0)
-        rc = td_seterr(cx, rc2, "%s", td_errmsg(&cx2));
-    if (rc != 0)
-        goto fail;
-    fallback(g, sl, st);
+    rc = fill_both(g, r, clab, step, &sp, st, cx);
 fail:
-    td_grid_f32_free(sl);
     if (clab != lab)
         free(clab);
     free(lab);
