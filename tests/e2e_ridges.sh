@@ -71,6 +71,24 @@ check "run homotopy: exit 0, two summary lines" \
 r=$(json "$T/r.json" rmse)
 check "run homotopy from the noisy scan: RMSE $r < 0.15 interval (3 m)" "lt '$r' 3"
 
+# --- a generated sheet with drainage (tdgen --terrain valleys), true lines
+TG="$BUILD/tdgen"
+if "$TG" -o "$T/v.png" --truth "$T/v.geojson" --dem "$T/v.tif" --size 600 --terrain valleys --quiet; then
+  for m in scanline multidir homotopy; do
+    "$TD" interp "$T/v.geojson" -o "$T/v_$m.tif" --like "$T/v.png" --method $m -q
+    "$TD" compare "$T/v_$m.tif" "$T/v.tif" --json >"$T/v_$m.json"
+  done
+  vs=$(json "$T/v_scanline.json" rmse); vm=$(json "$T/v_multidir.json" rmse); vh=$(json "$T/v_homotopy.json" rmse)
+  check "valleys sheet: homotopy RMSE $vh < 0.75 x scanline's $vs and < multidir's $vm" \
+    "lt '$vh' \$(awk 'BEGIN { print 0.75 * $vs }') && lt '$vh' '$vm'"
+  "$TD" ridges "$T/v.geojson" -o "$T/vr.geojson" 2>"$T/err"
+  check "valleys sheet: valley lines found" "grep -Eq ', [0-9]+ valley points in [1-9][0-9]* trees' '$T/err'"
+  "$TD" interp "$T/v.geojson" -o "$T/v3.asc" --like "$T/v.png" --method homotopy --step 3 -q
+  check "homotopy --step 3: 200 x 200 cells" "grep -q '^ncols *200' '$T/v3.asc' && grep -q '^nrows *200' '$T/v3.asc'"
+else
+  bad "tdgen --terrain valleys"
+fi
+
 # --- bad input
 expect_fail() { # name, output, command...
   name=$1; out=$2; shift 2

@@ -1,8 +1,8 @@
 /* bench_homotopy: the homotopy interpolation (interp/homotopy.h) against
  * the scanline and multidir methods on surfaces with a known truth, from
  * the TRUE contour lines (numbers for docs/homotopy.md):
- *  - an analytic valley network (a main valley and four tributaries cut
- *    into a tilted plane, V-shaped, ridges between them) at 1000 x 1000:
+ *  - the generator's valley network (TD_GEN_VALLEYS: a main valley and
+ *    four tributaries cut V-shaped into a tilted plane) at 1000 x 1000:
  *    RMSE, the error along the true valley floors, seconds;
  *  - the generator's HILLS sheet at 1000 x 1000 (rings, saddles);
  *  - the valley network at --big N (default 5000): runtime against the
@@ -38,42 +38,14 @@ static double cpu_now(void)
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-/* The valley network: segments (x0,y0)-(x1,y1) in sheet fractions. */
-static const double vseg[5][4] = {
-    {0.50, 0.00, 0.50, 1.00}, /* main valley, flowing down the sheet */
-    {0.15, 0.05, 0.50, 0.55}, /* tributaries joining it */
-    {0.85, 0.02, 0.50, 0.40},
-    {0.05, 0.50, 0.50, 0.85},
-    {0.95, 0.45, 0.50, 0.75},
-};
-#define NSEG 5
-
-static double seg_dist(double x, double y, const double *s, double S)
-{
-    double ax = s[0] * S, ay = s[1] * S, dx = s[2] * S - ax, dy = s[3] * S - ay;
-    double t = ((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy);
-    t = fmin(fmax(t, 0), 1);
-    return hypot(x - ax - t * dx, y - ay - t * dy);
-}
-
-/* z = 0.3 (S - y) + 0.35 softmin_k sqrt(d_k^2 + 64): V valleys 0.35 m/px
- * steep across, the plane falling 0.3 m/px down the sheet. */
-static double network(double x, double y, double S)
-{
-    double s = 0, k = 6;
-    int i;
-    for (i = 0; i < NSEG; i++)
-        s += exp(-0.35 * sqrt(pow(seg_dist(x, y, vseg[i], S), 2) + 64) / k);
-    return 0.3 * (S - y) - k * log(s);
-}
-
+/* The valley network: the generator's VALLEYS terrain (gen.h). */
 static td_grid_f32 *network_grid(int S)
 {
-    td_grid_f32 *g = td_grid_f32_new(S, S, NULL);
-    int x, y;
-    for (y = 0; g && y < S; y++)
-        for (x = 0; x < S; x++)
-            TD_AT(g, x, y) = (float)network(x + 0.5, y + 0.5, S);
+    td_gen_params gp = td_gen_defaults();
+    td_grid_f32 *g = NULL;
+    gp.w = gp.h = S;
+    gp.terrain = TD_GEN_VALLEYS;
+    td_gen_terrain(&gp, &g, NULL);
     return g;
 }
 
@@ -81,15 +53,18 @@ static td_grid_f32 *network_grid(int S)
  * sheet from its border left out). */
 static double floor_rmse(const td_grid_f32 *d, const td_grid_f32 *t)
 {
-    double e = 0, S = t->w;
-    size_t n = 0;
-    int i, k;
-    for (i = 0; i < NSEG; i++) {
-        const double *s = vseg[i];
-        int m = (int)(hypot(s[2] - s[0], s[3] - s[1]) * S);
+    td_gen_params gp = td_gen_defaults();
+    double e = 0, S = t->w, seg[8][4];
+    size_t n = 0, i, ns;
+    int k;
+    gp.w = t->w, gp.h = t->h;
+    ns = td_gen_valley_segments(&gp, seg, 8);
+    for (i = 0; i < ns; i++) {
+        const double *s = seg[i];
+        int m = (int)hypot(s[2] - s[0], s[3] - s[1]);
         for (k = 0; k <= m; k++) {
-            double x = (s[0] + (s[2] - s[0]) * k / m) * S;
-            double y = (s[1] + (s[3] - s[1]) * k / m) * S;
+            double x = s[0] + (s[2] - s[0]) * k / m;
+            double y = s[1] + (s[3] - s[1]) * k / m;
             int c = (int)x, r = (int)y;
             float v;
             if (x < 0.03 * S || y < 0.03 * S || x > 0.97 * S || y > 0.97 * S)
