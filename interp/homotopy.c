@@ -20,12 +20,13 @@
  *        *--------*
  *      g(U(s_k)) g(U(s_k+1))
  *
- * Not handled here (the scanline fallback fills them, counted): bands
+ * Not handled here (the fallback method fills them, counted): bands
  * with several nested contours (branching faces), a ring nested in an
  * open line, the regions inside the innermost contours (summits, pits)
  * and outside the outermost, and lines that bound no region. */
 #include "homotopy_int.h"
 
+#include "multidir.h"
 #include "scanline.h"
 
 #include <math.h>
@@ -40,6 +41,7 @@ td_homotopy_params td_homotopy_defaults(void)
     p.epsilon = 20;
     p.link_factor = 3;
     p.join_factor = 2;
+    p.fallback = TD_HM_FALLBACK_SCANLINE;
     return p;
 }
 
@@ -456,10 +458,22 @@ static size_t count_nan(const td_grid_f32 *g)
     return n;
 }
 
-/* The homotopy into g and the scanline method into a copy of g (the
+/* The fallback method on sl (the contours alone). */
+static int fill_fallback(td_grid_f32 *sl, int method,
+                         const td_scanline_params *sp, td_ctx *cx)
+{
+    td_multidir_params mp = td_multidir_defaults();
+    if (method != TD_HM_FALLBACK_MULTIDIR)
+        return td_scanline_fill(sl, sp, cx);
+    mp.interval = sp->interval;
+    mp.summit = sp->summit;
+    return td_multidir_fill(sl, &mp, cx);
+}
+
+/* The homotopy into g and the fallback method into a copy of g (the
  * contours alone), side by side; then the fallback cells from the copy. */
 static int fill_both(td_grid_f32 *g, const td_ridges *r, const int32_t *clab,
-                     int step, const td_scanline_params *sp,
+                     int step, int method, const td_scanline_params *sp,
                      td_homotopy_stats *st, td_ctx *cx)
 {
     td_grid_f32 *sl = td_grid_f32_new(g->w, g->h, cx);
@@ -477,7 +491,7 @@ static int fill_both(td_grid_f32 *g, const td_ridges *r, const int32_t *clab,
 #pragma omp section
         rc = fill_bands(g, r, clab, step, st, cx);
 #pragma omp section
-        rc2 = td_scanline_fill(sl, sp, &cx2);
+        rc2 = fill_fallback(sl, method, sp, &cx2);
     }
     if (rc == 0 && rc2 != 0)
         rc = td_seterr(cx, rc2, "%s", td_errmsg(&cx2));
@@ -524,7 +538,7 @@ int td_homotopy_fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
     sp.interval = interval;
     sp.summit = summit;
     sp.peninsula = peninsula;
-    rc = fill_both(g, r, clab, step, &sp, st, cx);
+    rc = fill_both(g, r, clab, step, p->fallback, &sp, st, cx);
 fail:
     if (clab != lab)
         free(clab);

@@ -34,7 +34,11 @@ typedef struct td_homotopy_params {
     double epsilon;   /* turning-angle threshold, degrees (20) */
     double link_factor; /* a link may be link_factor x the gap + 4 px (3) */
     double join_factor; /* Suspended join: join_factor x that (2) */
+    int fallback;     /* TD_HM_FALLBACK_*: who fills what the homotopy
+                         cannot reach (scanline, as the issue asks) */
 } td_homotopy_params;
+
+enum { TD_HM_FALLBACK_SCANLINE = 0, TD_HM_FALLBACK_MULTIDIR = 1 };
 
 td_homotopy_params td_homotopy_defaults(void);
 
@@ -123,7 +127,8 @@ typedef struct td_homotopy_stats {
 /* Fill g (td_rasterise_lines output for ls at `step`, on a w x h pixel
  * scan) by the homotopy between every pair of nested contours one band
  * apart, then the cells it cannot reach by td_scanline_fill (interval,
- * summit, peninsula as in scanline.h).  st may be NULL.  Returns 0,
+ * summit, peninsula as in scanline.h) or, with p->fallback multidir, by
+ * td_multidir_fill (its defaults, interval and summit).  st may be NULL.  Returns 0,
  * TD_EINVAL, TD_ENOMEM, TD_ECANCEL. */
 int td_homotopy_fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
                      int step, const td_homotopy_params *p, double interval,

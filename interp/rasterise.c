@@ -531,6 +531,9 @@ int td_interp_set(td_interp_params *p, const char *key, const char *val,
         if ((rc = whole(key, val, 2, 4, &i, cx)) == 0 && i == 3)
             rc = td_seterr(cx, TD_EINVAL, "--dirs: 2 or 4");
         p->ndir = rc == 0 ? i : p->ndir;
+    } else if (!strcmp(key, "fallback")) {
+        rc = choose(key, val, methods, 2, &i, cx);
+        p->hfallback = rc == 0 ? i : p->hfallback;
     } else if (!strcmp(key, "epsilon")) {
         rc = number(key, val, 0, 180, &p->epsilon, cx);
     } else if (!strcmp(key, "interval")) {
@@ -549,6 +552,8 @@ static int fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
     if (p->method == TD_INTERP_HOMOTOPY) {
         td_homotopy_params hp = td_homotopy_defaults();
         hp.epsilon = p->epsilon;
+        hp.fallback = p->hfallback == 1 ? TD_HM_FALLBACK_MULTIDIR
+                                        : TD_HM_FALLBACK_SCANLINE;
         return td_homotopy_fill(g, ls, w, h, p->step < 1 ? 1 : p->step, &hp,
                                 interval, p->summit, p->peninsula, p->hstats,
                                 cx);

@@ -120,6 +120,7 @@ typedef struct td_interp_params {
     int ndir;           /* multidir: 2 or 4 directions */
     float nodata;       /* written where undeterminable (-9999) */
     double epsilon;     /* homotopy: turning-angle threshold, degrees */
+    int hfallback;      /* homotopy: 0 scanline (default), 1 multidir */
     struct td_homotopy_stats *hstats; /* homotopy: out, may be NULL */
 } td_interp_params;
 
@@ -130,7 +131,8 @@ td_interp_params td_interp_defaults(void);
 int td_interp_parse_method(const char *s, td_interp_method *m, td_ctx *cx);
 
 /* Set one option of p from its command-line form (key without "--"):
- * method scanline|multidir|homotopy, epsilon DEG (0..180), step N (1..4096), interval I (> 0), summit
+ * method scanline|multidir|homotopy, epsilon DEG (0..180), fallback
+ * scanline|multidir (homotopy), step N (1..4096), interval I (> 0), summit
  * extrapolate|flat, peninsula diagonal|flat, weight prod|span|span2,
  * dirs 2|4, nodata V.  Returns 0, 1 when key is not one of these, or
  * TD_EINVAL with a message naming the option and the choices. */

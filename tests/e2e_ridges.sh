@@ -59,6 +59,11 @@ check "interp homotopy: exit 0, summary names the homotopy and fallback cells" \
 rh=$(json "$T/h.json" rmse); rs=$(json "$T/s.json" rmse); cov=$(json "$T/h.json" coverage)
 check "interp homotopy: RMSE $rh below scanline's $rs" "lt '$rh' '$rs'"
 check "interp homotopy: coverage $cov > 0.9" "lt 0.9 '$cov'"
+"$TD" interp samples/hills.geojson -o "$T/hm.tif" --like samples/hills.png --method homotopy --fallback multidir 2>"$T/err"
+"$TD" compare "$T/hm.tif" samples/hills.tif --json >"$T/hm.json"
+rhm=$(json "$T/hm.json" rmse)
+check "interp homotopy --fallback multidir: RMSE $rhm below the scanline fallback's $rh" \
+  "lt '$rhm' '$rh' && grep -q 'multidir fallback' '$T/err'"
 
 # --- run --method homotopy from the scan
 K=$(sed -n 's/.*"height": *320\(\.0*\)\{0,1\},.*"coordinates": *\[ *\[ *\([0-9.]*\), *\([0-9.]*\) *\].*/\2,\3,320/p' samples/hills.geojson | head -n 1)

@@ -33,6 +33,8 @@ static const char help[] =
     "                        from contour curvature (003), scanline where\n"
     "                        it cannot reach\n"
     "      --epsilon DEG     homotopy: turning-angle threshold (default 20)\n"
+    "      --fallback M      homotopy: scanline (default) | multidir for the\n"
+    "                        cells the homotopy cannot reach\n"
     "      --step N          one DEM cell per N x N scan pixels (default 1)\n"
     "      --summit S        extrapolate (default, paper §2.5) | flat\n"
     "      --peninsula P     scanline only: diagonal (default) | flat (paper)\n"
@@ -62,7 +64,7 @@ static int parse_args(int argc, char **argv, ip_opts *o)
         {"summit", 1, 0, O_PASS}, {"peninsula", 1, 0, O_PASS},
         {"weight", 1, 0, O_PASS}, {"dirs", 1, 0, O_PASS},
         {"interval", 1, 0, O_PASS}, {"nodata", 1, 0, O_PASS},
-        {"epsilon", 1, 0, O_PASS},
+        {"epsilon", 1, 0, O_PASS}, {"fallback", 1, 0, O_PASS},
         {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     td_ctx cx;
     int c, li = -1;
@@ -121,10 +123,11 @@ static void summary(const td_grid_f32 *g, const td_interp_params *p,
             "%.2f s\n", g->w, g->h, 100.0 * ok / n, names[p->method], secs);
     if (p->method == TD_INTERP_HOMOTOPY && hs)
         fprintf(stderr, "interp: homotopy %zu cells in %zu of %zu bands, "
-                "scanline fallback %zu cells; %zu ridge, %zu valley points, "
+                "%s fallback %zu cells; %zu ridge, %zu valley points, "
                 "%zu links\n", hs->cells_homotopy, hs->bands_homotopy,
-                hs->bands, hs->cells_fallback, hs->ridge_points,
-                hs->valley_points, hs->links);
+                hs->bands, p->hfallback ? "multidir" : "scanline",
+                hs->cells_fallback, hs->ridge_points, hs->valley_points,
+                hs->links);
 }
 
 /* Prefix the file name when the message does not name it. */

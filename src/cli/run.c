@@ -39,6 +39,8 @@ static const char help[] =
     "      --method M        multidir (default) | scanline (the paper) |\n"
     "                        homotopy (along ridge/valley lines, 003)\n"
     "      --epsilon DEG     homotopy: turning-angle threshold (default 20)\n"
+    "      --fallback M      homotopy: scanline (default) | multidir for the\n"
+    "                        cells the homotopy cannot reach\n"
     "      --step N          one DEM cell per N x N pixels (default 1)\n"
     "      --summit S        extrapolate (default) | flat\n"
     "      --peninsula P     scanline: diagonal (default) | flat\n"
@@ -140,7 +142,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         {"step", 1, 0, O_PASS}, {"summit", 1, 0, O_PASS},
         {"peninsula", 1, 0, O_PASS}, {"weight", 1, 0, O_PASS},
         {"dirs", 1, 0, O_PASS}, {"nodata", 1, 0, O_PASS},
-        {"epsilon", 1, 0, O_PASS},
+        {"epsilon", 1, 0, O_PASS}, {"fallback", 1, 0, O_PASS},
         {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     td_ctx cx;
     int c, li = -1;
@@ -180,6 +182,7 @@ typedef struct run_state {
     size_t traced, dropped;
     double secs[4]; /* read + scan, label, interp, write */
     td_interp_method method;
+    int hfallback;
     td_homotopy_stats hs; /* --method homotopy */
 } run_state;
 
@@ -257,6 +260,7 @@ static int do_interp(const run_opts *o, run_state *s, td_ctx *cx)
                 s->geo.gt[k] *= p.step;
     s->secs[2] = td_now() - t0;
     s->method = p.method;
+    s->hfallback = p.hfallback;
     rc = td_dem_write(o->out, s->dem, &s->geo, cx);
     s->secs[3] = td_now() - t0 - s->secs[2];
     return rc;
@@ -274,8 +278,9 @@ static void summary(const run_state *s)
             100.0 * ok / n, s->secs[0], s->secs[1], s->secs[2], s->secs[3]);
     if (s->method == TD_INTERP_HOMOTOPY)
         fprintf(stderr, "run: homotopy %zu cells in %zu of %zu bands, "
-                "scanline fallback %zu cells\n", s->hs.cells_homotopy,
-                s->hs.bands_homotopy, s->hs.bands, s->hs.cells_fallback);
+                "%s fallback %zu cells\n", s->hs.cells_homotopy,
+                s->hs.bands_homotopy, s->hs.bands,
+                s->hfallback ? "multidir" : "scanline", s->hs.cells_fallback);
 }
 
 int td_cmd_run(int argc, char **argv)

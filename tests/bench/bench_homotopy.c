@@ -7,6 +7,8 @@
  *  - the generator's HILLS sheet at 1000 x 1000 (rings, saddles);
  *  - the valley network at --big N (default 5000): runtime against the
  *    scanline method (a few hundred contours).
+ * "homotopy+md" is the homotopy with the multidir method as its fallback
+ * (--fallback multidir).
  * Pictures into --dir: hillshade of each DEM with contours, ridge (red),
  * valley (blue) and inflection (green) lines over the homotopy DEM, and
  * the contours coloured by the sign of their curvature.
@@ -147,7 +149,8 @@ static td_grid_f32 *run(const td_lines *ls, const td_grid_f32 *t, int m,
     td_grid_f32 *d = NULL;
     td_compare_stats cs;
     double t0 = td_now(), c0 = cpu_now(), secs, cpu;
-    p.method = (td_interp_method)m;
+    p.method = m == 3 ? TD_INTERP_HOMOTOPY : (td_interp_method)m;
+    p.hfallback = m == 3;
     p.hstats = hs;
     if (g_epsilon >= 0)
         p.epsilon = g_epsilon;
@@ -169,7 +172,8 @@ static td_grid_f32 *run(const td_lines *ls, const td_grid_f32 *t, int m,
 static void one_case(const char *name, td_grid_f32 *t, double iv,
                      int network_case, const char *dir, int pictures)
 {
-    static const char *const names[3] = {"scanline", "multidir", "homotopy"};
+    static const char *const names[4] = {"scanline", "multidir", "homotopy",
+                                         "homotopy+md"};
     td_lines *ls = NULL;
     td_homotopy_stats hs;
     int m;
@@ -178,10 +182,10 @@ static void one_case(const char *name, td_grid_f32 *t, double iv,
         return;
     printf("%s: %d x %d, interval %g m, %zu contours\n", name, t->w, t->h,
            iv, ls->n);
-    for (m = 0; m < 3; m++) {
+    for (m = 0; m < 4; m++) {
         td_grid_f32 *d = run(ls, t, m, network_case, m == 2 ? &hs : NULL,
                              names[m]);
-        if (d && pictures) {
+        if (d && pictures && m < 3) {
             char pn[128];
             td_ridges *r = NULL;
             td_rv_path *p = NULL;
