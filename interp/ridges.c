@@ -77,8 +77,11 @@ int hm_find(const td_lines *ls, int w, int h, const td_homotopy_params *p,
         goto fail;
     memcpy(r->cparent, ct->parent, ls->n * sizeof *r->cparent);
     hm_orient(ls, ct, orient);
-    if ((rc = curves(r, ls, orient, p, cx)) != 0 ||
+    if ((rc = td_progress(cx, "ridges", 0.1)) != 0 ||
+        (rc = curves(r, ls, orient, p, cx)) != 0 ||
+        (rc = td_progress(cx, "ridges", 0.4)) != 0 ||
         (rc = hm_label(ct, w, h, 1.0, lab, cx)) != 0 ||
+        (rc = td_progress(cx, "ridges", 0.7)) != 0 ||
         (rc = hm_link(r, ct, lab, w, h, p, cx)) != 0)
         goto fail;
     *out = r;
