@@ -227,6 +227,8 @@ static void test_valley_dem(void)
     fprintf(stderr, "  valley: rmse homotopy %.3f scanline %.3f multidir %.3f;"
             " thalweg %.3f %.3f %.3f; cells homotopy %zu fallback %zu\n",
             rh, rs, rm, vh, vs, vm, hs.cells_homotopy, hs.cells_fallback);
+    TT_CHECKF(rh < 0.15, "homotopy RMSE %.3f m (interval 5; measured 0.110)",
+              rh);
     TT_CHECKF(rh < rs, "homotopy %.3f vs scanline %.3f", rh, rs);
     TT_CHECKF(vh < 0.7 * vs, "thalweg %.3f vs scanline %.3f", vh, vs);
     td_lines_free(ls);
