@@ -20,10 +20,11 @@
  *        *--------*
  *      g(U(s_k)) g(U(s_k+1))
  *
- * Not handled here (the fallback method fills them, counted): bands
- * with several nested contours (branching faces), a ring nested in an
- * open line, the regions inside the innermost contours (summits, pits)
- * and outside the outermost, and lines that bound no region. */
+ * Also an open line around one ring (open_ends) and, in part, branching
+ * faces (fill_branching).  Not handled here (the fallback method fills
+ * them, counted): the saddle parts of branching faces, faces holding
+ * lines of different heights, the regions inside the innermost contours
+ * (summits, pits) and outside the outermost, lines that bound no region. */
 #include "homotopy_int.h"
 
 #include "multidir.h"
@@ -97,9 +98,10 @@ static void tri(band *b, const double *v)
     sl = (p[2][0] - p[0][0]) / (yc - ya); /* dx/dy of the three edges */
     s1 = yb > ya ? (p[1][0] - p[0][0]) / (yb - ya) : 0;
     s2 = yc > yb ? (p[2][0] - p[1][0]) / (yc - yb) : 0;
-    r0 = iceil(ya - 0.5), r1 = ifloor(yc - 0.5);
-    r0 = r0 < 0 ? 0 : r0;
-    r1 = r1 >= b->g->h ? b->g->h - 1 : r1;
+    if (yc < 0 || ya > b->g->h) /* (clamped before any cast to long) */
+        return;
+    r0 = ya < 0 ? 0 : iceil(ya - 0.5);
+    r1 = yc > b->g->h ? b->g->h - 1 : ifloor(yc - 0.5);
     for (r = r0; r <= r1; r++) {
         double y = r + 0.5, xl, xr, zrow;
         long c, c1;
@@ -109,10 +111,10 @@ static void tri(band *b, const double *v)
         xr = y < yb ? p[0][0] + (y - ya) * s1 : p[1][0] + (y - yb) * s2;
         if (xl > xr)
             zrow = xl, xl = xr, xr = zrow;
-        c = iceil(xl - 0.5 - 1e-9);
-        c1 = ifloor(xr - 0.5 + 1e-9);
-        c = c < 0 ? 0 : c;
-        c1 = c1 >= b->g->w ? b->g->w - 1 : c1;
+        if (!(xr >= 0 && xl <= b->g->w)) /* also NaN */
+            continue;
+        c = xl < 0 ? 0 : iceil(xl - 0.5 - 1e-9);
+        c1 = xr > b->g->w ? b->g->w - 1 : ifloor(xr - 0.5 + 1e-9);
         zrow = p[0][2] + zy * (y - ya) + zx * (0.5 - p[0][0]);
         for (; c <= c1; c++)
             if (row[c] != row[c] && lab[c] == b->id) {

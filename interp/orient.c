@@ -71,7 +71,8 @@ typedef struct xrow {
 static void edge_rows(const double *a, const double *b, int h, long *r0,
                       long *r1)
 {
-    double lo = fmin(a[1], b[1]), hi = fmax(a[1], b[1]);
+    double lo = fmin(fmax(fmin(a[1], b[1]), -1), h + 1.0);
+    double hi = fmin(fmax(fmax(a[1], b[1]), -1), h + 1.0);
     *r0 = (long)ceil(lo - 0.5); /* first row centre >= lo */
     *r1 = (long)ceil(hi - 0.5); /* rows [r0, r1): centre in [lo, hi) */
     if (*r0 < 0)

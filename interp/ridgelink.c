@@ -59,9 +59,11 @@ static int band_ok(const int32_t *lab, int w, int h, const td_rv_point *a,
     for (d = 1.5; d < len - 1.5; d += 0.5) {
         double x = a->x + (b->x - a->x) * d / len;
         double y = a->y + (b->y - a->y) * d / len;
-        long cx = (long)floor(x), cy = (long)floor(y);
-        if (cx < 0 || cy < 0 || cx >= w || cy >= h ||
-            lab[(size_t)cy * w + cx] != band)
+        long cx, cy;
+        if (!(x >= 0 && y >= 0 && x < w && y < h))
+            return 0;
+        cx = (long)x, cy = (long)y;
+        if (lab[(size_t)cy * w + cx] != band)
             return 0;
     }
     return 1;
