@@ -117,7 +117,7 @@ int td_geojson_write_paths(const char *path, const td_rv_path *v, size_t n,
 typedef struct td_homotopy_stats {
     size_t cells_line;     /* on a contour (rasterised) */
     size_t cells_homotopy; /* interpolated along the homotopy */
-    size_t cells_fallback; /* by the scanline method */
+    size_t cells_fallback; /* by the fallback method */
     size_t cells_none;     /* left undetermined */
     size_t bands, bands_homotopy; /* bands; those between two lines */
     size_t bands_branching; /* branching faces partly filled */
@@ -125,11 +125,13 @@ typedef struct td_homotopy_stats {
 } td_homotopy_stats;
 
 /* Fill g (td_rasterise_lines output for ls at `step`, on a w x h pixel
- * scan) by the homotopy between every pair of nested contours one band
- * apart, then the cells it cannot reach by td_scanline_fill (interval,
- * summit, peninsula as in scanline.h) or, with p->fallback multidir, by
- * td_multidir_fill (its defaults, interval and summit).  st may be NULL.  Returns 0,
- * TD_EINVAL, TD_ENOMEM, TD_ECANCEL. */
+ * scan) by the homotopy in every band two lines bound (and in part in
+ * branching faces, homotopy.c), then the cells it cannot reach from a
+ * second grid filled from the contours alone by td_scanline_fill
+ * (interval, summit, peninsula as in scanline.h) or, with p->fallback
+ * multidir, td_multidir_fill (its defaults, interval and summit).  st may
+ * be NULL.  Uses about 4 bytes per scan pixel and 4 per cell beside g.
+ * Returns 0, TD_EINVAL, TD_ENOMEM, TD_ECANCEL. */
 int td_homotopy_fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
                      int step, const td_homotopy_params *p, double interval,
                      int summit, int peninsula, td_homotopy_stats *st,
