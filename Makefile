@@ -112,7 +112,8 @@ $(BUILD)/fuzz_replay: tests/fuzz/fuzz_readers.c tests/fuzz/replay_main.c $(BUILD
 fuzz: deps
 	@command -v clang >/dev/null || { echo "make fuzz needs clang (apt-get install clang)"; exit 1; }
 	$(MAKE) BUILD=build-fuzz CC=clang CXX=clang++ OPT="-O1 -g -fsanitize=fuzzer-no-link,address" LDFLAGS="-fsanitize=address" build-fuzz/libtopodig.a
-	clang $(CPPFLAGS) -O1 -g -fsanitize=fuzzer,address tests/fuzz/fuzz_readers.c build-fuzz/libtopodig.a $(LDLIBS) -o build-fuzz/fuzz_readers
+	clang $(CPPFLAGS) -O1 -g -fsanitize=fuzzer,address -fopenmp tests/fuzz/fuzz_readers.c build-fuzz/libtopodig.a $(LDLIBS) -o build-fuzz/fuzz_readers
+	mkdir -p build-fuzz/corpus
 	ASAN_OPTIONS=allocator_may_return_null=1 build-fuzz/fuzz_readers -max_total_time=$${FUZZ_SECONDS:-60} -max_len=65536 build-fuzz/corpus tests/fuzz/corpus
 
 clean:

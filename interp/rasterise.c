@@ -1,5 +1,6 @@
 #include "rasterise.h"
 
+#include "homotopy.h"
 #include "interp_int.h"
 #include "multidir.h"
 #include "scanline.h"
@@ -450,6 +451,7 @@ td_interp_params td_interp_defaults(void)
     p.weight = TD_MULTIDIR_SPAN;
     p.ndir = 4;
     p.nodata = -9999.0f;
+    p.epsilon = td_homotopy_defaults().epsilon;
     return p;
 }
 
@@ -459,9 +461,11 @@ int td_interp_parse_method(const char *s, td_interp_method *m, td_ctx *cx)
         *m = TD_INTERP_SCANLINE;
     else if (!strcmp(s, "multidir"))
         *m = TD_INTERP_MULTIDIR;
+    else if (!strcmp(s, "homotopy"))
+        *m = TD_INTERP_HOMOTOPY;
     else
         return td_seterr(cx, TD_EINVAL, "--method: '%s' is not one of "
-                         "scanline, multidir", s);
+                         "scanline, multidir, homotopy", s);
     return 0;
 }
 
@@ -508,14 +512,15 @@ static int whole(const char *key, const char *val, int lo, int hi, int *out,
 int td_interp_set(td_interp_params *p, const char *key, const char *val,
                   td_ctx *cx)
 {
-    static const char *const methods[] = {"scanline", "multidir"};
+    static const char *const methods[] = {"scanline", "multidir",
+                                          "homotopy"};
     static const char *const summit[] = {"flat", "extrapolate"};
     static const char *const pen[] = {"flat", "diagonal"};
     static const char *const weights[] = {"prod", "span", "span2"}; /* enum order */
     double v = 0;
     int i = 0, rc;
     if (!strcmp(key, "method")) {
-        rc = choose(key, val, methods, 2, &i, cx);
+        rc = choose(key, val, methods, 3, &i, cx);
         p->method = rc == 0 ? (td_interp_method)i : p->method;
     } else if (!strcmp(key, "summit")) {
         rc = choose(key, val, summit, 2, &i, cx);
@@ -534,6 +539,11 @@ int td_interp_set(td_interp_params *p, const char *key, const char *val,
         if ((rc = whole(key, val, 2, 4, &i, cx)) == 0 && i == 3)
             rc = td_seterr(cx, TD_EINVAL, "--dirs: 2 or 4");
         p->ndir = rc == 0 ? i : p->ndir;
+    } else if (!strcmp(key, "fallback")) {
+        rc = choose(key, val, methods, 2, &i, cx);
+        p->hfallback = rc == 0 ? i : p->hfallback;
+    } else if (!strcmp(key, "epsilon")) {
+        rc = number(key, val, 0, 180, &p->epsilon, cx);
     } else if (!strcmp(key, "interval")) {
         rc = number(key, val, 1e-9, 1e9, &p->interval, cx);
     } else if (!strcmp(key, "nodata")) {
@@ -544,10 +554,18 @@ int td_interp_set(td_interp_params *p, const char *key, const char *val,
     return rc;
 }
 
-static int fill(td_grid_f32 *g, const td_interp_params *p, double interval,
-                td_ctx *cx)
+static int fill(td_grid_f32 *g, const td_lines *ls, int w, int h,
+                const td_interp_params *p, double interval, td_ctx *cx)
 {
-    if (p->method == TD_INTERP_SCANLINE) {
+    if (p->method == TD_INTERP_HOMOTOPY) {
+        td_homotopy_params hp = td_homotopy_defaults();
+        hp.epsilon = p->epsilon;
+        hp.fallback = p->hfallback == 1 ? TD_HM_FALLBACK_MULTIDIR
+                                        : TD_HM_FALLBACK_SCANLINE;
+        return td_homotopy_fill(g, ls, w, h, p->step < 1 ? 1 : p->step, &hp,
+                                interval, p->summit, p->peninsula, p->hstats,
+                                cx);
+    } else if (p->method == TD_INTERP_SCANLINE) {
         td_scanline_params sp = td_scanline_defaults();
         sp.interval = interval;
         sp.summit = p->summit;
@@ -610,7 +628,7 @@ int td_interp_lines(const td_lines *ls, int w, int h,
         rc = TD_ENOMEM;
         goto fail;
     }
-    if ((rc = fill(g, p, interval, cx)) != 0)
+    if ((rc = fill(g, ls, w, h, p, interval, cx)) != 0)
         goto fail;
     if (fixed && (rc = td_smooth_bands(g, fixed, band_base(ls, interval),
                                        interval, p->smooth, cx)) != 0)

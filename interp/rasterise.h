@@ -100,11 +100,13 @@ double td_interp_tent(double z, double s1, double s2, double d1, double d2,
 
 typedef enum {
     TD_INTERP_SCANLINE = 0, /* the paper's x then y pass (001 §2.4-2.5) */
-    TD_INTERP_MULTIDIR = 1  /* 4 directions blended (the default) */
+    TD_INTERP_MULTIDIR = 1, /* 4 directions blended (the default) */
+    TD_INTERP_HOMOTOPY = 2  /* along ridge/valley lines (003), homotopy.h */
 } td_interp_method;
 
 struct td_scanline_params;
 struct td_multidir_params;
+struct td_homotopy_stats;
 
 /* Everything td_interp_lines needs.  Defaults: multidir, step 1,
  * interval 0 (found from the lines), the methods' own defaults. */
@@ -118,16 +120,20 @@ typedef struct td_interp_params {
     int ndir;           /* multidir: 2 or 4 directions */
     float nodata;       /* written where undeterminable (-9999) */
     int smooth;         /* sweeps of td_smooth_bands afterwards (0) */
+    double epsilon;     /* homotopy: turning-angle threshold, degrees */
+    int hfallback;      /* homotopy: 0 scanline (default), 1 multidir */
+    struct td_homotopy_stats *hstats; /* homotopy: out, may be NULL */
 } td_interp_params;
 
 td_interp_params td_interp_defaults(void);
 
-/* Parse a --method value ("scanline", "multidir"); 0 or TD_EINVAL with a
+/* Parse a --method value ("scanline", "multidir", "homotopy"); 0 or TD_EINVAL with a
  * message listing the choices. */
 int td_interp_parse_method(const char *s, td_interp_method *m, td_ctx *cx);
 
 /* Set one option of p from its command-line form (key without "--"):
- * method scanline|multidir, step N (1..4096), interval I (> 0), summit
+ * method scanline|multidir|homotopy, epsilon DEG (0..180), fallback
+ * scanline|multidir (homotopy), step N (1..4096), interval I (> 0), summit
  * extrapolate|flat, peninsula diagonal|flat, weight prod|span|span2,
  * dirs 2|4, nodata V, smooth N (0..10000).  Returns 0, 1 when key is not one of these, or
  * TD_EINVAL with a message naming the option and the choices. */

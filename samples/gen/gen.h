@@ -19,7 +19,9 @@ typedef enum {
                      some contours leave the sheet (the default) */
     TD_GEN_CONE,  /* one cone in the centre: concentric closed rings */
     TD_GEN_PLANE, /* tilted plane: parallel open lines, all edge */
-    TD_GEN_RIDGES /* many contours, dense (for benchmarks) */
+    TD_GEN_RIDGES, /* many contours, dense (for benchmarks) */
+    TD_GEN_VALLEYS /* a valley network: main valley and four tributaries
+                      cut V-shaped into a tilted plane (drainage) */
 } td_gen_terrain_kind;
 
 typedef struct td_gen_params {
@@ -70,8 +72,19 @@ td_gen_params td_gen_defaults(void);
  *           (not relative to S, so the ink fraction is the same at any size):
  *           steepest slope <= 1.5 m/px, about 14% ink with 3 px lines at
  *           interval 10.
+ *   VALLEYS z = 0.3 (h - y) + 0.35 softmin_k sqrt(d_k^2 + 64), k = 6 m, d_k
+ *           the distance to thalweg k (td_gen_valley_segments): V-shaped
+ *           valleys 0.35 m/px steep across, falling 0.3 m/px down the
+ *           sheet, sharp-crested ridges between them; slopes absolute
+ *           (m/px), geometry relative to the sheet; seed ignored.
  * Returns 0 and *dem (free with td_grid_f32_free), or an error. */
 int td_gen_terrain(const td_gen_params *p, td_grid_f32 **dem, td_ctx *cx);
+
+/* The thalwegs of the VALLEYS terrain for p's sheet size: up to max
+ * segments (x0, y0, x1, y1) in pixel units (x = column + 0.5 at a pixel
+ * centre) into seg; returns how many there are (5). */
+size_t td_gen_valley_segments(const td_gen_params *p, double (*seg)[4],
+                              size_t max);
 
 /* The steepest slope of dem in height units per pixel (central differences,
  * one-sided at the border).  Adjacent contours at interval I are then at

@@ -14,7 +14,7 @@
 static const char usage[] =
     "usage: tdgen -o SHEET.png [--truth TRUTH.geojson] [--dem DEM.tif]\n"
     "             [--size W[xH]] [--seed N] [--terrain "
-    "hills|cone|plane|ridges]\n"
+    "hills|cone|plane|ridges|valleys]\n"
     "             [--base B] [--interval I] [--width PX] [--blur SIGMA]\n"
     "             [--noise SD] [--specks N] [--breaks N] [--break-len A,B]\n"
     "             [--index-width PX] [--labels N] [--label-bend PX]\n"
@@ -74,11 +74,13 @@ static int parse_size(const char *s, td_gen_params *p)
 
 static int parse_terrain(const char *s, td_gen_params *p)
 {
-    static const char *names[4] = {"hills", "cone", "plane", "ridges"};
-    static const td_gen_terrain_kind kinds[4] = {TD_GEN_HILLS, TD_GEN_CONE,
-                                                 TD_GEN_PLANE, TD_GEN_RIDGES};
+    static const char *names[5] = {"hills", "cone", "plane", "ridges",
+                                   "valleys"};
+    static const td_gen_terrain_kind kinds[5] = {TD_GEN_HILLS, TD_GEN_CONE,
+                                                 TD_GEN_PLANE, TD_GEN_RIDGES,
+                                                 TD_GEN_VALLEYS};
     int k;
-    for (k = 0; k < 4; k++)
+    for (k = 0; k < 5; k++)
         if (strcmp(s, names[k]) == 0) {
             p->terrain = kinds[k];
             return 1;

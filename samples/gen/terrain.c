@@ -191,6 +191,51 @@ static int plane_terms(const td_gen_params *p, sep_terms *t, td_ctx *cx)
                     cx);
 }
 
+/* VALLEYS: the thalwegs as fractions of the sheet (x0, y0, x1, y1). */
+static const double valley_seg[5][4] = {
+    {0.50, 0.00, 0.50, 1.00}, /* main valley, flowing down the sheet */
+    {0.15, 0.05, 0.50, 0.55}, /* tributaries joining it */
+    {0.85, 0.02, 0.50, 0.40},
+    {0.05, 0.50, 0.50, 0.85},
+    {0.95, 0.45, 0.50, 0.75},
+};
+
+size_t td_gen_valley_segments(const td_gen_params *p, double (*seg)[4],
+                              size_t max)
+{
+    size_t k;
+    for (k = 0; k < 5 && k < max; k++) {
+        seg[k][0] = valley_seg[k][0] * p->w, seg[k][1] = valley_seg[k][1] * p->h;
+        seg[k][2] = valley_seg[k][2] * p->w, seg[k][3] = valley_seg[k][3] * p->h;
+    }
+    return 5;
+}
+
+static double seg_dist2(double x, double y, const double *s)
+{
+    double dx = s[2] - s[0], dy = s[3] - s[1];
+    double t = ((x - s[0]) * dx + (y - s[1]) * dy) / (dx * dx + dy * dy);
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    dx = x - s[0] - t * dx, dy = y - s[1] - t * dy;
+    return dx * dx + dy * dy;
+}
+
+static void fill_valleys(const td_gen_params *p, td_grid_f32 *g)
+{
+    double seg[5][4], k = 6;
+    int i, j, m;
+    td_gen_valley_segments(p, seg, 5);
+    for (i = 0; i < g->h; i++) {
+        float *out = g->data + (size_t)i * g->stride;
+        for (j = 0; j < g->w; j++) {
+            double x = j + 0.5, y = i + 0.5, sum = 0;
+            for (m = 0; m < 5; m++)
+                sum += exp(-0.35 * sqrt(seg_dist2(x, y, seg[m]) + 64) / k);
+            out[j] = (float)(0.3 * (p->h - y) - k * log(sum));
+        }
+    }
+}
+
 /* Pixel by pixel over the term tables (one pass over memory per row). */
 static int fill_terms(const sep_terms *t, td_grid_f32 *g, td_ctx *cx)
 {
@@ -248,13 +293,17 @@ int td_gen_terrain(const td_gen_params *p, td_grid_f32 **dem, td_ctx *cx)
     case TD_GEN_CONE:
         fill_cone(p, g);
         break;
+    case TD_GEN_VALLEYS:
+        fill_valleys(p, g);
+        break;
     default:
         rc = td_seterr(cx, TD_EINVAL, "terrain: unknown kind %d",
                        (int)p->terrain);
     }
     if (rc)
         goto fail;
-    if (p->terrain != TD_GEN_CONE && (rc = fill_terms(&t, g, cx)) != 0)
+    if (p->terrain != TD_GEN_CONE && p->terrain != TD_GEN_VALLEYS &&
+        (rc = fill_terms(&t, g, cx)) != 0)
         goto fail;
     terms_free(&t);
     *dem = g;

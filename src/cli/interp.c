@@ -5,6 +5,7 @@
 #include "../demio.h"
 #include "../imageio.h"
 #include "../lines.h"
+#include "../../interp/homotopy.h"
 #include "../../interp/rasterise.h"
 
 #include <getopt.h>
@@ -13,7 +14,7 @@
 
 static const char help[] =
     "usage: topodig interp LABELLED.geojson -o DEM.tif --like SCAN\n"
-    "                      [--method multidir|scanline] [--step N]\n"
+    "                      [--method multidir|scanline|homotopy] [--step N]\n"
     "\n"
     "Rasterise the labelled contour lines onto the scan's grid and\n"
     "interpolate the heights between them.  The DEM has the scan's size\n"
@@ -27,7 +28,13 @@ static const char help[] =
     "      --like SCAN       the scan the lines were traced from (required:\n"
     "                        size and georeferencing)\n"
     "      --method M        multidir (default): 4 scan directions blended;\n"
-    "                        scanline: the paper's x then y pass (001 §2.4)\n"
+    "                        scanline: the paper's x then y pass (001 §2.4);\n"
+    "                        homotopy: along ridge and valley lines found\n"
+    "                        from contour curvature (003), scanline where\n"
+    "                        it cannot reach\n"
+    "      --epsilon DEG     homotopy: turning-angle threshold (default 20)\n"
+    "      --fallback M      homotopy: scanline (default) | multidir for the\n"
+    "                        cells the homotopy cannot reach\n"
     "      --step N          one DEM cell per N x N scan pixels (default 1)\n"
     "      --summit S        extrapolate (default, paper §2.5) | flat\n"
     "      --peninsula P     scanline only: diagonal (default) | flat (paper)\n"
@@ -61,6 +68,7 @@ static int parse_args(int argc, char **argv, ip_opts *o)
         {"weight", 1, 0, O_PASS}, {"dirs", 1, 0, O_PASS},
         {"interval", 1, 0, O_PASS}, {"nodata", 1, 0, O_PASS},
         {"smooth", 1, 0, O_PASS},
+        {"epsilon", 1, 0, O_PASS}, {"fallback", 1, 0, O_PASS},
         {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     td_ctx cx;
     int c, li = -1;
@@ -99,12 +107,20 @@ static int parse_args(int argc, char **argv, ip_opts *o)
 static void summary(const td_grid_f32 *g, const td_interp_params *p,
                     double secs)
 {
+    static const char *const names[] = {"scanline", "multidir", "homotopy"};
     size_t n = (size_t)g->w * g->h, i, ok = 0;
+    const td_homotopy_stats *hs = p->hstats;
     for (i = 0; i < n; i++)
         ok += g->data[i] != g->nodata;
     fprintf(stderr, "interp: %d x %d cells, %.1f%% determined, method %s, "
-            "%.2f s\n", g->w, g->h, 100.0 * ok / n,
-            p->method == TD_INTERP_SCANLINE ? "scanline" : "multidir", secs);
+            "%.2f s\n", g->w, g->h, 100.0 * ok / n, names[p->method], secs);
+    if (p->method == TD_INTERP_HOMOTOPY && hs)
+        fprintf(stderr, "interp: homotopy %zu cells in %zu of %zu bands, "
+                "%s fallback %zu cells; %zu ridge, %zu valley points, "
+                "%zu links\n", hs->cells_homotopy, hs->bands_homotopy,
+                hs->bands, p->hfallback ? "multidir" : "scanline",
+                hs->cells_fallback, hs->ridge_points, hs->valley_points,
+                hs->links);
 }
 
 /* Prefix the file name when the message does not name it. */
@@ -125,10 +141,13 @@ int td_cmd_interp(int argc, char **argv)
     td_georef geo;
     td_lines *ls = NULL;
     td_grid_f32 *dem = NULL;
+    td_homotopy_stats hs;
     double t0 = td_now();
     int rc, w, h, ch;
     memset(&o, 0, sizeof o);
     o.p = td_interp_defaults();
+    memset(&hs, 0, sizeof hs);
+    o.p.hstats = &hs;
     if ((rc = parse_args(argc, argv, &o)) != 0)
         return rc == 2 ? 0 : 1;
     td_ctx_init(&cx);

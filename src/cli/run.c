@@ -6,6 +6,7 @@
 #include "../demio.h"
 #include "../imageio.h"
 #include "../lines.h"
+#include "../../interp/homotopy.h"
 #include "../../interp/rasterise.h"
 #include "../../scanner/label.h"
 #include "../../scanner/scan.h"
@@ -17,7 +18,7 @@
 
 static const char help[] =
     "usage: topodig run SCAN -o DEM.tif --interval I [--base B]\n"
-    "                   [--known X,Y,H]... [--method multidir|scanline]\n"
+    "                   [--known X,Y,H]... [--method multidir|scanline|homotopy]\n"
     "                   [--step N]\n"
     "\n"
     "Scan the sheet (as topodig scan), give the traced lines heights from\n"
@@ -35,7 +36,11 @@ static const char help[] =
     "      --depressions X,Y the ring around X,Y is a depression\n"
     "      --ink KIND        dark | brown | R,G,B[:tol] (default dark)\n"
     "      --threshold T     otsu | sauvola | N (default otsu)\n"
-    "      --method M        multidir (default) | scanline (the paper)\n"
+    "      --method M        multidir (default) | scanline (the paper) |\n"
+    "                        homotopy (along ridge/valley lines, 003)\n"
+    "      --epsilon DEG     homotopy: turning-angle threshold (default 20)\n"
+    "      --fallback M      homotopy: scanline (default) | multidir for the\n"
+    "                        cells the homotopy cannot reach\n"
     "      --step N          one DEM cell per N x N pixels (default 1)\n"
     "      --summit S        extrapolate (default) | flat\n"
     "      --peninsula P     scanline: diagonal (default) | flat\n"
@@ -141,6 +146,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         {"peninsula", 1, 0, O_PASS}, {"weight", 1, 0, O_PASS},
         {"dirs", 1, 0, O_PASS}, {"nodata", 1, 0, O_PASS},
         {"smooth", 1, 0, O_PASS},
+        {"epsilon", 1, 0, O_PASS}, {"fallback", 1, 0, O_PASS},
         {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     td_ctx cx;
     int c, li = -1;
@@ -179,6 +185,9 @@ typedef struct run_state {
     int w, h;
     size_t traced, dropped;
     double secs[4]; /* read + scan, label, interp, write */
+    td_interp_method method;
+    int hfallback;
+    td_homotopy_stats hs; /* --method homotopy */
 } run_state;
 
 /* Scan; keeps only the lines (the image and the scanner's grids are freed
@@ -244,12 +253,15 @@ static int do_interp(const run_opts *o, run_state *s, td_ctx *cx)
     double t0 = td_now();
     int rc;
     p.interval = o->interval;
+    p.hstats = &s->hs;
     if ((rc = td_interp_lines(s->ls, s->w, s->h, &p, &s->dem, cx)) != 0)
         return rc;
     td_lines_free(s->ls);
     s->ls = NULL;
     td_georef_scale(&s->geo, p.step);
     s->secs[2] = td_now() - t0;
+    s->method = p.method;
+    s->hfallback = p.hfallback;
     rc = td_dem_write(o->out, s->dem, &s->geo, cx);
     s->secs[3] = td_now() - t0 - s->secs[2];
     return rc;
@@ -265,6 +277,11 @@ static void summary(const run_state *s)
             "interp %.2f s, write %.2f s\n", s->traced,
             s->traced - s->dropped, s->dropped, s->dem->w, s->dem->h,
             100.0 * ok / n, s->secs[0], s->secs[1], s->secs[2], s->secs[3]);
+    if (s->method == TD_INTERP_HOMOTOPY)
+        fprintf(stderr, "run: homotopy %zu cells in %zu of %zu bands, "
+                "%s fallback %zu cells\n", s->hs.cells_homotopy,
+                s->hs.bands_homotopy, s->hs.bands,
+                s->hfallback ? "multidir" : "scanline", s->hs.cells_fallback);
 }
 
 int td_cmd_run(int argc, char **argv)

@@ -2,13 +2,20 @@
  * written to a private temporary file (the readers take paths) and read
  * with td_image_info, then td_image_read when the header's size is modest,
  * so legitimate huge headers do not trip the fuzzer's allocation limit;
- * then as a DEM (td_dem_read) and as GeoJSON lines (td_geojson_read_lines).
+ * then as a DEM (td_dem_read) and as GeoJSON lines (td_geojson_read_lines);
+ * lines that read, with every point within a 512 x 512 sheet (a margin
+ * outside allowed), go on through the homotopy stage (td_ridges_find,
+ * td_ridges_paths, td_interp_lines --method homotopy).
  * Run with ASAN_OPTIONS=allocator_may_return_null=1 so a DEM header of
  * 2^31 cells is an allocation failure, not a report. */
 #define _POSIX_C_SOURCE 200809L
 #include "demio.h"
 #include "imageio.h"
 #include "lines.h"
+#include "interp/homotopy.h"
+#include "interp/rasterise.h"
+
+#include <math.h>
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -46,6 +53,45 @@ static int fuzz_file(void)
     return 0;
 }
 
+enum { FUZZ_SHEET = 512 };
+
+/* Every point finite and near the fuzz sheet. */
+static int on_sheet(const td_lines *ls)
+{
+    size_t i, k;
+    for (i = 0; i < ls->n; i++)
+        for (k = 0; k < 2 * ls->v[i].n; k++)
+            if (!(ls->v[i].xy[k] >= -64 && ls->v[i].xy[k] <= FUZZ_SHEET + 64))
+                return 0;
+    return 1;
+}
+
+/* Ridges, their paths and the homotopy DEM: each works or says why. */
+static void fuzz_homotopy(const td_lines *ls)
+{
+    td_homotopy_params p = td_homotopy_defaults();
+    td_interp_params ip = td_interp_defaults();
+    td_ridges *r = NULL;
+    td_rv_path *v = NULL;
+    td_grid_f32 *dem = NULL;
+    size_t n = 0;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    if (td_ridges_find(ls, FUZZ_SHEET, FUZZ_SHEET, &p, &r, &cx) != 0) {
+        if (!cx.msg[0])
+            abort();
+    } else if (td_ridges_paths(r, &v, &n, &cx) != 0 && !cx.msg[0])
+        abort();
+    td_rv_paths_free(v, n);
+    td_ridges_free(r);
+    td_ctx_init(&cx);
+    ip.method = TD_INTERP_HOMOTOPY;
+    if (td_interp_lines(ls, FUZZ_SHEET, FUZZ_SHEET, &ip, &dem, &cx) != 0 &&
+        !cx.msg[0])
+        abort();
+    td_grid_f32_free(dem);
+}
+
 /* The same file as a DEM and as GeoJSON lines: either reads it or fails
  * with a message. */
 static void fuzz_dem_and_lines(void)
@@ -60,9 +106,11 @@ static void fuzz_dem_and_lines(void)
     td_grid_f32_free(dem);
     td_georef_clear(&g);
     td_ctx_init(&cx);
-    if (td_geojson_read_lines(fuzz_path, NULL, &ls, NULL, &cx) != 0 &&
-        !cx.msg[0])
-        abort();
+    if (td_geojson_read_lines(fuzz_path, NULL, &ls, NULL, &cx) != 0) {
+        if (!cx.msg[0])
+            abort();
+    } else if (ls->n > 0 && on_sheet(ls))
+        fuzz_homotopy(ls);
     td_lines_free(ls);
 }
 

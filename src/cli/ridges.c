@@ -1,0 +1,189 @@
+/* topodig ridges: labelled contour lines -> ridge, valley and inflection
+ * lines (GeoJSON), optionally the signed curvature per contour sample. */
+#define _GNU_SOURCE
+#include "cli.h"
+
+#include "../imageio.h"
+#include "../lines.h"
+#include "../../interp/homotopy.h"
+
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char help[] =
+    "usage: topodig ridges LABELLED.geojson -o RIDGES.geojson\n"
+    "                      [--curvature-csv FILE] [--epsilon DEG]\n"
+    "                      [--like SCAN]\n"
+    "\n"
+    "Ridge and valley lines from the curvature of the labelled contours\n"
+    "(the homotopy paper, 003 §4-5): each contour is oriented with higher\n"
+    "ground on the left, smoothed and fitted with a C2 spline; ridge points\n"
+    "sit at the curvature maxima of convex stretches, valley points at the\n"
+    "minima of concave ones; points of one kind on adjacent contours are\n"
+    "linked, and ridges (valleys) that merge form one tree.\n"
+    "Output: LineStrings with [x, y, height] positions and properties\n"
+    "kind (ridge, valley, inflection), tree (null for inflections) and\n"
+    "heights.  Coordinates as the input's (pixels, or map units through\n"
+    "--like's georeferencing).\n"
+    "\n"
+    "options:\n"
+    "  -o, --output FILE       ridge/valley GeoJSON (required)\n"
+    "      --curvature-csv F   signed curvature per contour sample: line,\n"
+    "                          i, x, y, s, kappa (1/px, > 0 convex)\n"
+    "      --epsilon DEG       turning-angle threshold: a stretch between\n"
+    "                          inflections that turns less is dropped\n"
+    "                          (default 20)\n"
+    "      --smooth PX         Gaussian smoothing along contours (default 3)\n"
+    "      --like SCAN         the scan: sheet size and georeferencing\n"
+    "                          (default: the lines' extent, pixel units)\n"
+    "  -q, --quiet             no progress and no summary\n"
+    "  -h, --help              this help\n"
+    "\n"
+    "Summary on stderr: contours, ridge/valley points and trees, links,\n"
+    "suspended points, seconds.\n";
+
+typedef struct rg_opts {
+    const char *in, *out, *csv, *like;
+    int quiet;
+    td_homotopy_params p;
+} rg_opts;
+
+enum { O_CSV = 256, O_EPS, O_SMOOTH, O_LIKE };
+
+static int parse_args(int argc, char **argv, rg_opts *o)
+{
+    static const struct option lo[] = {
+        {"output", 1, 0, 'o'}, {"curvature-csv", 1, 0, O_CSV},
+        {"epsilon", 1, 0, O_EPS}, {"smooth", 1, 0, O_SMOOTH},
+        {"like", 1, 0, O_LIKE}, {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'},
+        {0, 0, 0, 0}};
+    int c;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "o:qh", lo, NULL)) != -1) {
+        if (c == 'h') {
+            fputs(help, stdout);
+            return 2;
+        } else if (c == 'o')
+            o->out = optarg;
+        else if (c == 'q')
+            o->quiet = 1;
+        else if (c == O_CSV)
+            o->csv = optarg;
+        else if (c == O_LIKE)
+            o->like = optarg;
+        else if (c == O_EPS) {
+            if (td_cli_parse_double(optarg, 0, 180, &o->p.epsilon) != 0)
+                return td_cli_failf("ridges", "--epsilon: '%s' is not a "
+                                    "number 0..180 (degrees)", optarg);
+        } else if (c == O_SMOOTH) {
+            if (td_cli_parse_double(optarg, 0, 100, &o->p.smooth) != 0)
+                return td_cli_failf("ridges", "--smooth: '%s' is not a "
+                                    "number 0..100 (px)", optarg);
+        } else
+            return td_cli_failf("ridges", "bad or incomplete option '%s' "
+                                "(see topodig ridges --help)",
+                                argv[optind - 1]);
+    }
+    if (optind != argc - 1)
+        return td_cli_failf("ridges", "expected one LABELLED.geojson file "
+                            "(see topodig ridges --help)");
+    o->in = argv[optind];
+    if (!o->out)
+        return td_cli_failf("ridges", "no output: give -o RIDGES.geojson");
+    return 0;
+}
+
+/* The sheet size from the lines' extent (pixel centres are at +0.5). */
+static void extent(const td_lines *ls, int *w, int *h)
+{
+    double mx = 1, my = 1;
+    size_t i, k;
+    for (i = 0; i < ls->n; i++)
+        for (k = 0; k < ls->v[i].n; k++) {
+            mx = fmax(mx, ls->v[i].xy[2 * k]);
+            my = fmax(my, ls->v[i].xy[2 * k + 1]);
+        }
+    *w = (int)fmin(ceil(mx + 0.5), TD_MAX_DIM);
+    *h = (int)fmin(ceil(my + 0.5), TD_MAX_DIM);
+}
+
+static int write_csv(const char *path, const td_ridges *r,
+                     const td_lines *ls, td_ctx *cx)
+{
+    size_t i, k, tmpsize = strlen(path) + 32;
+    char *tmp = malloc(tmpsize);
+    FILE *f;
+    int rc;
+    if (!tmp)
+        return td_seterr(cx, TD_ENOMEM, "out of memory");
+    if (!(f = td_atomic_open(path, tmp, tmpsize, cx))) {
+        free(tmp);
+        return cx->code ? cx->code : TD_EIO;
+    }
+    fputs("line,i,x,y,s,kappa\n", f);
+    for (i = 0; i < r->ncurve; i++) {
+        const td_rv_curve *c = &r->curve[i];
+        for (k = 0; k < c->n; k++)
+            fprintf(f, "%ld,%zu,%.3f,%.3f,%.3f,%.6g\n", ls->v[i].id, k,
+                    c->x[k], c->y[k], c->s[k], c->kappa[k]);
+    }
+    rc = td_atomic_commit(f, tmp, path, cx);
+    free(tmp);
+    return rc;
+}
+
+static void summary(const td_ridges *r, double secs)
+{
+    size_t i, n[3] = {0, 0, 0};
+    for (i = 0; i < r->npt; i++)
+        n[r->pt[i].kind]++;
+    fprintf(stderr, "ridges: %zu contours, %zu ridge points in %ld trees, "
+            "%zu valley points in %ld trees, %zu inflections, %zu links, "
+            "%zu suspended, %.2f s\n", r->ncurve, n[0], r->nridge, n[1],
+            r->nvalley, n[2], r->nlink, r->suspended, secs);
+}
+
+int td_cmd_ridges(int argc, char **argv)
+{
+    rg_opts o;
+    td_ctx cx;
+    td_cli_progress pr;
+    td_georef geo;
+    td_lines *ls = NULL;
+    td_ridges *r = NULL;
+    td_rv_path *paths = NULL;
+    size_t np = 0;
+    double t0 = td_now();
+    int rc, w = 0, h = 0, ch;
+    memset(&o, 0, sizeof o);
+    o.p = td_homotopy_defaults();
+    if ((rc = parse_args(argc, argv, &o)) != 0)
+        return rc == 2 ? 0 : 1;
+    td_ctx_init(&cx);
+    td_georef_init(&geo);
+    td_cli_progress_init(&pr, &cx, o.quiet);
+    if (o.like && (rc = td_image_info(o.like, &w, &h, &ch, &geo, &cx)) != 0)
+        goto fail;
+    if ((rc = td_geojson_read_lines(o.in, &geo, &ls, NULL, &cx)) != 0)
+        goto fail;
+    if (!o.like)
+        extent(ls, &w, &h);
+    if ((rc = td_ridges_find(ls, w, h, &o.p, &r, &cx)) != 0 ||
+        (rc = td_ridges_paths(r, &paths, &np, &cx)) != 0 ||
+        (o.csv && (rc = write_csv(o.csv, r, ls, &cx)) != 0) ||
+        (rc = td_geojson_write_paths(o.out, paths, np, &geo, &cx)) != 0)
+        goto fail;
+    td_cli_progress_done(&pr);
+    if (!o.quiet)
+        summary(r, td_now() - t0);
+fail:
+    td_cli_progress_done(&pr);
+    td_rv_paths_free(paths, np);
+    td_ridges_free(r);
+    td_lines_free(ls);
+    td_georef_clear(&geo);
+    return rc == 0 ? 0 : td_cli_fail("ridges", &cx);
+}
