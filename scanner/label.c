@@ -721,6 +721,69 @@ fail:
     return rc < 0 ? rc : 0;
 }
 
+/* ---- index contours decide what the known points leave open ---- */
+
+enum { MIN_INDEX_LEN = 30 }; /* px, as the index check */
+
+/* Lines whose level is (not) an index level while drawn thin (thick):
+ * thick[i] 1 thick, 0 thin, -1 not measured. */
+static size_t index_misfits(solver *s, const signed char *thick)
+{
+    size_t i, bad = 0;
+    relevel(s);
+    for (i = 0; i < s->n; i++) {
+        long k;
+        if (thick[i] < 0)
+            continue;
+        k = s->rel[i + 1] + s->off + (step_of(s, (long)i) < 0);
+        bad += (k % s->p->index_every == 0) != thick[i];
+    }
+    return bad;
+}
+
+/* With --index-every and lines of two widths, the direction of every unit
+ * no known point or depression mark fixed is chosen to put the thick
+ * lines on index heights: parents first, a unit flipped when that leaves
+ * fewer misfits (twice over).  Decided units get lock -1 (not listed as
+ * assumed).  Returns 0 or TD_ENOMEM. */
+static int index_directions(solver *s, td_ctx *cx)
+{
+    signed char *thick;
+    double cut = 0;
+    size_t i, k, best, m;
+    int rc, pass;
+    if (s->p->index_every <= 0 || s->nc == 0 ||
+        (rc = td_label_thick_cut(s->ls, s->p, &cut, cx)) <= 0)
+        return s->p->index_every <= 0 || s->nc == 0 ? 0 : rc;
+    if (!(thick = td_calloc(s->n + 1, 1, cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < s->n; i++)
+        thick[i] = s->ct.parent[i] != -2 && s->ls->v[i].width > 0 &&
+                           td_line_length(&s->ls->v[i]) >= MIN_INDEX_LEN
+                       ? s->ls->v[i].width >= cut
+                       : -1;
+    best = index_misfits(s, thick);
+    for (pass = 0; pass < 2 && best > 0; pass++)
+        for (k = 0; k < s->n && s->order[k] >= 0; k++) {
+            int par;
+            long l = s->order[k], u = find(s, l, &par);
+            if (s->lock[u] > 0 || s->fixed[l] || u != l)
+                continue; /* each unit once, through its root line */
+            flip(s, u);
+            if ((m = index_misfits(s, thick)) < best) {
+                best = m;
+                s->lock[u] = -1;
+            } else {
+                flip(s, u);
+                if (m > best) /* the widths back its direction */
+                    s->lock[u] = -1;
+            }
+        }
+    relevel(s);
+    free(thick);
+    return 0;
+}
+
 static void assign(solver *s)
 {
     size_t i;
@@ -765,7 +828,8 @@ int td_label_auto(td_lines *ls, const td_label_params *p,
         ls->v[i].parent = par >= 0 ? ls->v[par].id : -1;
         ls->v[i].has_height = 0;
     }
-    if ((rc = setup(&s, cx)) != 0 || (rc = solve(&s, cx)) != 0)
+    if ((rc = setup(&s, cx)) != 0 || (rc = solve(&s, cx)) != 0 ||
+        (rc = index_directions(&s, cx)) != 0)
         goto fail;
     assign(&s);
     rc = TD_ENOMEM;

@@ -116,6 +116,12 @@ void td_label_where(const td_line *l, double *x, double *y);
 int td_label_check_index(const td_lines *ls, const td_label_params *p,
                          td_label_report *rep, td_ctx *cx);
 
+/* The width that splits ls's lines into thin and thick (as the index check
+ * does): 1 and *cut when the widths have that contrast, 0 when not (no
+ * widths, or no thicker lines), TD_ENOMEM. */
+int td_label_thick_cut(const td_lines *ls, const td_label_params *p,
+                       double *cut, td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

@@ -105,6 +105,27 @@ static void mismatches(const td_lines *ls, const td_label_params *p,
 }
 
 /* Contract in label.h. */
+int td_label_thick_cut(const td_lines *ls, const td_label_params *p,
+                       double *cut, td_ctx *cx)
+{
+    double *v, thin = 0, thick = 0;
+    size_t i, n = 0;
+    if (!(v = td_calloc(ls->n + 1, sizeof *v, cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < ls->n; i++)
+        if (ls->v[i].width > 0 && td_line_length(&ls->v[i]) >= MIN_CHECK_LEN)
+            v[n++] = log(ls->v[i].width);
+    qsort(v, n, sizeof *v, cmp_d);
+    if (n >= 2)
+        otsu_split(v, n, &thin, &thick);
+    free(v);
+    if (n < 2 || thick < p->thick_ratio * thin)
+        return 0;
+    *cut = sqrt(thin * thick); /* the geometric middle */
+    return 1;
+}
+
+/* Contract in label.h. */
 int td_label_check_index(const td_lines *ls, const td_label_params *p,
                          td_label_report *rep, td_ctx *cx)
 {

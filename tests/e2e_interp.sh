@@ -109,6 +109,18 @@ fi
 check "render bad --style: exit 1, one line, no output" "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && [ ! -e '$T/x.png' ]"
 "$TD" render samples/hills.png -o "$T/x.png" 2>"$T/err"
 check "render an RGB/grey picture that is not a DEM: exit 0 or 1, never a crash" "[ \$? -le 1 ]"
+# --- run on a cone sheet whose index contours are drawn thicker, one known
+# point on a thin ring: the widths decide the corner lines' slopes
+"$BUILD/tdgen" -o "$T/cone.png" --truth "$T/cone.geojson" --dem "$T/cone.tif" \
+  --terrain cone --size 600 --seed 3 --index-width 4 --breaks 4 -q
+L=$(grep '"closed":true' "$T/cone.geojson" | grep -v '"height":-*[0-9]*[05]0,' | sed -n 3p)
+KH=$(printf '%s' "$L" | sed 's/.*"height":\(-*[0-9.]*\),.*/\1/')
+KP=$(printf '%s' "$L" | sed 's/.*"coordinates":\[\[\([-0-9.]*,[-0-9.]*\)\].*/\1/')
+"$TD" run "$T/cone.png" -o "$T/cone-dem.tif" --interval 10 --known "$KP,$KH" --index-every 5 -q
+"$TD" compare "$T/cone-dem.tif" "$T/cone.tif" --json >"$T/cone.json" 2>/dev/null
+check "run --index-every: a cone with corner lines from one known point, rmse < 0.2 interval" \
+  "lt \"\$(json '$T/cone.json' rmse)\" 2"
+
 check "no temporary files left" "! ls '$T' | grep -q '\.tmp\.'"
 
 echo "$pass passed, $fail failed"

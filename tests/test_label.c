@@ -154,6 +154,57 @@ static void test_cone_one_point(void)
     free_truth(&t);
 }
 
+/* Index contours decide what one known point cannot: the cone with the
+ * lines that cut the sheet's corners (their slope direction is not in the
+ * topology), every 5th contour drawn thicker: one known point on a thin
+ * ring and --index-every 5 label every line right, and fewer lines are
+ * left as assumed than without the widths. */
+static size_t label_cone_index(const truth *t, int every, size_t *assumed)
+{
+    td_lines *ls = unlabelled(t->lines);
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_label_point q;
+    td_ctx cx;
+    long ring = -1;
+    size_t i, wrong = (size_t)-1;
+    td_ctx_init(&cx);
+    for (i = 0; i < t->lines->n; i++) {
+        int index = fmod(fabs(t->lines->v[i].height / t->interval), 5.0) == 0;
+        ls->v[i].width = index ? 4.5 : 2.5;
+        if (t->lines->v[i].closed && !index &&
+            (ring < 0 || t->lines->v[i].n > t->lines->v[ring].n))
+            ring = (long)i;
+    }
+    q = on_line(&t->lines->v[ring], t->lines->v[ring].height);
+    p.interval = t->interval, p.w = 1000, p.h = 1000, p.known = &q;
+    p.nknown = 1, p.index_every = every;
+    if (td_label_auto(ls, &p, &rep, &cx) == 0) {
+        wrong = count_wrong(ls, t->lines, every > 0);
+        *assumed = rep.assumed;
+        td_label_report_free(&rep);
+    }
+    td_lines_free(ls);
+    return wrong;
+}
+
+static void test_index_decides(void)
+{
+    truth t;
+    size_t i, open = 0, a0 = 0, a1 = 0, w1;
+    TT_CHECK(make_truth(&t, TD_GEN_CONE, 1000, 1000) == 0);
+    for (i = 0; i < t.lines->n; i++)
+        open += !t.lines->v[i].closed;
+    TT_CHECK(open >= 8);
+    label_cone_index(&t, 0, &a0);
+    w1 = label_cone_index(&t, 5, &a1);
+    TT_CHECKF(w1 == 0, "%zu of %zu lines wrong (%zu cut by the border)", w1,
+              t.lines->n, open);
+    TT_CHECKF(a1 < a0 / 4, "assumed: %zu with the widths, %zu without", a1,
+              a0);
+    free_truth(&t);
+}
+
 /* Correct known points never contradict: on the hills (a depression of
  * nested rings, a saddle, lines leaving the sheet), 40 random sets of 2-12
  * points on true lines all label, and each known line gets its height. */
@@ -566,6 +617,7 @@ int main(void)
 {
     TT_RUN(test_cone_one_point);
     TT_RUN(test_true_points_agree);
+    TT_RUN(test_index_decides);
     TT_RUN(test_hills_spot);
     TT_RUN(test_hills_mark);
     TT_RUN(test_hills_without_pit);

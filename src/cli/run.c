@@ -12,6 +12,7 @@
 #include "../../scanner/scan.h"
 
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -34,6 +35,8 @@ static const char help[] =
     "      --known X,Y,H     height H at scan pixel X,Y: a point on a line\n"
     "                        or a spot height (repeatable; at least one)\n"
     "      --depressions X,Y the ring around X,Y is a depression\n"
+    "      --index-every N   every Nth contour is drawn thicker: its width\n"
+    "                        decides the slopes the known points leave open\n"
     "      --ink KIND        dark | brown | R,G,B[:tol] (default dark)\n"
     "      --threshold T     otsu | sauvola | N (default otsu)\n"
     "      --method M        multidir (default) | scanline (the paper) |\n"
@@ -65,11 +68,13 @@ typedef struct run_opts {
     size_t nknown;
     double *dep;
     size_t ndep;
+    int index_every;
     td_scan_params sp;
     td_interp_params ip;
 } run_opts;
 
-enum { O_INTERVAL = 256, O_BASE, O_KNOWN, O_DEPR, O_INK, O_THR, O_PASS };
+enum { O_INTERVAL = 256, O_BASE, O_KNOWN, O_DEPR, O_INK, O_THR, O_PASS,
+       O_INDEX };
 
 static int parse_nums(const char *s, double *v, int n)
 {
@@ -124,6 +129,14 @@ static int parse_opt(int c, const char *name, const char *arg, run_opts *o,
     case O_INK: return td_binarise_parse_ink(arg, &o->sp.bin, cx);
     case O_THR: return td_binarise_parse_threshold(arg, &o->sp.bin, cx);
     case O_PASS: return td_interp_set(&o->ip, name, arg, cx);
+    case O_INDEX: {
+        double v;
+        if (td_cli_parse_double(arg, 2, 1000, &v) != 0 || v != floor(v))
+            return td_seterr(cx, TD_EINVAL, "--index-every: '%s' is not an "
+                             "integer in 2..1000", arg);
+        o->index_every = (int)v;
+        return 0;
+    }
     case O_INTERVAL:
     case O_BASE:
         if (td_cli_parse_double(arg, c == O_BASE ? -1e9 : 1e-9, 1e9,
@@ -141,6 +154,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         {"output", 1, 0, 'o'}, {"interval", 1, 0, O_INTERVAL},
         {"base", 1, 0, O_BASE}, {"known", 1, 0, O_KNOWN},
         {"depressions", 1, 0, O_DEPR}, {"ink", 1, 0, O_INK},
+        {"index-every", 1, 0, O_INDEX},
         {"threshold", 1, 0, O_THR}, {"method", 1, 0, O_PASS},
         {"step", 1, 0, O_PASS}, {"summit", 1, 0, O_PASS},
         {"peninsula", 1, 0, O_PASS}, {"weight", 1, 0, O_PASS},
@@ -231,6 +245,7 @@ static int do_label(const run_opts *o, run_state *s, td_ctx *cx)
     p.nknown = o->nknown;
     p.depressions = o->dep;
     p.ndepressions = o->ndep;
+    p.index_every = o->index_every;
     rc = td_label_auto(s->ls, &p, &rep, cx);
     td_label_report_free(&rep);
     if (rc != 0)
