@@ -85,6 +85,16 @@ static unsigned nbrs(const fgrid *g, size_t i, size_t j[8])
     return m;
 }
 
+/* As nbrs for a cell known to be off the grid edge (every valid cell that
+ * is not a flood seed, i.e. not ROOT): all 8 on the grid, no division. */
+static unsigned nbrs_in(const fgrid *g, size_t i, size_t j[8])
+{
+    int k;
+    for (k = 0; k < 8; k++)
+        j[k] = i + (size_t)g->off[k];
+    return 0xFFu;
+}
+
 static int is_valid(const fgrid *g, size_t i)
 {
     return (g->code[i] & 15) != NODATA;
@@ -154,6 +164,7 @@ typedef struct rheap {
 
 typedef struct flood {
     fgrid *g;
+    int dirs; /* D8: decide directions and upstream counts while flooding */
     rheap heap;
     u32vec fifo, stack;
     size_t fhead;
@@ -255,7 +266,7 @@ static int traceable(const fgrid *g, size_t i)
 {
     float z = g->dem[i];
     size_t j[8];
-    unsigned m = nbrs(g, i, j);
+    unsigned m = nbrs_in(g, i, j); /* i is reached, not a seed */
     int k;
     for (k = 0; k < 8; k++)
         if ((m >> k & 1) && g->code[j[k]] == UNSEEN && g->dem[j[k]] <= z)
@@ -263,19 +274,45 @@ static int traceable(const fgrid *g, size_t i)
     return 1;
 }
 
+/* Steepest descent (drop / distance) from c over the neighbour in slot k
+ * of jj: keeps the best in *best, *bs (d8 rule, first of equals). */
+static void d8_try(const fgrid *g, float zc, size_t j, int k, int *best,
+                   double *bs)
+{
+    double d = (double)zc - (double)g->z[j];
+    if (k & 1)
+        d *= INV_SQRT2;
+    if (d > *bs) {
+        *bs = d;
+        *best = k;
+    }
+}
+
 /* Reach the unseen neighbours of c.  in_order: c is at the lowest level of
- * the whole frontier, so lower neighbours drain through c (fill them). */
+ * the whole frontier, so lower neighbours drain through c (fill them).
+ * f->dirs (D8): every neighbour lower than c is already reached with its
+ * final level (the flood never reaches a cell below the level it pops),
+ * so c's steepest descent on the filled DEM is decided here, and its
+ * receiver's upstream count (high nibble) is raised. */
 static int flood_visit(flood *f, uint32_t c, int in_order)
 {
     fgrid *g = f->g;
     float zc = g->z[c];
     size_t jj[8], j;
-    unsigned m = nbrs(g, c, jj);
-    int k, rc = 0;
+    uint8_t cc = g->code[c];
+    unsigned m = (cc & 15) == ROOT ? nbrs(g, c, jj) : nbrs_in(g, c, jj);
+    int k, rc = 0, best = -1;
+    double bs = 0;
     for (k = 0; k < 8 && rc == 0; k++) {
+        uint8_t cj;
         j = jj[k];
-        if (!(m >> k & 1) || g->code[j] != UNSEEN)
+        if (!(m >> k & 1))
             continue;
+        if ((cj = g->code[j]) != UNSEEN) {
+            if (f->dirs && (cj & 15) != NODATA)
+                d8_try(g, zc, j, k, &best, &bs);
+            continue;
+        }
         g->code[j] = (uint8_t)((k + 4) & 7);
         if (in_order && g->dem[j] <= zc) {
             g->z[j] = zc;
@@ -287,35 +324,42 @@ static int flood_visit(flood *f, uint32_t c, int in_order)
                                  : heap_push(f, g->z[j], (uint32_t)j);
         }
     }
+    if (f->dirs && (cc & 15) != ROOT) {
+        if (best >= 0) /* else the flood-tree direction (a flat) */
+            g->code[c] = cc = (uint8_t)((cc & 0xF0) | best);
+        g->code[c + (size_t)g->off[cc & 15]] += 16;
+    }
     return rc;
 }
 
-/* Seeds: valid cells on the grid edge or next to nodata. */
-static int flood_seeds(flood *f)
+/* Seeds: valid cells on the grid edge or next to nodata (raster order). */
+static int flood_seeds(flood *f, int any_nodata)
 {
     fgrid *g = f->g;
     size_t i, j[8];
-    int k, rc = 0;
-    for (i = 0; i < g->n && rc == 0; i++) {
-        int seed = 0;
-        unsigned m;
-        if (g->code[i] == NODATA)
-            continue;
-        m = nbrs(g, i, j);
-        for (k = 0; k < 8 && !seed; k++)
-            seed = !(m >> k & 1) || g->code[j[k]] == NODATA;
-        if (!seed)
-            continue;
-        g->code[i] = ROOT;
-        g->z[i] = g->dem[i];
-        rc = heap_push(f, g->z[i], (uint32_t)i);
-    }
+    int x, y, k, rc = 0;
+    for (y = 0, i = 0; y < g->h && rc == 0; y++)
+        for (x = 0; x < g->w && rc == 0; x++, i++) {
+            int seed = x == 0 || y == 0 || x == g->w - 1 || y == g->h - 1;
+            if (g->code[i] == NODATA)
+                continue;
+            if (!seed && any_nodata) {
+                nbrs_in(g, i, j);
+                for (k = 0; k < 8 && !seed; k++)
+                    seed = g->code[j[k]] == NODATA;
+            }
+            if (!seed)
+                continue;
+            g->code[i] = ROOT;
+            g->z[i] = g->dem[i];
+            rc = heap_push(f, g->z[i], (uint32_t)i);
+        }
     return rc;
 }
 
 /* Fill g->z from g->dem; g->code: NODATA or UNSEEN on entry, flood-tree
  * directions on return.  Progress from p0 to p1. */
-static int flood_run(fgrid *g, double valid, double p0, double p1,
+static int flood_run(fgrid *g, int dirs, double valid, double p0, double p1,
                      td_flow_stats *st)
 {
     flood f;
@@ -323,7 +367,8 @@ static int flood_run(fgrid *g, double valid, double p0, double p1,
     int rc;
     memset(&f, 0, sizeof f);
     f.g = g;
-    rc = flood_seeds(&f);
+    f.dirs = dirs;
+    rc = flood_seeds(&f, valid < (double)g->n);
     while (rc == 0) {
         uint32_t c;
         int in_order = 1;
@@ -370,7 +415,7 @@ int td_flow_fill(const td_grid_f32 *dem, td_grid_f32 *filled, td_ctx *cx)
     size_t i;
     int rc = fgrid_init(&g, dem, filled, UNSEEN, &valid, cx);
     if (rc == 0)
-        rc = flood_run(&g, valid, 0.0, 1.0, NULL);
+        rc = flood_run(&g, 0, valid, 0.0, 1.0, NULL);
     if (rc == 0)
         for (i = 0; i < g.n; i++)
             if (g.code[i] == NODATA)
@@ -382,37 +427,10 @@ int td_flow_fill(const td_grid_f32 *dem, td_grid_f32 *filled, td_ctx *cx)
 /* ---- D8 -----------------------------------------------------------------
  * Seeds (edge cells, cells next to nodata) are outlets (ROOT): their water
  * leaves the grid.  Other cells: steepest descent (drop / distance) on the
- * filled DEM; a cell with no lower neighbour keeps its flood-tree direction
- * (filled pits and flats drain towards their spill point).  Every edge goes
- * strictly down or along the flood tree, so the graph has no cycles. */
-static void d8_dirs(fgrid *g)
-{
-    size_t i, j[8];
-    int k;
-    for (i = 0; i < g->n; i++) {
-        int best = -1;
-        double bs = 0;
-        unsigned m;
-        if ((g->code[i] & 15) >= ROOT) /* nodata, or an outlet */
-            continue;
-        m = nbrs(g, i, j);
-        for (k = 0; k < 8; k++) {
-            double d;
-            if (!(m >> k & 1) || !is_valid(g, j[k]))
-                continue;
-            d = (double)g->z[i] - (double)g->z[j[k]];
-            if (k & 1)
-                d *= INV_SQRT2;
-            if (d > bs) {
-                bs = d;
-                best = k;
-            }
-        }
-        if (best >= 0)
-            g->code[i] = (uint8_t)best;
-    }
-}
-
+ * filled DEM, decided while flooding (flood_visit); a cell with no lower
+ * neighbour keeps its flood-tree direction (filled pits and flats drain
+ * towards their spill point).  Every edge goes strictly down or along the
+ * flood tree, so the graph has no cycles. */
 /* D8 counts are uint32 stored in the float buffer g->z (after the filled
  * heights are no longer needed); memcpy keeps that free of aliasing. */
 static uint32_t getu(const fgrid *g, size_t i)
@@ -455,13 +473,8 @@ static int d8_accumulate(fgrid *g, double valid, td_flow_stats *st)
 {
     size_t i;
     double done = 0;
-    for (i = 0; i < g->n; i++)
+    for (i = 0; i < g->n; i++) /* upstream counts are in code already */
         setu(g, i, is_valid(g, i) ? 1u : 0u);
-    for (i = 0; i < g->n; i++) {
-        int k = g->code[i] & 15;
-        if (k < 8)
-            g->code[i + (size_t)g->off[k]] += 16;
-    }
     for (i = 0; i < g->n; i++) {
         uint8_t c = g->code[i];
         if ((c & 15) <= ROOT && (c >> 4) == 0)
@@ -495,7 +508,7 @@ static int dinf_recv(const fgrid *g, size_t i, size_t r[2], double fr[2])
     unsigned m;
     if (k == ROOT)
         return 0;
-    m = nbrs(g, i, nb);
+    m = nbrs_in(g, i, nb); /* not ROOT: off the edge */
     for (j = 0; j < 8; j++) {
         double s1, s2, s;
         n1 = nb[FCARD[j]];
@@ -708,11 +721,12 @@ int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
     if (p->method == TD_FLOW_SOBEL) {
         long ms = p->max_steps ? p->max_steps : 4L * (g.w + g.h);
         rc = sobel_run(&g, ms, &s);
-    } else if ((rc = flood_run(&g, s.cells, 0.0, 0.6, &s)) == 0) {
-        if (p->method == TD_FLOW_D8) {
-            d8_dirs(&g);
+    } else if ((rc = flood_run(&g, p->method == TD_FLOW_D8, s.cells, 0.0,
+                               p->method == TD_FLOW_D8 ? 0.8 : 0.6,
+                               &s)) == 0) {
+        if (p->method == TD_FLOW_D8)
             rc = d8_accumulate(&g, s.cells, &s);
-        } else if ((acc = td_malloc(g.n * sizeof *acc, cx)) == NULL)
+        else if ((acc = td_malloc(g.n * sizeof *acc, cx)) == NULL)
             rc = TD_ENOMEM;
         else
             rc = dinf_accumulate(&g, acc, s.cells, &s);
