@@ -24,7 +24,7 @@
 #include <omp.h>
 #include <string.h>
 
-#define ER_CHUNK 512 /* cells per work item of a thread */
+#define ER_CHUNK 4096 /* cells per work item of a thread */
 
 static const int nb_dx[8] = {1, 1, 0, -1, -1, -1, 0, 1};
 static const int nb_dy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
@@ -108,140 +108,229 @@ void er_surface(er_state *s, const td_erode_params *p)
     }
 }
 
-typedef struct particle {
-    double x, y, vx, vy, vz;
-    double sp;  /* |v|, the speed after the last move */
-    double hsp; /* |horizontal part of v| */
-    size_t c;   /* cell the particle is in */
-    int k;      /* moves made */
-} particle;
+/* The particles in flight, ER_LANES at a time, as structure of arrays:
+ * one move of every lane is a few loops over the lanes without branches
+ * (the roots and divisions run as vector instructions), with the memory
+ * look-ups of each lane (its cell, the cell it lands in) and the sums into
+ * acc in plain per-lane loops around them.  Lanes do not interact, and the
+ * sums are integers, so the grouping changes no result. */
+#define ER_LANES 16
+#define ER_ALIGN _Alignas(64)
+#if defined(__GNUC__)
+#define TD_NOINLINE __attribute__((noinline)) /* its loop on its own */
+#else
+#define TD_NOINLINE
+#endif
 
-/* Friction, tangent projection and collision at the particle's new cell
- * for the updated velocity u; returns the collision energy (0 if none).
- * |v'| = (u . t) for the unit tangent t, so the new speeds need no root. */
-static double project(particle *q, const er_surf *g, double ux, double uy,
-                      double uz, const td_erode_params *p)
-{
-    double sp = sqrt(ux * ux + uy * uy + uz * uz), hs, ih, dx, dy, sl, inv;
-    double dot;
-    double v0 = q->sp, dv;
-    if (sp > 0) {
-        double f = p->alpha + (1 - p->alpha) *
-                                  (1 - exp(-p->beta * p->water * sp));
-        ux *= f, uy *= f, uz *= f, sp *= f;
-    }
-    hs = sqrt(ux * ux + uy * uy);
-    q->vx = q->vy = q->vz = q->sp = q->hsp = 0;
-    if (hs <= 0)
-        return 0; /* nothing horizontal left: the particle rests */
-    ih = 1.0 / hs;
-    dx = ux * ih, dy = uy * ih;
-    sl = g->gx * dx + g->gy * dy;
-    inv = 1.0 / sqrt(1.0 + sl * sl);
-    dot = (ux * dx + uy * dy + uz * sl) * inv;
-    if (dot > 0) {
-        q->sp = dot;
-        q->hsp = dot * inv;
-        q->vx = q->hsp * dx;
-        q->vy = q->hsp * dy;
-        q->vz = dot * sl * inv;
-    } else {
-        dot = 0; /* head-on into the surface: all speed lost */
-    }
-    if (v0 <= 0 || !(sl * inv * sp > uz + 1e-9 * sp || dot == 0))
-        return 0; /* v' not more upward than v(t): no collision */
-    dv = sp - dot;
-    return 0.5 * p->water * dv * dv;
-}
+typedef struct lanes {
+    ER_ALIGN double x[ER_LANES], y[ER_LANES]; /* position, cells */
+    ER_ALIGN double vx[ER_LANES], vy[ER_LANES], vz[ER_LANES];
+    ER_ALIGN double sp[ER_LANES];  /* |v|, the speed after the last move */
+    ER_ALIGN double hsp[ER_LANES]; /* |horizontal part of v| */
+    /* this move: acceleration of the cell left, gradient of the cell
+     * entered, the friction exponent then exp() of it, the energy */
+    ER_ALIGN double ax[ER_LANES], ay[ER_LANES], az[ER_LANES];
+    ER_ALIGN double gx[ER_LANES], gy[ER_LANES], ex[ER_LANES], e[ER_LANES];
+    size_t c[ER_LANES]; /* cell the particle is in */
+    int k[ER_LANES];    /* moves made */
+    int mode[ER_LANES]; /* this move: LN_IDLE, LN_MOVE, LN_WALL */
+    int live[ER_LANES];
+} lanes;
 
-enum { MV_GO = 0, MV_STOP = 1, MV_DRAIN = 2 };
+enum { LN_IDLE = 0, LN_MOVE = 1, LN_WALL = 2 };
 
-/* One move (one dt) of particle q: x += v dt, v += a dt, then friction,
- * projection and collision in the cell it lands in; the visit is added to
- * acc.  MV_STOP when it rests where no neighbour is lower or has made
- * max_moves moves, MV_DRAIN when it left the grid over an open edge. */
-static int move(const er_state *s, const td_erode_params *p, particle *q,
-                er_acc *acc, double dtc, double vstop2, int max_moves)
-{
-    const er_surf *f = &s->surf[q->c];
-    double nx = q->x + q->vx * dtc, ny = q->y + q->vy * dtc, e;
-    long ix, iy;
-    if (q->k >= max_moves)
-        return MV_STOP;
-    if (f->ax == 0 && f->ay == 0 && q->hsp * q->hsp < vstop2)
-        return MV_STOP; /* at rest where no neighbour is lower */
-    q->k++;
-    ix = nx > -0.5 ? (long)(nx + 0.5) : -1; /* nearest cell, no floor() */
-    iy = ny > -0.5 ? (long)(ny + 0.5) : -1;
-    if (ix < 0 || iy < 0 || ix >= s->w || iy >= s->h) {
-        if (!p->closed_edges)
-            return MV_DRAIN;
-        ix = -1;
-    } else if (s->surf[(size_t)iy * s->w + ix].wall) {
-        ix = -1;
-    }
-    if (ix < 0) { /* against a wall: stop there, gravity acts again */
-        q->vx = q->vy = q->vz = q->sp = q->hsp = 0;
-    } else {
-        double ux = q->vx + f->ax * p->dt, uy = q->vy + f->ay * p->dt,
-               uz = q->vz + f->az * p->dt;
-        q->x = nx, q->y = ny;
-        q->c = (size_t)iy * s->w + ix;
-        e = project(q, &s->surf[q->c], ux, uy, uz, p);
-        if (e > 0)
-            acc[q->c].e += (int64_t)(e * ER_FX);
-    }
-    acc[q->c].n++;
-    acc[q->c].vx += (int64_t)(q->vx * ER_FX);
-    acc[q->c].vy += (int64_t)(q->vy * ER_FX);
-    acc[q->c].sp += (int64_t)(q->hsp * ER_FX);
-    return MV_GO;
-}
-
-/* Start the particle of the next non-wall cell of [*next, end) in q;
+/* Start the particle of the next non-wall cell of [*next, end) in lane l;
  * 0 when the range is used up. */
-static int launch(const er_state *s, particle *q, long *next, long end,
+static int launch(const er_state *s, lanes *q, int l, long *next, long end,
                   er_acc *acc)
 {
     while (*next < end && s->wall[*next])
         (*next)++;
     if (*next >= end)
-        return 0;
-    memset(q, 0, sizeof *q);
-    q->c = (size_t)*next;
-    q->x = (double)(q->c % s->w);
-    q->y = (double)(q->c / s->w);
-    acc[q->c].n++;
+        return q->live[l] = 0;
+    q->c[l] = (size_t)*next;
+    q->x[l] = (double)(q->c[l] % s->w);
+    q->y[l] = (double)(q->c[l] / s->w);
+    q->vx[l] = q->vy[l] = q->vz[l] = q->sp[l] = q->hsp[l] = 0;
+    q->k[l] = 0;
+    acc[q->c[l]].n++;
     (*next)++;
-    return 1;
+    return q->live[l] = 1;
 }
 
-/* Trace the particles of cells [lo, hi) ER_LANES at a time, one move of
- * each in turn: the moves of different particles do not depend on each
- * other, so the processor overlaps their long chains of roots, exp and
- * divisions.  Adds the moves and drained particles to *mv, *dr. */
-#define ER_LANES 4
+typedef struct tracer {
+    const er_state *s;
+    const td_erode_params *p;
+    er_acc *acc;
+    double dtc, vstop2;
+    int max_moves;
+    long next, end;
+    int64_t mv, dr;
+} tracer;
+
+/* The start of one move for every live lane (x += v dt, the cell landed
+ * in, walls and edges): LN_MOVE with the inputs of the velocity update
+ * gathered, LN_WALL (stopped against a wall or closed edge), or LN_IDLE
+ * when the particle stopped (rest, max_moves) or drained; a stopped lane
+ * gets the next particle, which moves from the next round. */
+static void lanes_start(tracer *t, lanes *q)
+{
+    const er_state *s = t->s;
+    int l;
+    for (l = 0; l < ER_LANES; l++) {
+        const er_surf *f = &s->surf[q->c[l]];
+        double nx, ny;
+        long ix, iy;
+        int drain = 0;
+        q->mode[l] = LN_IDLE;
+        if (!q->live[l])
+            continue;
+        nx = q->x[l] + q->vx[l] * t->dtc;
+        ny = q->y[l] + q->vy[l] * t->dtc;
+        if (q->k[l] >= t->max_moves ||
+            (f->ax == 0 && f->ay == 0 && q->hsp[l] * q->hsp[l] < t->vstop2))
+            goto stop; /* at rest where no neighbour is lower */
+        q->k[l]++;
+        ix = nx > -0.5 ? (long)(nx + 0.5) : -1; /* nearest cell */
+        iy = ny > -0.5 ? (long)(ny + 0.5) : -1;
+        if (ix < 0 || iy < 0 || ix >= s->w || iy >= s->h) {
+            if (!t->p->closed_edges) {
+                drain = 1;
+                goto stop;
+            }
+            ix = -1;
+        } else if (s->surf[(size_t)iy * s->w + ix].wall) {
+            ix = -1;
+        }
+        if (ix < 0) { /* against a wall: stop there, gravity acts again */
+            q->vx[l] = q->vy[l] = q->vz[l] = q->sp[l] = q->hsp[l] = 0;
+            q->e[l] = 0;
+            q->mode[l] = LN_WALL;
+            continue;
+        }
+        q->ax[l] = f->ax, q->ay[l] = f->ay, q->az[l] = f->az;
+        q->x[l] = nx, q->y[l] = ny;
+        q->c[l] = (size_t)iy * s->w + ix;
+        f = &s->surf[q->c[l]];
+        q->gx[l] = f->gx, q->gy[l] = f->gy;
+        q->mode[l] = LN_MOVE;
+        continue;
+    stop:
+        t->mv += q->k[l];
+        t->dr += drain;
+        launch(s, q, l, &t->next, t->end, t->acc);
+    }
+}
+
+/* v += a dt and the friction exponent -beta w |v| of every lane. */
+static TD_NOINLINE void lanes_accel(const tracer *t, lanes *q)
+{
+    const double dt = t->p->dt, bw = -t->p->beta * t->p->water;
+    int l;
+#pragma omp simd
+    for (l = 0; l < ER_LANES; l++) {
+        double ux = q->vx[l] + q->ax[l] * dt, uy = q->vy[l] + q->ay[l] * dt,
+               uz = q->vz[l] + q->az[l] * dt;
+        q->ax[l] = ux, q->ay[l] = uy, q->az[l] = uz; /* now u */
+        q->e[l] = sqrt(ux * ux + uy * uy + uz * uz);  /* |u| */
+        q->ex[l] = bw * q->e[l];
+    }
+}
+
+/* Friction, tangent projection and collision at the cell entered, for
+ * u = (ax, ay, az) and |u| = e; energy into e (0 if none).  |v'| = (u . t)
+ * for the unit tangent t, so the new speeds need no root.  Branch-free: a
+ * lane where nothing horizontal is left (hs = 0) rests (v = 0, e = 0);
+ * head-on into the surface (u . t <= 0) all speed is lost. */
+static TD_NOINLINE void lanes_project(const tracer *t, lanes *q)
+{
+    const double alpha = t->p->alpha, water = t->p->water;
+    int l;
+#pragma omp simd
+    for (l = 0; l < ER_LANES; l++) {
+        double ux = q->ax[l], uy = q->ay[l], uz = q->az[l], sp = q->e[l];
+        double fr = alpha + (1 - alpha) * (1 - q->ex[l]);
+        double f = sp > 0 ? fr : 1.0;
+        double hs, ih, dx, dy, sl, inv, dot, hsp, dv, e, vx, vy, vz;
+        const double one = 1.0, zero = 0.0;
+        /* every value computed, then selected with ?: on doubles: no
+         * branches and no trapping operation under a condition, so the
+         * loop vectorises; hs > 0 and dot > 0 as in the scalar form */
+        ux *= f, uy *= f, uz *= f, sp *= f;
+        hs = sqrt(ux * ux + uy * uy);
+        ih = one / (hs > 0 ? hs : one);
+        dx = ux * ih, dy = uy * ih;
+        sl = q->gx[l] * dx + q->gy[l] * dy;
+        inv = one / sqrt(one + sl * sl);
+        dot = (ux * dx + uy * dy + uz * sl) * inv;
+        hsp = dot * inv;
+        vx = hsp * dx, vy = hsp * dy, vz = dot * sl * inv;
+        dv = sp - (dot > 0 ? dot : zero);
+        e = 0.5 * water * dv * dv;
+        e = sl * inv * sp > uz + 1e-9 * sp ? e : dot > 0 ? zero : e;
+        e = q->sp[l] > 0 ? e : zero; /* v(t) = 0: no collision */
+        q->e[l] = hs > 0 ? e : zero;
+        q->sp[l] = hs > 0 ? (dot > 0 ? dot : zero) : zero;
+        q->hsp[l] = hs > 0 ? (dot > 0 ? hsp : zero) : zero;
+        q->vx[l] = hs > 0 ? (dot > 0 ? vx : zero) : zero;
+        q->vy[l] = hs > 0 ? (dot > 0 ? vy : zero) : zero;
+        q->vz[l] = hs > 0 ? (dot > 0 ? vz : zero) : zero;
+    }
+}
+
+/* Every visit into the tracing thread's sums. */
+static void lanes_gather(tracer *t, const lanes *q)
+{
+    int l;
+    for (l = 0; l < ER_LANES; l++) {
+        er_acc *a;
+        if (q->mode[l] == LN_IDLE)
+            continue;
+        a = &t->acc[q->c[l]];
+        if (q->e[l] > 0)
+            a->e += (int64_t)(q->e[l] * ER_FX);
+        a->n++;
+        a->vx += (int64_t)(q->vx[l] * ER_FX);
+        a->vy += (int64_t)(q->vy[l] * ER_FX);
+        a->sp += (int64_t)(q->hsp[l] * ER_FX);
+    }
+}
+
+/* Trace the particles of cells [lo, hi), ER_LANES at a time, one move of
+ * each lane per round, until every particle has stopped or drained.  Adds
+ * the moves and drained particles to *mv, *dr. */
 static void trace_range(const er_state *s, const td_erode_params *p,
                         long lo, long hi, int max_moves, er_acc *acc,
                         int64_t *mv, int64_t *dr)
 {
-    particle q[ER_LANES];
-    int live[ER_LANES], l, nlive = 0;
-    double dtc = p->dt / p->cell, vstop2 = p->v_stop * p->v_stop;
-    long next = lo;
+    static const lanes zero;
+    lanes q = zero;
+    tracer t;
+    int l, nlive = 0;
+    t.s = s, t.p = p, t.acc = acc;
+    t.dtc = p->dt / p->cell;
+    t.vstop2 = p->v_stop * p->v_stop;
+    t.max_moves = max_moves;
+    t.next = lo, t.end = hi;
+    t.mv = t.dr = 0;
     for (l = 0; l < ER_LANES; l++)
-        nlive += live[l] = launch(s, &q[l], &next, hi, acc);
-    while (nlive > 0)
-        for (l = 0; l < ER_LANES; l++) {
-            int r;
-            if (!live[l] || (r = move(s, p, &q[l], acc, dtc, vstop2,
-                                      max_moves)) == MV_GO)
-                continue;
-            *mv += q[l].k;
-            *dr += r == MV_DRAIN;
-            if (!(live[l] = launch(s, &q[l], &next, hi, acc)))
-                nlive--;
-        }
+        nlive += launch(s, &q, l, &t.next, hi, acc);
+    while (nlive > 0) {
+        lanes_start(&t, &q);
+        lanes_accel(&t, &q);
+        for (l = 0; l < ER_LANES; l++) /* glibc's exp: the same bits as */
+            if (q.mode[l] == LN_MOVE)  /* one particle at a time */
+                q.ex[l] = exp(q.ex[l]);
+        for (l = 0; l < ER_LANES; l++) /* LN_WALL lanes keep v = 0 */
+            if (q.mode[l] != LN_MOVE)
+                q.ax[l] = q.ay[l] = q.az[l] = q.e[l] = q.ex[l] = 0;
+        lanes_project(&t, &q);
+        lanes_gather(&t, &q);
+        for (nlive = 0, l = 0; l < ER_LANES; l++)
+            nlive += q.live[l];
+    }
+    *mv += t.mv;
+    *dr += t.dr;
 }
 
 /* Add every thread's accumulator into acc[0..n), over cells in parallel. */
