@@ -45,9 +45,10 @@ $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
 
-# The particle lanes' roots and divisions as vector instructions (sqrt sets
-# no errno there; nothing reads it).
-$(BUILD)/src/erode_flow.o: CFLAGS += -fno-math-errno
+# The particle lanes' arithmetic as vector instructions at any -O level:
+# sqrt need not set errno (nothing reads it) and, with no FP traps enabled,
+# both arms of a ?: may be computed.  Neither changes a value.
+$(BUILD)/src/erode_flow.o: CFLAGS += -fno-math-errno -fno-trapping-math
 
 $(BUILD)/%.o: %.cpp
 	@mkdir -p $(dir $@)

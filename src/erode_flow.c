@@ -127,10 +127,10 @@ typedef struct lanes {
     ER_ALIGN double vx[ER_LANES], vy[ER_LANES], vz[ER_LANES];
     ER_ALIGN double sp[ER_LANES];  /* |v|, the speed after the last move */
     ER_ALIGN double hsp[ER_LANES]; /* |horizontal part of v| */
-    /* this move: acceleration of the cell left, gradient of the cell
-     * entered, the friction exponent then exp() of it, the energy */
+    /* this move: acceleration of the cell left (0 unless moving), gradient
+     * of the cell entered, collision energy */
     ER_ALIGN double ax[ER_LANES], ay[ER_LANES], az[ER_LANES];
-    ER_ALIGN double gx[ER_LANES], gy[ER_LANES], ex[ER_LANES], e[ER_LANES];
+    ER_ALIGN double gx[ER_LANES], gy[ER_LANES], e[ER_LANES];
     size_t c[ER_LANES]; /* cell the particle is in */
     int k[ER_LANES];    /* moves made */
     int mode[ER_LANES]; /* this move: LN_IDLE, LN_MOVE, LN_WALL */
@@ -183,6 +183,7 @@ static void lanes_start(tracer *t, lanes *q)
         long ix, iy;
         int drain = 0;
         q->mode[l] = LN_IDLE;
+        q->ax[l] = q->ay[l] = q->az[l] = 0;
         if (!q->live[l])
             continue;
         nx = q->x[l] + q->vx[l] * t->dtc;
@@ -222,34 +223,62 @@ static void lanes_start(tracer *t, lanes *q)
     }
 }
 
-/* v += a dt and the friction exponent -beta w |v| of every lane. */
-static TD_NOINLINE void lanes_accel(const tracer *t, lanes *q)
+/* exp(x) for the friction, on its own so that a loop over lanes can
+ * vectorise it: x clamped to [-40, 0] (below -40, 1 - exp(x) is 1 in
+ * double anyway), x = k ln 2 + r with |r| <= ln 2 / 2 (Cody-Waite, two-part
+ * ln 2), exp(r) by its Taylor series to r^13 (error below 2e-16), 2^k
+ * put into the exponent bits.  Within 1 ulp or so of glibc's exp; the same
+ * bits on every machine (plain IEEE operations, no fused multiply-add in
+ * ISO C mode). */
+static double er_exp(double x)
 {
-    const double dt = t->p->dt, bw = -t->p->beta * t->p->water;
+    const double ln2hi = 6.93147180369123816490e-01;
+    const double ln2lo = 1.90821492927058770002e-10;
+    const double rnd = 6755399441055744.0; /* 1.5 * 2^52 */
+    double t, kd, r, p;
+    int64_t bits;
+    x = x < -40.0 ? -40.0 : x > 0.0 ? 0.0 : x;
+    t = x * 1.44269504088896338700e+00 + rnd; /* k in the low bits */
+    kd = t - rnd;                              /* k = round(x / ln 2) */
+    r = (x - kd * ln2hi) - kd * ln2lo;
+    p = 1.0 / 6227020800.0;
+    p = 1.0 / 479001600.0 + r * p;
+    p = 1.0 / 39916800.0 + r * p;
+    p = 1.0 / 3628800.0 + r * p;
+    p = 1.0 / 362880.0 + r * p;
+    p = 1.0 / 40320.0 + r * p;
+    p = 1.0 / 5040.0 + r * p;
+    p = 1.0 / 720.0 + r * p;
+    p = 1.0 / 120.0 + r * p;
+    p = 1.0 / 24.0 + r * p;
+    p = 1.0 / 6.0 + r * p;
+    p = 0.5 + r * p;
+    p = 1.0 + r * p;
+    p = 1.0 + r * p;
+    memcpy(&bits, &t, sizeof bits); /* 0x4338... + k, k in [-58, 0] */
+    bits = (int64_t)((uint64_t)(bits + 1023) << 52);
+    memcpy(&t, &bits, sizeof t); /* 2^k */
+    return p * t;
+}
+
+/* One move's physics for every lane, for the acceleration a = (ax, ay,
+ * az) of the cell left and the gradient (gx, gy) of the cell entered:
+ * u = v + a dt, friction, tangent projection and collision; the energy
+ * into e (0 if none).  |v'| = (u . t) for the unit tangent t, so the new
+ * speeds need no root.  A lane where nothing horizontal is left (hs = 0)
+ * rests (v = 0, e = 0); head-on into the surface (u . t <= 0) all speed
+ * is lost.  Lanes not moving have a = v = 0 and so end at rest. */
+static TD_NOINLINE void lanes_move(const tracer *t, lanes *q)
+{
+    const double alpha = t->p->alpha, water = t->p->water, dt = t->p->dt;
+    const double bw = -t->p->beta * t->p->water;
     int l;
 #pragma omp simd
     for (l = 0; l < ER_LANES; l++) {
         double ux = q->vx[l] + q->ax[l] * dt, uy = q->vy[l] + q->ay[l] * dt,
                uz = q->vz[l] + q->az[l] * dt;
-        q->ax[l] = ux, q->ay[l] = uy, q->az[l] = uz; /* now u */
-        q->e[l] = sqrt(ux * ux + uy * uy + uz * uz);  /* |u| */
-        q->ex[l] = bw * q->e[l];
-    }
-}
-
-/* Friction, tangent projection and collision at the cell entered, for
- * u = (ax, ay, az) and |u| = e; energy into e (0 if none).  |v'| = (u . t)
- * for the unit tangent t, so the new speeds need no root.  Branch-free: a
- * lane where nothing horizontal is left (hs = 0) rests (v = 0, e = 0);
- * head-on into the surface (u . t <= 0) all speed is lost. */
-static TD_NOINLINE void lanes_project(const tracer *t, lanes *q)
-{
-    const double alpha = t->p->alpha, water = t->p->water;
-    int l;
-#pragma omp simd
-    for (l = 0; l < ER_LANES; l++) {
-        double ux = q->ax[l], uy = q->ay[l], uz = q->az[l], sp = q->e[l];
-        double fr = alpha + (1 - alpha) * (1 - q->ex[l]);
+        double sp = sqrt(ux * ux + uy * uy + uz * uz);
+        double fr = alpha + (1 - alpha) * (1 - er_exp(bw * sp));
         double f = sp > 0 ? fr : 1.0;
         double hs, ih, dx, dy, sl, inv, dot, hsp, dv, e, vx, vy, vz;
         const double one = 1.0, zero = 0.0;
@@ -317,14 +346,7 @@ static void trace_range(const er_state *s, const td_erode_params *p,
         nlive += launch(s, &q, l, &t.next, hi, acc);
     while (nlive > 0) {
         lanes_start(&t, &q);
-        lanes_accel(&t, &q);
-        for (l = 0; l < ER_LANES; l++) /* glibc's exp: the same bits as */
-            if (q.mode[l] == LN_MOVE)  /* one particle at a time */
-                q.ex[l] = exp(q.ex[l]);
-        for (l = 0; l < ER_LANES; l++) /* LN_WALL lanes keep v = 0 */
-            if (q.mode[l] != LN_MOVE)
-                q.ax[l] = q.ay[l] = q.az[l] = q.e[l] = q.ex[l] = 0;
-        lanes_project(&t, &q);
+        lanes_move(&t, &q);
         lanes_gather(&t, &q);
         for (nlive = 0, l = 0; l < ER_LANES; l++)
             nlive += q.live[l];
