@@ -114,7 +114,7 @@ void er_surface(er_state *s, const td_erode_params *p)
  * look-ups of each lane (its cell, the cell it lands in) and the sums into
  * acc in plain per-lane loops around them.  Lanes do not interact, and the
  * sums are integers, so the grouping changes no result. */
-#define ER_LANES 16
+#define ER_LANES 32
 #define ER_ALIGN _Alignas(64)
 #if defined(__GNUC__)
 #define TD_NOINLINE __attribute__((noinline)) /* its loop on its own */
@@ -127,14 +127,18 @@ typedef struct lanes {
     ER_ALIGN double vx[ER_LANES], vy[ER_LANES], vz[ER_LANES];
     ER_ALIGN double sp[ER_LANES];  /* |v|, the speed after the last move */
     ER_ALIGN double hsp[ER_LANES]; /* |horizontal part of v| */
-    /* this move: acceleration of the cell left (0 unless moving), gradient
-     * of the cell entered, collision energy */
+    ER_ALIGN double cax[ER_LANES], cay[ER_LANES], caz[ER_LANES]; /* a of c */
+    /* this move: where it lands, the acceleration of the cell left (0
+     * unless moving), the gradient of the cell entered, the energy */
+    ER_ALIGN double nx[ER_LANES], ny[ER_LANES];
     ER_ALIGN double ax[ER_LANES], ay[ER_LANES], az[ER_LANES];
     ER_ALIGN double gx[ER_LANES], gy[ER_LANES], e[ER_LANES];
-    size_t c[ER_LANES]; /* cell the particle is in */
-    int k[ER_LANES];    /* moves made */
-    int mode[ER_LANES]; /* this move: LN_IDLE, LN_MOVE, LN_WALL */
-    int live[ER_LANES];
+    ER_ALIGN int32_t c[ER_LANES]; /* cell the particle is in */
+    ER_ALIGN int32_t to[ER_LANES]; /* cell it lands in, -1 off the grid */
+    ER_ALIGN int32_t k[ER_LANES];  /* moves made */
+    ER_ALIGN int32_t done[ER_LANES]; /* max_moves made, or at rest */
+    int32_t mode[ER_LANES];        /* this move: LN_IDLE, LN_MOVE, LN_WALL */
+    int32_t live[ER_LANES];
 } lanes;
 
 enum { LN_IDLE = 0, LN_MOVE = 1, LN_WALL = 2 };
@@ -144,16 +148,19 @@ enum { LN_IDLE = 0, LN_MOVE = 1, LN_WALL = 2 };
 static int launch(const er_state *s, lanes *q, int l, long *next, long end,
                   er_acc *acc)
 {
+    const er_surf *f;
     while (*next < end && s->wall[*next])
         (*next)++;
     if (*next >= end)
         return q->live[l] = 0;
-    q->c[l] = (size_t)*next;
-    q->x[l] = (double)(q->c[l] % s->w);
-    q->y[l] = (double)(q->c[l] / s->w);
+    q->c[l] = (int32_t)*next;
+    q->x[l] = (double)(*next % s->w);
+    q->y[l] = (double)(*next / s->w);
     q->vx[l] = q->vy[l] = q->vz[l] = q->sp[l] = q->hsp[l] = 0;
+    f = &s->surf[*next];
+    q->cax[l] = f->ax, q->cay[l] = f->ay, q->caz[l] = f->az;
     q->k[l] = 0;
-    acc[q->c[l]].n++;
+    acc[*next].n++;
     (*next)++;
     return q->live[l] = 1;
 }
@@ -168,59 +175,83 @@ typedef struct tracer {
     int64_t mv, dr;
 } tracer;
 
-/* The start of one move for every live lane (x += v dt, the cell landed
- * in, walls and edges): LN_MOVE with the inputs of the velocity update
- * gathered, LN_WALL (stopped against a wall or closed edge), or LN_IDLE
- * when the particle stopped (rest, max_moves) or drained; a stopped lane
- * gets the next particle, which moves from the next round. */
-static void lanes_start(tracer *t, lanes *q)
+/* Where every lane lands with x += v dt: its nearest cell `to` (-1 off the
+ * grid: (int)(x + 0.5) is taken only inside it), and whether the particle
+ * is done (max_moves made, or at rest where no neighbour is lower).  No
+ * branches: it vectorises. */
+static TD_NOINLINE void lanes_aim(const tracer *t, lanes *q)
+{
+    const double dtc = t->dtc, vstop2 = t->vstop2;
+    const double w = t->s->w, h = t->s->h;
+    const int32_t iw = t->s->w, maxm = t->max_moves;
+    int l;
+#pragma omp simd
+    for (l = 0; l < ER_LANES; l++) {
+        double nx = q->x[l] + q->vx[l] * dtc, ny = q->y[l] + q->vy[l] * dtc;
+        double rx = nx + 0.5, ry = ny + 0.5; /* nearest cell, no floor() */
+        int in = (nx > -0.5) & (ny > -0.5) & (rx < w) & (ry < h);
+        int32_t ix = (int32_t)(in ? rx : 0.0), iy = (int32_t)(in ? ry : 0.0);
+        q->nx[l] = nx, q->ny[l] = ny;
+        q->to[l] = in ? iy * iw + ix : -1;
+        q->done[l] = (q->k[l] >= maxm) |
+                     ((q->cax[l] == 0) & (q->cay[l] == 0) &
+                      (q->hsp[l] * q->hsp[l] < vstop2));
+    }
+}
+
+/* Per lane: the sums of its last move into the tracing thread's
+ * accumulator, then the start of the next: LN_MOVE with a and the
+ * gradient of the cell entered gathered, LN_WALL (stopped against a wall
+ * or closed edge: v = 0 there, gravity acts again), or LN_IDLE when the
+ * particle stopped or drained; a stopped lane gets the next particle,
+ * which moves from the next round.  Returns the lanes still live. */
+static int lanes_step(tracer *t, lanes *q)
 {
     const er_state *s = t->s;
-    int l;
+    int l, nlive = 0;
     for (l = 0; l < ER_LANES; l++) {
-        const er_surf *f = &s->surf[q->c[l]];
-        double nx, ny;
-        long ix, iy;
-        int drain = 0;
+        const er_surf *f;
+        int32_t to;
+        if (q->mode[l] != LN_IDLE) {
+            er_acc *a = &t->acc[q->c[l]];
+            if (q->e[l] > 0)
+                a->e += (int64_t)(q->e[l] * ER_FX);
+            a->n++;
+            a->vx += (int64_t)(q->vx[l] * ER_FX);
+            a->vy += (int64_t)(q->vy[l] * ER_FX);
+            a->sp += (int64_t)(q->hsp[l] * ER_FX);
+        }
         q->mode[l] = LN_IDLE;
         q->ax[l] = q->ay[l] = q->az[l] = 0;
         if (!q->live[l])
             continue;
-        nx = q->x[l] + q->vx[l] * t->dtc;
-        ny = q->y[l] + q->vy[l] * t->dtc;
-        if (q->k[l] >= t->max_moves ||
-            (f->ax == 0 && f->ay == 0 && q->hsp[l] * q->hsp[l] < t->vstop2))
-            goto stop; /* at rest where no neighbour is lower */
+        if (q->done[l])
+            goto stop;
         q->k[l]++;
-        ix = nx > -0.5 ? (long)(nx + 0.5) : -1; /* nearest cell */
-        iy = ny > -0.5 ? (long)(ny + 0.5) : -1;
-        if (ix < 0 || iy < 0 || ix >= s->w || iy >= s->h) {
-            if (!t->p->closed_edges) {
-                drain = 1;
-                goto stop;
-            }
-            ix = -1;
-        } else if (s->surf[(size_t)iy * s->w + ix].wall) {
-            ix = -1;
+        if ((to = q->to[l]) < 0 && !t->p->closed_edges) {
+            t->dr++; /* over an open edge: drained */
+            goto stop;
         }
-        if (ix < 0) { /* against a wall: stop there, gravity acts again */
+        if (to < 0 || (f = &s->surf[to])->wall) {
             q->vx[l] = q->vy[l] = q->vz[l] = q->sp[l] = q->hsp[l] = 0;
             q->e[l] = 0;
             q->mode[l] = LN_WALL;
+            nlive++;
             continue;
         }
-        q->ax[l] = f->ax, q->ay[l] = f->ay, q->az[l] = f->az;
-        q->x[l] = nx, q->y[l] = ny;
-        q->c[l] = (size_t)iy * s->w + ix;
-        f = &s->surf[q->c[l]];
+        q->ax[l] = q->cax[l], q->ay[l] = q->cay[l], q->az[l] = q->caz[l];
+        q->x[l] = q->nx[l], q->y[l] = q->ny[l];
+        q->c[l] = to;
         q->gx[l] = f->gx, q->gy[l] = f->gy;
+        q->cax[l] = f->ax, q->cay[l] = f->ay, q->caz[l] = f->az;
         q->mode[l] = LN_MOVE;
+        nlive++;
         continue;
     stop:
         t->mv += q->k[l];
-        t->dr += drain;
-        launch(s, q, l, &t->next, t->end, t->acc);
+        nlive += launch(s, q, l, &t->next, t->end, t->acc);
     }
+    return nlive;
 }
 
 /* exp(x) for the friction, on its own so that a loop over lanes can
@@ -307,24 +338,6 @@ static TD_NOINLINE void lanes_move(const tracer *t, lanes *q)
     }
 }
 
-/* Every visit into the tracing thread's sums. */
-static void lanes_gather(tracer *t, const lanes *q)
-{
-    int l;
-    for (l = 0; l < ER_LANES; l++) {
-        er_acc *a;
-        if (q->mode[l] == LN_IDLE)
-            continue;
-        a = &t->acc[q->c[l]];
-        if (q->e[l] > 0)
-            a->e += (int64_t)(q->e[l] * ER_FX);
-        a->n++;
-        a->vx += (int64_t)(q->vx[l] * ER_FX);
-        a->vy += (int64_t)(q->vy[l] * ER_FX);
-        a->sp += (int64_t)(q->hsp[l] * ER_FX);
-    }
-}
-
 /* Trace the particles of cells [lo, hi), ER_LANES at a time, one move of
  * each lane per round, until every particle has stopped or drained.  Adds
  * the moves and drained particles to *mv, *dr. */
@@ -335,7 +348,7 @@ static void trace_range(const er_state *s, const td_erode_params *p,
     static const lanes zero;
     lanes q = zero;
     tracer t;
-    int l, nlive = 0;
+    int l;
     t.s = s, t.p = p, t.acc = acc;
     t.dtc = p->dt / p->cell;
     t.vstop2 = p->v_stop * p->v_stop;
@@ -343,13 +356,12 @@ static void trace_range(const er_state *s, const td_erode_params *p,
     t.next = lo, t.end = hi;
     t.mv = t.dr = 0;
     for (l = 0; l < ER_LANES; l++)
-        nlive += launch(s, &q, l, &t.next, hi, acc);
-    while (nlive > 0) {
-        lanes_start(&t, &q);
+        launch(s, &q, l, &t.next, hi, acc);
+    for (;;) { /* a round: one move of every lane */
+        lanes_aim(&t, &q);
+        if (lanes_step(&t, &q) == 0)
+            break; /* no sums left pending either */
         lanes_move(&t, &q);
-        lanes_gather(&t, &q);
-        for (nlive = 0, l = 0; l < ER_LANES; l++)
-            nlive += q.live[l];
     }
     *mv += t.mv;
     *dr += t.dr;
