@@ -264,13 +264,14 @@ static void heap_free(flood *f)
  * breadth-first search from all its exits at once). */
 static int traceable(const fgrid *g, size_t i)
 {
-    float z = g->dem[i];
-    size_t j[8];
-    unsigned m = nbrs_in(g, i, j); /* i is reached, not a seed */
+    const float *z = g->z, zi = g->z[i]; /* unseen cells: their heights */
+    const uint8_t *code = g->code;
     int k;
-    for (k = 0; k < 8; k++)
-        if ((m >> k & 1) && g->code[j[k]] == UNSEEN && g->dem[j[k]] <= z)
+    for (k = 0; k < 8; k++) { /* i is reached, not a seed: off the edge */
+        size_t j = i + (size_t)g->off[k];
+        if (code[j] == UNSEEN && z[j] <= zi)
             return 0;
+    }
     return 1;
 }
 
@@ -309,17 +310,16 @@ static int flood_visit(flood *f, uint32_t c, int in_order)
         if (!(m >> k & 1))
             continue;
         if ((cj = g->code[j]) != UNSEEN) {
-            if (f->dirs && (cj & 15) != NODATA)
-                d8_try(g, zc, j, k, &best, &bs);
+            if (f->dirs && (cj & 15) != NODATA && g->z[j] < zc)
+                d8_try(g, zc, j, k, &best, &bs); /* only lower ones count */
             continue;
         }
         g->code[j] = (uint8_t)((k + 4) & 7);
-        if (in_order && g->dem[j] <= zc) {
+        if (in_order && g->z[j] <= zc) { /* z[j] is still dem[j] */
+            f->raised += g->z[j] < zc;
             g->z[j] = zc;
-            f->raised += g->dem[j] < zc;
             rc = u32_push(&f->fifo, (uint32_t)j, g->cx);
         } else {
-            g->z[j] = g->dem[j];
             rc = traceable(g, j) ? u32_push(&f->stack, (uint32_t)j, g->cx)
                                  : heap_push(f, g->z[j], (uint32_t)j);
         }
@@ -351,14 +351,16 @@ static int flood_seeds(flood *f, int any_nodata)
             if (!seed)
                 continue;
             g->code[i] = ROOT;
-            g->z[i] = g->dem[i];
             rc = heap_push(f, g->z[i], (uint32_t)i);
         }
     return rc;
 }
 
 /* Fill g->z from g->dem; g->code: NODATA or UNSEEN on entry, flood-tree
- * directions on return.  Progress from p0 to p1. */
+ * directions on return.  g->z starts as a copy of the DEM and is raised in
+ * place: an unseen cell's z is its DEM height, a reached cell's its final
+ * level, so the flood reads one height array, not two (less memory
+ * traffic).  Progress from p0 to p1. */
 static int flood_run(fgrid *g, int dirs, double valid, double p0, double p1,
                      td_flow_stats *st)
 {
@@ -368,13 +370,15 @@ static int flood_run(fgrid *g, int dirs, double valid, double p0, double p1,
     memset(&f, 0, sizeof f);
     f.g = g;
     f.dirs = dirs;
+    if (g->z != g->dem)
+        memcpy(g->z, g->dem, g->n * sizeof *g->z);
     rc = flood_seeds(&f, valid < (double)g->n);
     while (rc == 0) {
         uint32_t c;
         int in_order = 1;
-        double q = (double)(f.heap.n + f.stack.n + f.fifo.n - f.fhead);
-        if (q > f.peak)
-            f.peak = q;
+        size_t q = f.heap.n + f.stack.n + f.fifo.n - f.fhead;
+        if ((double)q > f.peak)
+            f.peak = (double)q;
         if (f.fhead < f.fifo.n)
             c = f.fifo.v[f.fhead++];
         else if (f.stack.n > 0) {
