@@ -267,20 +267,19 @@ static int traceable(const fgrid *g, size_t i)
     const float *z = g->z, zi = g->z[i]; /* unseen cells: their heights */
     const uint8_t *code = g->code;
     int k;
+    int low = 0;
     for (k = 0; k < 8; k++) { /* i is reached, not a seed: off the edge */
-        size_t j = i + (size_t)g->off[k];
-        if (code[j] == UNSEEN && z[j] <= zi)
-            return 0;
+        size_t j = i + (size_t)g->off[k]; /* no early exit: loads overlap */
+        low |= (code[j] == UNSEEN) & (z[j] <= zi);
     }
-    return 1;
+    return !low;
 }
 
 /* Steepest descent (drop / distance) from c over the neighbour in slot k
  * of jj: keeps the best in *best, *bs (d8 rule, first of equals). */
-static void d8_try(const fgrid *g, float zc, size_t j, int k, int *best,
-                   double *bs)
+static void d8_try(float zc, float zj, int k, int *best, double *bs)
 {
-    double d = (double)zc - (double)g->z[j];
+    double d = (double)zc - (double)zj;
     if (k & 1)
         d *= INV_SQRT2;
     if (d > *bs) {
@@ -298,30 +297,39 @@ static void d8_try(const fgrid *g, float zc, size_t j, int k, int *best,
 static int flood_visit(flood *f, uint32_t c, int in_order)
 {
     fgrid *g = f->g;
-    float zc = g->z[c];
+    float zc = g->z[c], zn[8];
     size_t jj[8], j;
-    uint8_t cc = g->code[c];
+    uint8_t cc = g->code[c], cn[8];
     unsigned m = (cc & 15) == ROOT ? nbrs(g, c, jj) : nbrs_in(g, c, jj);
     int k, rc = 0, best = -1;
     double bs = 0;
+    /* all 16 loads first, none behind a branch: a popped cell's block is
+     * often out of the cache, and so its misses overlap (only this cell's
+     * visit writes these neighbours, each its own) */
+    if (m == 0xFFu)
+        for (k = 0; k < 8; k++)
+            cn[k] = g->code[jj[k]], zn[k] = g->z[jj[k]];
+    else
+        for (k = 0; k < 8; k++)
+            if (m >> k & 1)
+                cn[k] = g->code[jj[k]], zn[k] = g->z[jj[k]];
+            else
+                cn[k] = NODATA, zn[k] = 0;
     for (k = 0; k < 8 && rc == 0; k++) {
-        uint8_t cj;
         j = jj[k];
-        if (!(m >> k & 1))
-            continue;
-        if ((cj = g->code[j]) != UNSEEN) {
-            if (f->dirs && (cj & 15) != NODATA && g->z[j] < zc)
-                d8_try(g, zc, j, k, &best, &bs); /* only lower ones count */
+        if (cn[k] != UNSEEN) {
+            if (f->dirs && (cn[k] & 15) != NODATA && zn[k] < zc)
+                d8_try(zc, zn[k], k, &best, &bs); /* only lower ones count */
             continue;
         }
         g->code[j] = (uint8_t)((k + 4) & 7);
-        if (in_order && g->z[j] <= zc) { /* z[j] is still dem[j] */
-            f->raised += g->z[j] < zc;
+        if (in_order && zn[k] <= zc) { /* z[j] is still dem[j] */
+            f->raised += zn[k] < zc;
             g->z[j] = zc;
             rc = u32_push(&f->fifo, (uint32_t)j, g->cx);
         } else {
             rc = traceable(g, j) ? u32_push(&f->stack, (uint32_t)j, g->cx)
-                                 : heap_push(f, g->z[j], (uint32_t)j);
+                                 : heap_push(f, zn[k], (uint32_t)j);
         }
     }
     if (f->dirs && (cc & 15) != ROOT) {
