@@ -85,6 +85,16 @@ static unsigned nbrs(const fgrid *g, size_t i, size_t j[8])
     return m;
 }
 
+/* As nbrs for a cell known to be off the grid edge (every valid cell that
+ * is not a flood seed, i.e. not ROOT): all 8 on the grid, no division. */
+static unsigned nbrs_in(const fgrid *g, size_t i, size_t j[8])
+{
+    int k;
+    for (k = 0; k < 8; k++)
+        j[k] = i + (size_t)g->off[k];
+    return 0xFFu;
+}
+
 static int is_valid(const fgrid *g, size_t i)
 {
     return (g->code[i] & 15) != NODATA;
@@ -154,6 +164,7 @@ typedef struct rheap {
 
 typedef struct flood {
     fgrid *g;
+    int dirs; /* D8: decide directions and upstream counts while flooding */
     rheap heap;
     u32vec fifo, stack;
     size_t fhead;
@@ -253,69 +264,112 @@ static void heap_free(flood *f)
  * breadth-first search from all its exits at once). */
 static int traceable(const fgrid *g, size_t i)
 {
-    float z = g->dem[i];
-    size_t j[8];
-    unsigned m = nbrs(g, i, j);
+    const float *z = g->z, zi = g->z[i]; /* unseen cells: their heights */
+    const uint8_t *code = g->code;
     int k;
-    for (k = 0; k < 8; k++)
-        if ((m >> k & 1) && g->code[j[k]] == UNSEEN && g->dem[j[k]] <= z)
-            return 0;
-    return 1;
+    int low = 0;
+    for (k = 0; k < 8; k++) { /* i is reached, not a seed: off the edge */
+        size_t j = i + (size_t)g->off[k]; /* no early exit: loads overlap */
+        low |= (code[j] == UNSEEN) & (z[j] <= zi);
+    }
+    return !low;
+}
+
+/* Steepest descent (drop / distance) from c over the neighbour in slot k
+ * of jj: keeps the best in *best, *bs (d8 rule, first of equals). */
+static void d8_try(float zc, float zj, int k, int *best, double *bs)
+{
+    double d = (double)zc - (double)zj;
+    if (k & 1)
+        d *= INV_SQRT2;
+    if (d > *bs) {
+        *bs = d;
+        *best = k;
+    }
 }
 
 /* Reach the unseen neighbours of c.  in_order: c is at the lowest level of
- * the whole frontier, so lower neighbours drain through c (fill them). */
+ * the whole frontier, so lower neighbours drain through c (fill them).
+ * f->dirs (D8): every neighbour lower than c is already reached with its
+ * final level (the flood never reaches a cell below the level it pops),
+ * so c's steepest descent on the filled DEM is decided here, and its
+ * receiver's upstream count (high nibble) is raised. */
 static int flood_visit(flood *f, uint32_t c, int in_order)
 {
     fgrid *g = f->g;
-    float zc = g->z[c];
+    float zc = g->z[c], zn[8];
     size_t jj[8], j;
-    unsigned m = nbrs(g, c, jj);
-    int k, rc = 0;
+    uint8_t cc = g->code[c], cn[8];
+    unsigned m = (cc & 15) == ROOT ? nbrs(g, c, jj) : nbrs_in(g, c, jj);
+    int k, rc = 0, best = -1;
+    double bs = 0;
+    /* all 16 loads first, none behind a branch: a popped cell's block is
+     * often out of the cache, and so its misses overlap (only this cell's
+     * visit writes these neighbours, each its own) */
+    if (m == 0xFFu)
+        for (k = 0; k < 8; k++)
+            cn[k] = g->code[jj[k]], zn[k] = g->z[jj[k]];
+    else
+        for (k = 0; k < 8; k++)
+            if (m >> k & 1)
+                cn[k] = g->code[jj[k]], zn[k] = g->z[jj[k]];
+            else
+                cn[k] = NODATA, zn[k] = 0;
     for (k = 0; k < 8 && rc == 0; k++) {
         j = jj[k];
-        if (!(m >> k & 1) || g->code[j] != UNSEEN)
+        if (cn[k] != UNSEEN) {
+            if (f->dirs && (cn[k] & 15) != NODATA && zn[k] < zc)
+                d8_try(zc, zn[k], k, &best, &bs); /* only lower ones count */
             continue;
+        }
         g->code[j] = (uint8_t)((k + 4) & 7);
-        if (in_order && g->dem[j] <= zc) {
+        if (in_order && zn[k] <= zc) { /* z[j] is still dem[j] */
+            f->raised += zn[k] < zc;
             g->z[j] = zc;
-            f->raised += g->dem[j] < zc;
             rc = u32_push(&f->fifo, (uint32_t)j, g->cx);
         } else {
-            g->z[j] = g->dem[j];
             rc = traceable(g, j) ? u32_push(&f->stack, (uint32_t)j, g->cx)
-                                 : heap_push(f, g->z[j], (uint32_t)j);
+                                 : heap_push(f, zn[k], (uint32_t)j);
         }
+    }
+    if (f->dirs && (cc & 15) != ROOT) {
+        if (best >= 0) /* else the flood-tree direction (a flat) */
+            g->code[c] = cc = (uint8_t)((cc & 0xF0) | best);
+        g->code[c + (size_t)g->off[cc & 15]] += 16;
     }
     return rc;
 }
 
-/* Seeds: valid cells on the grid edge or next to nodata. */
-static int flood_seeds(flood *f)
+/* Seeds: valid cells on the grid edge or next to nodata (raster order). */
+static int flood_seeds(flood *f, int any_nodata)
 {
     fgrid *g = f->g;
     size_t i, j[8];
-    int k, rc = 0;
-    for (i = 0; i < g->n && rc == 0; i++) {
-        int seed = 0;
-        unsigned m;
-        if (g->code[i] == NODATA)
-            continue;
-        m = nbrs(g, i, j);
-        for (k = 0; k < 8 && !seed; k++)
-            seed = !(m >> k & 1) || g->code[j[k]] == NODATA;
-        if (!seed)
-            continue;
-        g->code[i] = ROOT;
-        g->z[i] = g->dem[i];
-        rc = heap_push(f, g->z[i], (uint32_t)i);
-    }
+    int x, y, k, rc = 0;
+    for (y = 0, i = 0; y < g->h && rc == 0; y++)
+        for (x = 0; x < g->w && rc == 0; x++, i++) {
+            int seed = x == 0 || y == 0 || x == g->w - 1 || y == g->h - 1;
+            if (g->code[i] == NODATA)
+                continue;
+            if (!seed && any_nodata) {
+                nbrs_in(g, i, j);
+                for (k = 0; k < 8 && !seed; k++)
+                    seed = g->code[j[k]] == NODATA;
+            }
+            if (!seed)
+                continue;
+            g->code[i] = ROOT;
+            rc = heap_push(f, g->z[i], (uint32_t)i);
+        }
     return rc;
 }
 
 /* Fill g->z from g->dem; g->code: NODATA or UNSEEN on entry, flood-tree
- * directions on return.  Progress from p0 to p1. */
-static int flood_run(fgrid *g, double valid, double p0, double p1,
+ * directions on return.  g->z starts as a copy of the DEM and is raised in
+ * place: an unseen cell's z is its DEM height, a reached cell's its final
+ * level, so the flood reads one height array, not two (less memory
+ * traffic).  Progress from p0 to p1. */
+static int flood_run(fgrid *g, int dirs, double valid, double p0, double p1,
                      td_flow_stats *st)
 {
     flood f;
@@ -323,13 +377,16 @@ static int flood_run(fgrid *g, double valid, double p0, double p1,
     int rc;
     memset(&f, 0, sizeof f);
     f.g = g;
-    rc = flood_seeds(&f);
+    f.dirs = dirs;
+    if (g->z != g->dem)
+        memcpy(g->z, g->dem, g->n * sizeof *g->z);
+    rc = flood_seeds(&f, valid < (double)g->n);
     while (rc == 0) {
         uint32_t c;
         int in_order = 1;
-        double q = (double)(f.heap.n + f.stack.n + f.fifo.n - f.fhead);
-        if (q > f.peak)
-            f.peak = q;
+        size_t q = f.heap.n + f.stack.n + f.fifo.n - f.fhead;
+        if ((double)q > f.peak)
+            f.peak = (double)q;
         if (f.fhead < f.fifo.n)
             c = f.fifo.v[f.fhead++];
         else if (f.stack.n > 0) {
@@ -370,7 +427,7 @@ int td_flow_fill(const td_grid_f32 *dem, td_grid_f32 *filled, td_ctx *cx)
     size_t i;
     int rc = fgrid_init(&g, dem, filled, UNSEEN, &valid, cx);
     if (rc == 0)
-        rc = flood_run(&g, valid, 0.0, 1.0, NULL);
+        rc = flood_run(&g, 0, valid, 0.0, 1.0, NULL);
     if (rc == 0)
         for (i = 0; i < g.n; i++)
             if (g.code[i] == NODATA)
@@ -382,37 +439,10 @@ int td_flow_fill(const td_grid_f32 *dem, td_grid_f32 *filled, td_ctx *cx)
 /* ---- D8 -----------------------------------------------------------------
  * Seeds (edge cells, cells next to nodata) are outlets (ROOT): their water
  * leaves the grid.  Other cells: steepest descent (drop / distance) on the
- * filled DEM; a cell with no lower neighbour keeps its flood-tree direction
- * (filled pits and flats drain towards their spill point).  Every edge goes
- * strictly down or along the flood tree, so the graph has no cycles. */
-static void d8_dirs(fgrid *g)
-{
-    size_t i, j[8];
-    int k;
-    for (i = 0; i < g->n; i++) {
-        int best = -1;
-        double bs = 0;
-        unsigned m;
-        if ((g->code[i] & 15) >= ROOT) /* nodata, or an outlet */
-            continue;
-        m = nbrs(g, i, j);
-        for (k = 0; k < 8; k++) {
-            double d;
-            if (!(m >> k & 1) || !is_valid(g, j[k]))
-                continue;
-            d = (double)g->z[i] - (double)g->z[j[k]];
-            if (k & 1)
-                d *= INV_SQRT2;
-            if (d > bs) {
-                bs = d;
-                best = k;
-            }
-        }
-        if (best >= 0)
-            g->code[i] = (uint8_t)best;
-    }
-}
-
+ * filled DEM, decided while flooding (flood_visit); a cell with no lower
+ * neighbour keeps its flood-tree direction (filled pits and flats drain
+ * towards their spill point).  Every edge goes strictly down or along the
+ * flood tree, so the graph has no cycles. */
 /* D8 counts are uint32 stored in the float buffer g->z (after the filled
  * heights are no longer needed); memcpy keeps that free of aliasing. */
 static uint32_t getu(const fgrid *g, size_t i)
@@ -455,13 +485,8 @@ static int d8_accumulate(fgrid *g, double valid, td_flow_stats *st)
 {
     size_t i;
     double done = 0;
-    for (i = 0; i < g->n; i++)
+    for (i = 0; i < g->n; i++) /* upstream counts are in code already */
         setu(g, i, is_valid(g, i) ? 1u : 0u);
-    for (i = 0; i < g->n; i++) {
-        int k = g->code[i] & 15;
-        if (k < 8)
-            g->code[i + (size_t)g->off[k]] += 16;
-    }
     for (i = 0; i < g->n; i++) {
         uint8_t c = g->code[i];
         if ((c & 15) <= ROOT && (c >> 4) == 0)
@@ -495,7 +520,7 @@ static int dinf_recv(const fgrid *g, size_t i, size_t r[2], double fr[2])
     unsigned m;
     if (k == ROOT)
         return 0;
-    m = nbrs(g, i, nb);
+    m = nbrs_in(g, i, nb); /* not ROOT: off the edge */
     for (j = 0; j < 8; j++) {
         double s1, s2, s;
         n1 = nb[FCARD[j]];
@@ -708,11 +733,12 @@ int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
     if (p->method == TD_FLOW_SOBEL) {
         long ms = p->max_steps ? p->max_steps : 4L * (g.w + g.h);
         rc = sobel_run(&g, ms, &s);
-    } else if ((rc = flood_run(&g, s.cells, 0.0, 0.6, &s)) == 0) {
-        if (p->method == TD_FLOW_D8) {
-            d8_dirs(&g);
+    } else if ((rc = flood_run(&g, p->method == TD_FLOW_D8, s.cells, 0.0,
+                               p->method == TD_FLOW_D8 ? 0.8 : 0.6,
+                               &s)) == 0) {
+        if (p->method == TD_FLOW_D8)
             rc = d8_accumulate(&g, s.cells, &s);
-        } else if ((acc = td_malloc(g.n * sizeof *acc, cx)) == NULL)
+        else if ((acc = td_malloc(g.n * sizeof *acc, cx)) == NULL)
             rc = TD_ENOMEM;
         else
             rc = dinf_accumulate(&g, acc, s.cells, &s);

@@ -3,7 +3,9 @@
  * terrain (td_gen_terrain HILLS plus 0.5 m white noise, so there are pits),
  * the paper's Sobel drop tracing on 1000x1000 (its cost grows with the
  * path length), and, where GRASS is installed, r.watershed -s on the same
- * DEM file in the same run, with the ratio.
+ * DEM file in the same run, with the ratio.  Times are wall clock and
+ * process CPU time (on a shared machine the wall clock also counts the
+ * time other programs held the core); the ratio is given for both.
  *
  *   bench_flow [--topodig PATH] [--dir DIR] [--size N] [--no-grass]
  *
@@ -17,6 +19,16 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
+
+/* CPU seconds of this process. */
+static double cpu_now(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0)
+        return 0;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 static td_grid_f32 *terrain(int n, td_ctx *cx)
 {
@@ -29,53 +41,73 @@ static td_grid_f32 *terrain(int n, td_ctx *cx)
     return dem;
 }
 
-/* Seconds of one run, -1 on failure; prints one line. */
-static double one(const td_grid_f32 *dem, td_flow_method m, const char *name)
+/* Seconds of one run, -1 on failure, its CPU seconds into *cpu; prints
+ * one line. */
+static double one(const td_grid_f32 *dem, td_flow_method m, const char *name,
+                  double *cpu)
 {
     td_grid_f32 *out = td_grid_f32_new(dem->w, dem->h, NULL);
     td_flow_params p = td_flow_defaults();
     td_flow_stats st;
     td_ctx cx;
-    double t0, s = -1, n = (double)dem->w * dem->h;
+    double t0, c0, c = 0, s = -1, n = (double)dem->w * dem->h;
     td_ctx_init(&cx);
     p.method = m;
     if (!out)
         return -1;
     t0 = td_now();
+    c0 = cpu_now();
     if (td_flow_run(dem, &p, out, &st, &cx) != 0)
         printf("  %s: %s\n", name, td_errmsg(&cx));
     else {
         s = td_now() - t0;
-        printf("  %-5s %dx%d  %7.2f s  %7.2f M cells/s  outflow %.0f of "
-               "%.0f  raised %.0f  pits %.0f  queue peak %.0f (%.2f B/cell)\n",
-               name, dem->w, dem->h, s, n / s / 1e6, st.outflow, st.cells,
+        c = cpu_now() - c0;
+        printf("  %-5s %dx%d  %7.2f s (cpu %7.2f s)  %7.2f M cells/s (%.2f "
+               "per cpu-s)  outflow %.0f of %.0f  raised %.0f  pits %.0f  "
+               "queue peak %.0f (%.2f B/cell)\n",
+               name, dem->w, dem->h, s, c, n / s / 1e6,
+               c > 0 ? n / c / 1e6 : 0.0, st.outflow, st.cells,
                st.raised, st.pit_stops, st.queue_peak,
                st.queue_peak * 8 / n);
     }
     td_grid_f32_free(out);
+    if (cpu)
+        *cpu = c;
     return s;
 }
 
-/* r.watershed -s on path; seconds of r.watershed alone, or -1. */
-static double grass(const char *path, const char *dir)
+/* r.watershed -s on path; seconds of r.watershed alone, or -1; its CPU
+ * seconds (user + system, from /usr/bin/time where installed, else 0)
+ * into *cpu. */
+static double grass(const char *path, const char *dir, double *cpu)
 {
-    char cmd[16384], tf[4200];
-    double a = 0, b = 0;
+    char cmd[16384], tf[4200], cf[4200];
+    double a = 0, b = 0, u = 0, y = 0;
+    int tm = system("test -x /usr/bin/time") == 0;
     FILE *f;
+    snprintf(cf, sizeof cf, "%s/rwatershed.cpu", dir);
+    remove(cf);
+    *cpu = 0;
     snprintf(tf, sizeof tf, "%s/rwatershed.time", dir);
     remove(tf);
     snprintf(cmd, sizeof cmd,
              "grass --tmp-location XY --exec sh -c 'r.in.gdal -o input=%s "
              "output=dem --quiet && g.region raster=dem && "
-             "s=$(date +%%s.%%N) && r.watershed -s elevation=dem "
+             "s=$(date +%%s.%%N) && %s%s r.watershed -s elevation=dem "
              "accumulation=acc --quiet && e=$(date +%%s.%%N) && "
              "echo $s $e > %s' >%s/rwatershed.log 2>&1",
-             path, tf, dir);
+             path, tm ? "/usr/bin/time -f \"%U %S\" -o " : "",
+             tm ? cf : "", tf, dir);
     if (system(cmd) != 0 || !(f = fopen(tf, "r")))
         return -1;
     if (fscanf(f, "%lf %lf", &a, &b) != 2)
         b = a - 1;
     fclose(f);
+    if (tm && (f = fopen(cf, "r")) != NULL) {
+        if (fscanf(f, "%lf %lf", &u, &y) == 2)
+            *cpu = u + y;
+        fclose(f);
+    }
     return b > a ? b - a : -1;
 }
 
@@ -86,7 +118,7 @@ int main(int argc, char **argv)
     td_grid_f32 *dem, *small;
     td_ctx cx;
     char path[4200];
-    double d8, gs;
+    double d8, gs, d8c = 0, gc = 0;
     for (i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--dir") && i + 1 < argc)
             dir = argv[++i];
@@ -104,11 +136,11 @@ int main(int argc, char **argv)
         return 0;
     }
     printf("  generated hills + 0.5 m noise, 1 thread\n");
-    d8 = one(dem, TD_FLOW_D8, "d8");
-    one(dem, TD_FLOW_DINF, "dinf");
+    d8 = one(dem, TD_FLOW_D8, "d8", &d8c);
+    one(dem, TD_FLOW_DINF, "dinf", NULL);
     if ((small = terrain(1000, &cx)) != NULL) {
-        one(small, TD_FLOW_SOBEL, "sobel");
-        one(small, TD_FLOW_D8, "d8");
+        one(small, TD_FLOW_SOBEL, "sobel", NULL);
+        one(small, TD_FLOW_D8, "d8", NULL);
         td_grid_f32_free(small);
     }
     snprintf(path, sizeof path, "%s/flow_dem.tif", dir);
@@ -116,12 +148,13 @@ int main(int argc, char **argv)
         printf("  GRASS not installed: no r.watershed ratio\n");
     else if (td_geotiff_write_f32(path, dem, NULL, &cx) != 0)
         printf("  %s\n", td_errmsg(&cx));
-    else if ((gs = grass(path, dir)) < 0)
+    else if ((gs = grass(path, dir, &gc)) < 0)
         printf("  r.watershed failed (see %s/rwatershed.log)\n", dir);
     else
-        printf("  r.watershed -s %dx%d  %7.2f s  %7.2f M cells/s  d8 is "
-               "%.1fx faster\n", n, n, gs, (double)n * n / gs / 1e6,
-               d8 > 0 ? gs / d8 : 0.0);
+        printf("  r.watershed -s %dx%d  %7.2f s (cpu %7.2f s)  %7.2f M "
+               "cells/s  d8 is %.1fx faster (%.1fx by cpu time)\n", n, n, gs,
+               gc, (double)n * n / gs / 1e6, d8 > 0 ? gs / d8 : 0.0,
+               d8c > 0 && gc > 0 ? gc / d8c : 0.0);
     td_grid_f32_free(dem);
     return 0;
 }
