@@ -9,9 +9,11 @@
  *    multidir with 2 or 4 directions and each weight), RMSE / MAE / max
  *    |d| against the true DEM in contour intervals, coverage, seconds;
  *  - END TO END from the rendered noisy sheet (2 px lines, breaks, specks,
- *    blur, noise): td_scan, td_label_auto with one known point (a vertex of
- *    a true line) and the depression marks (centres of the true rings that
- *    enclose lower ground), then the default and the paper's method;
+ *    blur, noise, every 5th contour 4 px wide): td_scan, td_label_auto with
+ *    one known point (a vertex of a true thin line), the index contours'
+ *    widths (--index-every 5) and the depression marks (centres of the
+ *    true rings that enclose lower ground), then the default and the
+ *    paper's method;
  *  - anchors on the same true lines, in the same run, when installed:
  *    GRASS r.surf.contour (on the rasterised lines, `grass --tmp-location
  *    XY --exec`) and `gdal_grid -a linear` (the lines' vertices), with
@@ -134,15 +136,19 @@ static int scan_and_label(const td_image *im, const td_lines *tl,
     *out = res.lines;
     res.lines = NULL;
     td_scan_result_free(&res);
-    kp.x = tl->v[0].xy[2 * (tl->v[0].n / 2)];
-    kp.y = tl->v[0].xy[2 * (tl->v[0].n / 2) + 1];
-    kp.height = tl->v[0].height;
+    for (i = 0; i + 1 < tl->n && fmod(fabs(tl->v[i].height / I), 5.0) == 0;)
+        i++; /* a point on a thin line: on an index line the widths could
+                not tell a slope from its mirror */
+    kp.x = tl->v[i].xy[2 * (tl->v[i].n / 2)];
+    kp.y = tl->v[i].xy[2 * (tl->v[i].n / 2) + 1];
+    kp.height = tl->v[i].height;
     kp.id = -1;
     lp.interval = I;
     lp.w = im->w;
     lp.h = im->h;
     lp.known = &kp;
     lp.nknown = 1;
+    lp.index_every = 5;
     lp.depressions = dep;
     lp.ndepressions = depressions(tl, dem, dep, 16);
     rc = td_label_auto(*out, &lp, &rep, cx);
@@ -345,6 +351,7 @@ static td_gen_params sheet_params(td_gen_terrain_kind kind, int size)
     gp.blur = 0.6;
     gp.noise = 6;
     gp.specks = 12 * size / 600;
+    gp.index_width = 4; /* every 5th contour thicker, as printed sheets */
     return gp;
 }
 
