@@ -9,44 +9,65 @@
  *
  *   height                                  far  <---- sweep ----  near
  *     |          B                          points enter the hull from the
- *     |        .' `.     D                  near end; a new point P pops
- *     |  P   .'     `. .' `.                every hull vertex that lies on
- *     | .  .'         C     `E              or under the segment from P to
- *     +--------------------------> u        the vertex below it (here C),
- *                                           so the stack top after popping
- *   is P's horizon point (B) and each point is pushed and popped once:
- *   O(length) per profile, O(k n^2) in all.
+ *     |        .' `.     D                  near end; a new point pops
+ *     |  P   .'     `. .' `.                every hull vertex on or under
+ *     | .  .'         C     `E              the segment from it to the
+ *     +--------------------------> X        vertex below (here C), so each
+ *                                           point is pushed and popped once;
+ *   an observer P finds its horizon point (B) by walking down the stack
+ *   from the top while the slope rises (binary search after a few steps).
  *
- * Sub-cell sampling (ours).  For an azimuth that is not along an axis the
- * profiles are lines  minor = q + a * major  (|a| <= 1, q integer, one
- * profile per minor unit), sampled at every whole and half major step with
- * bilinear interpolation.  A cell C lies between two neighbouring profiles
- * and its own ray runs parallel to both:
+ * The surface is the bilinear interpolation of the cell centres, and the
+ * reference is a ray from each cell centre along the azimuth.  Geometry
+ * (ours): the azimuth is mapped onto a major axis k (the one it advances
+ * along fastest, k growing in the look direction) and a minor axis j,
+ * so the ray moves a = dj/dk (|a| <= 1) per major step.
  *
- *        profile q+1  o--o--o--o--o--o--o     C asks each profile's hull
- *                      C ---- ray ---->       which point is seen highest
- *        profile q    o--o--o--o--o--o--o     from C (its own height and
- *                                             position), then samples its
- *   own ray (bilinear) at that point and its two hull neighbours each side
- *   and keeps the largest tangent.  Where the ray leaves the grid sideways
- *   before such a point, the on-grid part of the ray is marched instead.
- *   The first cell of the ray, where a quadratic bilinear piece peaks at
- *   the cell itself, is covered by the one-sided slope (near_slope).
- *   Along the axes and diagonals the profiles pass through the cells and
- *   the result is the exact horizon of the sampled profile; otherwise it
- *   is a lower bound on the ray's horizon (measured in tests/test_horizon.c
- *   and docs/insolation.md).
+ *   profiles   lines j = q + a k, q integer: one per minor unit, stepping
+ *              one major cell at a time.  A profile is sampled where it
+ *              crosses grid lines: at every whole k (linear between the two
+ *              cells of that column) and at every whole j (linear between
+ *              the two cells of that row); between crossings the bilinear
+ *              surface is a smooth quadratic, so these are its kinks.
  *
- * Earth curvature: a point at ground distance d appears d^2/(2R) lower.
- * With u the distance along the profile, storing z - u^2/(2R) in the hull
- * gives every slope seen from an observer at u_o shifted by the constant
- * -u_o/R, so the hull (and the argmax) is unchanged and exact. */
+ *        k ->    0     1     2     3
+ *        j=2     .     .     .   x-o--     o  whole-k sample
+ *        j=1     .   x-o-----o-x   .       x  whole-j crossing
+ *        j=0     o-x   .     .     .
+ *
+ *   cells      cell (k, j) lies between the profiles q0 = floor(j - a k)
+ *              and q0 + 1, at fractions f and 1 - f of a minor unit from
+ *              them; it asks both hulls for its horizon tangent (its own
+ *              height, its own position along the azimuth) and takes
+ *              (1 - f) t(q0) + f t(q0 + 1): the lateral error of either
+ *              profile is first order in f, of the blend second order.
+ *   near field the blend is good where the horizon is a few cells away;
+ *              near the cell the terrain's lateral slope would dominate.
+ *              So profiles enter their hull only points NEAR or more major
+ *              steps beyond the observer, and every cell marches its own
+ *              ray over the first NEAR steps exactly: every grid-line
+ *              crossing is a fixed two-cell stencil (same offsets and
+ *              weights for all cells), plus the ray's initial slope (the
+ *              limit t -> 0 inside the first cell).
+ *
+ * Cost per direction: every cell pushes at most two samples into one hull
+ * and asks two hulls, plus 2 NEAR stencil taps: O(n^2) per direction,
+ * O(k n^2) in all (tests/bench/bench_horizon.c checks the growth).
+ *
+ * Earth curvature: a point at distance d along the azimuth appears d^2/(2R)
+ * lower.  Storing Z = z - X^2/(2R) in the hull (X along the profile) makes
+ * every tangent from an observer at X_o equal to (Z - Z_o)/(X - X_o) +
+ * X_o/R: a constant shift, so the hull and the argmax are exact. */
 #include "horizon.h"
 
 #include <math.h>
 #include <omp.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+
+enum { NEAR = 16,       /* major steps every cell's own ray covers */
+       PAD = NEAR + 3  /* NaN border of the work copy */ };
 
 td_horizon_params td_horizon_defaults(void)
 {
@@ -58,72 +79,72 @@ td_horizon_params td_horizon_defaults(void)
     return p;
 }
 
-/* The DEM seen as major index i (0..M-1) by minor index j (0..N-1) for one
- * azimuth; the look direction advances di (+1/-1) major and di*a minor. */
+/* A padded copy of the DEM, nodata and the border NaN, so samples need no
+ * bounds checks and NaN samples drop out of every max. */
+typedef struct work {
+    float *buf;
+    const float *z;     /* element (0, 0) */
+    ptrdiff_t stride;
+} work;
+
+/* One azimuth as a major/minor sweep.  Element steps are signed: +1 in k
+ * is one cell along the look direction. */
 typedef struct sweep {
-    const float *z;
-    size_t zi, zj;      /* element steps of dem for +1 in i, j */
-    float *t;
-    size_t ti, tj;      /* same for the tangent accumulator (out) */
-    int M, N, di;
-    double a;           /* minor change per +1 major */
-    double L;           /* ground distance per major step */
-    double inv2r;       /* 1 / (2 R), 0 without curvature */
-    float nod;
-    int has_nod;
+    const float *z;     /* work cell at k = 0, j = 0 */
+    ptrdiff_t zk, zj;
+    float *t, *wt;      /* tangent sum and weight sum (scratch, w x h) */
+    ptrdiff_t tk, tj;
+    int M, N;
+    double a;           /* minor change per major step */
+    double L;           /* ground distance per major step along a profile */
+    double c1a;         /* X offset per minor unit off a profile */
+    double inv2r, invr; /* 1 / (2 R), 1 / R; 0 without curvature */
+    double ylo, yhi;    /* minor range profiles sample (see at_column) */
 } sweep;
 
-/* A profile's upper hull: n points (u, z), u decreasing towards the top. */
+/* A profile's upper hull: n points (X, Z), X decreasing towards the top. */
 typedef struct hull {
-    double *u, *z;
-    int *i2;            /* each point's major position times 2 */
+    double *x, *z;
     int n;
 } hull;
 
-static int is_nod(const sweep *s, float v)
-{
-    return isnan(v) || (s->has_nod && v == s->nod);
-}
-
-/* Push (u, z), u smaller than every hull point, keeping the upper hull. */
-static void hull_push(hull *h, double u, double z, int i2)
+/* Push (x, z), x smaller than every hull point, keeping the upper hull. */
+static void hull_push(hull *h, double x, double z)
 {
     int n = h->n;
     while (n >= 2) {
-        double ut = h->u[n - 1], zt = h->z[n - 1];
-        double us = h->u[n - 2], zs = h->z[n - 2];
-        /* pop the top when it is on or under the segment P -> second */
-        if ((zt - z) * (us - u) > (zs - z) * (ut - u))
-            break;
+        double xt = h->x[n - 1], zt = h->z[n - 1];
+        double xs = h->x[n - 2], zs = h->z[n - 2];
+        if ((zt - z) * (xs - x) > (zs - z) * (xt - x))
+            break; /* the top is above the segment new -> second */
         n--;
     }
-    h->u[n] = u;
+    h->x[n] = x;
     h->z[n] = z;
-    h->i2[n] = i2;
     h->n = n + 1;
 }
 
-/* 1 when hull vertex b is seen higher than vertex a from (uo, zo). */
-static int steeper(const hull *h, int b, int a, double uo, double zo)
+/* 1 when hull vertex b is seen higher than vertex a from (xo, zo). */
+static int steeper(const hull *h, int b, int a, double xo, double zo)
 {
-    return (h->z[b] - zo) * (h->u[a] - uo) > (h->z[a] - zo) * (h->u[b] - uo);
+    return (h->z[b] - zo) * (h->x[a] - xo) > (h->z[a] - zo) * (h->x[b] - xo);
 }
 
-/* The hull point seen highest from (uo, zo) (uo left of all points), or
- * -1 for an empty hull.  Slopes along the stack rise, then fall. */
-static int hull_tangent(const hull *h, double uo, double zo)
+/* The tangent from (xo, zo) (left of all points) to the hull, or NAN for an
+ * empty hull.  Slopes along the stack rise, then fall. */
+static double hull_tangent(const hull *h, double xo, double zo)
 {
     int k = h->n - 1, steps = 0, lo, hi;
     if (k < 0)
-        return -1;
-    while (k > 0 && steeper(h, k - 1, k, uo, zo)) {
+        return NAN;
+    while (k > 0 && steeper(h, k - 1, k, xo, zo)) {
         k--;
-        if (++steps == 6 && k > 0) {
+        if (++steps == 8 && k > 0) {
             lo = 0; /* the peak is in [0, k] */
             hi = k;
             while (lo < hi) {
                 int mid = (lo + hi + 1) / 2;
-                if (steeper(h, mid - 1, mid, uo, zo))
+                if (steeper(h, mid - 1, mid, xo, zo))
                     hi = mid - 1;
                 else
                     lo = mid;
@@ -132,150 +153,314 @@ static int hull_tangent(const hull *h, double uo, double zo)
             break;
         }
     }
-    return k;
+    return (h->z[k] - zo) / (h->x[k] - xo);
 }
 
-/* The DEM at whole major index i and minor position y (bilinear when
- * i is not whole: i2 = 2 * i), or NAN outside the grid or on nodata. */
-static double sample(const sweep *s, int i2, double y)
+static float zat(const sweep *s, int k, int j)
 {
-    int i = i2 >> 1, j, ci, cj;
-    double fy, fx = (i2 & 1) ? 0.5 : 0.0, v = 0.0;
-    if (y < -1e-9 || y > s->N - 1 + 1e-9 || i + (fx > 0) >= s->M)
+    return s->z[(ptrdiff_t)k * s->zk + (ptrdiff_t)j * s->zj];
+}
+
+/* The profile's height at whole major index k, minor y: linear between
+ * the two cells of the column; NAN outside [ylo, yhi] (the exit-side strip
+ * is left to the tail march); on the entry side the surface is extended
+ * linearly one row outwards (the blend of a cell in the edge row needs a
+ * profile outside it). */
+static double at_column(const sweep *s, int k, double y)
+{
+    int j = (int)floor(y);
+    double f = y - j;
+    if (!(y >= s->ylo && y <= s->yhi))
         return NAN;
-    j = (int)floor(y + 1e-9);
-    fy = y - j;
-    if (fy < 1e-9)
-        fy = 0.0;
-    if (fy > 0.0 && j + 1 >= s->N)
-        return NAN;
-    for (ci = 0; ci <= (fx > 0); ci++)
-        for (cj = 0; cj <= (fy > 0); cj++) {
-            float z = s->z[(size_t)(i + ci) * s->zi + (size_t)(j + cj) * s->zj];
-            if (is_nod(s, z))
-                return NAN;
-            v += (ci ? fx : 1.0 - fx) * (cj ? fy : 1.0 - fy) * z;
+    if (j < 0 || j >= s->N - 1) { /* linear extension, one row at most */
+        int e = j < 0 ? 0 : s->N - 1, in = j < 0 ? 1 : s->N - 2;
+        return s->N < 2 ? zat(s, k, e)
+                        : zat(s, k, e) + fabs(y - e) * (zat(s, k, e) -
+                                                         zat(s, k, in));
+    }
+    return f > 0.0 ? (1.0 - f) * zat(s, k, j) + f * zat(s, k, j + 1)
+                   : zat(s, k, j);
+}
+
+/* Push the samples of profile q at whole major index k and at its
+ * whole-minor crossing between k and k + 1 (pushed first: farther). */
+static void push_column(const sweep *s, hull *h, double q, int k)
+{
+    double y = q + s->a * k, y1 = y + s->a, z, x;
+    int j = (int)floor(y), m;
+    if (k + 1 < s->M && s->a != 0.0) {
+        m = s->a > 0 ? j + 1 : (y > j ? j : j - 1); /* crossed row */
+        if (((s->a > 0 && m < y1) || (s->a < 0 && m > y1)) && m >= 0 &&
+            m < s->N && m >= s->ylo && m <= s->yhi) {
+            double tau = (m - y) / s->a;
+            z = (1.0 - tau) * zat(s, k, m) + tau * zat(s, k + 1, m);
+            x = (k + tau) * s->L;
+            if (!isnan(z))
+                hull_push(h, x, z - x * x * s->inv2r);
         }
-    return v;
-}
-
-/* Push the profile point at major position i2 / 2 into the hull. */
-static void push_at(const sweep *s, hull *h, double q, int i2)
-{
-    double u = s->di * 0.5 * i2 * s->L, z = sample(s, i2, q + s->a * 0.5 * i2);
+    }
+    z = at_column(s, k, y);
+    x = k * s->L;
     if (!isnan(z))
-        hull_push(h, u, z - u * u * s->inv2r, i2);
+        hull_push(h, x, z - x * x * s->inv2r);
 }
 
-/* Tangent from cell (i, j) (height zc, distance u) to its own ray sampled
- * at major position i2 / 2; NAN where the ray is off the grid. */
-static double ray_tangent(const sweep *s, int i, int j, double zc, double u,
-                          int i2)
+/* Cell (k, j), e minor units off profile q at its column: add w times its
+ * tangent to the profile's hull into the cell's sums. */
+static void observe(const sweep *s, const hull *h, int k, int j, double e,
+                    double w)
 {
-    double z = sample(s, i2, j + s->a * (0.5 * i2 - i)), up;
-    if (isnan(z))
-        return NAN;
-    up = s->di * 0.5 * i2 * s->L;
-    return (z - zc) / (up - u) - (up - u) * s->inv2r;
+    ptrdiff_t at;
+    double zc, xo, t;
+    if (j < 0 || j >= s->N || w <= 0.0 || h->n == 0)
+        return;
+    zc = zat(s, k, j);
+    if (isnan(zc))
+        return;
+    xo = k * s->L + s->c1a * e;
+    t = hull_tangent(h, xo, zc - xo * xo * s->inv2r) + xo * s->invr;
+    at = (ptrdiff_t)k * s->tk + (ptrdiff_t)j * s->tj;
+    s->t[at] += (float)(w * t);
+    s->wt[at] += (float)w;
 }
 
-/* The ray of cell (i, j) marched at every half major step while it stays
- * on the grid: the largest tangent. */
-static double ray_march(const sweep *s, int i, int j, double zc, double u)
+/* One profile j = q + a k, swept from the far end (large k) to k = 0:
+ * the hull holds the samples NEAR or more major steps beyond column k. */
+static void profile(const sweep *s, double q, hull *h)
 {
-    double best = 0.0, t;
-    int i2;
-    for (i2 = 2 * i + s->di; i2 >= 0 && i2 <= 2 * (s->M - 1); i2 += s->di) {
-        if (isnan(t = ray_tangent(s, i, j, zc, u, i2)))
-            break;
-        best = t > best ? t : best;
+    int k;
+    h->n = 0;
+    for (k = s->M - 1; k >= 0; k--) {
+        double y = q + s->a * k, yn = y + s->a * NEAR;
+        int j;
+        if (k + NEAR < s->M && yn > -2.0 && yn < s->N + 1.0)
+            push_column(s, h, q, k + NEAR);
+        if (y <= -1.0 || y >= s->N)
+            continue;
+        j = (int)floor(y);
+        observe(s, h, k, j, j - y, 1.0 - (y - j));
+        observe(s, h, k, j + 1, j + 1 - y, y - j);
+    }
+}
+
+/* The work copy: (w + 2 PAD) x (h + 2 PAD), NaN outside and on nodata. */
+static int work_new(work *wk, const td_grid_f32 *dem, td_ctx *cx)
+{
+    size_t W = (size_t)dem->w + 2 * PAD, H = (size_t)dem->h + 2 * PAD, i;
+    int y;
+    if (!(wk->buf = td_malloc(sizeof(float) * W * H, cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < W * H; i++)
+        wk->buf[i] = NAN;
+    wk->stride = (ptrdiff_t)W;
+    wk->z = wk->buf + PAD * W + PAD;
+#pragma omp parallel for schedule(static)
+    for (y = 0; y < dem->h; y++) {
+        const float *src = dem->data + (size_t)y * dem->stride;
+        float *dst = wk->buf + (size_t)(y + PAD) * W + PAD;
+        int x;
+        for (x = 0; x < dem->w; x++)
+            dst[x] = dem->has_nodata && src[x] == dem->nodata ? NAN : src[x];
+    }
+    return 0;
+}
+
+/* Map the azimuth onto a major/minor sweep over the work copy and the
+ * scratch sums (stride w). */
+static void sweep_setup(sweep *s, const work *wk, int w, int h, double gx,
+                        double gy, const td_horizon_params *p, float *sum)
+{
+    int colmajor = fabs(gx) >= fabs(gy), di;
+    ptrdiff_t x0;
+    double g = colmajor ? gx : gy;
+    di = g > 0 ? 1 : -1;
+    s->M = colmajor ? w : h;
+    s->N = colmajor ? h : w;
+    s->a = (colmajor ? gy : gx) / fabs(g);
+    if (fabs(s->a - floor(s->a + 0.5)) < 1e-9)
+        s->a = floor(s->a + 0.5);
+    x0 = di > 0 ? 0 : s->M - 1; /* k = 0 */
+    s->zk = di * (colmajor ? 1 : wk->stride);
+    s->zj = colmajor ? wk->stride : 1;
+    s->tk = di * (colmajor ? 1 : (ptrdiff_t)w);
+    s->tj = colmajor ? (ptrdiff_t)w : 1;
+    s->z = wk->z + x0 * (colmajor ? 1 : wk->stride);
+    s->t = sum + x0 * (colmajor ? 1 : (ptrdiff_t)w);
+    s->wt = s->t + (ptrdiff_t)w * h;
+    s->L = p->cell_size * sqrt(1.0 + s->a * s->a);
+    s->c1a = p->cell_size * s->a / sqrt(1.0 + s->a * s->a);
+    s->inv2r = p->curvature ? 0.5 / p->earth_radius : 0.0;
+    s->invr = 2.0 * s->inv2r;
+    s->ylo = s->a < 0 ? 1.0 : s->a > 0 ? -1.0 + 1e-9 : 0.0;
+    s->yhi = s->a < 0 ? s->N - 1e-9 : s->a > 0 ? s->N - 2.0 : s->N - 1.0;
+}
+
+/* A stencil on the ray: tangent = c1 (z[o1] - z0) + c2 (z[o2] - z0) - d,
+ * offsets from the cell in the work copy; m its major distance. */
+typedef struct tap {
+    ptrdiff_t o1, o2;
+    float c1, c2, d, m;
+} tap;
+
+/* The ray point t cells from the centre as a two-cell stencil (the point
+ * is on a grid line, so the bilinear surface is linear there). */
+static tap crossing_tap(double t, double gx, double gy, double cs,
+                        double inv2r, ptrdiff_t stride)
+{
+    double px = t * gx, py = t * gy, f;
+    long ix, iy;
+    tap tp;
+    if (fabs(px - floor(px + 0.5)) < 1e-9) { /* on a column line */
+        ix = lround(px);
+        iy = (long)floor(py + 1e-9);
+        f = py - iy;
+        tp.o1 = iy * stride + ix;
+        tp.o2 = tp.o1 + stride;
+    } else {
+        iy = lround(py);
+        ix = (long)floor(px + 1e-9);
+        f = px - ix;
+        tp.o1 = iy * stride + ix;
+        tp.o2 = tp.o1 + 1;
+    }
+    if (f < 1e-9) {
+        f = 0.0;
+        tp.o2 = tp.o1;
+    }
+    tp.c1 = (float)((1.0 - f) / (t * cs));
+    tp.c2 = (float)(f / (t * cs));
+    tp.d = (float)(t * cs * inv2r);
+    tp.m = (float)(t * fmax(fabs(gx), fabs(gy)));
+    return tp;
+}
+
+/* Every grid-line crossing of a ray within `steps` major steps, nearest
+ * first: the same pattern for every cell.  Returns the count (at most
+ * 2 steps + 2). */
+static int ray_taps(double gx, double gy, int steps, double cs, double inv2r,
+                    ptrdiff_t stride, tap *tp)
+{
+    double ax = fabs(gx), ay = fabs(gy), tmax = steps / fmax(ax, ay) + 1e-9;
+    int n = 0, i = 1, j = 1;
+    for (;;) {
+        double tx = ax > 1e-12 ? i / ax : HUGE_VAL;
+        double ty = ay > 1e-12 ? j / ay : HUGE_VAL, t;
+        if (tx < HUGE_VAL && fabs(tx - ty) <= 1e-9 * tx) { /* a node */
+            t = tx;
+            i++;
+            j++;
+        } else if (tx < ty) {
+            t = tx;
+            i++;
+        } else {
+            t = ty;
+            j++;
+        }
+        if (t > tmax)
+            return n;
+        tp[n++] = crossing_tap(t, gx, gy, cs, inv2r, stride);
+    }
+}
+
+/* The ray's initial slope inside the cell (limit t -> 0; between the
+ * centre and the first grid line the bilinear surface is a quadratic
+ * z0 + b t + c t^2, so the tangent b + c t is largest at an end: b here,
+ * the other end is a crossing):
+ * b = (z[x+sx] - z0) |gx| / cs + (z[y+sy] - z0) |gy| / cs. */
+static tap slope_tap(double gx, double gy, double cs, ptrdiff_t stride)
+{
+    tap tp;
+    int hx = fabs(gx) > 1e-12, hy = fabs(gy) > 1e-12;
+    tp.o1 = hx ? (gx > 0 ? 1 : -1) : (gy > 0 ? stride : -stride);
+    tp.o2 = hy ? (gy > 0 ? stride : -stride) : tp.o1;
+    tp.c1 = (float)(hx ? fabs(gx) / cs : 0.0);
+    tp.c2 = (float)(hy ? fabs(gy) / cs : 0.0);
+    tp.d = 0.0f;
+    tp.m = 0.0f;
+    return tp;
+}
+
+/* A direction's stencils: pat, the whole ray (np taps), of which the first
+ * nn are within NEAR major steps; slope, the initial slope. */
+typedef struct taps {
+    tap *pat, slope;
+    int np, nn;
+    int colmajor, di;
+    double a;
+} taps;
+
+static float max_taps(const float *z, const tap *tp, int n, float best)
+{
+    int i;
+    for (i = 0; i < n; i++) {
+        float t = tp[i].c1 * (z[tp[i].o1] - z[0]) +
+                  tp[i].c2 * (z[tp[i].o2] - z[0]) - tp[i].d;
+        best = t > best ? t : best; /* NaN t: kept */
     }
     return best;
 }
 
-/* Cell (i, j) at distance u along the profile: the profile's hull point
- * seen highest from the cell (and its hull neighbours) names where its
- * horizon lies; the cell's own ray is sampled there (bilinear) and the
- * largest tangent is kept in the cell's accumulator.  When the ray leaves
- * the grid (sideways) before that point, the profile's hull says nothing
- * about the ray's part on the grid: that part is marched. */
-static void observe(const sweep *s, const hull *h, int i, int j, double u)
+/* First index of pat with major distance >= m. */
+static int tap_index(const taps *tt, double m)
 {
-    size_t at = (size_t)i * s->ti + (size_t)j * s->tj;
-    double zc, t, best = s->t[at];
-    int k, c, off = 0;
-    if (j < 0 || j >= s->N)
-        return;
-    zc = s->z[(size_t)i * s->zi + (size_t)j * s->zj];
-    if (is_nod(s, (float)zc) ||
-        (k = hull_tangent(h, u, zc - u * u * s->inv2r)) < 0)
-        return;
-    for (c = k - 2; c <= k + 2; c++) {
-        if (c < 0 || c >= h->n)
-            continue;
-        t = ray_tangent(s, i, j, zc, u, h->i2[c]);
-        if (isnan(t))
-            off = 1;
-        else if (t > best)
-            best = t;
+    int lo = 0, hi = tt->np;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (tt->pat[mid].m < m)
+            lo = mid + 1;
+        else
+            hi = mid;
     }
-    if (off) {
-        t = ray_march(s, i, j, zc, u);
-        best = t > best ? t : best;
-    }
-    s->t[at] = (float)best;
+    return lo;
 }
 
-/* One profile minor = q + a * major, swept from far to near; the profile
- * is sampled at every whole and every half major step. */
-static void profile(const sweep *s, double q, hull *h)
+/* The tail of cell (x, y)'s ray: from where it comes within 2 minor units
+ * of the grid's exit-side edge (the profiles leave out that strip) to
+ * where it leaves the grid; the largest tangent or best. */
+static float tail(const taps *tt, const float *z, int x, int y, int w, int h,
+                  float best)
 {
-    int i, step = s->di > 0 ? -1 : 1, i0 = s->di > 0 ? s->M - 1 : 0;
-    h->n = 0;
-    for (i = i0; i >= 0 && i < s->M; i += step) {
-        double y = q + s->a * i, u = s->di * i * s->L;
-        int j;
-        if (i != i0)
-            push_at(s, h, q, 2 * i - step);
-        if (y < -1e-9 || y > s->N - 1 + 1e-9)
-            continue;
-        j = (int)floor(y + 1e-9);
-        observe(s, h, i, j, u);
-        if (y - j > 1e-9)
-            observe(s, h, i, j + 1, u);
-        push_at(s, h, q, 2 * i);
-    }
+    int j = tt->colmajor ? y : x, n = tt->colmajor ? h : w;
+    int k = tt->colmajor ? x : y, mm = tt->colmajor ? w : h;
+    double edge, rest, d0, d1, aa = fabs(tt->a);
+    if (tt->a == 0.0)
+        return best;
+    edge = tt->a < 0 ? j : n - 1 - j;          /* minor units to the edge */
+    rest = tt->di > 0 ? mm - 1 - k : k;         /* major steps to the end */
+    d0 = fmax((edge - 2.0) / aa, NEAR);
+    d1 = fmin(edge / aa, rest) + 1e-3; /* beyond: NaN padding */
+    if (d1 <= d0)
+        return best;
+    j = tap_index(tt, d0);
+    return max_taps(z, tt->pat + j, tap_index(tt, d1) - j, best);
 }
 
-/* Map the azimuth onto a major/minor sweep over dem and out. */
-static void sweep_setup(sweep *s, const td_grid_f32 *dem, double az_deg,
-                        const td_horizon_params *p, td_grid_f32 *out)
+/* Row y of out: the far-field blend, the near-field taps, the tail,
+ * degrees clamped at 0; nodata cells -> nodata.  row: w floats scratch. */
+static void finish_row(const work *wk, const float *sum, const taps *tt,
+                       int w, int h, int y, float *row, td_grid_f32 *out)
 {
-    double az = az_deg * M_PI / 180.0, dx = sin(az), dy = -cos(az);
-    if (fabs(dx) < 1e-12)
-        dx = 0.0;
-    if (fabs(dy) < 1e-12)
-        dy = 0.0;
-    s->z = dem->data;
-    s->t = out->data;
-    if (fabs(dx) >= fabs(dy)) { /* major = column */
-        s->zi = 1; s->zj = dem->stride; s->ti = 1; s->tj = out->stride;
-        s->M = dem->w; s->N = dem->h;
-        s->di = dx > 0 ? 1 : -1;
-        s->a = dy / fabs(dx) * s->di;
-        s->L = p->cell_size / fabs(dx);
-    } else {
-        s->zi = dem->stride; s->zj = 1; s->ti = out->stride; s->tj = 1;
-        s->M = dem->h; s->N = dem->w;
-        s->di = dy > 0 ? 1 : -1;
-        s->a = dx / fabs(dy) * s->di;
-        s->L = p->cell_size / fabs(dy);
+    const float *z = wk->z + (ptrdiff_t)y * wk->stride;
+    const float *ts = sum + (size_t)y * w, *ws = ts + (size_t)w * h;
+    float *o = out->data + (size_t)y * out->stride;
+    int x, i;
+    for (x = 0; x < w; x++)
+        row[x] = ws[x] > 0.999f ? ts[x] / ws[x] : 0.0f; /* else: tail */
+    for (i = 0; i <= tt->nn; i++) {
+        const tap *tp = i < tt->nn ? &tt->pat[i] : &tt->slope;
+        const float *z1 = z + tp->o1, *z2 = z + tp->o2;
+        float c1 = tp->c1, c2 = tp->c2, d = tp->d;
+        for (x = 0; x < w; x++) {
+            float t = c1 * (z1[x] - z[x]) + c2 * (z2[x] - z[x]) - d;
+            row[x] = t > row[x] ? t : row[x]; /* NaN t: kept */
+        }
     }
-    if (fabs(s->a - floor(s->a + 0.5)) < 1e-9)
-        s->a = floor(s->a + 0.5);
-    s->inv2r = p->curvature ? 0.5 / p->earth_radius : 0.0;
-    s->nod = dem->nodata;
-    s->has_nod = dem->has_nodata;
+    for (x = 0; x < w; x++)
+        row[x] = tail(tt, z + x, x, y, w, h, row[x]);
+    for (x = 0; x < w; x++)
+        o[x] = isnan(z[x]) ? out->nodata
+                           : (float)(atan(row[x] > 0.0f ? row[x] : 0.0f) *
+                                     (180.0 / M_PI));
 }
 
 static int check_args(const td_grid_f32 *dem, const td_horizon_params *p,
@@ -293,58 +478,23 @@ static int check_args(const td_grid_f32 *dem, const td_horizon_params *p,
     return td_check_dims(dem->w, dem->h, "horizon: DEM", cx);
 }
 
-/* The slope of the bilinear surface leaving cell (x, y) along the ground
- * direction (gx, gy) (columns, rows; unit length): the limit of the
- * horizon tangent on the ray's first cell, which no profile sample sees
- * (between the centre and the next grid line the bilinear surface is a
- * quadratic q(t) = z0 + b t + c t^2, so (q(t) - z0) / t = b + c t is
- * largest at one end: t -> 0 gives b, the far end is a profile sample). */
-static double near_slope(const td_grid_f32 *dem, int x, int y, double gx,
-                         double gy, double cs)
+/* Every profile, even q then odd q (neighbouring profiles share cells), in
+ * parallel; hulls in hb (2 (2 M + 2) doubles per thread). */
+static void sweep_profiles(const sweep *s, double *hb, int nth)
 {
-    int sx = gx > 0 ? 1 : -1, sy = gy > 0 ? 1 : -1;
-    double z0 = TD_AT(dem, x, y), b = 0.0, v;
-    if (fabs(gx) > 1e-12) {
-        if (x + sx < 0 || x + sx >= dem->w)
-            return 0.0;
-        v = TD_AT(dem, x + sx, y);
-        if (isnan(v) || (dem->has_nodata && v == dem->nodata))
-            return 0.0;
-        b += (v - z0) * fabs(gx);
-    }
-    if (fabs(gy) > 1e-12) {
-        if (y + sy < 0 || y + sy >= dem->h)
-            return 0.0;
-        v = TD_AT(dem, x, y + sy);
-        if (isnan(v) || (dem->has_nodata && v == dem->nodata))
-            return 0.0;
-        b += (v - z0) * fabs(gy);
-    }
-    return b / cs;
-}
-
-/* Tangents (and the near slope) -> degrees clamped at 0; nodata cells ->
- * nodata. */
-static void finish(const td_grid_f32 *dem, double az_deg, double cs,
-                   td_grid_f32 *out)
-{
-    double gx = sin(az_deg * M_PI / 180.0), gy = -cos(az_deg * M_PI / 180.0);
-    int y;
-    out->has_nodata = 1;
-    out->nodata = dem->has_nodata ? dem->nodata : -9999.0f;
-#pragma omp parallel for schedule(static)
-    for (y = 0; y < dem->h; y++) {
-        const float *zr = dem->data + (size_t)y * dem->stride;
-        float *o = out->data + (size_t)y * out->stride;
-        int x;
-        for (x = 0; x < dem->w; x++) {
-            double t = o[x], b;
-            if (isnan(zr[x]) || (dem->has_nodata && zr[x] == dem->nodata)) {
-                o[x] = out->nodata;
-                continue;
-            }
-            b = near_slope(dem, x, y, gx, gy, cs);
-            o[x] = (float)(atan(t > b ? t : b) * (180.0 / M_PI));
+    long q, qmin, qmax;
+    int par;
+    qmin = (long)floor(fmin(0.0, -s->a * (s->M - 1))) - 1;
+    qmax = (long)ceil(s->N - 1 + fmax(0.0, -s->a * (s->M - 1))) + 1;
+    for (par = 0; par < 2; par++) {
+#pragma omp parallel num_threads(nth)
+        {
+            size_t cap = 2 * (size_t)s->M + 2;
+            double *mine = hb + 2 * cap * (size_t)omp_get_thread_num();
+            hull h = {mine, mine + cap, 0};
+#pragma omp for schedule(dynamic, 8)
+            for (q = qmin + par; q <= qmax; q += 2)
+                profile(s, (double)q, &h);
         }
     }
 }
@@ -354,40 +504,52 @@ int td_horizon_direction(const td_grid_f32 *dem, double azimuth_deg,
                          const td_horizon_params *p, td_grid_f32 *out,
                          td_ctx *cx)
 {
+    work wk = {NULL, NULL, 0};
     sweep s;
-    double *buf = NULL;
-    long q, qmin, qmax, par;
-    int y, rc, nth = omp_get_max_threads();
+    taps tt = {NULL};
+    float *sum = NULL, *rows = NULL;
+    double *hb = NULL, gx, gy;
+    int rc, y, nth = omp_get_max_threads();
+    size_t n;
     if ((rc = check_args(dem, p, out, cx)) != 0)
         return rc;
     if (!isfinite(azimuth_deg))
         return td_seterr(cx, TD_EINVAL, "horizon: azimuth is not finite");
-    sweep_setup(&s, dem, azimuth_deg, p, out);
-    buf = td_malloc((sizeof(double) * 4 + sizeof(int) * 2) * (size_t)s.M *
-                    (size_t)nth, cx);
-    if (!buf)
-        return TD_ENOMEM;
-    for (y = 0; y < out->h; y++)
-        memset(out->data + (size_t)y * out->stride, 0,
-               sizeof(float) * (size_t)out->w);
-    qmin = (long)floor(fmin(0.0, -s.a * (s.M - 1))) - 1;
-    qmax = (long)ceil(s.N - 1 + fmax(0.0, -s.a * (s.M - 1))) + 1;
-    /* profiles q and q+1 share cells: even and odd q in two phases */
-    for (par = 0; par < 2; par++) {
-#pragma omp parallel num_threads(nth)
-        {
-            size_t m2 = 2 * (size_t)s.M;
-            double *mine = (double *)((char *)buf + (size_t)omp_get_thread_num() *
-                                      (sizeof(double) * 2 + sizeof(int)) * m2);
-            hull h = {mine, mine + m2, (int *)(mine + 2 * m2), 0};
-#pragma omp for schedule(dynamic, 16)
-            for (q = qmin + par; q <= qmax; q += 2)
-                profile(&s, (double)q, &h);
-        }
-    }
-    finish(dem, azimuth_deg, p->cell_size, out);
-    free(buf);
-    return 0;
+    gx = sin(azimuth_deg * M_PI / 180.0);
+    gy = -cos(azimuth_deg * M_PI / 180.0); /* north = row 0 */
+    n = (size_t)dem->w * (size_t)dem->h;
+    rc = TD_ENOMEM;
+    if (work_new(&wk, dem, cx) != 0 ||
+        !(sum = td_calloc(2 * n, sizeof(float), cx)) ||
+        !(rows = td_malloc(sizeof(float) * (size_t)dem->w * nth, cx)) ||
+        !(tt.pat = td_malloc(sizeof(tap) * (2 * (size_t)(dem->w > dem->h ?
+                             dem->w : dem->h) + 4), cx)) ||
+        !(hb = td_malloc(sizeof(double) * 2 *
+                         (2 * (size_t)(dem->w > dem->h ? dem->w : dem->h) + 2) *
+                         nth, cx)))
+        goto fail;
+    sweep_setup(&s, &wk, dem->w, dem->h, gx, gy, p, sum);
+    sweep_profiles(&s, hb, nth);
+    tt.np = ray_taps(gx, gy, s.M, p->cell_size, s.inv2r, wk.stride, tt.pat);
+    tt.nn = tap_index(&tt, NEAR + 1e-6);
+    tt.slope = slope_tap(gx, gy, p->cell_size, wk.stride);
+    tt.colmajor = fabs(gx) >= fabs(gy);
+    tt.di = (tt.colmajor ? gx : gy) > 0 ? 1 : -1;
+    tt.a = s.a;
+    out->has_nodata = 1;
+    out->nodata = dem->has_nodata ? dem->nodata : -9999.0f;
+#pragma omp parallel for schedule(static) num_threads(nth)
+    for (y = 0; y < dem->h; y++)
+        finish_row(&wk, sum, &tt, dem->w, dem->h, y,
+                   rows + (size_t)dem->w * omp_get_thread_num(), out);
+    rc = 0;
+fail:
+    free(tt.pat);
+    free(hb);
+    free(rows);
+    free(sum);
+    free(wk.buf);
+    return rc;
 }
 
 /* See horizon.h. */
