@@ -67,7 +67,9 @@
 #include <string.h>
 
 enum { NEAR = 16,       /* major steps every cell's own ray covers */
-       PAD = NEAR + 3  /* NaN border of the work copy */ };
+       PAD = NEAR + 3, /* NaN border of the work copy */
+       BLOCK = 16,     /* profiles swept side by side */
+       PREFETCH = 24   /* columns ahead the sweep asks for memory */ };
 
 td_horizon_params td_horizon_defaults(void)
 {
@@ -85,6 +87,7 @@ typedef struct work {
     float *buf;
     const float *z;     /* element (0, 0) */
     ptrdiff_t stride;
+    int w, h, tr;       /* size; tr: the DEM transposed (x <-> y) */
 } work;
 
 /* One azimuth as a major/minor sweep.  Element steps are signed: +1 in k
@@ -92,8 +95,8 @@ typedef struct work {
 typedef struct sweep {
     const float *z;     /* work cell at k = 0, j = 0 */
     ptrdiff_t zk, zj;
-    float *t, *wt;      /* tangent sum and weight sum (scratch, w x h) */
-    ptrdiff_t tk, tj;
+    float *t;           /* per cell: tangent sum, weight sum (scratch) */
+    ptrdiff_t tk, tj;   /* cell steps in t (pairs) */
     int M, N;
     double a;           /* minor change per major step */
     double L;           /* ground distance per major step along a profile */
@@ -130,29 +133,45 @@ static int steeper(const hull *h, int b, int a, double xo, double zo)
     return (h->z[b] - zo) * (h->x[a] - xo) > (h->z[a] - zo) * (h->x[b] - xo);
 }
 
-/* The tangent from (xo, zo) (left of all points) to the hull, or NAN for an
- * empty hull.  Slopes along the stack rise, then fall. */
-static double hull_tangent(const hull *h, double xo, double zo)
+/* Index of the first hull vertex in [lo, hi] not followed by a steeper
+ * one: the peak, the slopes along the stack being unimodal. */
+static int hull_peak(const hull *h, int lo, int hi, double xo, double zo)
 {
-    int k = h->n - 1, steps = 0, lo, hi;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (steeper(h, mid + 1, mid, xo, zo))
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* The tangent from (xo, zo) (left of all points) to the hull, or NAN for an
+ * empty hull.  Slopes along the stack rise, then fall; the search climbs
+ * from *hint (the previous observer's vertex: usually a step or two away)
+ * and bisects after a few steps; *hint gets the vertex found. */
+static double hull_tangent(const hull *h, double xo, double zo, int *hint)
+{
+    int k = *hint < h->n ? *hint : h->n - 1, steps = 0;
     if (k < 0)
         return NAN;
-    while (k > 0 && steeper(h, k - 1, k, xo, zo)) {
-        k--;
-        if (++steps == 8 && k > 0) {
-            lo = 0; /* the peak is in [0, k] */
-            hi = k;
-            while (lo < hi) {
-                int mid = (lo + hi + 1) / 2;
-                if (steeper(h, mid - 1, mid, xo, zo))
-                    hi = mid - 1;
-                else
-                    lo = mid;
+    if (k + 1 < h->n && steeper(h, k + 1, k, xo, zo)) {
+        while (++k + 1 < h->n && steeper(h, k + 1, k, xo, zo))
+            if (++steps == 4) {
+                k = hull_peak(h, k + 1, h->n - 1, xo, zo);
+                break;
             }
-            k = lo;
-            break;
+    } else {
+        while (k > 0 && steeper(h, k - 1, k, xo, zo)) {
+            k--;
+            if (++steps == 4) {
+                k = hull_peak(h, 0, k, xo, zo);
+                break;
+            }
         }
     }
+    *hint = k;
     return (h->z[k] - zo) / (h->x[k] - xo);
 }
 
@@ -208,7 +227,7 @@ static void push_column(const sweep *s, hull *h, double q, int k)
 /* Cell (k, j), e minor units off profile q at its column: add w times its
  * tangent to the profile's hull into the cell's sums. */
 static void observe(const sweep *s, const hull *h, int k, int j, double e,
-                    double w)
+                    double w, int *hint)
 {
     ptrdiff_t at;
     double zc, xo, t;
@@ -218,36 +237,91 @@ static void observe(const sweep *s, const hull *h, int k, int j, double e,
     if (isnan(zc))
         return;
     xo = k * s->L + s->c1a * e;
-    t = hull_tangent(h, xo, zc - xo * xo * s->inv2r) + xo * s->invr;
-    at = (ptrdiff_t)k * s->tk + (ptrdiff_t)j * s->tj;
+    t = hull_tangent(h, xo, zc - xo * xo * s->inv2r, hint) + xo * s->invr;
+    at = 2 * ((ptrdiff_t)k * s->tk + (ptrdiff_t)j * s->tj);
     s->t[at] += (float)(w * t);
-    s->wt[at] += (float)w;
+    s->t[at + 1] += (float)w;
 }
 
-/* One profile j = q + a k, swept from the far end (large k) to k = 0:
- * the hull holds the samples NEAR or more major steps beyond column k. */
-static void profile(const sweep *s, double q, hull *h)
+/* One profile j = q + a k being swept: its hull, the columns [ka, kb]
+ * where it is near the grid, and its hull_tangent hint. */
+typedef struct prof {
+    hull h;
+    double q;
+    int ka, kb, hint;
+} prof;
+
+/* Start profile q; 0 when it misses the grid. */
+static int prof_start(const sweep *s, prof *p, double q)
 {
-    int k;
-    h->n = 0;
-    for (k = s->M - 1; k >= 0; k--) {
-        double y = q + s->a * k, yn = y + s->a * NEAR;
-        int j;
-        if (k + NEAR < s->M && yn > -2.0 && yn < s->N + 1.0)
-            push_column(s, h, q, k + NEAR);
-        if (y <= -1.0 || y >= s->N)
-            continue;
-        j = (int)floor(y);
-        observe(s, h, k, j, j - y, 1.0 - (y - j));
-        observe(s, h, k, j + 1, j + 1 - y, y - j);
+    p->q = q;
+    p->h.n = 0;
+    p->hint = 0;
+    p->ka = 0;
+    p->kb = s->M - 1;
+    if (s->a != 0.0) { /* -2 <= q + a k <= N + 1 */
+        double k0 = (-2.0 - q) / s->a, k1 = (s->N + 1.0 - q) / s->a;
+        p->ka = (int)fmax(0.0, ceil(fmin(k0, k1)));
+        p->kb = (int)fmin(s->M - 1.0, floor(fmax(k0, k1)));
+    } else if (q < -1.0 || q > s->N) {
+        p->kb = -1;
     }
+    return p->ka <= p->kb;
 }
 
-/* The work copy: (w + 2 PAD) x (h + 2 PAD), NaN outside and on nodata. */
-static int work_new(work *wk, const td_grid_f32 *dem, td_ctx *cx)
+/* Column k of a profile swept from the far end (large k): push the
+ * samples NEAR columns beyond, then the cells beside the profile at k ask
+ * its hull. */
+static void prof_step(const sweep *s, prof *p, int k)
 {
-    size_t W = (size_t)dem->w + 2 * PAD, H = (size_t)dem->h + 2 * PAD, i;
+    double y = p->q + s->a * k;
+    int j;
+    if (k + NEAR <= p->kb)
+        push_column(s, &p->h, p->q, k + NEAR);
+    if (y <= -1.0 || y >= s->N || p->h.n == 0)
+        return;
+    j = (int)floor(y);
+    if (k >= PREFETCH && j >= 0 && j + 1 < s->N) { /* rows j, j+1 ahead */
+        ptrdiff_t at = (ptrdiff_t)(k - PREFETCH) * s->tk + (ptrdiff_t)j * s->tj;
+        __builtin_prefetch(s->t + 2 * at, 1);
+        __builtin_prefetch(s->t + 2 * (at + s->tj), 1);
+        __builtin_prefetch(&s->z[(ptrdiff_t)(k - PREFETCH) * s->zk +
+                                 (ptrdiff_t)j * s->zj]);
+        __builtin_prefetch(&s->z[(ptrdiff_t)(k - PREFETCH) * s->zk +
+                                 (ptrdiff_t)(j + 1) * s->zj]);
+    }
+    observe(s, &p->h, k, j, j - y, 1.0 - (y - j), &p->hint);
+    observe(s, &p->h, k, j + 1, j + 1 - y, y - j, &p->hint);
+}
+
+/* Profiles q0 .. q0 + n - 1 swept side by side, column by column: a
+ * cache line of the grid is used by neighbouring profiles a few steps
+ * apart instead of once per profile. */
+static void prof_block(const sweep *s, long q0, int n, prof *pr)
+{
+    int i, k, kmin = s->M, kmax = -1;
+    for (i = 0; i < n; i++)
+        if (prof_start(s, &pr[i], (double)(q0 + i))) {
+            kmin = pr[i].ka < kmin ? pr[i].ka : kmin;
+            kmax = pr[i].kb > kmax ? pr[i].kb : kmax;
+        }
+    for (k = kmax; k >= kmin; k--)
+        for (i = 0; i < n; i++)
+            if (k >= pr[i].ka && k <= pr[i].kb)
+                prof_step(s, &pr[i], k);
+}
+
+/* The work copy: (w + 2 PAD) x (h + 2 PAD), NaN outside and on nodata;
+ * transposed when tr (so every sweep runs along the rows of memory). */
+static int work_new(work *wk, const td_grid_f32 *dem, int tr, td_ctx *cx)
+{
+    size_t W, H, i;
     int y;
+    wk->w = tr ? dem->h : dem->w;
+    wk->h = tr ? dem->w : dem->h;
+    wk->tr = tr;
+    W = (size_t)wk->w + 2 * PAD;
+    H = (size_t)wk->h + 2 * PAD;
     if (!(wk->buf = td_malloc(sizeof(float) * W * H, cx)))
         return TD_ENOMEM;
     for (i = 0; i < W * H; i++)
@@ -255,38 +329,38 @@ static int work_new(work *wk, const td_grid_f32 *dem, td_ctx *cx)
     wk->stride = (ptrdiff_t)W;
     wk->z = wk->buf + PAD * W + PAD;
 #pragma omp parallel for schedule(static)
-    for (y = 0; y < dem->h; y++) {
-        const float *src = dem->data + (size_t)y * dem->stride;
+    for (y = 0; y < wk->h; y++) {
         float *dst = wk->buf + (size_t)(y + PAD) * W + PAD;
+        size_t step = tr ? dem->stride : 1;
+        const float *src = dem->data + (tr ? (size_t)y : (size_t)y * dem->stride);
         int x;
-        for (x = 0; x < dem->w; x++)
-            dst[x] = dem->has_nodata && src[x] == dem->nodata ? NAN : src[x];
+        for (x = 0; x < wk->w; x++) {
+            float v = src[(size_t)x * step];
+            dst[x] = dem->has_nodata && v == dem->nodata ? NAN : v;
+        }
     }
     return 0;
 }
 
-/* Map the azimuth onto a major/minor sweep over the work copy and the
+/* Map the direction (gx, gy) (work-copy columns and rows, |gx| >= |gy|)
+ * onto a major (column) / minor (row) sweep over the work copy and the
  * scratch sums (stride w). */
-static void sweep_setup(sweep *s, const work *wk, int w, int h, double gx,
-                        double gy, const td_horizon_params *p, float *sum)
+static void sweep_setup(sweep *s, const work *wk, double gx, double gy,
+                        const td_horizon_params *p, float *sum)
 {
-    int colmajor = fabs(gx) >= fabs(gy), di;
-    ptrdiff_t x0;
-    double g = colmajor ? gx : gy;
-    di = g > 0 ? 1 : -1;
-    s->M = colmajor ? w : h;
-    s->N = colmajor ? h : w;
-    s->a = (colmajor ? gy : gx) / fabs(g);
+    int di = gx > 0 ? 1 : -1;
+    ptrdiff_t x0 = di > 0 ? 0 : wk->w - 1; /* k = 0 */
+    s->M = wk->w;
+    s->N = wk->h;
+    s->a = gy / fabs(gx);
     if (fabs(s->a - floor(s->a + 0.5)) < 1e-9)
         s->a = floor(s->a + 0.5);
-    x0 = di > 0 ? 0 : s->M - 1; /* k = 0 */
-    s->zk = di * (colmajor ? 1 : wk->stride);
-    s->zj = colmajor ? wk->stride : 1;
-    s->tk = di * (colmajor ? 1 : (ptrdiff_t)w);
-    s->tj = colmajor ? (ptrdiff_t)w : 1;
-    s->z = wk->z + x0 * (colmajor ? 1 : wk->stride);
-    s->t = sum + x0 * (colmajor ? 1 : (ptrdiff_t)w);
-    s->wt = s->t + (ptrdiff_t)w * h;
+    s->zk = di;
+    s->zj = wk->stride;
+    s->tk = di;
+    s->tj = wk->w;
+    s->z = wk->z + x0;
+    s->t = sum + 2 * x0;
     s->L = p->cell_size * sqrt(1.0 + s->a * s->a);
     s->c1a = p->cell_size * s->a / sqrt(1.0 + s->a * s->a);
     s->inv2r = p->curvature ? 0.5 / p->earth_radius : 0.0;
@@ -385,7 +459,7 @@ static tap slope_tap(double gx, double gy, double cs, ptrdiff_t stride)
 typedef struct taps {
     tap *pat, slope;
     int np, nn;
-    int colmajor, di;
+    int di;             /* +1: the ray runs towards larger columns */
     double a;
 } taps;
 
@@ -420,13 +494,12 @@ static int tap_index(const taps *tt, double m)
 static float tail(const taps *tt, const float *z, int x, int y, int w, int h,
                   float best)
 {
-    int j = tt->colmajor ? y : x, n = tt->colmajor ? h : w;
-    int k = tt->colmajor ? x : y, mm = tt->colmajor ? w : h;
     double edge, rest, d0, d1, aa = fabs(tt->a);
+    int j;
     if (tt->a == 0.0)
         return best;
-    edge = tt->a < 0 ? j : n - 1 - j;          /* minor units to the edge */
-    rest = tt->di > 0 ? mm - 1 - k : k;         /* major steps to the end */
+    edge = tt->a < 0 ? y : h - 1 - y;          /* minor units to the edge */
+    rest = tt->di > 0 ? w - 1 - x : x;         /* major steps to the end */
     d0 = fmax((edge - 2.0) / aa, NEAR);
     d1 = fmin(edge / aa, rest) + 1e-3; /* beyond: NaN padding */
     if (d1 <= d0)
@@ -435,17 +508,28 @@ static float tail(const taps *tt, const float *z, int x, int y, int w, int h,
     return max_taps(z, tt->pat + j, tap_index(tt, d1) - j, best);
 }
 
-/* Row y of out: the far-field blend, the near-field taps, the tail,
- * degrees clamped at 0; nodata cells -> nodata.  row: w floats scratch. */
-static void finish_row(const work *wk, const float *sum, const taps *tt,
-                       int w, int h, int y, float *row, td_grid_f32 *out)
+/* atan(t) in degrees for t >= 0, within 1e-5 rad (Abramowitz and Stegun
+ * 4.4.49 on [0, 1], atan(t) = pi/2 - atan(1/t) above). */
+static float atan_deg(float t)
 {
+    float u = t > 1.0f ? 1.0f / t : t, u2 = u * u, r;
+    r = u * (0.9998660f + u2 * (-0.3302995f + u2 * (0.1801410f +
+             u2 * (-0.0851330f + u2 * 0.0208351f))));
+    r = t > 1.0f ? 1.5707963f - r : r;
+    return r * (float)(180.0 / M_PI);
+}
+
+/* Row y of the work grid: the far-field blend, the near-field taps, the
+ * tail; degrees clamped at 0 (nodata cells: nodata) into o[x * ostep]. */
+static void finish_row(const work *wk, const float *sum, const taps *tt,
+                       int y, float *row, float *o, size_t ostep, float nod)
+{
+    const int w = wk->w, h = wk->h;
     const float *z = wk->z + (ptrdiff_t)y * wk->stride;
-    const float *ts = sum + (size_t)y * w, *ws = ts + (size_t)w * h;
-    float *o = out->data + (size_t)y * out->stride;
+    const float *ts = sum + 2 * (size_t)y * w;
     int x, i;
-    for (x = 0; x < w; x++)
-        row[x] = ws[x] > 0.999f ? ts[x] / ws[x] : 0.0f; /* else: tail */
+    for (x = 0; x < w; x++) /* both profiles seen, else: the tail */
+        row[x] = ts[2 * x + 1] > 0.999f ? ts[2 * x] / ts[2 * x + 1] : 0.0f;
     for (i = 0; i <= tt->nn; i++) {
         const tap *tp = i < tt->nn ? &tt->pat[i] : &tt->slope;
         const float *z1 = z + tp->o1, *z2 = z + tp->o2;
@@ -455,12 +539,13 @@ static void finish_row(const work *wk, const float *sum, const taps *tt,
             row[x] = t > row[x] ? t : row[x]; /* NaN t: kept */
         }
     }
+    if (tt->a != 0.0)
+        for (x = 0; x < w; x++)
+            row[x] = tail(tt, z + x, x, y, w, h, row[x]);
     for (x = 0; x < w; x++)
-        row[x] = tail(tt, z + x, x, y, w, h, row[x]);
+        row[x] = isnan(z[x]) ? nod : atan_deg(row[x] > 0.0f ? row[x] : 0.0f);
     for (x = 0; x < w; x++)
-        o[x] = isnan(z[x]) ? out->nodata
-                           : (float)(atan(row[x] > 0.0f ? row[x] : 0.0f) *
-                                     (180.0 / M_PI));
+        o[(size_t)x * ostep] = row[x];
 }
 
 static int check_args(const td_grid_f32 *dem, const td_horizon_params *p,
@@ -478,70 +563,91 @@ static int check_args(const td_grid_f32 *dem, const td_horizon_params *p,
     return td_check_dims(dem->w, dem->h, "horizon: DEM", cx);
 }
 
-/* Every profile, even q then odd q (neighbouring profiles share cells), in
- * parallel; hulls in hb (2 (2 M + 2) doubles per thread). */
+/* Every profile, in blocks of BLOCK neighbours: even blocks, then odd
+ * ones (neighbouring profiles share cells), in parallel.  hb holds BLOCK
+ * hulls of cap = 2 M + 2 points per thread. */
 static void sweep_profiles(const sweep *s, double *hb, int nth)
 {
-    long q, qmin, qmax;
+    long qmin, qmax, b, nb;
     int par;
     qmin = (long)floor(fmin(0.0, -s->a * (s->M - 1))) - 1;
     qmax = (long)ceil(s->N - 1 + fmax(0.0, -s->a * (s->M - 1))) + 1;
+    nb = (qmax - qmin) / BLOCK + 1;
     for (par = 0; par < 2; par++) {
 #pragma omp parallel num_threads(nth)
         {
             size_t cap = 2 * (size_t)s->M + 2;
-            double *mine = hb + 2 * cap * (size_t)omp_get_thread_num();
-            hull h = {mine, mine + cap, 0};
-#pragma omp for schedule(dynamic, 8)
-            for (q = qmin + par; q <= qmax; q += 2)
-                profile(s, (double)q, &h);
+            double *mine = hb + 2 * cap * BLOCK * (size_t)omp_get_thread_num();
+            prof pr[BLOCK];
+            int i;
+            for (i = 0; i < BLOCK; i++) {
+                pr[i].h.x = mine + 2 * cap * i;
+                pr[i].h.z = pr[i].h.x + cap;
+            }
+#pragma omp for schedule(dynamic, 1)
+            for (b = par; b < nb; b += 2) {
+                long q0 = qmin + b * BLOCK;
+                prof_block(s, q0, (int)(q0 + BLOCK - 1 <= qmax ? BLOCK
+                                                                : qmax - q0 + 1),
+                           pr);
+            }
         }
     }
 }
 
-/* See horizon.h. */
+/* The direction's stencils (see taps). */
+static void taps_setup(taps *tt, const sweep *s, const work *wk, double gx,
+                       double gy, double cs)
+{
+    tt->np = ray_taps(gx, gy, s->M, cs, s->inv2r, wk->stride, tt->pat);
+    tt->nn = tap_index(tt, NEAR + 1e-6);
+    tt->slope = slope_tap(gx, gy, cs, wk->stride);
+    tt->di = gx > 0 ? 1 : -1;
+    tt->a = s->a;
+}
+
+/* See horizon.h.  Directions nearer north-south than east-west run on the
+ * transposed DEM, so profiles always follow memory rows. */
 int td_horizon_direction(const td_grid_f32 *dem, double azimuth_deg,
                          const td_horizon_params *p, td_grid_f32 *out,
                          td_ctx *cx)
 {
-    work wk = {NULL, NULL, 0};
+    work wk = {NULL, NULL, 0, 0, 0, 0};
     sweep s;
     taps tt = {NULL};
     float *sum = NULL, *rows = NULL;
-    double *hb = NULL, gx, gy;
-    int rc, y, nth = omp_get_max_threads();
-    size_t n;
+    double *hb = NULL, gx, gy, t;
+    int rc, y, nth = omp_get_max_threads(), big = dem ? (dem->w > dem->h ?
+                                                         dem->w : dem->h) : 0;
     if ((rc = check_args(dem, p, out, cx)) != 0)
         return rc;
     if (!isfinite(azimuth_deg))
         return td_seterr(cx, TD_EINVAL, "horizon: azimuth is not finite");
     gx = sin(azimuth_deg * M_PI / 180.0);
     gy = -cos(azimuth_deg * M_PI / 180.0); /* north = row 0 */
-    n = (size_t)dem->w * (size_t)dem->h;
     rc = TD_ENOMEM;
-    if (work_new(&wk, dem, cx) != 0 ||
-        !(sum = td_calloc(2 * n, sizeof(float), cx)) ||
-        !(rows = td_malloc(sizeof(float) * (size_t)dem->w * nth, cx)) ||
-        !(tt.pat = td_malloc(sizeof(tap) * (2 * (size_t)(dem->w > dem->h ?
-                             dem->w : dem->h) + 4), cx)) ||
-        !(hb = td_malloc(sizeof(double) * 2 *
-                         (2 * (size_t)(dem->w > dem->h ? dem->w : dem->h) + 2) *
+    if (work_new(&wk, dem, fabs(gy) > fabs(gx), cx) != 0 ||
+        !(sum = td_calloc(2 * (size_t)dem->w * dem->h, sizeof(float), cx)) ||
+        !(rows = td_malloc(sizeof(float) * (size_t)big * nth, cx)) ||
+        !(tt.pat = td_malloc(sizeof(tap) * (2 * (size_t)big + 4), cx)) ||
+        !(hb = td_malloc(sizeof(double) * 2 * (2 * (size_t)big + 2) * BLOCK *
                          nth, cx)))
         goto fail;
-    sweep_setup(&s, &wk, dem->w, dem->h, gx, gy, p, sum);
+    if (wk.tr) {
+        t = gx;
+        gx = gy;
+        gy = t;
+    }
+    sweep_setup(&s, &wk, gx, gy, p, sum);
     sweep_profiles(&s, hb, nth);
-    tt.np = ray_taps(gx, gy, s.M, p->cell_size, s.inv2r, wk.stride, tt.pat);
-    tt.nn = tap_index(&tt, NEAR + 1e-6);
-    tt.slope = slope_tap(gx, gy, p->cell_size, wk.stride);
-    tt.colmajor = fabs(gx) >= fabs(gy);
-    tt.di = (tt.colmajor ? gx : gy) > 0 ? 1 : -1;
-    tt.a = s.a;
+    taps_setup(&tt, &s, &wk, gx, gy, p->cell_size);
     out->has_nodata = 1;
     out->nodata = dem->has_nodata ? dem->nodata : -9999.0f;
 #pragma omp parallel for schedule(static) num_threads(nth)
-    for (y = 0; y < dem->h; y++)
-        finish_row(&wk, sum, &tt, dem->w, dem->h, y,
-                   rows + (size_t)dem->w * omp_get_thread_num(), out);
+    for (y = 0; y < wk.h; y++)
+        finish_row(&wk, sum, &tt, y, rows + (size_t)big * omp_get_thread_num(),
+                   out->data + (wk.tr ? (size_t)y : (size_t)y * out->stride),
+                   wk.tr ? out->stride : 1, out->nodata);
     rc = 0;
 fail:
     free(tt.pat);
