@@ -68,8 +68,7 @@
 
 enum { NEAR = 16,       /* major steps every cell's own ray covers */
        PAD = NEAR + 3, /* NaN border of the work copy */
-       BLOCK = 16,     /* profiles swept side by side */
-       PREFETCH = 24   /* columns ahead the sweep asks for memory */ };
+       BLOCK = 16      /* profiles swept side by side */ };
 
 td_horizon_params td_horizon_defaults(void)
 {
@@ -103,7 +102,18 @@ typedef struct sweep {
     double c1a;         /* X offset per minor unit off a profile */
     double inv2r, invr; /* 1 / (2 R), 1 / R; 0 without curvature */
     double ylo, yhi;    /* minor range profiles sample (see at_column) */
+    const struct column *col; /* per major index, shared by all profiles */
 } sweep;
+
+/* Where every profile j = q + a k stands at column k, less q: floor(a k)
+ * and the fraction, and the row it crosses before column k + 1. */
+typedef struct column {
+    int jk;             /* floor(a k) */
+    int cm;             /* crossed row - q, or NOCROSS */
+    double f, tau;      /* a k - jk; the crossing at k + tau */
+} column;
+
+#define NOCROSS (-2147483647 - 1)
 
 /* A profile's upper hull: n points (X, Z), X decreasing towards the top. */
 typedef struct hull {
@@ -180,15 +190,14 @@ static float zat(const sweep *s, int k, int j)
     return s->z[(ptrdiff_t)k * s->zk + (ptrdiff_t)j * s->zj];
 }
 
-/* The profile's height at whole major index k, minor y: linear between
- * the two cells of the column; NAN outside [ylo, yhi] (the exit-side strip
- * is left to the tail march); on the entry side the surface is extended
+/* The profile's height at column k, row j + f (0 <= f < 1): linear
+ * between the two cells; NAN outside [ylo, yhi] (the exit-side strip is
+ * left to the tail march); on the entry side the surface is extended
  * linearly one row outwards (the blend of a cell in the edge row needs a
  * profile outside it). */
-static double at_column(const sweep *s, int k, double y)
+static double at_column(const sweep *s, int k, int j, double f)
 {
-    int j = (int)floor(y);
-    double f = y - j;
+    double y = j + f;
     if (!(y >= s->ylo && y <= s->yhi))
         return NAN;
     if (j < 0 || j >= s->N - 1) { /* linear extension, one row at most */
@@ -201,27 +210,46 @@ static double at_column(const sweep *s, int k, double y)
                    : zat(s, k, j);
 }
 
-/* Push the samples of profile q at whole major index k and at its
- * whole-minor crossing between k and k + 1 (pushed first: farther). */
-static void push_column(const sweep *s, hull *h, double q, int k)
+/* Push the samples of profile q at column k and at its row crossing
+ * between k and k + 1 (pushed first: farther). */
+static void push_column(const sweep *s, hull *h, int q, int k)
 {
-    double y = q + s->a * k, y1 = y + s->a, z, x;
-    int j = (int)floor(y), m;
-    if (k + 1 < s->M && s->a != 0.0) {
-        m = s->a > 0 ? j + 1 : (y > j ? j : j - 1); /* crossed row */
-        if (((s->a > 0 && m < y1) || (s->a < 0 && m > y1)) && m >= 0 &&
-            m < s->N && m >= s->ylo && m <= s->yhi) {
-            double tau = (m - y) / s->a;
-            z = (1.0 - tau) * zat(s, k, m) + tau * zat(s, k + 1, m);
-            x = (k + tau) * s->L;
+    const column *c = &s->col[k];
+    double z, x;
+    if (c->cm != NOCROSS) {
+        int m = q + c->cm;
+        if (m >= 0 && m < s->N && m >= s->ylo && m <= s->yhi) {
+            z = (1.0 - c->tau) * zat(s, k, m) + c->tau * zat(s, k + 1, m);
+            x = (k + c->tau) * s->L;
             if (!isnan(z))
                 hull_push(h, x, z - x * x * s->inv2r);
         }
     }
-    z = at_column(s, k, y);
+    z = at_column(s, k, q + c->jk, c->f);
     x = k * s->L;
     if (!isnan(z))
         hull_push(h, x, z - x * x * s->inv2r);
+}
+
+/* The column table of a sweep (M entries). */
+static void columns(const sweep *s, column *col)
+{
+    int k;
+    for (k = 0; k < s->M; k++) {
+        double y = s->a * k, y1 = y + s->a;
+        int j = (int)floor(y), m;
+        col[k].jk = j;
+        col[k].f = y - j;
+        col[k].cm = NOCROSS;
+        col[k].tau = 0.0;
+        if (k + 1 >= s->M || s->a == 0.0)
+            continue;
+        m = s->a > 0 ? j + 1 : (y > j ? j : j - 1);
+        if ((s->a > 0 && m < y1) || (s->a < 0 && m > y1)) {
+            col[k].cm = m;
+            col[k].tau = (m - y) / s->a;
+        }
+    }
 }
 
 /* Cell (k, j), e minor units off profile q at its column: add w times its
@@ -247,16 +275,15 @@ static void observe(const sweep *s, const hull *h, int k, int j, double e,
  * where it is near the grid, and its hull_tangent hint. */
 typedef struct prof {
     hull h;
-    double q;
-    int ka, kb, hint;
+    int q, ka, kb, hint[2]; /* hints of the cells below and above it */
 } prof;
 
 /* Start profile q; 0 when it misses the grid. */
-static int prof_start(const sweep *s, prof *p, double q)
+static int prof_start(const sweep *s, prof *p, int q)
 {
     p->q = q;
     p->h.n = 0;
-    p->hint = 0;
+    p->hint[0] = p->hint[1] = 0;
     p->ka = 0;
     p->kb = s->M - 1;
     if (s->a != 0.0) { /* -2 <= q + a k <= N + 1 */
@@ -274,24 +301,14 @@ static int prof_start(const sweep *s, prof *p, double q)
  * its hull. */
 static void prof_step(const sweep *s, prof *p, int k)
 {
-    double y = p->q + s->a * k;
-    int j;
+    int j = p->q + s->col[k].jk;
+    double f = s->col[k].f;
     if (k + NEAR <= p->kb)
         push_column(s, &p->h, p->q, k + NEAR);
-    if (y <= -1.0 || y >= s->N || p->h.n == 0)
+    if (j < -1 || j >= s->N || p->h.n == 0)
         return;
-    j = (int)floor(y);
-    if (k >= PREFETCH && j >= 0 && j + 1 < s->N) { /* rows j, j+1 ahead */
-        ptrdiff_t at = (ptrdiff_t)(k - PREFETCH) * s->tk + (ptrdiff_t)j * s->tj;
-        __builtin_prefetch(s->t + 2 * at, 1);
-        __builtin_prefetch(s->t + 2 * (at + s->tj), 1);
-        __builtin_prefetch(&s->z[(ptrdiff_t)(k - PREFETCH) * s->zk +
-                                 (ptrdiff_t)j * s->zj]);
-        __builtin_prefetch(&s->z[(ptrdiff_t)(k - PREFETCH) * s->zk +
-                                 (ptrdiff_t)(j + 1) * s->zj]);
-    }
-    observe(s, &p->h, k, j, j - y, 1.0 - (y - j), &p->hint);
-    observe(s, &p->h, k, j + 1, j + 1 - y, y - j, &p->hint);
+    observe(s, &p->h, k, j, -f, 1.0 - f, &p->hint[0]);
+    observe(s, &p->h, k, j + 1, 1.0 - f, f, &p->hint[1]);
 }
 
 /* Profiles q0 .. q0 + n - 1 swept side by side, column by column: a
@@ -301,7 +318,7 @@ static void prof_block(const sweep *s, long q0, int n, prof *pr)
 {
     int i, k, kmin = s->M, kmax = -1;
     for (i = 0; i < n; i++)
-        if (prof_start(s, &pr[i], (double)(q0 + i))) {
+        if (prof_start(s, &pr[i], (int)(q0 + i))) {
             kmin = pr[i].ka < kmin ? pr[i].ka : kmin;
             kmax = pr[i].kb > kmax ? pr[i].kb : kmax;
         }
@@ -615,6 +632,7 @@ int td_horizon_direction(const td_grid_f32 *dem, double azimuth_deg,
     work wk = {NULL, NULL, 0, 0, 0, 0};
     sweep s;
     taps tt = {NULL};
+    column *col = NULL;
     float *sum = NULL, *rows = NULL;
     double *hb = NULL, gx, gy, t;
     int rc, y, nth = omp_get_max_threads(), big = dem ? (dem->w > dem->h ?
@@ -630,6 +648,7 @@ int td_horizon_direction(const td_grid_f32 *dem, double azimuth_deg,
         !(sum = td_calloc(2 * (size_t)dem->w * dem->h, sizeof(float), cx)) ||
         !(rows = td_malloc(sizeof(float) * (size_t)big * nth, cx)) ||
         !(tt.pat = td_malloc(sizeof(tap) * (2 * (size_t)big + 4), cx)) ||
+        !(col = td_malloc(sizeof(column) * (size_t)big, cx)) ||
         !(hb = td_malloc(sizeof(double) * 2 * (2 * (size_t)big + 2) * BLOCK *
                          nth, cx)))
         goto fail;
@@ -639,6 +658,8 @@ int td_horizon_direction(const td_grid_f32 *dem, double azimuth_deg,
         gy = t;
     }
     sweep_setup(&s, &wk, gx, gy, p, sum);
+    columns(&s, col);
+    s.col = col;
     sweep_profiles(&s, hb, nth);
     taps_setup(&tt, &s, &wk, gx, gy, p->cell_size);
     out->has_nodata = 1;
@@ -650,6 +671,7 @@ int td_horizon_direction(const td_grid_f32 *dem, double azimuth_deg,
                    wk.tr ? out->stride : 1, out->nodata);
     rc = 0;
 fail:
+    free(col);
     free(tt.pat);
     free(hb);
     free(rows);
