@@ -66,9 +66,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { NEAR = 16,       /* major steps every cell's own ray covers */
+enum { NEAR = 24,       /* major steps every cell's own ray covers */
        PAD = NEAR + 3, /* NaN border of the work copy */
-       BLOCK = 16      /* profiles swept side by side */ };
+       BLOCK = 16,     /* profiles swept side by side */
+       MIDS = 12       /* major steps with piece midpoints sampled */ };
 
 td_horizon_params td_horizon_defaults(void)
 {
@@ -453,6 +454,50 @@ static int ray_taps(double gx, double gy, int steps, double cs, double inv2r,
     }
 }
 
+/* A point inside a cell: tangent = sum c[i] (z[o[i]] - z0) - d. */
+typedef struct qtap {
+    ptrdiff_t o[4];
+    float c[4], d;
+} qtap;
+
+/* The midpoints of the bilinear pieces of the ray between its crossings
+ * within MIDS major steps, but the first piece (whose tangent is largest
+ * at an end); a piece is a quadratic in t and may peak inside.  Returns the
+ * count. */
+static int mid_taps(double gx, double gy, const tap *pat, int np, double cs,
+                    double inv2r, ptrdiff_t stride, qtap *q)
+{
+    double am = fmax(fabs(gx), fabs(gy));
+    int i, n = 0, c;
+    for (i = 1; i < np && pat[i].m <= MIDS; i++) {
+        double t = 0.5 * (pat[i - 1].m + pat[i].m) / am;
+        double px = t * gx, py = t * gy, fx, fy;
+        long ix = (long)floor(px), iy = (long)floor(py);
+        fx = px - ix;
+        fy = py - iy;
+        q[n].o[0] = iy * stride + ix;
+        q[n].o[1] = q[n].o[0] + 1;
+        q[n].o[2] = q[n].o[0] + stride;
+        q[n].o[3] = q[n].o[2] + 1;
+        q[n].c[0] = (float)((1 - fx) * (1 - fy) / (t * cs));
+        q[n].c[1] = (float)(fx * (1 - fy) / (t * cs));
+        q[n].c[2] = (float)((1 - fx) * fy / (t * cs));
+        q[n].c[3] = (float)(fx * fy / (t * cs));
+        for (c = 1; c < 4; c++)
+            if (q[n].c[c] < 1e-7f) {
+                q[n].c[c] = 0.0f;
+                q[n].o[c] = q[n].o[0];
+            }
+        if (q[n].c[0] < 1e-7f) { /* keep o[0] finite-weighted */
+            q[n].c[0] = 0.0f;
+            q[n].o[0] = q[n].o[3];
+        }
+        q[n].d = (float)(t * cs * inv2r);
+        n++;
+    }
+    return n;
+}
+
 /* The ray's initial slope inside the cell (limit t -> 0; between the
  * centre and the first grid line the bilinear surface is a quadratic
  * z0 + b t + c t^2, so the tangent b + c t is largest at an end: b here,
@@ -475,7 +520,8 @@ static tap slope_tap(double gx, double gy, double cs, ptrdiff_t stride)
  * nn are within NEAR major steps; slope, the initial slope. */
 typedef struct taps {
     tap *pat, slope;
-    int np, nn;
+    qtap mid[4 * MIDS + 4];
+    int np, nn, nm;
     int di;             /* +1: the ray runs towards larger columns */
     double a;
 } taps;
@@ -556,6 +602,17 @@ static void finish_row(const work *wk, const float *sum, const taps *tt,
             row[x] = t > row[x] ? t : row[x]; /* NaN t: kept */
         }
     }
+    for (i = 0; i < tt->nm; i++) {
+        const qtap *q = &tt->mid[i];
+        const float *z0 = z + q->o[0], *z1 = z + q->o[1], *z2 = z + q->o[2],
+                    *z3 = z + q->o[3];
+        float c0 = q->c[0], c1 = q->c[1], c2 = q->c[2], c3 = q->c[3], d = q->d;
+        for (x = 0; x < w; x++) {
+            float t = c0 * (z0[x] - z[x]) + c1 * (z1[x] - z[x]) +
+                      c2 * (z2[x] - z[x]) + c3 * (z3[x] - z[x]) - d;
+            row[x] = t > row[x] ? t : row[x];
+        }
+    }
     if (tt->a != 0.0)
         for (x = 0; x < w; x++)
             row[x] = tail(tt, z + x, x, y, w, h, row[x]);
@@ -619,6 +676,8 @@ static void taps_setup(taps *tt, const sweep *s, const work *wk, double gx,
     tt->np = ray_taps(gx, gy, s->M, cs, s->inv2r, wk->stride, tt->pat);
     tt->nn = tap_index(tt, NEAR + 1e-6);
     tt->slope = slope_tap(gx, gy, cs, wk->stride);
+    tt->nm = mid_taps(gx, gy, tt->pat, tt->np, cs, s->inv2r, wk->stride,
+                      tt->mid);
     tt->di = gx > 0 ? 1 : -1;
     tt->a = s->a;
 }
