@@ -571,13 +571,22 @@ static float tail(const taps *tt, const float *z, int x, int y, int w, int h,
     return max_taps(z, tt->pat + j, tap_index(tt, d1) - j, best);
 }
 
-/* atan(t) in degrees for t >= 0, within 1e-5 rad (Abramowitz and Stegun
- * 4.4.49 on [0, 1], atan(t) = pi/2 - atan(1/t) above). */
+/* atan(t) in degrees for t >= 0, within 2e-7 rad: reduced to |v| <=
+ * tan(pi/8) by atan(t) = pi/2 - atan(1/t) and atan(u) = pi/4 +
+ * atan((u - 1) / (u + 1)), then the Taylor series to v^13. */
 static float atan_deg(float t)
 {
-    float u = t > 1.0f ? 1.0f / t : t, u2 = u * u, r;
-    r = u * (0.9998660f + u2 * (-0.3302995f + u2 * (0.1801410f +
-             u2 * (-0.0851330f + u2 * 0.0208351f))));
+    float u = t > 1.0f ? 1.0f / t : t, v, v2, r, base = 0.0f;
+    if (u > 0.41421356f) {
+        v = (u - 1.0f) / (u + 1.0f);
+        base = 0.78539816f;
+    } else {
+        v = u;
+    }
+    v2 = v * v;
+    r = v * (1.0f + v2 * (-1.0f / 3 + v2 * (1.0f / 5 + v2 * (-1.0f / 7 +
+             v2 * (1.0f / 9 + v2 * (-1.0f / 11 + v2 * (1.0f / 13)))))));
+    r += base;
     r = t > 1.0f ? 1.5707963f - r : r;
     return r * (float)(180.0 / M_PI);
 }
