@@ -520,6 +520,7 @@ static tap slope_tap(double gx, double gy, double cs, ptrdiff_t stride)
  * nn are within NEAR major steps; slope, the initial slope. */
 typedef struct taps {
     tap *pat, slope;
+    int *first;         /* see first_taps */
     qtap mid[4 * MIDS + 4];
     int np, nn, nm;
     int di;             /* +1: the ray runs towards larger columns */
@@ -540,15 +541,21 @@ static float max_taps(const float *z, const tap *tp, int n, float best)
 /* First index of pat with major distance >= m. */
 static int tap_index(const taps *tt, double m)
 {
-    int lo = 0, hi = tt->np;
-    while (lo < hi) {
-        int mid = (lo + hi) / 2;
-        if (tt->pat[mid].m < m)
-            lo = mid + 1;
-        else
-            hi = mid;
+    int i = m <= 0.0 ? 0 : tt->first[m < tt->np ? (int)m : tt->np];
+    while (i < tt->np && tt->pat[i].m < m)
+        i++;
+    return i;
+}
+
+/* tt->first[s]: the first tap at major distance >= s, s = 0 .. np. */
+static void first_taps(taps *tt)
+{
+    int s, i = 0;
+    for (s = 0; s <= tt->np; s++) {
+        while (i < tt->np && tt->pat[i].m < s)
+            i++;
+        tt->first[s] = i;
     }
-    return lo;
 }
 
 /* The tail of cell (x, y)'s ray: from where it comes within 2 minor units
@@ -683,6 +690,7 @@ static void taps_setup(taps *tt, const sweep *s, const work *wk, double gx,
                        double gy, double cs)
 {
     tt->np = ray_taps(gx, gy, s->M, cs, s->inv2r, wk->stride, tt->pat);
+    first_taps(tt);
     tt->nn = tap_index(tt, NEAR + 1e-6);
     tt->slope = slope_tap(gx, gy, cs, wk->stride);
     tt->nm = mid_taps(gx, gy, tt->pat, tt->np, cs, s->inv2r, wk->stride,
@@ -717,6 +725,7 @@ int td_horizon_direction(const td_grid_f32 *dem, double azimuth_deg,
         !(rows = td_malloc(sizeof(float) * (size_t)big * nth, cx)) ||
         !(tt.pat = td_malloc(sizeof(tap) * (2 * (size_t)big + 4), cx)) ||
         !(col = td_malloc(sizeof(column) * (size_t)big, cx)) ||
+        !(tt.first = td_malloc(sizeof(int) * (2 * (size_t)big + 5), cx)) ||
         !(hb = td_malloc(sizeof(double) * 2 * (2 * (size_t)big + 2) * BLOCK *
                          nth, cx)))
         goto fail;
@@ -740,6 +749,7 @@ int td_horizon_direction(const td_grid_f32 *dem, double azimuth_deg,
     rc = 0;
 fail:
     free(col);
+    free(tt.first);
     free(tt.pat);
     free(hb);
     free(rows);
