@@ -350,7 +350,8 @@ static int work_new(work *wk, const td_grid_f32 *dem, int tr, td_ctx *cx)
     for (y = 0; y < wk->h; y++) {
         float *dst = wk->buf + (size_t)(y + PAD) * W + PAD;
         size_t step = tr ? dem->stride : 1;
-        const float *src = dem->data + (tr ? (size_t)y : (size_t)y * dem->stride);
+        const float *src = dem->data + (tr ? (size_t)y
+                                           : (size_t)y * dem->stride);
         int x;
         for (x = 0; x < wk->w; x++) {
             float v = src[(size_t)x * step];
@@ -677,9 +678,8 @@ static void sweep_profiles(const sweep *s, double *hb, int nth)
 #pragma omp for schedule(dynamic, 1)
             for (b = par; b < nb; b += 2) {
                 long q0 = qmin + b * BLOCK;
-                prof_block(s, q0, (int)(q0 + BLOCK - 1 <= qmax ? BLOCK
-                                                                : qmax - q0 + 1),
-                           pr);
+                long n = q0 + BLOCK - 1 <= qmax ? BLOCK : qmax - q0 + 1;
+                prof_block(s, q0, (int)n, pr);
             }
         }
     }
