@@ -699,11 +699,12 @@ static void taps_setup(taps *tt, const sweep *s, const work *wk, double gx,
     tt->a = s->a;
 }
 
-/* See horizon.h.  Directions nearer north-south than east-west run on the
- * transposed DEM, so profiles always follow memory rows. */
-int td_horizon_direction(const td_grid_f32 *dem, double azimuth_deg,
-                         const td_horizon_params *p, td_grid_f32 *out,
-                         td_ctx *cx)
+/* One direction on nth threads (arguments checked).  Directions nearer
+ * north-south than east-west run on the transposed DEM, so profiles always
+ * follow memory rows. */
+static int direction(const td_grid_f32 *dem, double azimuth_deg,
+                     const td_horizon_params *p, td_grid_f32 *out, int nth,
+                     td_ctx *cx)
 {
     work wk = {NULL, NULL, 0, 0, 0, 0};
     sweep s;
@@ -711,12 +712,7 @@ int td_horizon_direction(const td_grid_f32 *dem, double azimuth_deg,
     column *col = NULL;
     float *sum = NULL, *rows = NULL;
     double *hb = NULL, gx, gy, t;
-    int rc, y, nth = omp_get_max_threads(), big = dem ? (dem->w > dem->h ?
-                                                         dem->w : dem->h) : 0;
-    if ((rc = check_args(dem, p, out, cx)) != 0)
-        return rc;
-    if (!isfinite(azimuth_deg))
-        return td_seterr(cx, TD_EINVAL, "horizon: azimuth is not finite");
+    int rc, y, big = dem->w > dem->h ? dem->w : dem->h;
     gx = sin(azimuth_deg * M_PI / 180.0);
     gy = -cos(azimuth_deg * M_PI / 180.0); /* north = row 0 */
     rc = TD_ENOMEM;
@@ -759,20 +755,49 @@ fail:
 }
 
 /* See horizon.h. */
+int td_horizon_direction(const td_grid_f32 *dem, double azimuth_deg,
+                         const td_horizon_params *p, td_grid_f32 *out,
+                         td_ctx *cx)
+{
+    int rc;
+    if ((rc = check_args(dem, p, out, cx)) != 0)
+        return rc;
+    if (!isfinite(azimuth_deg))
+        return td_seterr(cx, TD_EINVAL, "horizon: azimuth is not finite");
+    return direction(dem, azimuth_deg, p, out, omp_get_max_threads(), cx);
+}
+
+/* See horizon.h.  The directions run in parallel, one thread each (no
+ * barrier per direction); errors and progress go through cx one thread at
+ * a time. */
 int td_horizon_sweep(const td_grid_f32 *dem, const td_horizon_params *p,
                      td_grid_f32 *const *bands, td_ctx *cx)
 {
-    int i, rc;
-    if (!p || p->directions < 1 || p->directions > 3600)
+    int i, rc = 0, done = 0;
+    if (!p || p->directions < 1 || p->directions > 3600 || !bands)
         return td_seterr(cx, TD_EINVAL, "horizon: directions must be "
                          "1..3600");
+    for (i = 0; i < p->directions; i++)
+        if ((rc = check_args(dem, p, bands[i], cx)) != 0)
+            return rc;
+#pragma omp parallel for schedule(dynamic, 1)
     for (i = 0; i < p->directions; i++) {
-        double az = 360.0 * i / p->directions;
-        if ((rc = td_horizon_direction(dem, az, p, bands[i], cx)) != 0)
-            return rc;
-        if ((rc = td_progress(cx, "horizon",
-                              (double)(i + 1) / p->directions)) != 0)
-            return rc;
+        td_ctx mine;
+        int r, stop;
+#pragma omp atomic read
+        stop = rc;
+        if (stop)
+            continue;
+        td_ctx_init(&mine);
+        r = direction(dem, 360.0 * i / p->directions, p, bands[i], 1, &mine);
+#pragma omp critical(td_horizon_sweep)
+        {
+            if (r != 0 && rc == 0)
+                rc = td_seterr(cx, r, "%s", td_errmsg(&mine));
+            else if (rc == 0)
+                rc = td_progress(cx, "horizon",
+                                 (double)++done / p->directions);
+        }
     }
-    return 0;
+    return rc;
 }
