@@ -43,6 +43,8 @@ td_insol_params td_insol_defaults(void)
     p.solar_constant = 1367.0;
     p.transmittance = 0.7;
     p.diffuse_coef = 0.3;
+    p.curvature = 0;
+    p.earth_radius = 6371000.0;
     return p;
 }
 
@@ -204,6 +206,8 @@ static int horizon_method(const td_grid_f32 *dem, const td_insol_params *p,
     int rc;
     hp.directions = p->directions;
     hp.cell_size = p->cell_size;
+    hp.curvature = p->curvature;
+    hp.earth_radius = p->earth_radius;
     if ((rc = td_horizon_sweep(dem, &hp, r->horizons, cx)) != 0)
         return rc;
     skyview_from_horizons(dem, r);
@@ -672,6 +676,12 @@ static int check_params(const td_grid_f32 *dem, const td_insol_params *p,
         !(p->solar_constant > 0.0) || !(p->diffuse_coef >= 0.0))
         return td_seterr(cx, TD_EINVAL, "insolation: bad clear-sky "
                          "parameters");
+    if (p->curvature && p->method != TD_INSOL_HORIZON)
+        return td_seterr(cx, TD_EINVAL, "insolation: Earth curvature needs "
+                         "the horizon method");
+    if (p->curvature && !(p->earth_radius > 0.0))
+        return td_seterr(cx, TD_EINVAL, "insolation: earth radius must be "
+                         "> 0");
     return td_check_dims(dem->w, dem->h, "insolation: DEM", cx);
 }
 
