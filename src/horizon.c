@@ -14,8 +14,8 @@
  *     | .  .'         C     `E              the segment from it to the
  *     +--------------------------> X        vertex below (here C), so each
  *                                           point is pushed and popped once;
- *   an observer P finds its horizon point (B) by walking down the stack
- *   from the top while the slope rises (binary search after a few steps).
+ *   an observer P finds its horizon point (B) by climbing the stack from
+ *   the vertex the previous observer found (bisection after a few steps).
  *
  * The surface is the bilinear interpolation of the cell centres, and the
  * reference is a ray from each cell centre along the azimuth.  Geometry
@@ -47,12 +47,23 @@
  *              steps beyond the observer, and every cell marches its own
  *              ray over the first NEAR steps exactly: every grid-line
  *              crossing is a fixed two-cell stencil (same offsets and
- *              weights for all cells), plus the ray's initial slope (the
- *              limit t -> 0 inside the first cell).
+ *              weights for all cells), the midpoints of the bilinear
+ *              pieces within MIDS steps (a piece can peak inside) and the
+ *              ray's initial slope (the limit t -> 0 in the first cell).
+ *   edges      a ray leaving the grid sideways must not see what the
+ *              profiles beside it see beyond its exit: profiles leave out
+ *              the strip within one row of the exit-side edge, and each
+ *              cell marches its own ray (the same stencils) from 2 rows
+ *              before that edge to its exit (see tail).  On the entry side
+ *              profiles extend the surface linearly one row outwards.
+ *   memory     directions nearer north-south than east-west run on the
+ *              transposed DEM, so profiles follow memory rows; BLOCK
+ *              neighbouring profiles are swept side by side.
  *
  * Cost per direction: every cell pushes at most two samples into one hull
- * and asks two hulls, plus 2 NEAR stencil taps: O(n^2) per direction,
- * O(k n^2) in all (tests/bench/bench_horizon.c checks the growth).
+ * and asks two hulls, plus at most 2 NEAR + 3 + 2 MIDS stencil taps and
+ * its share of the edge strips: O(n^2) per direction, O(k n^2) in all
+ * (tests/bench/bench_horizon.c measures the growth).
  *
  * Earth curvature: a point at distance d along the azimuth appears d^2/(2R)
  * lower.  Storing Z = z - X^2/(2R) in the hull (X along the profile) makes
@@ -66,7 +77,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { NEAR = 24,       /* major steps every cell's own ray covers */
+enum { NEAR = 24,      /* major steps every cell's own ray covers */
        PAD = NEAR + 3, /* NaN border of the work copy */
        BLOCK = 16,     /* profiles swept side by side */
        MIDS = 12       /* major steps with piece midpoints sampled */ };

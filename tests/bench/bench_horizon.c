@@ -201,6 +201,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--topodig") && i + 1 < argc)
             i++;
     }
+    setvbuf(stdout, NULL, _IOLBF, 0); /* lines as they come */
     td_ctx_init(&cx);
     mkdir(dir, 0777);
     if (!(dem = terrain(n, &cx)) || !(half = terrain(n / 2, &cx))) {
