@@ -24,14 +24,16 @@
  * so the ray moves a = dj/dk (|a| <= 1) per major step.
  *
  *   profiles   lines j = q + a k, q integer: one per minor unit, stepping
- *              one major cell at a time.  A profile is sampled where it
- *              crosses grid lines: at every whole k (linear between the two
- *              cells of that column) and at every whole j (linear between
- *              the two cells of that row); between crossings the bilinear
- *              surface is a smooth quadratic, so these are its kinks.
+ *              one major cell at a time and sampled at every whole k,
+ *              linearly between the two cells of that column (the bilinear
+ *              surface there).  The crossings of whole j between columns
+ *              (x below), where the surface along the line has its other
+ *              kinks, are left out of the profiles: beyond NEAR steps they
+ *              changed no test result, and the rays' own marches (near
+ *              field, tails) do include them.
  *
  *        k ->    0     1     2     3
- *        j=2     .     .     .   x-o--     o  whole-k sample
+ *        j=2     .     .     .   x-o--     o  profile sample
  *        j=1     .   x-o-----o-x   .       x  whole-j crossing
  *        j=0     o-x   .     .     .
  *
@@ -60,7 +62,7 @@
  *              transposed DEM, so profiles follow memory rows; BLOCK
  *              neighbouring profiles are swept side by side.
  *
- * Cost per direction: every cell pushes at most two samples into one hull
+ * Cost per direction: every cell pushes one sample into one hull
  * and asks two hulls, plus at most 2 NEAR + 3 + 2 MIDS stencil taps and
  * its share of the edge strips: O(n^2) per direction, O(k n^2) in all
  * (tests/bench/bench_horizon.c measures the growth).
@@ -118,14 +120,11 @@ typedef struct sweep {
 } sweep;
 
 /* Where every profile j = q + a k stands at column k, less q: floor(a k)
- * and the fraction, and the row it crosses before column k + 1. */
+ * and the fraction. */
 typedef struct column {
     int jk;             /* floor(a k) */
-    int cm;             /* crossed row - q, or NOCROSS */
-    double f, tau;      /* a k - jk; the crossing at k + tau */
+    double f;           /* a k - jk */
 } column;
-
-#define NOCROSS (-2147483647 - 1)
 
 /* A profile's upper hull: n points (X, Z), X decreasing towards the top. */
 typedef struct hull {
@@ -222,21 +221,11 @@ static double at_column(const sweep *s, int k, int j, double f)
                    : zat(s, k, j);
 }
 
-/* Push the samples of profile q at column k and at its row crossing
- * between k and k + 1 (pushed first: farther). */
+/* Push the sample of profile q at column k. */
 static void push_column(const sweep *s, hull *h, int q, int k)
 {
     const column *c = &s->col[k];
     double z, x;
-    if (c->cm != NOCROSS) {
-        int m = q + c->cm;
-        if (m >= 0 && m < s->N && m >= s->ylo && m <= s->yhi) {
-            z = (1.0 - c->tau) * zat(s, k, m) + c->tau * zat(s, k + 1, m);
-            x = (k + c->tau) * s->L;
-            if (!isnan(z))
-                hull_push(h, x, z - x * x * s->inv2r);
-        }
-    }
     z = at_column(s, k, q + c->jk, c->f);
     x = k * s->L;
     if (!isnan(z))
@@ -248,19 +237,9 @@ static void columns(const sweep *s, column *col)
 {
     int k;
     for (k = 0; k < s->M; k++) {
-        double y = s->a * k, y1 = y + s->a;
-        int j = (int)floor(y), m;
-        col[k].jk = j;
-        col[k].f = y - j;
-        col[k].cm = NOCROSS;
-        col[k].tau = 0.0;
-        if (k + 1 >= s->M || s->a == 0.0)
-            continue;
-        m = s->a > 0 ? j + 1 : (y > j ? j : j - 1);
-        if ((s->a > 0 && m < y1) || (s->a < 0 && m > y1)) {
-            col[k].cm = m;
-            col[k].tau = (m - y) / s->a;
-        }
+        double y = s->a * k;
+        col[k].jk = (int)floor(y);
+        col[k].f = y - col[k].jk;
     }
 }
 
@@ -667,7 +646,7 @@ static int check_args(const td_grid_f32 *dem, const td_horizon_params *p,
 
 /* Every profile, in blocks of BLOCK neighbours: even blocks, then odd
  * ones (neighbouring profiles share cells), in parallel.  hb holds BLOCK
- * hulls of cap = 2 M + 2 points per thread. */
+ * hulls of cap = 2 M + 2 points per thread (M + 1 would do). */
 static void sweep_profiles(const sweep *s, double *hb, int nth)
 {
     long qmin, qmax, b, nb;
