@@ -56,8 +56,8 @@
  *              profiles beside it see beyond its exit: profiles leave out
  *              the strip within one row of the exit-side edge, and each
  *              cell marches its own ray (the same stencils) from 2 rows
- *              before that edge to its exit (see tail).  On the entry side
- *              profiles extend the surface linearly one row outwards.
+ *              before that edge to its exit (tails_row).  On the entry
+ *              side profiles extend the surface linearly one row outwards.
  *   memory     directions nearer north-south than east-west run on the
  *              transposed DEM, so profiles follow memory rows; BLOCK
  *              neighbouring profiles are swept side by side.
@@ -549,24 +549,32 @@ static void first_taps(taps *tt)
     }
 }
 
-/* The tail of cell (x, y)'s ray: from where it comes within 2 minor units
- * of the grid's exit-side edge (the profiles leave out that strip) to
- * where it leaves the grid; the largest tangent or best. */
-static float tail(const taps *tt, const float *z, int x, int y, int w, int h,
-                  float best)
+/* The tails of row y's rays: from where a ray comes within 2 minor units
+ * of the grid's exit-side edge (the profiles leave out that strip) to where
+ * it leaves the grid, by the side or by the far end; into row (max).  The
+ * row fixes the distance to that edge, so all but the cells near the far
+ * end share the same taps. */
+static void tails_row(const taps *tt, const float *z, int y, int w, int h,
+                      float *row)
 {
-    double edge, rest, d0, d1, aa = fabs(tt->a);
-    int j;
+    double aa = fabs(tt->a), edge, d0, d1;
+    int x, j0, j1;
     if (tt->a == 0.0)
-        return best;
-    edge = tt->a < 0 ? y : h - 1 - y;          /* minor units to the edge */
-    rest = tt->di > 0 ? w - 1 - x : x;         /* major steps to the end */
+        return;
+    edge = tt->a < 0 ? y : h - 1 - y;       /* minor units to the edge */
     d0 = fmax((edge - 2.0) / aa, NEAR);
-    d1 = fmin(edge / aa, rest) + 1e-3; /* beyond: NaN padding */
+    d1 = edge / aa + 1e-3;                  /* beyond: NaN padding */
     if (d1 <= d0)
-        return best;
-    j = tap_index(tt, d0);
-    return max_taps(z, tt->pat + j, tap_index(tt, d1) - j, best);
+        return;
+    j0 = tap_index(tt, d0);
+    j1 = tap_index(tt, d1);
+    for (x = 0; x < w; x++) {
+        double rest = (tt->di > 0 ? w - 1 - x : x) + 1e-3; /* to the end */
+        if (rest <= d0)
+            continue;
+        row[x] = max_taps(z + x, tt->pat + j0,
+                          (rest < d1 ? tap_index(tt, rest) : j1) - j0, row[x]);
+    }
 }
 
 /* atan(t) in degrees for t >= 0, within 2e-7 rad: reduced to |v| <=
@@ -620,9 +628,7 @@ static void finish_row(const work *wk, const float *sum, const taps *tt,
             row[x] = t > row[x] ? t : row[x];
         }
     }
-    if (tt->a != 0.0)
-        for (x = 0; x < w; x++)
-            row[x] = tail(tt, z + x, x, y, w, h, row[x]);
+    tails_row(tt, z, y, w, h, row);
     for (x = 0; x < w; x++)
         row[x] = isnan(z[x]) ? nod : atan_deg(row[x] > 0.0f ? row[x] : 0.0f);
     for (x = 0; x < w; x++)
