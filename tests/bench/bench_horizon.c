@@ -178,15 +178,72 @@ static double grass(const char *path, const char *dir)
     return b > a ? b - a : -1;
 }
 
+/* The sweep on n x n and (n/2) x (n/2): times and their ratio; the
+ * (n/2)^2 time (or -1) is returned for the r.horizon ratio. */
+static double growth(int n, int repeat, td_ctx *cx)
+{
+    td_grid_f32 *dem = terrain(n, cx), *half = terrain(n / 2, cx);
+    double s = -1, sh = -1;
+    if (dem && half) {
+        s = sweep_time(dem, 36, 10.0, repeat);
+        sh = sweep_time(half, 36, 10.0, repeat);
+    } else {
+        printf("  terrain: %s\n", td_errmsg(cx));
+    }
+    if (s > 0)
+        printf("  sweep %dx%d k=36     %7.2f s  %7.2f M cell-directions/s\n",
+               n, n, s, 36.0 * n * n / s / 1e6);
+    if (sh > 0)
+        printf("  sweep %dx%d k=36     %7.2f s  %7.2f M cell-directions/s\n",
+               n / 2, n / 2, sh, 36.0 * (n / 2) * (n / 2) / sh / 1e6);
+    if (s > 0 && sh > 0)
+        printf("  growth %d^2 -> %d^2: time x%.2f for cells x%.2f (linear: "
+               "equal)\n", n / 2, n, s / sh,
+               (double)n * n / ((double)(n / 2) * (n / 2)));
+    td_grid_f32_free(dem);
+    td_grid_f32_free(half);
+    return sh;
+}
+
+/* r.horizon against the sweep (s seconds, or -1: measure) on gn x gn. */
+static void versus_grass(int gn, double s, int repeat, const char *dir,
+                         td_ctx *cx)
+{
+    td_grid_f32 *dem = terrain(gn, cx);
+    td_georef geo;
+    char path[4200];
+    double gs;
+    if (!dem)
+        return;
+    if (s < 0)
+        s = sweep_time(dem, 36, 10.0, repeat);
+    td_georef_init(&geo);
+    geo.valid = 1;
+    geo.epsg = 32633; /* UTM 33N, as bench_insolation (r.horizon needs a
+                         projected location) */
+    geo.gt[0] = 500000.0;
+    geo.gt[1] = 10.0;
+    geo.gt[3] = 4430000.0;
+    geo.gt[5] = -10.0;
+    snprintf(path, sizeof path, "%s/horizon_dem.tif", dir);
+    if (td_geotiff_write_f32(path, dem, &geo, cx) != 0)
+        printf("  %s\n", td_errmsg(cx));
+    else if ((gs = grass(path, dir)) < 0)
+        printf("  r.horizon failed (see %s/rhorizon.log)\n", dir);
+    else
+        printf("  r.horizon %dx%d k=36   %7.2f s  %7.2f M cell-directions/s; "
+               "the sweep (%.2f s) is %.1fx faster\n", gn, gn, gs,
+               36.0 * gn * gn / gs / 1e6, s, s > 0 ? gs / s : 0.0);
+    td_georef_clear(&geo);
+    td_grid_f32_free(dem);
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = "build-bench/data";
     int n = 2000, gn = 1000, repeat = 2, i, use_grass = 1;
-    td_grid_f32 *dem = NULL, *half = NULL;
-    td_georef geo;
     td_ctx cx;
-    char path[4200];
-    double s, sh, gs;
+    double sh;
     for (i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--dir") && i + 1 < argc)
             dir = argv[++i];
@@ -204,51 +261,11 @@ int main(int argc, char **argv)
     setvbuf(stdout, NULL, _IOLBF, 0); /* lines as they come */
     td_ctx_init(&cx);
     mkdir(dir, 0777);
-    if (!(dem = terrain(n, &cx)) || !(half = terrain(n / 2, &cx))) {
-        printf("  terrain: %s\n", td_errmsg(&cx));
-        td_grid_f32_free(dem);
-        return 0;
-    }
-    s = sweep_time(dem, 36, 10.0, repeat);
-    sh = sweep_time(half, 36, 10.0, repeat);
-    if (s > 0)
-        printf("  sweep %dx%d k=36     %7.2f s  %7.2f M cell-directions/s\n",
-               n, n, s, 36.0 * n * n / s / 1e6);
-    if (sh > 0)
-        printf("  sweep %dx%d k=36     %7.2f s  %7.2f M cell-directions/s\n",
-               n / 2, n / 2, sh, 36.0 * (n / 2) * (n / 2) / sh / 1e6);
-    if (s > 0 && sh > 0)
-        printf("  growth %d^2 -> %d^2: time x%.2f for cells x%.2f (linear: "
-               "equal)\n", n / 2, n, s / sh,
-               (double)n * n / ((double)(n / 2) * (n / 2)));
+    sh = growth(n, repeat, &cx);
     versus_hidden_surface();
-    td_grid_f32_free(dem);
-    td_grid_f32_free(half);
-    if (!use_grass || system("command -v grass >/dev/null 2>&1") != 0) {
+    if (!use_grass || system("command -v grass >/dev/null 2>&1") != 0)
         printf("  GRASS not installed: no r.horizon ratio\n");
-        return 0;
-    }
-    if (!(dem = terrain(gn, &cx)))
-        return 0;
-    s = gn == n / 2 ? sh : sweep_time(dem, 36, 10.0, repeat);
-    td_georef_init(&geo);
-    geo.valid = 1;
-    geo.epsg = 32633; /* UTM 33N, as bench_insolation (r.horizon needs a
-                         projected location) */
-    geo.gt[0] = 500000.0;
-    geo.gt[1] = 10.0;
-    geo.gt[3] = 4430000.0;
-    geo.gt[5] = -10.0;
-    snprintf(path, sizeof path, "%s/horizon_dem.tif", dir);
-    if (td_geotiff_write_f32(path, dem, &geo, &cx) != 0)
-        printf("  %s\n", td_errmsg(&cx));
-    else if ((gs = grass(path, dir)) < 0)
-        printf("  r.horizon failed (see %s/rhorizon.log)\n", dir);
     else
-        printf("  r.horizon %dx%d k=36   %7.2f s  %7.2f M cell-directions/s; "
-               "the sweep (%.2f s) is %.1fx faster\n", gn, gn, gs,
-               36.0 * gn * gn / gs / 1e6, s, s > 0 ? gs / s : 0.0);
-    td_georef_clear(&geo);
-    td_grid_f32_free(dem);
+        versus_grass(gn, gn == n / 2 ? sh : -1.0, repeat, dir, &cx);
     return 0;
 }
