@@ -49,9 +49,10 @@
  *              steps beyond the observer, and every cell marches its own
  *              ray over the first NEAR steps exactly: every grid-line
  *              crossing is a fixed two-cell stencil (same offsets and
- *              weights for all cells), the midpoints of the bilinear
- *              pieces within MIDS steps (a piece can peak inside) and the
- *              ray's initial slope (the limit t -> 0 in the first cell).
+ *              weights for all cells), the exact interior peak of every
+ *              bilinear piece within MIDS steps (a piece is a quadratic
+ *              in t; see piece_peak) and the ray's initial slope (the
+ *              limit t -> 0 in the first cell).
  *   edges      a ray leaving the grid sideways must not see what the
  *              profiles beside it see beyond its exit: profiles leave out
  *              the strip within one row of the exit-side edge, and each
@@ -449,6 +450,8 @@ static int ray_taps(double gx, double gy, int steps, double cs, double inv2r,
 typedef struct qtap {
     ptrdiff_t o[4];
     float c[4], d;
+    int ia, ib;         /* the piece's ends: taps ia, ib of the pattern */
+    float ta, tm, tb;   /* ray parameter (cells) at its ends and middle */
 } qtap;
 
 /* The midpoints of the bilinear pieces of the ray between its crossings
@@ -484,6 +487,11 @@ static int mid_taps(double gx, double gy, const tap *pat, int np, double cs,
             q[n].o[0] = q[n].o[3];
         }
         q[n].d = (float)(t * cs * inv2r);
+        q[n].ia = i - 1;
+        q[n].ib = i;
+        q[n].ta = (float)(pat[i - 1].m / am);
+        q[n].tm = (float)t;
+        q[n].tb = (float)(pat[i].m / am);
         n++;
     }
     return n;
@@ -512,6 +520,7 @@ static tap slope_tap(double gx, double gy, double cs, ptrdiff_t stride)
 typedef struct taps {
     tap *pat, slope;
     int *first;         /* see first_taps */
+    float cs, inv2r;    /* cell size, 1 / (2 R) */
     qtap mid[4 * MIDS + 4];
     int np, nn, nm;
     int di;             /* +1: the ray runs towards larger columns */
@@ -597,6 +606,49 @@ static float atan_deg(float t)
     return r * (float)(180.0 / M_PI);
 }
 
+/* The largest tangent of the bilinear piece q (a quadratic in t through
+ * its ends and middle, heights h relative to the cell) for every cell of
+ * a row: the middle, and the interior peak of (h(t) - curvature) / t,
+ * where h = al + be t + ga t^2 gives t* = sqrt(al / ga) and the tangent
+ * be - 2 sqrt(al ga) (al < 0, ga < 0); into row (max).  Pieces shorter
+ * than 0.05 cell keep their middle only (float cancellation).  The
+ * Makefile builds this file with -fno-math-errno, so sqrtf vectorises. */
+static void piece_peak(const taps *tt, const qtap *q, const float *z, int w,
+                       float *restrict row)
+{
+    const tap *a = &tt->pat[q->ia], *b = &tt->pat[q->ib];
+    const float *restrict m0 = z + q->o[0], *restrict m1 = z + q->o[1];
+    const float *restrict m2 = z + q->o[2], *restrict m3 = z + q->o[3];
+    const float *restrict a1 = z + a->o1, *restrict a2 = z + a->o2;
+    const float *restrict b1 = z + b->o1, *restrict b2 = z + b->o2;
+    const float ta = q->ta, tb = q->tb, cs = tt->cs, k2 = tt->inv2r;
+    const float hh = tb - ta, on = hh > 0.05f ? 1.0f : 0.0f;
+    const float sa = ta * cs, sm = q->tm * cs, sb = tb * cs;
+    const float c0 = q->c[0], c1 = q->c[1], c2 = q->c[2], c3 = q->c[3];
+    const float ac1 = a->c1, ac2 = a->c2, bc1 = b->c1, bc2 = b->c2;
+    const float qd = q->d;
+    int x;
+    for (x = 0; x < w; x++) {
+        float tmv = c0 * (m0[x] - z[x]) + c1 * (m1[x] - z[x]) +
+                    c2 * (m2[x] - z[x]) + c3 * (m3[x] - z[x]) - qd;
+        float ha = (ac1 * (a1[x] - z[x]) + ac2 * (a2[x] - z[x])) * sa;
+        float hb = (bc1 * (b1[x] - z[x]) + bc2 * (b2[x] - z[x])) * sb;
+        float hm = (tmv + qd) * sm, ga, be, al, r, ts, t, ratio;
+        ga = 2.0f * (ha - 2.0f * hm + hb) / (hh * hh);
+        be = (hb - ha) / hh - ga * (ta + tb);
+        al = ha - be * ta - ga * ta * ta;
+        ratio = al / ga; /* unconditional: a guarded division blocks SIMD */
+        r = al < 0.0f ? ratio : 0.0f;
+        r = r > 0.0f ? r * on : 0.0f; /* al < 0 and ga < 0 */
+        ts = sqrtf(r);
+        t = (be - 2.0f * sqrtf(r) * -ga) / cs - ts * cs * k2;
+        t = ts > ta ? t : tmv;
+        t = ts < tb ? t : tmv;
+        t = t > tmv ? t : tmv;
+        row[x] = t > row[x] ? t : row[x]; /* NaN t: kept */
+    }
+}
+
 /* Row y of the work grid: the far-field blend, the near-field taps, the
  * tail; degrees clamped at 0 (nodata cells: nodata) into o[x * ostep]. */
 static void finish_row(const work *wk, const float *sum, const taps *tt,
@@ -606,8 +658,11 @@ static void finish_row(const work *wk, const float *sum, const taps *tt,
     const float *z = wk->z + (ptrdiff_t)y * wk->stride;
     const float *ts = sum + 2 * (size_t)y * w;
     int x, i;
-    for (x = 0; x < w; x++) /* both profiles seen, else: the tail */
-        row[x] = ts[2 * x + 1] > 0.999f ? ts[2 * x] / ts[2 * x + 1] : 0.0f;
+    for (x = 0; x < w; x++) { /* both profiles seen, else: the tail */
+        float wsum = ts[2 * x + 1] > 1e-3f ? ts[2 * x + 1] : 1e-3f;
+        float b = ts[2 * x] / wsum;
+        row[x] = ts[2 * x + 1] > 0.999f ? b : 0.0f;
+    }
     for (i = 0; i <= tt->nn; i++) {
         const tap *tp = i < tt->nn ? &tt->pat[i] : &tt->slope;
         const float *z1 = z + tp->o1, *z2 = z + tp->o2;
@@ -617,17 +672,8 @@ static void finish_row(const work *wk, const float *sum, const taps *tt,
             row[x] = t > row[x] ? t : row[x]; /* NaN t: kept */
         }
     }
-    for (i = 0; i < tt->nm; i++) {
-        const qtap *q = &tt->mid[i];
-        const float *z0 = z + q->o[0], *z1 = z + q->o[1], *z2 = z + q->o[2],
-                    *z3 = z + q->o[3];
-        float c0 = q->c[0], c1 = q->c[1], c2 = q->c[2], c3 = q->c[3], d = q->d;
-        for (x = 0; x < w; x++) {
-            float t = c0 * (z0[x] - z[x]) + c1 * (z1[x] - z[x]) +
-                      c2 * (z2[x] - z[x]) + c3 * (z3[x] - z[x]) - d;
-            row[x] = t > row[x] ? t : row[x];
-        }
-    }
+    for (i = 0; i < tt->nm; i++)
+        piece_peak(tt, &tt->mid[i], z, w, row);
     tails_row(tt, z, y, w, h, row);
     for (x = 0; x < w; x++)
         row[x] = isnan(z[x]) ? nod : atan_deg(row[x] > 0.0f ? row[x] : 0.0f);
@@ -689,6 +735,8 @@ static void taps_setup(taps *tt, const sweep *s, const work *wk, double gx,
     first_taps(tt);
     tt->nn = tap_index(tt, NEAR + 1e-6);
     tt->slope = slope_tap(gx, gy, cs, wk->stride);
+    tt->cs = (float)cs;
+    tt->inv2r = (float)s->inv2r;
     tt->nm = mid_taps(gx, gy, tt->pat, tt->np, cs, s->inv2r, wk->stride,
                       tt->mid);
     tt->di = gx > 0 ? 1 : -1;
