@@ -83,7 +83,7 @@
 enum { NEAR = 24,      /* major steps every cell's own ray covers */
        PAD = NEAR + 3, /* NaN border of the work copy */
        BLOCK = 16,     /* profiles swept side by side */
-       MIDS = 12       /* major steps with piece midpoints sampled */ };
+       MIDS = 12       /* major steps with exact piece peaks */ };
 
 td_horizon_params td_horizon_defaults(void)
 {
@@ -454,10 +454,10 @@ typedef struct qtap {
     float ta, tm, tb;   /* ray parameter (cells) at its ends and middle */
 } qtap;
 
-/* The midpoints of the bilinear pieces of the ray between its crossings
- * within MIDS major steps, but the first piece (whose tangent is largest
- * at an end); a piece is a quadratic in t and may peak inside.  Returns the
- * count. */
+/* The bilinear pieces of the ray between its crossings within MIDS major
+ * steps, but the first (whose tangent is largest at an end): the stencil
+ * of each piece's midpoint and its ends (for piece_peak; a piece is a
+ * quadratic in t and may peak inside).  Returns the count. */
 static int mid_taps(double gx, double gy, const tap *pat, int np, double cs,
                     double inv2r, ptrdiff_t stride, qtap *q)
 {
