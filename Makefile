@@ -54,6 +54,10 @@ $(BUILD)/%.o: %.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CPPFLAGS) $(CV_CFLAGS) $(CXXFLAGS) -c $< -o $@
 
+# horizon.c: row kernels with square roots and guarded divisions vectorise
+# only without errno and FP traps (neither is used).
+$(BUILD)/src/horizon.o: CFLAGS += -fno-math-errno -fno-trapping-math
+
 $(BUILD)/libtopodig.a: $(LIB_O)
 	@rm -f $@
 	ar rcs $@ $^

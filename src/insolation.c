@@ -43,6 +43,8 @@ td_insol_params td_insol_defaults(void)
     p.solar_constant = 1367.0;
     p.transmittance = 0.7;
     p.diffuse_coef = 0.3;
+    p.curvature = 0;
+    p.earth_radius = 6371000.0;
     return p;
 }
 
@@ -204,6 +206,8 @@ static int horizon_method(const td_grid_f32 *dem, const td_insol_params *p,
     int rc;
     hp.directions = p->directions;
     hp.cell_size = p->cell_size;
+    hp.curvature = p->curvature;
+    hp.earth_radius = p->earth_radius;
     if ((rc = td_horizon_sweep(dem, &hp, r->horizons, cx)) != 0)
         return rc;
     skyview_from_horizons(dem, r);
@@ -511,6 +515,8 @@ typedef struct sunstep {
     double beam, diff;  /* W/m^2: beam normal, diffuse horizontal */
     double el;          /* elevation, degrees */
     double az;          /* azimuth, degrees clockwise from north */
+    int i0, i1;         /* the two horizon bands around az ... */
+    double t;           /* ... and the weight of i1 (td_insol_horizon_at) */
 } sunstep;
 
 /* The day cut into N = ceil(1440 / step_minutes) equal steps of solar time,
@@ -578,49 +584,74 @@ static void cell_normal(const td_grid_f32 *dem, int x, int y, double cs,
     n[2] = 1.0 / l;
 }
 
-/* Direct beam of one cell over the day (W/m^2 summed over steps): Lambert
- * on the cell normal, where the sun is above the cell's horizon in its
- * azimuth (interpolated between the two nearest horizon directions). */
-static double cell_direct(const td_insol_result *r, size_t at,
-                          const double n[3], const sunstep *st, int ns)
+/* Where td_insol_horizon_at finds azimuth az among k bands. */
+static void band_pair(int k, double az, sunstep *st)
 {
-    double sum = 0.0;
-    int k;
-    for (k = 0; k < ns; k++) {
-        double c = n[0] * st[k].s[0] + n[1] * st[k].s[1] + n[2] * st[k].s[2];
-        if (c <= 0.0)
-            continue;
-        if (st[k].el <= td_insol_horizon_at(r->horizons, r->k, at, st[k].az))
-            continue;
-        sum += st[k].beam * c;
-    }
-    return sum;
+    double f = fmod(az, 360.0) / 360.0 * k;
+    if (f < 0)
+        f += k;
+    st->i0 = (int)floor(f);
+    st->t = f - st->i0;
+    st->i0 %= k;
+    st->i1 = (st->i0 + 1) % k;
 }
 
-/* Rows y0..y1-1 of direct, diffuse and total (Wh/m^2). */
+/* Direct beam of row y over the day (W/m^2 summed over steps) into dir:
+ * Lambert on the cell normal n (3 per cell), where the sun is above the
+ * cell's horizon in its azimuth (interpolated between the two nearest
+ * horizon directions, as td_insol_horizon_at).  One pass per sun step
+ * over the row, so each step reads two band rows in order. */
+static void row_direct(const td_insol_result *r, int y, int w,
+                       const double *n, const sunstep *st, int ns,
+                       double *dir)
+{
+    int k, x;
+    for (x = 0; x < w; x++)
+        dir[x] = 0.0;
+    for (k = 0; k < ns; k++) {
+        const float *b0 = r->horizons[st[k].i0]->data + (size_t)y * w;
+        const float *b1 = r->horizons[st[k].i1]->data + (size_t)y * w;
+        double t = st[k].t, el = st[k].el, beam = st[k].beam;
+        double s0 = st[k].s[0], s1 = st[k].s[1], s2 = st[k].s[2];
+        for (x = 0; x < w; x++) {
+            double c = n[3 * x] * s0 + n[3 * x + 1] * s1 + n[3 * x + 2] * s2;
+            double h = (1.0 - t) * b0[x] + t * b1[x];
+            dir[x] += c > 0.0 && el > h ? beam * c : 0.0;
+        }
+    }
+}
+
+/* Rows y0..y1-1 of direct, diffuse and total (Wh/m^2); buf: 4 w doubles
+ * of scratch per thread. */
 static void integrate_rows(const td_grid_f32 *dem, double cs,
                            td_insol_result *r, const sunstep *st, int ns,
-                           double dt_h, double diff_sum, int y0, int y1)
+                           double dt_h, double diff_sum, int y0, int y1,
+                           double *buf)
 {
     int y;
 #pragma omp parallel for schedule(dynamic, 4)
     for (y = y0; y < y1; y++) {
+        double *n = buf + 4 * (size_t)dem->w * omp_get_thread_num();
+        double *dir = n + 3 * (size_t)dem->w;
         int x;
+        for (x = 0; x < dem->w; x++)
+            if (is_nod(dem, TD_AT(dem, x, y)))
+                n[3 * x] = n[3 * x + 1] = n[3 * x + 2] = 0.0;
+            else
+                cell_normal(dem, x, y, cs, n + 3 * x);
+        row_direct(r, y, dem->w, n, st, ns, dir);
         for (x = 0; x < dem->w; x++) {
             size_t at = (size_t)y * dem->w + x;
-            double n[3], dir, dif;
+            double dif = diff_sum * dt_h * r->skyview->data[at];
             if (is_nod(dem, TD_AT(dem, x, y))) {
                 r->direct->data[at] = r->direct->nodata;
                 r->diffuse->data[at] = r->diffuse->nodata;
                 r->total->data[at] = r->total->nodata;
                 continue;
             }
-            cell_normal(dem, x, y, cs, n);
-            dir = cell_direct(r, at, n, st, ns) * dt_h;
-            dif = diff_sum * dt_h * r->skyview->data[at];
-            r->direct->data[at] = (float)dir;
+            r->direct->data[at] = (float)(dir[x] * dt_h);
             r->diffuse->data[at] = (float)dif;
-            r->total->data[at] = (float)(dir + dif);
+            r->total->data[at] = (float)(dir[x] * dt_h + dif);
         }
     }
 }
@@ -629,17 +660,27 @@ static int integrate(const td_grid_f32 *dem, const td_insol_params *p,
                      td_insol_result *r, td_ctx *cx)
 {
     sunstep *st = NULL;
-    double dt_h, diff_sum = 0.0;
+    double dt_h, diff_sum = 0.0, *buf;
     int ns = sun_steps(p, &st, &dt_h, cx), k, y, rc = 0;
     if (ns < 0)
         return TD_ENOMEM;
-    for (k = 0; k < ns; k++)
+    buf = td_malloc(sizeof(double) * 4 * (size_t)dem->w *
+                    (size_t)omp_get_max_threads(), cx);
+    if (!buf) {
+        free(st);
+        return TD_ENOMEM;
+    }
+    for (k = 0; k < ns; k++) {
         diff_sum += st[k].diff;
+        band_pair(r->k, st[k].az, &st[k]);
+    }
     for (y = 0; y < dem->h && rc == 0; y += 64) {
         int y1 = y + 64 < dem->h ? y + 64 : dem->h;
-        integrate_rows(dem, p->cell_size, r, st, ns, dt_h, diff_sum, y, y1);
+        integrate_rows(dem, p->cell_size, r, st, ns, dt_h, diff_sum, y, y1,
+                       buf);
         rc = td_progress(cx, "insolation", (double)y1 / dem->h);
     }
+    free(buf);
     free(st);
     return rc;
 }
@@ -672,6 +713,12 @@ static int check_params(const td_grid_f32 *dem, const td_insol_params *p,
         !(p->solar_constant > 0.0) || !(p->diffuse_coef >= 0.0))
         return td_seterr(cx, TD_EINVAL, "insolation: bad clear-sky "
                          "parameters");
+    if (p->curvature && p->method != TD_INSOL_HORIZON)
+        return td_seterr(cx, TD_EINVAL, "insolation: Earth curvature needs "
+                         "the horizon method");
+    if (p->curvature && !(p->earth_radius > 0.0))
+        return td_seterr(cx, TD_EINVAL, "insolation: earth radius must be "
+                         "> 0");
     return td_check_dims(dem->w, dem->h, "insolation: DEM", cx);
 }
 

@@ -42,6 +42,9 @@ typedef struct td_insol_params {
     double solar_constant; /* W/m^2 at 1 AU (1367) */
     double transmittance;  /* clear-sky beam transmittance at zenith (0.7) */
     double diffuse_coef;   /* Liu-Jordan diffuse coefficient (0.3) */
+    int curvature;         /* nonzero: Earth curvature in the horizons,
+                              horizon method only (0) */
+    double earth_radius;   /* R in height units (6371000, metres) */
 } td_insol_params;
 
 /* Defaults as listed above. */

@@ -37,6 +37,17 @@ if command -v gdalinfo >/dev/null 2>&1; then
   fmm=$(gdalinfo -mm "$T/v.tif" 2>/dev/null | grep -c 'Min/Max')
   check "gdalinfo reads the sky view" "[ '$fmm' = 1 ]"
 fi
+check "insolation --help lists --earth-curvature" "$TD insolation --help | grep -q -- '--earth-curvature'"
+# 2 km cells: horizons tens of km away sink by d^2 / 2R (about 80 m at 32 km)
+"$TD" insolation "$T/m.tif" -o "$T/c0.tif" --lat 40 --day 172 --directions 8 --cell-size 2000 --horizons "$T/h0.tif" -q
+"$TD" insolation "$T/m.tif" -o "$T/c1.tif" --lat 40 --day 172 --directions 8 --cell-size 2000 --horizons "$T/h1.tif" --earth-curvature -q
+check "--earth-curvature: exit 0, horizons change" "[ -s '$T/h1.tif' ] && ! cmp -s '$T/h0.tif' '$T/h1.tif'"
+if command -v gdalinfo >/dev/null 2>&1; then
+  m0=$(gdalinfo -stats "$T/h0.tif" 2>/dev/null | sed -n 's/.*STATISTICS_MEAN=//p' | head -n 1)
+  m1=$(gdalinfo -stats "$T/h1.tif" 2>/dev/null | sed -n 's/.*STATISTICS_MEAN=//p' | head -n 1)
+  check "--earth-curvature lowers the horizons ($m1 < $m0)" "awk 'BEGIN{exit !($m1 < $m0)}'"
+  rm -f "$T"/*.aux.xml
+fi
 check "no temporary files left" "! ls '$T' | grep -q '\.tmp\.'"
 
 expect_fail() { # name, args...
@@ -62,6 +73,7 @@ expect_fail "bad --viewpoints" "$T/m.tif" -o "$T/out.tif" --lat 40 --day 172 --m
 expect_fail "bad --step-minutes" "$T/m.tif" -o "$T/out.tif" --lat 40 --day 172 --step-minutes 0
 expect_fail "bad --cell-size" "$T/m.tif" -o "$T/out.tif" --lat 40 --day 172 --cell-size -1
 expect_fail "no output" "$T/m.tif" --lat 40 --day 172
+expect_fail "--earth-curvature with hidden-surface" "$T/m.tif" -o "$T/out.tif" --lat 40 --day 172 --method hidden-surface --viewpoints 16 --earth-curvature
 expect_fail "horizons into a missing folder" "$T/m.tif" -o "$T/out.tif" --lat 40 --day 172 --horizons "$T/no/such/h.tif"
 expect_fail "sky view into a missing folder" "$T/m.tif" -o "$T/out.tif" --lat 40 --day 172 --horizons "$T/hz.tif" --skyview "$T/no/such/v.tif"
 echo "$pass passed, $fail failed"

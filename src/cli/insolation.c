@@ -45,6 +45,10 @@ static const char help[] =
     "      --cell-size C     ground size of a cell in height units\n"
     "                        [the DEM's pixel width, else 1]\n"
     "      --transmittance T clear-sky zenith transmittance, 0..1 [0.7]\n"
+    "      --earth-curvature horizon method: distant terrain appears\n"
+    "                        d^2 / (2 R) lower, R = 6371000 height units\n"
+    "                        (metres); matters for horizons tens of km\n"
+    "                        away [off]\n"
     "      --horizons FILE   horizon angles, degrees >= 0, float32 GeoTIFF,\n"
     "                        one band per direction, band i at azimuth\n"
     "                        i * 360 / K\n"
@@ -64,7 +68,7 @@ typedef struct sun_opts {
 } sun_opts;
 
 enum { O_LAT = 256, O_DAY, O_METHOD, O_DIRS, O_VIEWS, O_STEP, O_CS, O_TAU,
-       O_HOR, O_SKY };
+       O_HOR, O_SKY, O_CURV };
 
 static int parse_num(int c, const char *arg, sun_opts *o, td_ctx *cx)
 {
@@ -121,6 +125,7 @@ static int parse_opt(int c, const char *arg, sun_opts *o, td_ctx *cx)
     case 'q': o->quiet = 1; return 0;
     case O_HOR: o->horizons = arg; return 0;
     case O_SKY: o->skyview = arg; return 0;
+    case O_CURV: o->p.curvature = 1; return 0;
     case O_METHOD:
         if (!strcmp(arg, "horizon"))
             o->p.method = TD_INSOL_HORIZON;
@@ -169,7 +174,8 @@ static int parse_args(int argc, char **argv, sun_opts *o)
         {"method", 1, 0, O_METHOD}, {"directions", 1, 0, O_DIRS},
         {"viewpoints", 1, 0, O_VIEWS}, {"step-minutes", 1, 0, O_STEP},
         {"cell-size", 1, 0, O_CS}, {"transmittance", 1, 0, O_TAU},
-        {"horizons", 1, 0, O_HOR}, {"skyview", 1, 0, O_SKY}, {0, 0, 0, 0}};
+        {"horizons", 1, 0, O_HOR}, {"skyview", 1, 0, O_SKY},
+        {"earth-curvature", 0, 0, O_CURV}, {0, 0, 0, 0}};
     td_ctx cx;
     int c;
     td_ctx_init(&cx);
