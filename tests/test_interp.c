@@ -1,7 +1,9 @@
 /* test_interp.c: rasterising labelled lines and the two interpolation
  * methods (the paper's scanline, multidir) on surfaces with a known truth:
  * planes, a cone, Gaussian hills, a saddle; summit extrapolation against
- * flat filling; GeoTIFF round trip through gdalinfo; bad input. */
+ * flat filling; multidir's one-pass sweep (interp/md_sweep.c) and walk
+ * against a brute force; band smoothing (interp/smooth.c); GeoTIFF round
+ * trip through gdalinfo; bad input. */
 #define _POSIX_C_SOURCE 200809L
 #include "tt.h"
 

@@ -432,6 +432,19 @@ static void parse_time(const char *path, double *wall, long *kb)
     fclose(f);
 }
 
+/* The true lines and DEM of one seed sheet of the sweeps (800 x 800). */
+static int sweep_sheet(td_gen_terrain_kind kind, int seed, td_lines **tl,
+                       td_grid_f32 **dem, td_ctx *cx)
+{
+    td_gen_params gp = td_gen_defaults();
+    gp.terrain = kind;
+    gp.seed = (unsigned)seed;
+    gp.w = gp.h = 800;
+    *tl = NULL;
+    *dem = NULL;
+    return td_gen_sheet(&gp, NULL, tl, dem, cx);
+}
+
 /* RMSE (intervals) of the paper's method and three multidir settings from
  * the true lines, averaged over 6 seeds per shape at 800 x 800. */
 static void seed_sweep(td_ctx *cx)
@@ -443,13 +456,9 @@ static void seed_sweep(td_ctx *cx)
     int k, s, v;
     for (k = 0; k < 3; k++)
         for (s = 1; s <= 6; s++) {
-            td_gen_params gp = td_gen_defaults();
-            td_lines *tl = NULL;
-            td_grid_f32 *dem = NULL;
-            gp.terrain = kinds[k];
-            gp.seed = (unsigned)s;
-            gp.w = gp.h = 800;
-            if (td_gen_sheet(&gp, NULL, &tl, &dem, cx) != 0)
+            td_lines *tl;
+            td_grid_f32 *dem;
+            if (sweep_sheet(kinds[k], s, &tl, &dem, cx) != 0)
                 return;
             for (v = 0; v < 4; v++) {
                 const variant *vv = &variants[var[v]];
@@ -485,13 +494,9 @@ static void smooth_sweep(td_ctx *cx)
     int k, s, v;
     for (k = 0; k < 3; k++)
         for (s = 1; s <= 6; s++) {
-            td_gen_params gp = td_gen_defaults();
-            td_lines *tl = NULL;
-            td_grid_f32 *dem = NULL;
-            gp.terrain = kinds[k];
-            gp.seed = (unsigned)s;
-            gp.w = gp.h = 800;
-            if (td_gen_sheet(&gp, NULL, &tl, &dem, cx) != 0)
+            td_lines *tl;
+            td_grid_f32 *dem;
+            if (sweep_sheet(kinds[k], s, &tl, &dem, cx) != 0)
                 return;
             for (v = 0; v < 5; v++) {
                 td_interp_params p = td_interp_defaults();
