@@ -12,12 +12,14 @@
  * NODATA, DONE, STOP (Sobel: the drop stays), UNSEEN while flooding; high
  * nibble = number of upstream neighbours still to be added (0..8). */
 #include "flow.h"
+#include "flow_int.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-enum { ROOT = 8, NODATA = 9, DONE = 10, STOP = 11, UNSEEN = 0xFF };
+enum { ROOT = TD_FL_ROOT, NODATA = TD_FL_NODATA, DONE = 10, STOP = 11,
+       UNSEEN = 0xFF };
 
 static const int DX[8] = {1, 1, 0, -1, -1, -1, 0, 1};
 static const int DY[8] = {0, 1, 1, 1, 0, -1, -1, -1};
@@ -28,11 +30,6 @@ typedef struct u32vec {
     uint32_t *v;
     size_t n, cap;
 } u32vec;
-
-typedef struct hnode {
-    uint32_t key; /* order-preserving image of the height (fkey) */
-    uint32_t i;
-} hnode;
 
 /* What every method works on: sizes, the heights being routed (the raw DEM
  * for Sobel, the filled DEM for D8/D-inf), the code bytes. */
@@ -68,21 +65,6 @@ static int nbr(const fgrid *g, size_t i, int k, size_t *j)
         return 0;
     *j = i + (size_t)g->off[k];
     return 1;
-}
-
-/* All neighbours of cell i at once into j[8]; returns the bit mask of
- * those on the grid (one division per cell instead of one per neighbour). */
-static unsigned nbrs(const fgrid *g, size_t i, size_t j[8])
-{
-    int x = (int)(i % (size_t)g->w), y = (int)(i / (size_t)g->w), k;
-    unsigned m = 0;
-    for (k = 0; k < 8; k++) {
-        int xx = x + DX[k], yy = y + DY[k];
-        j[k] = i + (size_t)g->off[k];
-        if (xx >= 0 && yy >= 0 && xx < g->w && yy < g->h)
-            m |= 1u << k;
-    }
-    return m;
 }
 
 /* As nbrs for a cell known to be off the grid edge (every valid cell that
@@ -138,296 +120,185 @@ static int fgrid_init(fgrid *g, const td_grid_f32 *dem, td_grid_f32 *out,
     return 0;
 }
 
-/* ---- priority-flood depression filling ---------------------------------
- * Barnes, Lehman, Mulla (2014) "Priority-Flood", Alg. 2 (a FIFO for cells
- * inside depressions), plus upslope tracing (after Zhou, Sun, Fu 2016): a
- * cell higher than the current level whose unseen neighbours are all at
- * least as high gets its final level (its own height) whatever the order,
- * so it and its upslope cells are visited at once, off the heap.  code
- * holds UNSEEN, then the direction to the cell that reached it (the flood
- * tree: filled pits and flats drain along it) or ROOT for the seeds. */
-typedef struct rbucket {
-    hnode *v;
-    size_t n, cap;
-} rbucket;
-
-/* A radix heap (Ahuja, Mehlhorn, Orlin, Tarjan 1990): a monotone priority
- * queue, valid because the flood never pushes a key below the last one
- * popped.  Bucket b holds keys whose highest bit differing from `last` is
- * bit b - 1 (bucket 0: equal to last); push is O(1), each entry moves to
- * lower buckets at most 32 times. */
-typedef struct rheap {
-    rbucket b[33];
-    uint32_t last;
-    size_t n;
-} rheap;
-
-typedef struct flood {
-    fgrid *g;
-    int dirs; /* D8: decide directions and upstream counts while flooding */
-    rheap heap;
-    u32vec fifo, stack;
-    size_t fhead;
-    double raised, peak;
-} flood;
-
-/* Heights -> unsigned keys with the same order (-0 as +0). */
-static uint32_t fkey(float z)
+/* ---- filling and directions -------------------------------------------
+ * src/pflood.c fills the DEM (tiled priority flood) and marks the outlets.
+ * Then every other cell drains by steepest descent (drop / distance, the
+ * first of equals in k order) to a strictly lower neighbour on the filled
+ * DEM; a cell with none is on a flat (a filled pit or a real flat) and
+ * drains breadth-first towards the flat's exits: the cells of the same
+ * height that are outlets or have a lower neighbour, all exits together.
+ * Every edge goes strictly down or one step nearer an exit along a flat,
+ * so the graph has no cycles. */
+/* Steepest descent for the cells x = 1 .. w-2 of row y (not an edge row):
+ * into best[] the slot k of the steepest strictly lower neighbour, or -1.
+ * One pass per neighbour over the row, no branch: vector instructions. */
+static void steepest_row(const fgrid *g, int y, double *restrict bs,
+                         int32_t *restrict best)
 {
-    uint32_t u;
-    z += 0.0f;
-    memcpy(&u, &z, sizeof u);
-    return (u & 0x80000000u) ? ~u : u | 0x80000000u;
-}
-
-static int rbucket_of(uint32_t x)
-{
-    return x ? 32 - __builtin_clz(x) : 0;
-}
-
-static int rb_push(rbucket *b, hnode e, td_ctx *cx)
-{
-    if (b->n == b->cap) {
-        size_t cap = b->cap ? b->cap * 2 : 1024;
-        hnode *v = realloc(b->v, cap * sizeof *v);
-        if (!v)
-            return td_seterr(cx, TD_ENOMEM, "flow: out of memory");
-        b->v = v;
-        b->cap = cap;
+    const float *restrict zc = g->z + (size_t)y * (size_t)g->w + 1;
+    int n = g->w - 2, x, k;
+    for (x = 0; x < n; x++) {
+        bs[x] = 0;
+        best[x] = -1;
     }
-    b->v[b->n++] = e;
-    return 0;
-}
-
-static int heap_push(flood *f, float z, uint32_t i)
-{
-    hnode e;
-    e.key = fkey(z);
-    e.i = i;
-    f->heap.n++;
-    return rb_push(&f->heap.b[rbucket_of(e.key ^ f->heap.last)], e,
-                   f->g->cx);
-}
-
-/* Pop an entry of the smallest key (the heap is not empty). */
-static uint32_t heap_pop(flood *f)
-{
-    rheap *h = &f->heap;
-    if (h->b[0].n == 0) {
-        rbucket *src;
-        size_t m;
-        int j = 1;
-        while (h->b[j].n == 0)
-            j++;
-        src = &h->b[j];
-        h->last = src->v[0].key;
-        for (m = 1; m < src->n; m++)
-            if (src->v[m].key < h->last)
-                h->last = src->v[m].key;
-        for (m = 0; m < src->n; m++) { /* into lower buckets: no growth */
-            rbucket *dst = &h->b[rbucket_of(src->v[m].key ^ h->last)];
-            if (dst->n == dst->cap) {
-                hnode e = src->v[m];
-                if (rb_push(dst, e, NULL) != 0) /* rare: grow the target */
-                    return UINT32_MAX;
-            } else
-                dst->v[dst->n++] = src->v[m];
+    for (k = 0; k < 8; k++) {
+        const float *restrict zn = zc + g->off[k];
+        double f = (k & 1) ? INV_SQRT2 : 1.0;
+        for (x = 0; x < n; x++) {
+            double d = ((double)zc[x] - (double)zn[x]) * f;
+            int m = d > bs[x];
+            bs[x] = m ? d : bs[x];
+            best[x] = m ? k : best[x];
         }
-        src->n = 0;
     }
-    h->n--;
-    return h->b[0].v[--h->b[0].n].i;
 }
 
-/* Move every other entry at the level just popped into the FIFO: a flat
- * then grows breadth-first from all of its exits together. */
-static int heap_drain_level(flood *f)
+/* Every valid cell that is not an outlet (all its neighbours are valid
+ * and on the grid) gets its steepest descent, or UNSEEN (a flat); returns
+ * the number of flat cells, or -1 out of memory. */
+static double steepest(fgrid *g)
 {
-    rbucket *b0 = &f->heap.b[0];
+    double flat = 0;
+    int y, fail = 0;
+#pragma omp parallel reduction(+ : flat)
+    {
+        double *bs = malloc((size_t)g->w * sizeof *bs);
+        int32_t *best = malloc((size_t)g->w * sizeof *best);
+#pragma omp for schedule(dynamic, 16)
+        for (y = 1; y < g->h - 1; y++) {
+            uint8_t *code = g->code + (size_t)y * (size_t)g->w + 1;
+            int x;
+            if (!bs || !best) {
+                fail = 1;
+                continue;
+            }
+            steepest_row(g, y, bs, best);
+            for (x = 0; x < g->w - 2; x++)
+                if (code[x] == 0) {
+                    code[x] = best[x] < 0 ? UNSEEN : (uint8_t)best[x];
+                    flat += best[x] < 0;
+                }
+        }
+        free(bs);
+        free(best);
+    }
+    return fail ? -1 : flat;
+}
+
+enum { COMP = 0xFE, FIRST = 0x80 }; /* flat cell: in the component being
+                                      searched; first step chosen */
+
+/* The neighbours j of flat cell i of the same height whose code is `want`,
+ * or (want < 0) that are exits (outlets, cells with a direction), as a bit
+ * mask; no branch per neighbour. */
+static unsigned flat_nbrs(const fgrid *g, size_t i, int want)
+{
+    float zi = g->z[i];
+    unsigned m = 0, k;
+    for (k = 0; k < 8; k++) {
+        size_t j = i + (size_t)g->off[k];
+        int ok = want < 0 ? g->code[j] <= ROOT : g->code[j] == want;
+        m |= (unsigned)(ok & (g->z[j] == zi)) << k;
+    }
+    return m;
+}
+
+static int cmp_u32(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return (x > y) - (x < y);
+}
+
+/* One flat, from its cell i: gather it (connected cells of the same height
+ * with no direction) into a, then search breadth-first from all its cells
+ * next to an exit at once (each takes its first exit) into b.  Every cell
+ * drains one step nearer an exit.  Returns the flat's cells, or -1 out of
+ * memory, -2 no exit. */
+static double flat_one(fgrid *g, size_t i, u32vec *a, u32vec *b)
+{
+    size_t h;
+    unsigned m;
+    a->n = b->n = 0;
+    g->code[i] = COMP;
+    if (u32_push(a, (uint32_t)i, NULL) != 0)
+        return -1;
+    for (h = 0; h < a->n; h++)
+        for (m = flat_nbrs(g, a->v[h], UNSEEN); m; m &= m - 1) {
+            size_t j = a->v[h] + (size_t)g->off[__builtin_ctz(m)];
+            g->code[j] = COMP;
+            if (u32_push(a, (uint32_t)j, NULL) != 0)
+                return -1;
+        }
+    for (h = 0; h < a->n; h++)
+        if ((m = flat_nbrs(g, a->v[h], -1)) != 0) {
+            g->code[a->v[h]] = (uint8_t)(FIRST | __builtin_ctz(m));
+            if (u32_push(b, a->v[h], NULL) != 0)
+                return -1;
+        }
+    for (h = 0; h < b->n; h++)
+        g->code[b->v[h]] &= 7;
+    /* seeds in raster order: the same search as one over the whole grid
+     * (the flat drains to its nearest exit in short, evenly spread paths) */
+    qsort(b->v, b->n, sizeof *b->v, cmp_u32);
+    for (h = 0; h < b->n; h++)
+        for (m = flat_nbrs(g, b->v[h], COMP); m; m &= m - 1) {
+            int k = __builtin_ctz(m);
+            size_t j = b->v[h] + (size_t)g->off[k];
+            g->code[j] = (uint8_t)((k + 4) & 7);
+            if (u32_push(b, (uint32_t)j, NULL) != 0)
+                return -1;
+        }
+    return b->n == a->n ? (double)a->n : -2;
+}
+
+/* Flats (nflat cells in all), one at a time: each is small and stays in
+ * the cache (a breadth-first search over all flats at once sweeps the
+ * whole grid at every step).  0, TD_ENOMEM, TD_EINTERNAL. */
+static int flats(fgrid *g, double nflat)
+{
+    u32vec a = {NULL, 0, 0}, b = {NULL, 0, 0};
+    size_t i;
+    double got = 0, r = 0;
     int rc = 0;
-    while (b0->n > 0 && rc == 0) {
-        rc = u32_push(&f->fifo, b0->v[--b0->n].i, f->g->cx);
-        f->heap.n--;
-    }
+    for (i = 0; i < g->n && got < nflat && r >= 0; i++)
+        if (g->code[i] == UNSEEN && (r = flat_one(g, i, &a, &b)) >= 0)
+            got += r;
+    free(a.v);
+    free(b.v);
+    if (r == -1)
+        rc = td_seterr(g->cx, TD_ENOMEM, "flow: out of memory");
+    else if (r == -2 || got != nflat)
+        rc = td_seterr(g->cx, TD_EINTERNAL, "flow: a flat has no way out "
+                       "after filling");
     return rc;
 }
 
-static void heap_free(flood *f)
+/* Fill, then a direction (or ROOT) for every valid cell; progress p0..p1. */
+static int route(fgrid *g, int tile, double p0, double p1,
+                 td_flow_stats *st)
 {
-    int b;
-    for (b = 0; b < 33; b++)
-        free(f->heap.b[b].v);
-}
-
-/* 1 when every unseen neighbour of i is higher than i (equal ones would
- * make a flat, which is left to the in-order FIFO so that it drains by
- * breadth-first search from all its exits at once). */
-static int traceable(const fgrid *g, size_t i)
-{
-    const float *z = g->z, zi = g->z[i]; /* unseen cells: their heights */
-    const uint8_t *code = g->code;
-    int k;
-    int low = 0;
-    for (k = 0; k < 8; k++) { /* i is reached, not a seed: off the edge */
-        size_t j = i + (size_t)g->off[k]; /* no early exit: loads overlap */
-        low |= (code[j] == UNSEEN) & (z[j] <= zi);
+    int rc = td_pflood(g->dem, g->z, g->code, g->w, g->h, tile, &st->raised,
+                       p0, p0 + 0.8 * (p1 - p0), g->cx);
+    if (rc == 0) {
+        double nflat = steepest(g);
+        rc = nflat < 0 ? td_seterr(g->cx, TD_ENOMEM, "flow: out of memory")
+                       : flats(g, nflat);
     }
-    return !low;
-}
-
-/* Steepest descent (drop / distance) from c over the neighbour in slot k
- * of jj: keeps the best in *best, *bs (d8 rule, first of equals). */
-static void d8_try(float zc, float zj, int k, int *best, double *bs)
-{
-    double d = (double)zc - (double)zj;
-    if (k & 1)
-        d *= INV_SQRT2;
-    if (d > *bs) {
-        *bs = d;
-        *best = k;
-    }
-}
-
-/* Reach the unseen neighbours of c.  in_order: c is at the lowest level of
- * the whole frontier, so lower neighbours drain through c (fill them).
- * f->dirs (D8): every neighbour lower than c is already reached with its
- * final level (the flood never reaches a cell below the level it pops),
- * so c's steepest descent on the filled DEM is decided here, and its
- * receiver's upstream count (high nibble) is raised. */
-static int flood_visit(flood *f, uint32_t c, int in_order)
-{
-    fgrid *g = f->g;
-    float zc = g->z[c], zn[8];
-    size_t jj[8], j;
-    uint8_t cc = g->code[c], cn[8];
-    unsigned m = (cc & 15) == ROOT ? nbrs(g, c, jj) : nbrs_in(g, c, jj);
-    int k, rc = 0, best = -1;
-    double bs = 0;
-    /* all 16 loads first, none behind a branch: a popped cell's block is
-     * often out of the cache, and so its misses overlap (only this cell's
-     * visit writes these neighbours, each its own) */
-    if (m == 0xFFu)
-        for (k = 0; k < 8; k++)
-            cn[k] = g->code[jj[k]], zn[k] = g->z[jj[k]];
-    else
-        for (k = 0; k < 8; k++)
-            if (m >> k & 1)
-                cn[k] = g->code[jj[k]], zn[k] = g->z[jj[k]];
-            else
-                cn[k] = NODATA, zn[k] = 0;
-    for (k = 0; k < 8 && rc == 0; k++) {
-        j = jj[k];
-        if (cn[k] != UNSEEN) {
-            if (f->dirs && (cn[k] & 15) != NODATA && zn[k] < zc)
-                d8_try(zc, zn[k], k, &best, &bs); /* only lower ones count */
-            continue;
-        }
-        g->code[j] = (uint8_t)((k + 4) & 7);
-        if (in_order && zn[k] <= zc) { /* z[j] is still dem[j] */
-            f->raised += zn[k] < zc;
-            g->z[j] = zc;
-            rc = u32_push(&f->fifo, (uint32_t)j, g->cx);
-        } else {
-            rc = traceable(g, j) ? u32_push(&f->stack, (uint32_t)j, g->cx)
-                                 : heap_push(f, zn[k], (uint32_t)j);
-        }
-    }
-    if (f->dirs && (cc & 15) != ROOT) {
-        if (best >= 0) /* else the flood-tree direction (a flat) */
-            g->code[c] = cc = (uint8_t)((cc & 0xF0) | best);
-        g->code[c + (size_t)g->off[cc & 15]] += 16;
-    }
+    if (rc == 0)
+        rc = td_progress(g->cx, "flow", p1);
     return rc;
 }
 
-/* Seeds: valid cells on the grid edge or next to nodata (raster order). */
-static int flood_seeds(flood *f, int any_nodata)
-{
-    fgrid *g = f->g;
-    size_t i, j[8];
-    int x, y, k, rc = 0;
-    for (y = 0, i = 0; y < g->h && rc == 0; y++)
-        for (x = 0; x < g->w && rc == 0; x++, i++) {
-            int seed = x == 0 || y == 0 || x == g->w - 1 || y == g->h - 1;
-            if (g->code[i] == NODATA)
-                continue;
-            if (!seed && any_nodata) {
-                nbrs_in(g, i, j);
-                for (k = 0; k < 8 && !seed; k++)
-                    seed = g->code[j[k]] == NODATA;
-            }
-            if (!seed)
-                continue;
-            g->code[i] = ROOT;
-            rc = heap_push(f, g->z[i], (uint32_t)i);
-        }
-    return rc;
-}
-
-/* Fill g->z from g->dem; g->code: NODATA or UNSEEN on entry, flood-tree
- * directions on return.  g->z starts as a copy of the DEM and is raised in
- * place: an unseen cell's z is its DEM height, a reached cell's its final
- * level, so the flood reads one height array, not two (less memory
- * traffic).  Progress from p0 to p1. */
-static int flood_run(fgrid *g, int dirs, double valid, double p0, double p1,
-                     td_flow_stats *st)
-{
-    flood f;
-    double seen = 0;
-    int rc;
-    memset(&f, 0, sizeof f);
-    f.g = g;
-    f.dirs = dirs;
-    if (g->z != g->dem)
-        memcpy(g->z, g->dem, g->n * sizeof *g->z);
-    rc = flood_seeds(&f, valid < (double)g->n);
-    while (rc == 0) {
-        uint32_t c;
-        int in_order = 1;
-        size_t q = f.heap.n + f.stack.n + f.fifo.n - f.fhead;
-        if ((double)q > f.peak)
-            f.peak = (double)q;
-        if (f.fhead < f.fifo.n)
-            c = f.fifo.v[f.fhead++];
-        else if (f.stack.n > 0) {
-            c = f.stack.v[--f.stack.n];
-            in_order = 0;
-        } else if (f.heap.n > 0) {
-            if ((c = heap_pop(&f)) == UINT32_MAX) {
-                rc = td_seterr(g->cx, TD_ENOMEM, "flow: out of memory");
-                break;
-            }
-            if ((rc = heap_drain_level(&f)) != 0)
-                break;
-        } else
-            break;
-        if (f.fhead == f.fifo.n)
-            f.fhead = f.fifo.n = 0;
-        rc = flood_visit(&f, c, in_order);
-        if (rc == 0 && ((size_t)++seen & 0xFFFFF) == 0)
-            rc = td_progress(g->cx, "flow", p0 + (p1 - p0) * seen / valid);
-    }
-    if (rc == 0 && seen != valid)
-        rc = td_seterr(g->cx, TD_EINTERNAL, "flow: flood reached %.0f of "
-                       "%.0f cells", seen, valid);
-    if (st) {
-        st->raised = f.raised;
-        st->queue_peak = f.peak;
-    }
-    heap_free(&f);
-    free(f.fifo.v);
-    free(f.stack.v);
-    return rc;
-}
-
-int td_flow_fill(const td_grid_f32 *dem, td_grid_f32 *filled, td_ctx *cx)
+int td_flow_fill(const td_grid_f32 *dem, td_grid_f32 *filled, int tile,
+                 td_ctx *cx)
 {
     fgrid g;
     double valid = 0.0;
     size_t i;
-    int rc = fgrid_init(&g, dem, filled, UNSEEN, &valid, cx);
+    int rc = fgrid_init(&g, dem, filled, 0, &valid, cx);
     if (rc == 0)
-        rc = flood_run(&g, 0, valid, 0.0, 1.0, NULL);
+        rc = td_pflood(g.dem, g.z, g.code, g.w, g.h, tile, NULL, 0.0, 1.0,
+                       cx);
     if (rc == 0)
         for (i = 0; i < g.n; i++)
             if (g.code[i] == NODATA)
@@ -485,8 +356,12 @@ static int d8_accumulate(fgrid *g, double valid, td_flow_stats *st)
 {
     size_t i;
     double done = 0;
-    for (i = 0; i < g->n; i++) /* upstream counts are in code already */
-        setu(g, i, is_valid(g, i) ? 1u : 0u);
+    for (i = 0; i < g->n; i++) { /* upstream counts into the high nibble */
+        uint8_t c = g->code[i];
+        setu(g, i, c != NODATA);
+        if ((c & 15) < ROOT)
+            g->code[i + (size_t)g->off[c & 15]] += 16;
+    }
     for (i = 0; i < g->n; i++) {
         uint8_t c = g->code[i];
         if ((c & 15) <= ROOT && (c >> 4) == 0)
@@ -724,7 +599,7 @@ int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
         rc = td_seterr(cx, TD_EINVAL, "flow: bad parameters");
         goto fail;
     }
-    rc = fgrid_init(&g, dem, passes, p->method == TD_FLOW_SOBEL ? 0 : UNSEEN,
+    rc = fgrid_init(&g, dem, passes, 0,
                     &s.cells, cx);
     if (rc == 0)
         rc = td_progress(cx, "flow", 0.0);
@@ -733,9 +608,8 @@ int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
     if (p->method == TD_FLOW_SOBEL) {
         long ms = p->max_steps ? p->max_steps : 4L * (g.w + g.h);
         rc = sobel_run(&g, ms, &s);
-    } else if ((rc = flood_run(&g, p->method == TD_FLOW_D8, s.cells, 0.0,
-                               p->method == TD_FLOW_D8 ? 0.8 : 0.6,
-                               &s)) == 0) {
+    } else if ((rc = route(&g, p->tile, 0.0, p->method == TD_FLOW_D8 ? 0.8
+                                                  : 0.6, &s)) == 0) {
         if (p->method == TD_FLOW_D8)
             rc = d8_accumulate(&g, s.cells, &s);
         else if ((acc = td_malloc(g.n * sizeof *acc, cx)) == NULL)

@@ -14,7 +14,8 @@
  *                  the paper handles no depressions), at the grid edge or
  *                  nodata (it drains out), or after max_steps moves.
  *                  Cost: cells x mean path length.
- *   TD_FLOW_D8     priority-flood depression filling (no epsilon), then
+ *   TD_FLOW_D8     priority-flood depression filling (no epsilon; in
+ *                  tiles, Barnes 2016: the same result, cache-friendly), then
  *                  steepest descent on the filled DEM; cells with no lower
  *                  neighbour (filled pits and flats) drain along the flood
  *                  tree towards their spill point; linear-time accumulation.
@@ -45,6 +46,8 @@ typedef enum td_flow_method {
 typedef struct td_flow_params {
     td_flow_method method; /* TD_FLOW_SOBEL, the paper's method */
     long max_steps;        /* SOBEL: moves per drop; 0: 4 (w + h) [0] */
+    int tile;              /* D8/DINF: tile side of the fill; 0: 256 [0].
+                              Any side gives the same result (speed only) */
 } td_flow_params;
 
 /* Counts over a run (all methods unless noted). */
@@ -57,7 +60,6 @@ typedef struct td_flow_stats {
     double moves;     /* SOBEL: drop moves in all */
     double raised;    /* D8/DINF: cells raised by depression filling */
     double max_pass;  /* largest pass count */
-    double queue_peak; /* D8/DINF: peak entries of the flood queues */
 } td_flow_stats;
 
 /* Classes written by td_flow_classify. */
@@ -72,20 +74,23 @@ td_flow_params td_flow_defaults(void);
  * accumulated in 32-bit unsigned integers (SOBEL, D8) or doubles (DINF)
  * and stored as float (exact below 2^24).  D8 working memory: 1 byte per
  * cell beyond dem and passes (passes holds the filled DEM, then the
- * counts), plus the flood queues (stats: queue_peak x 8 bytes).  Reports
- * progress as stage "flow".  0, TD_EINVAL (bad size or params),
- * TD_ENOMEM, TD_ECANCEL. */
+ * counts), 2 more while filling (labels), plus the flats' queue (4 bytes
+ * per flat cell at most).  Reports progress as stage "flow".  0, TD_EINVAL
+ * (bad size or params), TD_ENOMEM, TD_ECANCEL. */
 int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
                 td_grid_f32 *passes, td_flow_stats *st, td_ctx *cx);
 
 /* Priority-flood depression filling (Barnes et al. 2014, with upslope
  * tracing that skips the priority queue where it cannot change the
- * result): filled (caller-allocated, same size) gets, for every valid
- * cell, the lowest level at which water can leave the grid from it (so
- * no valid cell is lower than all its neighbours unless it is an outlet).
- * Flats stay flat (no epsilon).  Nodata cells stay nodata.  0, TD_EINVAL,
- * TD_ENOMEM, TD_ECANCEL. */
-int td_flow_fill(const td_grid_f32 *dem, td_grid_f32 *filled, td_ctx *cx);
+ * result, run in tiles of side `tile` joined through their border spill
+ * levels, Barnes 2016; 0: 256; every side gives the same result): filled
+ * (caller-allocated, same size) gets, for every valid cell, the lowest
+ * level at which water can leave the grid from it (so no valid cell is
+ * lower than all its neighbours unless it is an outlet).  Flats stay flat
+ * (no epsilon).  Nodata cells (NaN too) get dem's nodata value.  0,
+ * TD_EINVAL, TD_ENOMEM, TD_ECANCEL. */
+int td_flow_fill(const td_grid_f32 *dem, td_grid_f32 *filled, int tile,
+                 td_ctx *cx);
 
 /* Classes from pass counts by quantiles of the valid cells' counts:
  * RIDGE where count <= Q(ridge_q), VALLEY where count >= Q(valley_q),

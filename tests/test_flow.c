@@ -147,7 +147,7 @@ static void test_pit_filled_and_drains(void)
             TD_AT(dem, x, y) = (float)(h - 1 - y);
     TD_AT(dem, px, py) -= 5;
     fill = td_grid_f32_new(w, h, NULL);
-    TT_CHECK(td_flow_fill(dem, fill, &cx) == 0);
+    TT_CHECK(td_flow_fill(dem, fill, 0, &cx) == 0);
     TT_CHECK(TD_AT(fill, px, py) == (float)(h - 2 - py)); /* spill level */
     TT_CHECK(TD_AT(fill, px, py + 1) == (float)(h - 2 - py));
     for (m = 1; m < 3; m++) {
@@ -220,6 +220,67 @@ static void test_flat_drains_to_outlet(void)
     td_grid_f32_free(dem);
 }
 
+static int nodata_at(const td_grid_f32 *dem, int x, int y)
+{
+    float v = TD_AT(dem, x, y);
+    return isnan(v) || (dem->has_nodata && v == dem->nodata);
+}
+
+/* Brute-force fill: repeat W = max(dem, min over valid neighbours of W)
+ * from +inf inside and dem on the seeds (grid edge, next to nodata) until
+ * nothing changes; nodata cells get the nodata value. */
+static void brute_fill(const td_grid_f32 *dem, float *wv)
+{
+    int w = dem->w, h = dem->h, x, y, k, changed = 1;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            int seed = x == 0 || y == 0 || x == w - 1 || y == h - 1;
+            for (k = 0; k < 9 && !seed; k++)
+                seed = nodata_at(dem, x + k % 3 - 1, y + k / 3 - 1);
+            wv[y * w + x] = nodata_at(dem, x, y) ? dem->nodata
+                            : seed ? TD_AT(dem, x, y) : FLT_MAX;
+        }
+    while (changed) {
+        changed = 0;
+        for (y = 1; y < h - 1; y++)
+            for (x = 1; x < w - 1; x++) {
+                float lo = FLT_MAX, v;
+                if (nodata_at(dem, x, y))
+                    continue;
+                for (k = 0; k < 9; k++)
+                    if (k != 4 && wv[(y + k / 3 - 1) * w + x + k % 3 - 1] < lo)
+                        lo = wv[(y + k / 3 - 1) * w + x + k % 3 - 1];
+                v = TD_AT(dem, x, y) > lo ? TD_AT(dem, x, y) : lo;
+                if (v < wv[y * w + x]) {
+                    wv[y * w + x] = v;
+                    changed = 1;
+                }
+            }
+    }
+}
+
+/* Tile sides for the tiled fill: 0 = the default (one tile here). */
+static const int TILES[6] = {0, 2, 3, 7, 16, 50};
+
+/* Counts with tiles of side `tile` equal those with the default tile. */
+static int same_by_tile(const td_grid_f32 *dem, td_flow_method m, int tile)
+{
+    td_flow_params p = td_flow_defaults();
+    td_grid_f32 *a = run(dem, m, NULL), *b = td_grid_f32_new(dem->w, dem->h,
+                                                              NULL);
+    td_ctx cx;
+    int same = 0;
+    td_ctx_init(&cx);
+    p.method = m;
+    p.tile = tile;
+    if (a && b && td_flow_run(dem, &p, b, NULL, &cx) == 0)
+        same = memcmp(a->data, b->data, sizeof *a->data * (size_t)dem->w *
+                      (size_t)dem->h) == 0;
+    td_grid_f32_free(a);
+    td_grid_f32_free(b);
+    return same;
+}
+
 /* Generated hills with noise (many pits) and nodata holes: every unit of
  * rain reaches an outlet (D8 exactly, D-inf within 1e-6); nodata cells
  * stay nodata; the paper's drops end somewhere. */
@@ -274,38 +335,37 @@ static void test_conservation_nodata(void)
         td_grid_f32_free(acc);
     }
     td_grid_f32_free(dem);
-}
-
-/* Brute-force fill: repeat W = max(dem, min over neighbours of W) from
- * +inf inside and dem on the seeds until nothing changes. */
-static void brute_fill(const td_grid_f32 *dem, float *wv)
-{
-    int w = dem->w, h = dem->h, x, y, k, changed = 1;
-    for (y = 0; y < h; y++)
-        for (x = 0; x < w; x++)
-            wv[y * w + x] = (x == 0 || y == 0 || x == w - 1 || y == h - 1)
-                                ? TD_AT(dem, x, y) : FLT_MAX;
-    while (changed) {
-        changed = 0;
-        for (y = 1; y < h - 1; y++)
-            for (x = 1; x < w - 1; x++) {
-                float lo = FLT_MAX, v;
-                for (k = 0; k < 9; k++)
-                    if (k != 4 && wv[(y + k / 3 - 1) * w + x + k % 3 - 1] < lo)
-                        lo = wv[(y + k / 3 - 1) * w + x + k % 3 - 1];
-                v = TD_AT(dem, x, y) > lo ? TD_AT(dem, x, y) : lo;
-                if (v < wv[y * w + x]) {
-                    wv[y * w + x] = v;
-                    changed = 1;
-                }
+    /* the tiled fill around the holes equals the brute force, and the
+     * counts do not depend on the tile side */
+    {
+        td_grid_f32 *fill = td_grid_f32_new(gp.w, gp.h, NULL);
+        float *ref = malloc(sizeof *ref * (size_t)(gp.w * gp.h));
+        int t, i, diff;
+        if (fill && ref) {
+            brute_fill(dem, ref);
+            for (t = 0; t < 6; t++) {
+                TT_CHECK(td_flow_fill(dem, fill, TILES[t], &cx) == 0);
+                for (i = 0, diff = 0; i < gp.w * gp.h; i++)
+                    diff += fill->data[i] != ref[i];
+                TT_CHECKF(diff == 0, "tile %d: %d cells differ", TILES[t],
+                          diff);
             }
+            for (m = 1; m < 3; m++)
+                for (t = 1; t < 6; t++)
+                    TT_CHECKF(same_by_tile(dem, ALL[m], TILES[t]),
+                              "%s: tile %d changes the counts", NAME[m],
+                              TILES[t]);
+        }
+        free(ref);
+        td_grid_f32_free(fill);
     }
 }
 
-/* The flood (with its off-heap upslope tracing) equals the brute force. */
+/* The flood (with its off-heap upslope tracing), in one tile or many,
+ * equals the brute force. */
 static void test_fill_matches_brute_force(void)
 {
-    int seed, i;
+    int seed, i, t;
     for (seed = 1; seed <= 4; seed++) {
         td_gen_params gp = td_gen_defaults();
         td_grid_f32 *dem = NULL, *fill;
@@ -325,11 +385,14 @@ static void test_fill_matches_brute_force(void)
                 dem->data[i] = floorf(dem->data[i] / 20.0f);
         fill = td_grid_f32_new(gp.w, gp.h, NULL);
         ref = malloc(sizeof *ref * (size_t)(gp.w * gp.h));
-        TT_CHECK(td_flow_fill(dem, fill, &cx) == 0);
         brute_fill(dem, ref);
-        for (i = 0; i < gp.w * gp.h; i++)
-            diff += fill->data[i] != ref[i];
-        TT_CHECKF(diff == 0, "seed %d: %d cells differ", seed, diff);
+        for (t = 0; t < 6; t++) { /* one tile, and tiles cut by the edges */
+            TT_CHECK(td_flow_fill(dem, fill, TILES[t], &cx) == 0);
+            for (i = 0, diff = 0; i < gp.w * gp.h; i++)
+                diff += fill->data[i] != ref[i];
+            TT_CHECKF(diff == 0, "seed %d tile %d: %d cells differ", seed,
+                      TILES[t], diff);
+        }
         free(ref);
         td_grid_f32_free(fill);
         td_grid_f32_free(dem);

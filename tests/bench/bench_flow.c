@@ -63,12 +63,10 @@ static double one(const td_grid_f32 *dem, td_flow_method m, const char *name,
         s = td_now() - t0;
         c = cpu_now() - c0;
         printf("  %-5s %dx%d  %7.2f s (cpu %7.2f s)  %7.2f M cells/s (%.2f "
-               "per cpu-s)  outflow %.0f of %.0f  raised %.0f  pits %.0f  "
-               "queue peak %.0f (%.2f B/cell)\n",
+               "per cpu-s)  outflow %.0f of %.0f  raised %.0f  pits %.0f\n",
                name, dem->w, dem->h, s, c, n / s / 1e6,
                c > 0 ? n / c / 1e6 : 0.0, st.outflow, st.cells,
-               st.raised, st.pit_stops, st.queue_peak,
-               st.queue_peak * 8 / n);
+               st.raised, st.pit_stops);
     }
     td_grid_f32_free(out);
     if (cpu)

@@ -1,0 +1,31 @@
+/* flow_int.h: what src/flow.c and src/pflood.c (the tiled priority-flood
+ * fill under D8 and D-infinity) share.  Not public. */
+#ifndef TD_FLOW_INT_H
+#define TD_FLOW_INT_H
+
+#include "core.h"
+
+#include <stdint.h>
+
+/* Code byte values shared by both files (flow.c adds its own above 9). */
+enum { TD_FL_ROOT = 8, TD_FL_NODATA = 9 };
+
+/* Default tile side of the fill. */
+#define TD_PFLOOD_TILE 256
+
+/* Priority-flood depression filling of the w x h heights dem into z (not
+ * the same buffer), in square tiles of side `tile` (0: TD_PFLOOD_TILE;
+ * any size >= 2 gives the same result).  On entry code[i] == TD_FL_NODATA
+ * marks nodata cells, any other value a valid cell.  On return z holds,
+ * for every valid cell, the lowest level at which water can leave the
+ * grid from it (nodata cells: their dem value); code holds TD_FL_NODATA,
+ * TD_FL_ROOT for the outlets (valid cells on the grid edge or next to
+ * nodata) and 0 for the rest.  *raised (may be NULL) gets the number of
+ * cells raised.  Progress as stage "flow" from p0 to p1.  Memory: 2 bytes
+ * per cell of labels (freed on return) plus the label graph (about 4
+ * labels per tile side).  0, TD_ENOMEM, TD_ECANCEL, TD_EINVAL (more than
+ * 2^32 - 2 cells). */
+int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
+              int tile, double *raised, double p0, double p1, td_ctx *cx);
+
+#endif

@@ -1,0 +1,757 @@
+/* pflood.c: priority-flood depression filling in tiles.
+ *
+ * Barnes (2016) "Parallel priority-flood depression filling for trillion
+ * cell digital elevation models", run on one core to keep the flood's
+ * working set in the cache: a priority flood over the whole grid pops
+ * cells in height order from anywhere, so every popped cell's 3x3 block is
+ * cold; inside a 256 x 256 tile (about 450 KB of heights, codes and
+ * labels) it stays in the L2 cache.
+ *
+ *   1. Each tile alone: a priority flood (Barnes, Lehman, Mulla 2014,
+ *      Alg. 2: a FIFO for cells inside depressions; upslope tracing after
+ *      Zhou, Sun, Fu 2016) from the tile's perimeter cells at their own
+ *      heights and from the real outlets (grid edge, next to nodata).  A
+ *      perimeter cell popped before any flood reached it starts a new
+ *      label; every cell the flood reaches takes the label of the cell it
+ *      came from, and its level F (its height, or the level it is raised
+ *      to inside the tile).  The real outlets are label 0 (OUTSIDE).  When
+ *      two labels meet, the edge (a, b) gets the spill max(F_a, F_b)
+ *      (lowest per pair).
+ *   2. Tile borders: each pair of 8-neighbours in different tiles joins
+ *      their labels at max(F_p, F_q) (perimeter cells keep F = height).
+ *   3. The label graph (about 4 labels per tile side): W(label) = the
+ *      lowest level over paths to OUTSIDE of the highest spill on the way
+ *      (Dijkstra with max for +), W(OUTSIDE) = -inf.
+ *   4. Each cell's filled level is max(F, W(its label)).
+ *
+ * The result equals the flood over the whole grid for every tile size
+ * (tests/test_flow.c checks it against a brute-force fill for several). */
+#include "flow_int.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Flood-time code bits (valid cells have low nibble 0 or TD_FL_ROOT;
+ * TD_FL_NODATA = 9 is the only value with bit 0). */
+enum { NOD = 0x01, PERIM = 0x20, SEEN = 0x40 };
+
+static const int DX[8] = {1, 1, 0, -1, -1, -1, 0, 1};
+static const int DY[8] = {0, 1, 1, 1, 0, -1, -1, -1};
+
+typedef struct hnode {
+    uint32_t key; /* order-preserving image of the height (fkey) */
+    uint32_t i;
+} hnode;
+
+typedef struct hvec {
+    hnode *v;
+    size_t n, cap;
+} hvec;
+
+typedef struct u32vec {
+    uint32_t *v;
+    size_t n, cap;
+} u32vec;
+
+/* A radix heap with byte digits (Ahuja, Mehlhorn, Orlin, Tarjan 1990): a
+ * monotone priority queue, valid because a tile's flood never pushes a
+ * key below the last one popped.  An entry sits in bucket (l, d): l = the
+ * highest byte in which its key differs from `last` (0 if none), d = that
+ * byte of its key.  So every entry moves down at most 3 times, and the
+ * entries of bucket (0, d) all have the same key. */
+typedef struct rheap {
+    hvec b[4][256];
+    uint64_t full[4][4]; /* bit d of level l: bucket (l, d) not empty */
+    uint32_t last;
+    size_t n;
+} rheap;
+
+/* Spill edges of one tile between local labels: open addressing on
+ * key = lo << 16 | hi (lo < hi, so never 0 = empty). */
+typedef struct ehash {
+    uint32_t *key;
+    float *w;
+    size_t cap, n;
+    size_t last; /* slot of the last key added (labels meet in runs) */
+} ehash;
+
+/* One thread's flood state, reused from tile to tile. */
+typedef struct wk {
+    rheap heap;
+    u32vec fifo, stack;
+    size_t fhead;
+    ehash eh;
+} wk;
+
+/* A tile's result: its number of labels and its spill edges (local). */
+typedef struct tres {
+    uint32_t *key;
+    float *w;
+    size_t n;
+    unsigned nl;
+} tres;
+
+/* Label-graph edges between global labels. */
+typedef struct gedge {
+    uint32_t a, b;
+    float w;
+} gedge;
+
+typedef struct pf {
+    const float *dem;
+    float *z;
+    uint8_t *code;
+    uint16_t *lab;
+    int w, h, ts, ntx, nty;
+    ptrdiff_t off[8];
+    tres *tr;       /* per tile */
+    uint32_t *base; /* per tile: global label = base + local label (>0) */
+    gedge *e;
+    size_t ne, ecap;
+    uint32_t nlab; /* global labels, OUTSIDE (0) included */
+    td_ctx *cx;
+} pf;
+
+static uint32_t fkey(float z)
+{
+    uint32_t u;
+    z += 0.0f;
+    memcpy(&u, &z, sizeof u);
+    return (u & 0x80000000u) ? ~u : u | 0x80000000u;
+}
+
+/* Double *cap (first: c0) for elements of `size` bytes; -1 out of memory. */
+static int grow(void **v, size_t *cap, size_t size, size_t c0)
+{
+    size_t c = *cap ? *cap * 2 : c0;
+    void *p = realloc(*v, c * size);
+    if (!p)
+        return -1;
+    *v = p;
+    *cap = c;
+    return 0;
+}
+
+static int u32_push(u32vec *a, uint32_t x)
+{
+    if (a->n == a->cap && grow((void **)&a->v, &a->cap, sizeof *a->v, 1024))
+        return TD_ENOMEM;
+    a->v[a->n++] = x;
+    return 0;
+}
+
+static inline __attribute__((always_inline)) int rh_put(rheap *h, hnode e)
+{
+    uint32_t x = e.key ^ h->last;
+    int l = x ? (31 - __builtin_clz(x)) >> 3 : 0;
+    unsigned d = e.key >> (8 * l) & 255u;
+    hvec *b = &h->b[l][d];
+    if (b->n == b->cap && grow((void **)&b->v, &b->cap, sizeof *b->v, 64))
+        return TD_ENOMEM;
+    b->v[b->n++] = e;
+    h->full[l][d >> 6] |= 1ull << (d & 63);
+    return 0;
+}
+
+static int heap_push(wk *q, float z, uint32_t i)
+{
+    hnode e;
+    e.key = fkey(z);
+    e.i = i;
+    q->heap.n++;
+    return rh_put(&q->heap, e);
+}
+
+/* Smallest non-empty digit of level l, or -1. */
+static int rh_first(const rheap *h, int l)
+{
+    int w;
+    for (w = 0; w < 4; w++)
+        if (h->full[l][w])
+            return 64 * w + __builtin_ctzll(h->full[l][w]);
+    return -1;
+}
+
+/* The bucket of the smallest key (the heap is not empty): level 0, after
+ * moving the smallest bucket of the lowest non-empty level down. */
+static hvec *heap_min(rheap *h)
+{
+    int l, d = rh_first(h, 0);
+    while (d < 0) {
+        hvec src;
+        size_t m;
+        for (l = 1; (d = rh_first(h, l)) < 0; l++)
+            ;
+        src = h->b[l][d];
+        h->b[l][d].n = 0;
+        h->full[l][d >> 6] &= ~(1ull << (d & 63));
+        h->last = src.v[0].key;
+        for (m = 1; m < src.n; m++)
+            if (src.v[m].key < h->last)
+                h->last = src.v[m].key;
+        for (m = 0; m < src.n; m++) /* into lower levels */
+            if (rh_put(h, src.v[m]) != 0)
+                return NULL;
+        d = rh_first(h, 0);
+    }
+    h->last = h->b[0][d].v[0].key;
+    return &h->b[0][d];
+}
+
+/* Empty bucket b (level 0, digit d) bookkeeping. */
+static void rh_emptied(rheap *h, const hvec *b)
+{
+    size_t d = (size_t)(b - h->b[0]);
+    h->full[0][d >> 6] &= ~(1ull << (d & 63));
+}
+
+/* ---- edges ----------------------------------------------------------- */
+
+static int eh_grow(ehash *t)
+{
+    ehash o = *t;
+    size_t s, cap = o.cap ? o.cap * 2 : 4096;
+    t->key = calloc(cap, sizeof *t->key);
+    t->w = malloc(cap * sizeof *t->w);
+    t->cap = cap;
+    t->n = 0;
+    if (!t->key || !t->w) {
+        free(t->key);
+        free(t->w);
+        *t = o;
+        return TD_ENOMEM;
+    }
+    for (s = 0; s < o.cap; s++)
+        if (o.key[s]) {
+            size_t j = (o.key[s] * 2654435761u) & (cap - 1);
+            while (t->key[j])
+                j = (j + 1) & (cap - 1);
+            t->key[j] = o.key[s];
+            t->w[j] = o.w[s];
+            t->n++;
+        }
+    free(o.key);
+    free(o.w);
+    return 0;
+}
+
+/* Local labels a != b meet at spill level s: keep the lowest. */
+static int eh_add(ehash *t, unsigned a, unsigned b, float s)
+{
+    uint32_t k = a < b ? a << 16 | b : b << 16 | a;
+    size_t j;
+    if (t->cap && t->key[t->last] == k) {
+        if (s < t->w[t->last])
+            t->w[t->last] = s;
+        return 0;
+    }
+    if (2 * (t->n + 1) > t->cap && eh_grow(t) != 0)
+        return TD_ENOMEM;
+    j = (k * 2654435761u) & (t->cap - 1);
+    while (t->key[j] && t->key[j] != k)
+        j = (j + 1) & (t->cap - 1);
+    if (!t->key[j]) {
+        t->key[j] = k;
+        t->w[j] = s;
+        t->n++;
+    } else if (s < t->w[j])
+        t->w[j] = s;
+    t->last = j;
+    return 0;
+}
+
+/* The table's edges into r (compact); empties the table. */
+static int eh_take(ehash *t, tres *r)
+{
+    size_t s, n = 0;
+    r->key = malloc((t->n + 1) * sizeof *r->key);
+    r->w = malloc((t->n + 1) * sizeof *r->w);
+    if (!r->key || !r->w)
+        return TD_ENOMEM;
+    for (s = 0; s < t->cap; s++)
+        if (t->key[s]) {
+            r->key[n] = t->key[s];
+            r->w[n++] = t->w[s];
+            t->key[s] = 0;
+        }
+    r->n = n;
+    t->n = 0;
+    return 0;
+}
+
+/* ---- one tile ---------------------------------------------------------- */
+
+/* 1 when every unseen valid neighbour of interior cell i is higher. */
+static int traceable(const pf *p, size_t i)
+{
+    const float *z = p->z, zi = p->z[i];
+    const uint8_t *code = p->code;
+    int k, low = 0;
+    for (k = 0; k < 8; k++) { /* no early exit: the loads overlap */
+        size_t j = i + (size_t)p->off[k];
+        low |= ((code[j] & (SEEN | NOD)) == 0) & (z[j] <= zi);
+    }
+    return !low;
+}
+
+/* Neighbour mask of tile-perimeter cell c within tile [x0,x1) x [y0,y1). */
+static unsigned perim_mask(const pf *p, size_t c, const int t[4])
+{
+    int x = (int)(c % (size_t)p->w), y = (int)(c / (size_t)p->w), k;
+    unsigned m = 0;
+    for (k = 0; k < 8; k++) {
+        int xx = x + DX[k], yy = y + DY[k];
+        m |= (unsigned)(xx >= t[0] && xx < t[1] && yy >= t[2] && yy < t[3])
+             << k;
+    }
+    return m;
+}
+
+/* Reach c's neighbours in the tile.  in_order: c is at the lowest level
+ * of the whole frontier, so unseen neighbours not above it are raised to
+ * it (they drain through c).  The neighbours are sorted into unseen ones
+ * and met labels first, without a branch per neighbour (on a noisy DEM
+ * those branches are coin flips). */
+static int visit(const pf *p, wk *q, uint32_t c, int in_order,
+                 const int t[4])
+{
+    float zc = p->z[c];
+    uint16_t lc = p->lab[c];
+    unsigned m = p->code[c] & PERIM ? perim_mask(p, c, t) : 0xFFu;
+    unsigned unseen = 0, meet = 0, k;
+    int rc = 0;
+    for (k = 0; k < 8; k++) {
+        size_t j = c + (size_t)p->off[k];
+        unsigned s;
+        if (m != 0xFFu && !(m >> k & 1))
+            continue;
+        s = p->code[j] & (SEEN | NOD);
+        unseen |= (unsigned)(s == 0) << k;
+        meet |= (unsigned)((s == SEEN) & (p->lab[j] != lc)) << k;
+    }
+    while (meet && rc == 0) {
+        size_t j;
+        k = (unsigned)__builtin_ctz(meet);
+        meet &= meet - 1;
+        j = c + (size_t)p->off[k];
+        rc = eh_add(&q->eh, lc, p->lab[j], zc > p->z[j] ? zc : p->z[j]);
+    }
+    while (unseen && rc == 0) {
+        size_t n;
+        uint8_t cn;
+        k = (unsigned)__builtin_ctz(unseen);
+        unseen &= unseen - 1;
+        n = c + (size_t)p->off[k];
+        cn = p->code[n];
+        p->lab[n] = lc;
+        p->code[n] = cn | SEEN;
+        if (cn & PERIM) /* a queued seed: keeps its height, pops in turn */
+            continue;
+        if (in_order && p->z[n] <= zc) {
+            p->z[n] = zc;
+            rc = u32_push(&q->fifo, (uint32_t)n);
+        } else if (traceable(p, n))
+            rc = u32_push(&q->stack, (uint32_t)n);
+        else
+            rc = heap_push(q, p->z[n], (uint32_t)n);
+    }
+    return rc;
+}
+
+/* Seeds of tile t: its perimeter and the real outlets inside it. */
+static int tile_seeds(const pf *p, wk *q, const int t[4])
+{
+    int x, y, rc = 0;
+    for (y = t[2]; y < t[3] && rc == 0; y++) {
+        size_t i = (size_t)y * (size_t)p->w + (size_t)t[0];
+        int edge_row = y == t[2] || y == t[3] - 1;
+        for (x = t[0]; x < t[1] && rc == 0; x++, i++) {
+            uint8_t c = p->code[i];
+            int perim = edge_row || x == t[0] || x == t[1] - 1;
+            if (c & NOD)
+                continue;
+            if (perim)
+                p->code[i] = c = (uint8_t)(c | PERIM);
+            if ((c & 15) == TD_FL_ROOT)
+                p->code[i] = (uint8_t)(c | SEEN); /* label 0: OUTSIDE */
+            else if (!perim)
+                continue;
+            rc = heap_push(q, p->z[i], (uint32_t)i);
+        }
+    }
+    return rc;
+}
+
+/* Next cell of the flood into *c (0), or 1 when done, or an error; *in_order
+ * 0 for a cell off the upslope stack. */
+static int next_cell(wk *q, uint32_t *c, int *in_order)
+{
+    hvec *b;
+    *in_order = 1;
+    if (q->fhead < q->fifo.n) {
+        *c = q->fifo.v[q->fhead++];
+        return 0;
+    }
+    q->fhead = q->fifo.n = 0;
+    if (q->stack.n > 0) {
+        *c = q->stack.v[--q->stack.n];
+        *in_order = 0;
+        return 0;
+    }
+    if (q->heap.n == 0)
+        return 1;
+    if (!(b = heap_min(&q->heap)))
+        return TD_ENOMEM;
+    *c = b->v[--b->n].i;
+    q->heap.n--;
+    while (b->n > 0) { /* the rest of this level: FIFO */
+        if (u32_push(&q->fifo, b->v[--b->n].i) != 0)
+            return TD_ENOMEM;
+        q->heap.n--;
+    }
+    rh_emptied(&q->heap, b);
+    return 0;
+}
+
+static int tile_flood(const pf *p, wk *q, int ti)
+{
+    int t[4], rc, in_order, tx = ti % p->ntx, ty = ti / p->ntx;
+    unsigned nl = 0;
+    uint32_t c;
+    t[0] = tx * p->ts;
+    t[2] = ty * p->ts;
+    t[1] = t[0] + p->ts < p->w ? t[0] + p->ts : p->w;
+    t[3] = t[2] + p->ts < p->h ? t[2] + p->ts : p->h;
+    q->heap.last = 0; /* empty: the new seeds may lie below the old keys */
+    rc = tile_seeds(p, q, t);
+    while (rc == 0 && (rc = next_cell(q, &c, &in_order)) == 0) {
+        if (!(p->code[c] & SEEN)) { /* a perimeter cell nobody reached */
+            p->code[c] |= SEEN;
+            p->lab[c] = (uint16_t)++nl;
+        }
+        rc = visit(p, q, c, in_order, t);
+    }
+    if (rc == 1)
+        rc = eh_take(&q->eh, &p->tr[ti]);
+    p->tr[ti].nl = nl;
+    return rc;
+}
+
+static void wk_free(wk *q)
+{
+    int l, d;
+    if (!q)
+        return;
+    for (l = 0; l < 4; l++)
+        for (d = 0; d < 256; d++)
+            free(q->heap.b[l][d].v);
+    free(q->fifo.v);
+    free(q->stack.v);
+    free(q->eh.key);
+    free(q->eh.w);
+    free(q);
+}
+
+/* Flood every tile, on as many threads as OpenMP gives. */
+static int flood_tiles(pf *p, double p0, double p1)
+{
+    int nt = p->ntx * p->nty, ti, rc = 0, done = 0;
+#pragma omp parallel
+    {
+        wk *q = calloc(1, sizeof *q);
+#pragma omp for schedule(dynamic, 1)
+        for (ti = 0; ti < nt; ti++) {
+            int r, stop;
+#pragma omp atomic read
+            stop = rc;
+            if (stop)
+                continue;
+            r = q ? tile_flood(p, q, ti) : TD_ENOMEM;
+#pragma omp critical(td_pflood)
+            {
+                if (r != 0 && rc == 0)
+                    rc = td_seterr(p->cx, TD_ENOMEM, "flow: out of memory");
+                else if (rc == 0)
+                    rc = td_progress(p->cx, "flow", p0 + (p1 - p0) *
+                                     (double)++done / nt);
+            }
+        }
+        wk_free(q);
+    }
+    return rc;
+}
+
+/* Label bases from the tiles' label counts; their edges into p->e. */
+static int gather(pf *p)
+{
+    int ti, nt = p->ntx * p->nty;
+    size_t s, ne = 0;
+    uint32_t base = 0;
+    for (ti = 0; ti < nt; ti++) {
+        p->base[ti] = base;
+        base += p->tr[ti].nl;
+        ne += p->tr[ti].n;
+    }
+    p->nlab = base + 1;
+    p->ecap = ne + 4 * (size_t)(p->w + p->h) * (size_t)(p->ntx + p->nty);
+    if (!(p->e = malloc(p->ecap * sizeof *p->e)))
+        return td_seterr(p->cx, TD_ENOMEM, "flow: out of memory");
+    for (ti = 0; ti < nt; ti++)
+        for (s = 0; s < p->tr[ti].n; s++) {
+            uint32_t a = p->tr[ti].key[s] >> 16, b = p->tr[ti].key[s] & 0xFFFF;
+            gedge *e = &p->e[p->ne++];
+            e->a = a ? p->base[ti] + a : 0;
+            e->b = p->base[ti] + b;
+            e->w = p->tr[ti].w[s];
+        }
+    return 0;
+}
+
+/* ---- tile borders and the label graph ---------------------------------- */
+
+static int edge_add(pf *p, uint32_t a, uint32_t b, float w)
+{
+    gedge *e;
+    if (p->ne == p->ecap &&
+        grow((void **)&p->e, &p->ecap, sizeof *p->e, 1024) != 0)
+        return td_seterr(p->cx, TD_ENOMEM, "flow: out of memory");
+    e = &p->e[p->ne++];
+    e->a = a;
+    e->b = b;
+    e->w = w;
+    return 0;
+}
+
+static uint32_t glabel(const pf *p, size_t i)
+{
+    int x = (int)(i % (size_t)p->w), y = (int)(i / (size_t)p->w);
+    unsigned l = p->lab[i];
+    return l ? p->base[(y / p->ts) * p->ntx + x / p->ts] + l : 0;
+}
+
+/* Cell i (on a tile's right or bottom border) and its 8-neighbours j in
+ * the next tiles: edges at max(z_i, z_j). */
+static int border_pair(pf *p, size_t i, size_t j)
+{
+    uint32_t a, b;
+    if ((p->code[i] & NOD) || (p->code[j] & NOD))
+        return 0;
+    a = glabel(p, i);
+    b = glabel(p, j);
+    if (a == b)
+        return 0;
+    return edge_add(p, a, b, p->z[i] > p->z[j] ? p->z[i] : p->z[j]);
+}
+
+static int tile_borders(pf *p)
+{
+    int x, y, d, rc = 0;
+    size_t w = (size_t)p->w;
+    for (x = p->ts - 1; x < p->w - 1 && rc == 0; x += p->ts) /* columns */
+        for (y = 0; y < p->h && rc == 0; y++)
+            for (d = -1; d <= 1 && rc == 0; d++)
+                if (y + d >= 0 && y + d < p->h)
+                    rc = border_pair(p, (size_t)y * w + (size_t)x,
+                                     (size_t)(y + d) * w + (size_t)x + 1);
+    for (y = p->ts - 1; y < p->h - 1 && rc == 0; y += p->ts) /* rows */
+        for (x = 0; x < p->w && rc == 0; x++)
+            for (d = -1; d <= 1 && rc == 0; d++)
+                if (x + d >= 0 && x + d < p->w)
+                    rc = border_pair(p, (size_t)y * w + (size_t)x,
+                                     (size_t)(y + 1) * w + (size_t)(x + d));
+    return rc;
+}
+
+typedef struct wnode {
+    float w;
+    uint32_t v;
+} wnode;
+
+/* Binary min-heap on w. */
+static void wheap_push(wnode *h, size_t *n, wnode e)
+{
+    size_t i = (*n)++;
+    while (i > 0 && h[(i - 1) / 2].w > e.w) {
+        h[i] = h[(i - 1) / 2];
+        i = (i - 1) / 2;
+    }
+    h[i] = e;
+}
+
+static wnode wheap_pop(wnode *h, size_t *n)
+{
+    wnode top = h[0], e = h[--*n];
+    size_t i = 0;
+    for (;;) {
+        size_t c = 2 * i + 1;
+        if (c >= *n)
+            break;
+        if (c + 1 < *n && h[c + 1].w < h[c].w)
+            c++;
+        if (!(h[c].w < e.w))
+            break;
+        h[i] = h[c];
+        i = c;
+    }
+    if (*n > 0)
+        h[i] = e;
+    return top;
+}
+
+/* W[label] for every global label: Dijkstra from OUTSIDE with max. */
+static int solve(pf *p, float *W)
+{
+    uint32_t n = p->nlab, *start = calloc((size_t)n + 1, sizeof *start);
+    wnode *adj = malloc(2 * p->ne * sizeof *adj + 1);
+    wnode *hp = malloc((2 * p->ne + 1) * sizeof *hp);
+    size_t e, hn = 0;
+    uint32_t v;
+    int rc = 0;
+    if (!start || !adj || !hp) {
+        rc = td_seterr(p->cx, TD_ENOMEM, "flow: out of memory");
+        goto fail;
+    }
+    for (e = 0; e < p->ne; e++)
+        start[p->e[e].a + 1]++, start[p->e[e].b + 1]++;
+    for (v = 0; v < n; v++)
+        start[v + 1] += start[v];
+    for (e = 0; e < p->ne; e++) { /* start[v] runs ahead while filling */
+        gedge g = p->e[e];
+        adj[start[g.a]].v = g.b, adj[start[g.a]++].w = g.w;
+        adj[start[g.b]].v = g.a, adj[start[g.b]++].w = g.w;
+    }
+    for (v = n; v > 0; v--) /* back to the starts */
+        start[v] = start[v - 1];
+    start[0] = 0;
+    for (v = 0; v < n; v++)
+        W[v] = FLT_MAX;
+    W[0] = -FLT_MAX;
+    wheap_push(hp, &hn, (wnode){-FLT_MAX, 0});
+    while (hn > 0) {
+        wnode top = wheap_pop(hp, &hn);
+        uint32_t a;
+        if (top.w > W[top.v])
+            continue;
+        for (a = start[top.v]; a < start[top.v + 1]; a++) {
+            float nw = adj[a].w > top.w ? adj[a].w : top.w;
+            if (nw < W[adj[a].v]) {
+                W[adj[a].v] = nw;
+                wheap_push(hp, &hn, (wnode){nw, adj[a].v});
+            }
+        }
+    }
+fail:
+    free(start);
+    free(adj);
+    free(hp);
+    return rc;
+}
+
+/* ---- driver ------------------------------------------------------------- */
+
+/* code: NODATA stays, outlets (grid edge, next to nodata) TD_FL_ROOT, the
+ * rest 0; z = dem. */
+static void mark_outlets(pf *p)
+{
+    int x, y, k;
+    size_t i = 0;
+    memcpy(p->z, p->dem, (size_t)p->w * (size_t)p->h * sizeof *p->z);
+    for (y = 0; y < p->h; y++)
+        for (x = 0; x < p->w; x++, i++) {
+            int out = x == 0 || y == 0 || x == p->w - 1 || y == p->h - 1;
+            p->lab[i] = 0;
+            if (p->code[i] == TD_FL_NODATA)
+                continue;
+            for (k = 0; k < 8 && !out; k++)
+                out = p->code[i + (size_t)p->off[k]] == TD_FL_NODATA;
+            p->code[i] = out ? TD_FL_ROOT : 0;
+        }
+}
+
+/* Raise every cell to its label's level; codes back to ROOT / 0. */
+static void apply(pf *p, const float *W, double *raised)
+{
+    int ty;
+    double r = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : r)
+    for (ty = 0; ty < p->nty; ty++) {
+        int tx, x, y;
+        for (y = ty * p->ts; y < p->h && y < (ty + 1) * p->ts; y++)
+            for (tx = 0; tx < p->ntx; tx++) {
+                uint32_t base = p->base[ty * p->ntx + tx];
+                int xe = (tx + 1) * p->ts < p->w ? (tx + 1) * p->ts : p->w;
+                size_t i = (size_t)y * (size_t)p->w + (size_t)tx * p->ts;
+                for (x = tx * p->ts; x < xe; x++, i++) {
+                    uint8_t c = p->code[i];
+                    if (c & NOD)
+                        continue;
+                    p->code[i] = c & 15;
+                    if (p->lab[i] && W[base + p->lab[i]] > p->z[i])
+                        p->z[i] = W[base + p->lab[i]];
+                    r += p->z[i] > p->dem[i];
+                }
+            }
+    }
+    if (raised)
+        *raised = r;
+}
+
+int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
+              int tile, double *raised, double p0, double p1, td_ctx *cx)
+{
+    pf p;
+    float *W = NULL;
+    size_t nt;
+    int k, rc = 0;
+    memset(&p, 0, sizeof p);
+    if ((double)w * h > (double)UINT32_MAX - 2)
+        return td_seterr(cx, TD_EINVAL, "flow: %dx%d is more than 2^32 - 2 "
+                         "cells", w, h);
+    p.dem = dem;
+    p.z = z;
+    p.code = code;
+    p.w = w;
+    p.h = h;
+    p.ts = tile <= 0 ? TD_PFLOOD_TILE : tile < 2 ? 2 : tile > 4096 ? 4096
+                                                                   : tile;
+    p.ntx = (w + p.ts - 1) / p.ts;
+    p.nty = (h + p.ts - 1) / p.ts;
+    p.nlab = 1;
+    p.cx = cx;
+    for (k = 0; k < 8; k++)
+        p.off[k] = (ptrdiff_t)DY[k] * w + DX[k];
+    nt = (size_t)p.ntx * (size_t)p.nty;
+    p.lab = malloc((size_t)w * (size_t)h * sizeof *p.lab);
+    p.base = malloc(nt * sizeof *p.base);
+    p.tr = calloc(nt, sizeof *p.tr);
+    if (!p.lab || !p.base || !p.tr) {
+        rc = td_seterr(cx, TD_ENOMEM, "flow: out of memory");
+        goto fail;
+    }
+    mark_outlets(&p);
+    rc = flood_tiles(&p, p0, p0 + 0.9 * (p1 - p0));
+    if (rc == 0)
+        rc = gather(&p);
+    if (rc == 0)
+        rc = tile_borders(&p);
+    if (rc == 0 && !(W = malloc((size_t)p.nlab * sizeof *W)))
+        rc = td_seterr(cx, TD_ENOMEM, "flow: out of memory");
+    if (rc == 0)
+        rc = solve(&p, W);
+    if (rc == 0)
+        apply(&p, W, raised);
+fail:
+    if (p.tr)
+        for (k = 0; k < (int)nt; k++) {
+            free(p.tr[k].key);
+            free(p.tr[k].w);
+        }
+    free(p.tr);
+    free(p.e);
+    free(p.base);
+    free(p.lab);
+    free(W);
+    return rc;
+}
