@@ -15,6 +15,7 @@
 #include "flow_int.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -156,11 +157,11 @@ static void steepest_row(const fgrid *g, int y, double *restrict bs,
 /* Every valid cell that is not an outlet (all its neighbours are valid
  * and on the grid) gets its steepest descent, or UNSEEN (a flat); returns
  * the number of flat cells, or -1 out of memory. */
-static double steepest(fgrid *g)
+static double steepest(fgrid *g, int nth)
 {
     double flat = 0;
     int y, fail = 0;
-#pragma omp parallel reduction(+ : flat)
+#pragma omp parallel num_threads(nth) reduction(+ : flat)
     {
         double *bs = malloc((size_t)g->w * sizeof *bs);
         int32_t *best = malloc((size_t)g->w * sizeof *best);
@@ -274,13 +275,14 @@ static int flats(fgrid *g, double nflat)
 }
 
 /* Fill, then a direction (or ROOT) for every valid cell; progress p0..p1. */
-static int route(fgrid *g, int tile, double p0, double p1,
+static int route(fgrid *g, const td_flow_params *p, double p0, double p1,
                  td_flow_stats *st)
 {
-    int rc = td_pflood(g->dem, g->z, g->code, g->w, g->h, tile, &st->raised,
-                       p0, p0 + 0.8 * (p1 - p0), g->cx);
+    int nth = p->threads > 0 ? p->threads : omp_get_max_threads();
+    int rc = td_pflood(g->dem, g->z, g->code, g->w, g->h, p->tile, nth,
+                       &st->raised, p0, p0 + 0.8 * (p1 - p0), g->cx);
     if (rc == 0) {
-        double nflat = steepest(g);
+        double nflat = steepest(g, nth);
         rc = nflat < 0 ? td_seterr(g->cx, TD_ENOMEM, "flow: out of memory")
                        : flats(g, nflat);
     }
@@ -297,7 +299,7 @@ int td_flow_fill(const td_grid_f32 *dem, td_grid_f32 *filled, int tile,
     size_t i;
     int rc = fgrid_init(&g, dem, filled, 0, &valid, cx);
     if (rc == 0)
-        rc = td_pflood(g.dem, g.z, g.code, g.w, g.h, tile, NULL, 0.0, 1.0,
+        rc = td_pflood(g.dem, g.z, g.code, g.w, g.h, tile, 0, NULL, 0.0, 1.0,
                        cx);
     if (rc == 0)
         for (i = 0; i < g.n; i++)
@@ -595,7 +597,8 @@ int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
     memset(&s, 0, sizeof s);
     memset(&g, 0, sizeof g);
     if (!p || p->method < TD_FLOW_SOBEL || p->method > TD_FLOW_DINF ||
-        p->max_steps < 0) {
+        p->max_steps < 0 || p->threads < 0 || p->threads > 1024 ||
+        p->tile < 0) {
         rc = td_seterr(cx, TD_EINVAL, "flow: bad parameters");
         goto fail;
     }
@@ -608,7 +611,7 @@ int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
     if (p->method == TD_FLOW_SOBEL) {
         long ms = p->max_steps ? p->max_steps : 4L * (g.w + g.h);
         rc = sobel_run(&g, ms, &s);
-    } else if ((rc = route(&g, p->tile, 0.0, p->method == TD_FLOW_D8 ? 0.8
+    } else if ((rc = route(&g, p, 0.0, p->method == TD_FLOW_D8 ? 0.8
                                                   : 0.6, &s)) == 0) {
         if (p->method == TD_FLOW_D8)
             rc = d8_accumulate(&g, s.cells, &s);

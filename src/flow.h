@@ -48,6 +48,9 @@ typedef struct td_flow_params {
     long max_steps;        /* SOBEL: moves per drop; 0: 4 (w + h) [0] */
     int tile;              /* D8/DINF: tile side of the fill; 0: 256 [0].
                               Any side gives the same result (speed only) */
+    int threads;           /* D8/DINF: OpenMP threads for the fill and the
+                              directions; 0: the OpenMP default [0].  The
+                              result is the same for any count */
 } td_flow_params;
 
 /* Counts over a run (all methods unless noted). */

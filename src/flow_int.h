@@ -21,11 +21,14 @@ enum { TD_FL_ROOT = 8, TD_FL_NODATA = 9 };
  * grid from it (nodata cells: their dem value); code holds TD_FL_NODATA,
  * TD_FL_ROOT for the outlets (valid cells on the grid edge or next to
  * nodata) and 0 for the rest.  *raised (may be NULL) gets the number of
- * cells raised.  Progress as stage "flow" from p0 to p1.  Memory: 2 bytes
+ * cells raised.  Tiles are flooded on `threads` OpenMP threads (0: the
+ * OpenMP default); the result does not depend on it.  Progress as stage
+ * "flow" from p0 to p1.  Memory: 2 bytes
  * per cell of labels (freed on return) plus the label graph (about 4
  * labels per tile side).  0, TD_ENOMEM, TD_ECANCEL, TD_EINVAL (more than
  * 2^32 - 2 cells). */
 int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
-              int tile, double *raised, double p0, double p1, td_ctx *cx);
+              int tile, int threads, double *raised, double p0, double p1,
+              td_ctx *cx);
 
 #endif

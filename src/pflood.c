@@ -30,6 +30,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -104,7 +105,7 @@ typedef struct pf {
     float *z;
     uint8_t *code;
     uint16_t *lab;
-    int w, h, ts, ntx, nty;
+    int w, h, ts, ntx, nty, nth;
     ptrdiff_t off[8];
     tres *tr;       /* per tile */
     uint32_t *base; /* per tile: global label = base + local label (>0) */
@@ -458,7 +459,7 @@ static void wk_free(wk *q)
 static int flood_tiles(pf *p, double p0, double p1)
 {
     int nt = p->ntx * p->nty, ti, rc = 0, done = 0;
-#pragma omp parallel
+#pragma omp parallel num_threads(p->nth)
     {
         wk *q = calloc(1, sizeof *q);
 #pragma omp for schedule(dynamic, 1)
@@ -675,7 +676,8 @@ static void apply(pf *p, const float *W, double *raised)
 {
     int ty;
     double r = 0;
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : r)
+#pragma omp parallel for num_threads(p->nth) schedule(dynamic, 1) \
+    reduction(+ : r)
     for (ty = 0; ty < p->nty; ty++) {
         int tx, x, y;
         for (y = ty * p->ts; y < p->h && y < (ty + 1) * p->ts; y++)
@@ -699,7 +701,8 @@ static void apply(pf *p, const float *W, double *raised)
 }
 
 int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
-              int tile, double *raised, double p0, double p1, td_ctx *cx)
+              int tile, int threads, double *raised, double p0, double p1,
+              td_ctx *cx)
 {
     pf p;
     float *W = NULL;
@@ -719,6 +722,7 @@ int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
     p.ntx = (w + p.ts - 1) / p.ts;
     p.nty = (h + p.ts - 1) / p.ts;
     p.nlab = 1;
+    p.nth = threads > 0 ? threads : omp_get_max_threads();
     p.cx = cx;
     for (k = 0; k < 8; k++)
         p.off[k] = (ptrdiff_t)DY[k] * w + DX[k];

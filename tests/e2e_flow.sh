@@ -23,6 +23,10 @@ check "d8: all rain leaves the grid" "grep -q 'outflow 6400 (100.000%)' '$T/err'
 "$TD" flow "$T/m.tif" -o "$T/q.tif" --method d8 -q 2>"$T/err"
 check "--quiet prints nothing" "[ ! -s '$T/err' ]"
 "$TD" flow "$T/m.tif" -o "$T/l.tif" --method d8 --log -q
+"$TD" generate mound -o "$T/big.tif" --size 600 --noise 0.5 --seed 5 -q
+"$TD" flow "$T/big.tif" -o "$T/t1.tif" --method d8 --threads 1 -q
+"$TD" flow "$T/big.tif" -o "$T/t2.tif" --method d8 --threads 2 -q
+check "d8: same bytes on 1 and 2 threads (600x600, 3x3 tiles)" "cmp -s '$T/t1.tif' '$T/t2.tif'"
 if command -v gdalinfo >/dev/null 2>&1; then
   check "gdalinfo: passes float32 80x80" "gdalinfo '$T/p_d8.tif' 2>/dev/null | grep -q 'Size is 80, 80' && gdalinfo '$T/p_d8.tif' | grep -q 'Type=Float32'"
   check "gdalinfo: classes Byte" "gdalinfo '$T/c_d8.tif' 2>/dev/null | grep -q 'Type=Byte'"
@@ -48,6 +52,7 @@ expect_fail "bad --method" "$T/m.tif" -o "$T/out.tif" --method d16
 expect_fail "bad --ridge-q" "$T/m.tif" -o "$T/out.tif" --ridge-q 1.5
 expect_fail "ridge-q above valley-q" "$T/m.tif" -o "$T/out.tif" --ridge-q 0.9 --valley-q 0.5 --classes "$T/cls.tif"
 expect_fail "bad --max-steps" "$T/m.tif" -o "$T/out.tif" --max-steps -3
+expect_fail "bad --threads" "$T/m.tif" -o "$T/out.tif" --method d8 --threads -1
 expect_fail "no output" "$T/m.tif"
 expect_fail "two inputs" "$T/m.tif" "$T/m.tif" -o "$T/out.tif"
 expect_fail "classes into a missing folder" "$T/m.tif" -o "$T/out.tif" --classes "$T/no/such/dir/c.tif"

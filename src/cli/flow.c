@@ -36,6 +36,8 @@ static const char help[] =
     "      --ridge-q Q       ridge: count <= the Q-quantile of counts [0.2]\n"
     "      --valley-q Q      valley: count >= the Q-quantile [0.9]\n"
     "      --max-steps N     sobel: moves per drop, 0 = 4 (w + h) [0]\n"
+    "      --threads N       d8, dinf: threads, 0 = all cores; the result\n"
+    "                        is the same for any count [0]\n"
     "  -q, --quiet           no progress and no summary\n"
     "  -h, --help            this help\n"
     "\n"
@@ -48,7 +50,7 @@ typedef struct flow_opts {
     td_flow_params p;
 } flow_opts;
 
-enum { O_METHOD = 256, O_LOG, O_CLASSES, O_RQ, O_VQ, O_MAXSTEPS };
+enum { O_METHOD = 256, O_LOG, O_CLASSES, O_RQ, O_VQ, O_MAXSTEPS, O_THREADS };
 
 static int parse_opt(int c, const char *arg, flow_opts *o, td_ctx *cx)
 {
@@ -78,6 +80,12 @@ static int parse_opt(int c, const char *arg, flow_opts *o, td_ctx *cx)
                              "whole number >= 0", arg);
         o->p.max_steps = v;
         return 0;
+    case O_THREADS:
+        if (td_cli_parse_int(arg, 0, 1024, &v) != 0)
+            return td_seterr(cx, TD_EINVAL, "--threads: '%s' is not a "
+                             "whole number in 0..1024", arg);
+        o->p.threads = (int)v;
+        return 0;
     }
     return td_seterr(cx, TD_EINVAL, "unknown option (see topodig flow "
                      "--help)");
@@ -91,7 +99,7 @@ static int parse_args(int argc, char **argv, flow_opts *o)
         {"method", 1, 0, O_METHOD}, {"log", 0, 0, O_LOG},
         {"classes", 1, 0, O_CLASSES}, {"ridge-q", 1, 0, O_RQ},
         {"valley-q", 1, 0, O_VQ}, {"max-steps", 1, 0, O_MAXSTEPS},
-        {0, 0, 0, 0}};
+        {"threads", 1, 0, O_THREADS}, {0, 0, 0, 0}};
     td_ctx cx;
     int c;
     td_ctx_init(&cx);
