@@ -13,9 +13,13 @@
  * nibble = number of upstream neighbours still to be added (0..8). */
 #include "flow.h"
 #include "flow_int.h"
+#include "window3.h"
 
 #include <math.h>
 #include <omp.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -130,27 +134,62 @@ static int fgrid_init(fgrid *g, const td_grid_f32 *dem, td_grid_f32 *out,
  * height that are outlets or have a lower neighbour, all exits together.
  * Every edge goes strictly down or one step nearer an exit along a flat,
  * so the graph has no cycles. */
-/* Steepest descent for the cells x = 1 .. w-2 of row y (not an edge row):
- * into best[] the slot k of the steepest strictly lower neighbour, or -1.
- * One pass per neighbour over the row, no branch: vector instructions. */
-static void steepest_row(const fgrid *g, int y, double *restrict bs,
-                         int32_t *restrict best)
+/* Steepest descent of the n cells from zc on (not on the grid edge): into
+ * best[] the slot k of the steepest strictly lower neighbour (the first of
+ * equals), or -1.  One pass per neighbour over a block of STEEP_BLOCK
+ * cells (the scratch stays in L1), without a branch: SSE2 intrinsics (two
+ * doubles at a time) below AVX2, where gcc does not vectorise the
+ * selects. */
+#define STEEP_BLOCK 512
+
+/* One neighbour's pass (plain C: with AVX2 the compiler vectorises it;
+ * not inlined, since gcc 12 does not vectorise it inside the caller). */
+static __attribute__((noinline)) void
+steep_pass(const float *restrict zc, const float *restrict zn, int n,
+           double *restrict bs, double *restrict best, double f, double kd)
 {
-    const float *restrict zc = g->z + (size_t)y * (size_t)g->w + 1;
-    int n = g->w - 2, x, k;
+    int x;
+    for (x = 0; x < n; x++) {
+        double d = ((double)zc[x] - (double)zn[x]) * f;
+        double o = bs[x], b = best[x];
+        int m = d > o;
+        bs[x] = m ? d : o;
+        best[x] = m ? kd : b;
+    }
+}
+
+static void steepest_row(const fgrid *g, const float *restrict zc, int n,
+                         double *restrict bs, double *restrict best)
+{
+    int x = 0, k;
     for (x = 0; x < n; x++) {
         bs[x] = 0;
         best[x] = -1;
     }
     for (k = 0; k < 8; k++) {
         const float *restrict zn = zc + g->off[k];
-        double f = (k & 1) ? INV_SQRT2 : 1.0;
-        for (x = 0; x < n; x++) {
-            double d = ((double)zc[x] - (double)zn[x]) * f;
-            int m = d > bs[x];
-            bs[x] = m ? d : bs[x];
-            best[x] = m ? k : best[x];
+        double f = (k & 1) ? INV_SQRT2 : 1.0, kd = k;
+        x = 0;
+#if defined(__SSE2__) && !defined(__AVX2__)
+        {
+            __m128d vf = _mm_set1_pd(f), vk = _mm_set1_pd(kd);
+            for (; x + 2 <= n; x += 2) {
+                __m128d a = _mm_cvtps_pd(_mm_castsi128_ps(
+                            _mm_loadl_epi64((const __m128i *)(zc + x)))),
+                        b = _mm_cvtps_pd(_mm_castsi128_ps(
+                            _mm_loadl_epi64((const __m128i *)(zn + x)))),
+                        d = _mm_mul_pd(_mm_sub_pd(a, b), vf),
+                        o = _mm_loadu_pd(bs + x),
+                        m = _mm_cmpgt_pd(d, o);
+                _mm_storeu_pd(bs + x, _mm_or_pd(_mm_and_pd(m, d),
+                                                _mm_andnot_pd(m, o)));
+                _mm_storeu_pd(best + x, _mm_or_pd(
+                    _mm_and_pd(m, vk), _mm_andnot_pd(m,
+                                                     _mm_loadu_pd(best + x))));
+            }
         }
+#endif
+        steep_pass(zc + x, zn + x, n - x, bs + x, best + x, f, kd);
     }
 }
 
@@ -163,22 +202,28 @@ static double steepest(fgrid *g, int nth)
     int y, fail = 0;
 #pragma omp parallel num_threads(nth) reduction(+ : flat)
     {
-        double *bs = malloc((size_t)g->w * sizeof *bs);
-        int32_t *best = malloc((size_t)g->w * sizeof *best);
+        double *bs = malloc(STEEP_BLOCK * sizeof *bs);
+        double *best = malloc(STEEP_BLOCK * sizeof *best);
 #pragma omp for schedule(dynamic, 16)
         for (y = 1; y < g->h - 1; y++) {
-            uint8_t *code = g->code + (size_t)y * (size_t)g->w + 1;
-            int x;
+            uint8_t *code = g->code + (size_t)y * (size_t)g->w;
+            const float *z = g->z + (size_t)y * (size_t)g->w;
+            int x0, x, nb;
             if (!bs || !best) {
                 fail = 1;
                 continue;
             }
-            steepest_row(g, y, bs, best);
-            for (x = 0; x < g->w - 2; x++)
-                if (code[x] == 0) {
-                    code[x] = best[x] < 0 ? UNSEEN : (uint8_t)best[x];
-                    flat += best[x] < 0;
-                }
+            for (x0 = 1; x0 < g->w - 1; x0 += nb) {
+                nb = g->w - 1 - x0 < STEEP_BLOCK ? g->w - 1 - x0
+                                                 : STEEP_BLOCK;
+                steepest_row(g, z + x0, nb, bs, best);
+                for (x = 0; x < nb; x++)
+                    if (code[x0 + x] == 0) {
+                        code[x0 + x] = best[x] < 0 ? UNSEEN
+                                                   : (uint8_t)(int)best[x];
+                        flat += best[x] < 0;
+                    }
+            }
         }
         free(bs);
         free(best);
@@ -189,19 +234,33 @@ static double steepest(fgrid *g, int nth)
 enum { COMP = 0xFE, FIRST = 0x80 }; /* flat cell: in the component being
                                       searched; first step chosen */
 
-/* The neighbours j of flat cell i of the same height whose code is `want`,
- * or (want < 0) that are exits (outlets, cells with a direction), as a bit
- * mask; no branch per neighbour. */
+/* Window slot s (window3.h) -> neighbour code k, and back. */
+static const int SLOT_K[9] = {5, 6, 7, 4, -1, 0, 3, 2, 1};
+
+/* The neighbours of flat cell i (never on the grid edge) of the same
+ * height whose code is `want`, or (want < 0) that are exits (outlets,
+ * cells with a direction), as a window mask. */
 static unsigned flat_nbrs(const fgrid *g, size_t i, int want)
 {
-    float zi = g->z[i];
-    unsigned m = 0, k;
-    for (k = 0; k < 8; k++) {
-        size_t j = i + (size_t)g->off[k];
-        int ok = want < 0 ? g->code[j] <= ROOT : g->code[j] == want;
-        m |= (unsigned)(ok & (g->z[j] == zi)) << k;
-    }
-    return m;
+    size_t w = (size_t)g->w;
+    unsigned m = want < 0 ? w3_le8(g->code, i, w, ROOT)
+                          : w3_eq8(g->code, i, w, 0xFF, (uint8_t)want);
+    return m & w3_z(g->z, i, w, g->z[i], W3_EQ) & ~0x10u;
+}
+
+/* Offset of window slot s. */
+static ptrdiff_t slot_off(const fgrid *g, unsigned s)
+{
+    return (ptrdiff_t)((int)s / 3 - 1) * g->w + (int)s % 3 - 1;
+}
+
+/* The first neighbour code k (E, SE, S, ... order) of a window mask. */
+static int first_k(unsigned m)
+{
+    unsigned km = 0;
+    for (; m; m &= m - 1)
+        km |= 1u << SLOT_K[__builtin_ctz(m)];
+    return __builtin_ctz(km);
 }
 
 static int cmp_u32(const void *a, const void *b)
@@ -225,14 +284,14 @@ static double flat_one(fgrid *g, size_t i, u32vec *a, u32vec *b)
         return -1;
     for (h = 0; h < a->n; h++)
         for (m = flat_nbrs(g, a->v[h], UNSEEN); m; m &= m - 1) {
-            size_t j = a->v[h] + (size_t)g->off[__builtin_ctz(m)];
+            size_t j = a->v[h] + (size_t)slot_off(g, __builtin_ctz(m));
             g->code[j] = COMP;
             if (u32_push(a, (uint32_t)j, NULL) != 0)
                 return -1;
         }
     for (h = 0; h < a->n; h++)
         if ((m = flat_nbrs(g, a->v[h], -1)) != 0) {
-            g->code[a->v[h]] = (uint8_t)(FIRST | __builtin_ctz(m));
+            g->code[a->v[h]] = (uint8_t)(FIRST | first_k(m));
             if (u32_push(b, a->v[h], NULL) != 0)
                 return -1;
         }
@@ -243,9 +302,9 @@ static double flat_one(fgrid *g, size_t i, u32vec *a, u32vec *b)
     qsort(b->v, b->n, sizeof *b->v, cmp_u32);
     for (h = 0; h < b->n; h++)
         for (m = flat_nbrs(g, b->v[h], COMP); m; m &= m - 1) {
-            int k = __builtin_ctz(m);
-            size_t j = b->v[h] + (size_t)g->off[k];
-            g->code[j] = (uint8_t)((k + 4) & 7);
+            unsigned s = (unsigned)__builtin_ctz(m);
+            size_t j = b->v[h] + (size_t)slot_off(g, s);
+            g->code[j] = (uint8_t)((SLOT_K[s] + 4) & 7);
             if (u32_push(b, (uint32_t)j, NULL) != 0)
                 return -1;
         }

@@ -27,6 +27,7 @@
  * The result equals the flood over the whole grid for every tile size
  * (tests/test_flow.c checks it against a brute-force fill for several). */
 #include "flow_int.h"
+#include "window3.h"
 
 #include <float.h>
 #include <math.h>
@@ -36,10 +37,8 @@
 
 /* Flood-time code bits (valid cells have low nibble 0 or TD_FL_ROOT;
  * TD_FL_NODATA = 9 is the only value with bit 0). */
-enum { NOD = 0x01, PERIM = 0x20, SEEN = 0x40 };
+enum { NOD = 0x01, DRAIN = 0x10, PERIM = 0x20, SEEN = 0x40 };
 
-static const int DX[8] = {1, 1, 0, -1, -1, -1, 0, 1};
-static const int DY[8] = {0, 1, 1, 1, 0, -1, -1, -1};
 
 typedef struct hnode {
     uint32_t key; /* order-preserving image of the height (fkey) */
@@ -65,6 +64,7 @@ typedef struct u32vec {
 typedef struct rheap {
     hvec b[4][256];
     uint64_t full[4][4]; /* bit d of level l: bucket (l, d) not empty */
+    unsigned sum;        /* bit 4 l + w: full[l][w] != 0 */
     uint32_t last;
     size_t n;
 } rheap;
@@ -106,7 +106,7 @@ typedef struct pf {
     uint8_t *code;
     uint16_t *lab;
     int w, h, ts, ntx, nty, nth;
-    ptrdiff_t off[8];
+    ptrdiff_t off[9]; /* window slot s -> index offset */
     tres *tr;       /* per tile */
     uint32_t *base; /* per tile: global label = base + local label (>0) */
     gedge *e;
@@ -153,6 +153,7 @@ static inline __attribute__((always_inline)) int rh_put(rheap *h, hnode e)
         return TD_ENOMEM;
     b->v[b->n++] = e;
     h->full[l][d >> 6] |= 1ull << (d & 63);
+    h->sum |= 1u << (4 * l + (d >> 6));
     return 0;
 }
 
@@ -168,11 +169,20 @@ static int heap_push(wk *q, float z, uint32_t i)
 /* Smallest non-empty digit of level l, or -1. */
 static int rh_first(const rheap *h, int l)
 {
+    unsigned s = h->sum >> (4 * l) & 15u;
     int w;
-    for (w = 0; w < 4; w++)
-        if (h->full[l][w])
-            return 64 * w + __builtin_ctzll(h->full[l][w]);
-    return -1;
+    if (!s)
+        return -1;
+    w = __builtin_ctz(s);
+    return 64 * w + __builtin_ctzll(h->full[l][w]);
+}
+
+/* Bucket (l, d) is empty now. */
+static void rh_clear(rheap *h, int l, unsigned d)
+{
+    h->full[l][d >> 6] &= ~(1ull << (d & 63));
+    if (!h->full[l][d >> 6])
+        h->sum &= ~(1u << (4 * l + (d >> 6)));
 }
 
 /* The bucket of the smallest key (the heap is not empty): level 0, after
@@ -183,15 +193,16 @@ static hvec *heap_min(rheap *h)
     while (d < 0) {
         hvec src;
         size_t m;
-        for (l = 1; (d = rh_first(h, l)) < 0; l++)
-            ;
+        uint32_t lo;
+        l = __builtin_ctz(h->sum) >> 2; /* the lowest non-empty level */
+        d = rh_first(h, l);
         src = h->b[l][d];
         h->b[l][d].n = 0;
-        h->full[l][d >> 6] &= ~(1ull << (d & 63));
-        h->last = src.v[0].key;
-        for (m = 1; m < src.n; m++)
-            if (src.v[m].key < h->last)
-                h->last = src.v[m].key;
+        rh_clear(h, l, (unsigned)d);
+        lo = src.v[0].key;
+        for (m = 1; m < src.n; m++) /* no branch: a select */
+            lo = src.v[m].key < lo ? src.v[m].key : lo;
+        h->last = lo;
         for (m = 0; m < src.n; m++) /* into lower levels */
             if (rh_put(h, src.v[m]) != 0)
                 return NULL;
@@ -204,8 +215,7 @@ static hvec *heap_min(rheap *h)
 /* Empty bucket b (level 0, digit d) bookkeeping. */
 static void rh_emptied(rheap *h, const hvec *b)
 {
-    size_t d = (size_t)(b - h->b[0]);
-    h->full[0][d >> 6] &= ~(1ull << (d & 63));
+    rh_clear(h, 0, (unsigned)(b - h->b[0]));
 }
 
 /* ---- edges ----------------------------------------------------------- */
@@ -284,67 +294,81 @@ static int eh_take(ehash *t, tres *r)
 
 /* ---- one tile ---------------------------------------------------------- */
 
+/* Codes of the window: *unseen (valid, no label) and *seen (valid, a
+ * label). */
+static void win_codes(const uint8_t *code, size_t i, size_t w,
+                      unsigned *unseen, unsigned *seen)
+{
+    *unseen = w3_eq8(code, i, w, SEEN | NOD, 0);
+    *seen = w3_eq8(code, i, w, SEEN | NOD, SEEN);
+}
+
 /* 1 when every unseen valid neighbour of interior cell i is higher. */
 static int traceable(const pf *p, size_t i)
 {
-    const float *z = p->z, zi = p->z[i];
-    const uint8_t *code = p->code;
-    int k, low = 0;
-    for (k = 0; k < 8; k++) { /* no early exit: the loads overlap */
-        size_t j = i + (size_t)p->off[k];
-        low |= ((code[j] & (SEEN | NOD)) == 0) & (z[j] <= zi);
-    }
-    return !low;
+    return (w3_eq8(p->code, i, (size_t)p->w, SEEN | NOD, 0) &
+            w3_z(p->z, i, (size_t)p->w, p->z[i], W3_LE)) == 0;
 }
 
-/* Neighbour mask of tile-perimeter cell c within tile [x0,x1) x [y0,y1). */
+/* Window mask of tile-perimeter cell c within tile [x0,x1) x [y0,y1). */
 static unsigned perim_mask(const pf *p, size_t c, const int t[4])
 {
-    int x = (int)(c % (size_t)p->w), y = (int)(c / (size_t)p->w), k;
+    int x = (int)(c % (size_t)p->w), y = (int)(c / (size_t)p->w), s;
     unsigned m = 0;
-    for (k = 0; k < 8; k++) {
-        int xx = x + DX[k], yy = y + DY[k];
-        m |= (unsigned)(xx >= t[0] && xx < t[1] && yy >= t[2] && yy < t[3])
-             << k;
+    for (s = 0; s < 9; s++) {
+        int xx = x + s % 3 - 1, yy = y + s / 3 - 1;
+        m |= (unsigned)(s != 4 && xx >= t[0] && xx < t[1] && yy >= t[2] &&
+                        yy < t[3]) << s;
     }
     return m;
 }
 
+/* Unseen and met (valid, another label) neighbours of c. */
+static void classify(const pf *p, size_t c, const int t[4],
+                     unsigned *unseen, unsigned *meet)
+{
+    uint16_t lc = p->lab[c];
+    unsigned s, m;
+    if (!(p->code[c] & PERIM)) { /* all 8 in the tile, off the grid edge */
+        win_codes(p->code, c, (size_t)p->w, unseen, &m);
+        *meet = m & w3_ne16(p->lab, c, (size_t)p->w, lc);
+        return;
+    }
+    m = perim_mask(p, c, t);
+    *unseen = *meet = 0;
+    for (s = 0; s < 9; s++)
+        if (m >> s & 1) {
+            size_t j = c + (size_t)p->off[s];
+            unsigned f = p->code[j] & (SEEN | NOD);
+            *unseen |= (unsigned)(f == 0) << s;
+            *meet |= (unsigned)(f == SEEN && p->lab[j] != lc) << s;
+        }
+}
+
 /* Reach c's neighbours in the tile.  in_order: c is at the lowest level
  * of the whole frontier, so unseen neighbours not above it are raised to
- * it (they drain through c).  The neighbours are sorted into unseen ones
- * and met labels first, without a branch per neighbour (on a noisy DEM
- * those branches are coin flips). */
+ * it (they drain through c). */
 static int visit(const pf *p, wk *q, uint32_t c, int in_order,
                  const int t[4])
 {
     float zc = p->z[c];
     uint16_t lc = p->lab[c];
-    unsigned m = p->code[c] & PERIM ? perim_mask(p, c, t) : 0xFFu;
-    unsigned unseen = 0, meet = 0, k;
+    unsigned unseen, meet, s;
     int rc = 0;
-    for (k = 0; k < 8; k++) {
-        size_t j = c + (size_t)p->off[k];
-        unsigned s;
-        if (m != 0xFFu && !(m >> k & 1))
-            continue;
-        s = p->code[j] & (SEEN | NOD);
-        unseen |= (unsigned)(s == 0) << k;
-        meet |= (unsigned)((s == SEEN) & (p->lab[j] != lc)) << k;
-    }
+    classify(p, c, t, &unseen, &meet);
     while (meet && rc == 0) {
         size_t j;
-        k = (unsigned)__builtin_ctz(meet);
+        s = (unsigned)__builtin_ctz(meet);
         meet &= meet - 1;
-        j = c + (size_t)p->off[k];
+        j = c + (size_t)p->off[s];
         rc = eh_add(&q->eh, lc, p->lab[j], zc > p->z[j] ? zc : p->z[j]);
     }
     while (unseen && rc == 0) {
         size_t n;
         uint8_t cn;
-        k = (unsigned)__builtin_ctz(unseen);
+        s = (unsigned)__builtin_ctz(unseen);
         unseen &= unseen - 1;
-        n = c + (size_t)p->off[k];
+        n = c + (size_t)p->off[s];
         cn = p->code[n];
         p->lab[n] = lc;
         p->code[n] = cn | SEEN;
@@ -361,7 +385,9 @@ static int visit(const pf *p, wk *q, uint32_t c, int in_order,
     return rc;
 }
 
-/* Seeds of tile t: its perimeter and the real outlets inside it. */
+/* Seeds of tile t: the drained cells next to undrained ones (label 0:
+ * OUTSIDE, at their height; the other drained cells are done) and the
+ * undrained cells of the perimeter (no label until popped or reached). */
 static int tile_seeds(const pf *p, wk *q, const int t[4])
 {
     int x, y, rc = 0;
@@ -371,15 +397,29 @@ static int tile_seeds(const pf *p, wk *q, const int t[4])
         for (x = t[0]; x < t[1] && rc == 0; x++, i++) {
             uint8_t c = p->code[i];
             int perim = edge_row || x == t[0] || x == t[1] - 1;
+            unsigned m;
             if (c & NOD)
                 continue;
             if (perim)
                 p->code[i] = c = (uint8_t)(c | PERIM);
-            if ((c & 15) == TD_FL_ROOT)
-                p->code[i] = (uint8_t)(c | SEEN); /* label 0: OUTSIDE */
-            else if (!perim)
+            if (!(c & DRAIN)) {
+                if (perim)
+                    rc = heap_push(q, p->z[i], (uint32_t)i);
                 continue;
-            rc = heap_push(q, p->z[i], (uint32_t)i);
+            }
+            p->code[i] = (uint8_t)(c | SEEN);
+            if (perim) {
+                unsigned s;
+                m = perim_mask(p, i, t);
+                for (s = 0; s < 9; s++)
+                    if ((m >> s & 1) &&
+                        !(p->code[i + (size_t)p->off[s]] & (DRAIN | NOD)))
+                        break;
+                m = s < 9;
+            } else
+                m = w3_eq8(p->code, i, (size_t)p->w, DRAIN | NOD, 0);
+            if (m)
+                rc = heap_push(q, p->z[i], (uint32_t)i);
         }
     }
     return rc;
@@ -656,19 +696,76 @@ fail:
  * rest 0; z = dem. */
 static void mark_outlets(pf *p)
 {
-    int x, y, k;
-    size_t i = 0;
-    memcpy(p->z, p->dem, (size_t)p->w * (size_t)p->h * sizeof *p->z);
-    for (y = 0; y < p->h; y++)
-        for (x = 0; x < p->w; x++, i++) {
-            int out = x == 0 || y == 0 || x == p->w - 1 || y == p->h - 1;
-            p->lab[i] = 0;
-            if (p->code[i] == TD_FL_NODATA)
-                continue;
-            for (k = 0; k < 8 && !out; k++)
-                out = p->code[i + (size_t)p->off[k]] == TD_FL_NODATA;
-            p->code[i] = out ? TD_FL_ROOT : 0;
+    size_t w = (size_t)p->w;
+    int x, y, k, nd_prev = 0, nd = 0, nd_next;
+    memcpy(p->z, p->dem, w * (size_t)p->h * sizeof *p->z);
+    memset(p->lab, 0, w * (size_t)p->h * sizeof *p->lab);
+    nd_next = memchr(p->code, TD_FL_NODATA, w) != NULL;
+    for (y = 0; y < p->h; y++) {
+        uint8_t *c = p->code + (size_t)y * w;
+        nd_prev = nd;
+        nd = nd_next;
+        nd_next = y + 1 < p->h && memchr(c + w, TD_FL_NODATA, w) != NULL;
+        if (y == 0 || y == p->h - 1) { /* edge rows: all outlets */
+            for (x = 0; x < p->w; x++)
+                c[x] = c[x] == TD_FL_NODATA ? TD_FL_NODATA : TD_FL_ROOT;
+            continue;
         }
+        if (!nd_prev && !nd && !nd_next) { /* no nodata nearby */
+            memset(c, 0, w);
+            c[0] = c[w - 1] = TD_FL_ROOT;
+            continue;
+        }
+        for (x = 0; x < p->w; x++) {
+            int out = x == 0 || x == p->w - 1;
+            if (c[x] == TD_FL_NODATA)
+                continue;
+            for (k = 0; k < 9 && !out; k++) /* k = 4: the cell, valid */
+                out = c[x + p->off[k]] == TD_FL_NODATA;
+            c[x] = out ? TD_FL_ROOT : 0;
+        }
+    }
+}
+
+/* Drained cells: those with a path to an outlet that never climbs, found
+ * uphill from the outlets.  Their level is their height, so the tile
+ * floods start from them and never visit the others (on a smooth DEM
+ * most cells; on white noise almost none).  Any subset would do, so the
+ * search stops when its stack would pass n / 8 entries (half a byte per
+ * cell).  0 or TD_ENOMEM. */
+static int drain_search(pf *p)
+{
+    u32vec st = {NULL, 0, 0};
+    size_t n = (size_t)p->w * (size_t)p->h, w = (size_t)p->w, i;
+    size_t cap = n / 8 > 4096 ? n / 8 : 4096;
+    const int all[4] = {0, p->w, 0, p->h};
+    int rc = 0;
+    for (i = 0; i < n && rc == 0; i++)
+        if (p->code[i] == TD_FL_ROOT) {
+            p->code[i] |= DRAIN;
+            rc = u32_push(&st, (uint32_t)i);
+        }
+    while (rc == 0 && st.n > 0) {
+        size_t c = st.v[--st.n];
+        unsigned m, s, in;
+        if ((p->code[c] & 15) == TD_FL_ROOT) { /* maybe on the grid edge */
+            m = 0;
+            for (s = 0, in = perim_mask(p, c, all); s < 9; s++)
+                if ((in >> s & 1) &&
+                    !(p->code[c + (size_t)p->off[s]] & (DRAIN | NOD)) &&
+                    p->z[c + (size_t)p->off[s]] >= p->z[c])
+                    m |= 1u << s;
+        } else
+            m = w3_eq8(p->code, c, w, DRAIN | NOD, 0) &
+                ~w3_z(p->z, c, w, p->z[c], W3_LT);
+        for (; m && rc == 0 && st.n < cap; m &= m - 1) {
+            size_t j = c + (size_t)p->off[__builtin_ctz(m)];
+            p->code[j] |= DRAIN;
+            rc = u32_push(&st, (uint32_t)j);
+        }
+    }
+    free(st.v);
+    return rc ? td_seterr(p->cx, TD_ENOMEM, "flow: out of memory") : 0;
 }
 
 /* Raise every cell to its label's level; codes back to ROOT / 0. */
@@ -724,8 +821,8 @@ int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
     p.nlab = 1;
     p.nth = threads > 0 ? threads : omp_get_max_threads();
     p.cx = cx;
-    for (k = 0; k < 8; k++)
-        p.off[k] = (ptrdiff_t)DY[k] * w + DX[k];
+    for (k = 0; k < 9; k++)
+        p.off[k] = (ptrdiff_t)(k / 3 - 1) * w + k % 3 - 1;
     nt = (size_t)p.ntx * (size_t)p.nty;
     p.lab = malloc((size_t)w * (size_t)h * sizeof *p.lab);
     p.base = malloc(nt * sizeof *p.base);
@@ -735,7 +832,9 @@ int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
         goto fail;
     }
     mark_outlets(&p);
-    rc = flood_tiles(&p, p0, p0 + 0.9 * (p1 - p0));
+    rc = drain_search(&p);
+    if (rc == 0)
+        rc = flood_tiles(&p, p0, p0 + 0.9 * (p1 - p0));
     if (rc == 0)
         rc = gather(&p);
     if (rc == 0)

@@ -30,6 +30,8 @@ static double cpu_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+static double noise_m = 0.5;
+
 static td_grid_f32 *terrain(int n, td_ctx *cx)
 {
     td_gen_params gp = td_gen_defaults();
@@ -37,7 +39,8 @@ static td_grid_f32 *terrain(int n, td_ctx *cx)
     gp.w = gp.h = n;
     if (td_gen_terrain(&gp, &dem, cx) != 0)
         return NULL;
-    td_terrain_noise(dem, 0.5, 1, cx);
+    if (noise_m > 0)
+        td_terrain_noise(dem, noise_m, 1, cx);
     return dem;
 }
 
@@ -122,6 +125,8 @@ int main(int argc, char **argv)
             dir = argv[++i];
         else if (!strcmp(argv[i], "--size") && i + 1 < argc)
             n = atoi(argv[++i]) > 16 ? atoi(argv[i]) : 16;
+        else if (!strcmp(argv[i], "--noise") && i + 1 < argc)
+            noise_m = atof(argv[++i]);
         else if (!strcmp(argv[i], "--no-grass"))
             use_grass = 0;
         else if (!strcmp(argv[i], "--topodig") && i + 1 < argc)
@@ -133,7 +138,7 @@ int main(int argc, char **argv)
         printf("  terrain: %s\n", td_errmsg(&cx));
         return 0;
     }
-    printf("  generated hills + 0.5 m noise, 1 thread\n");
+    printf("  generated hills + %g m noise, 1 thread\n", noise_m);
     d8 = one(dem, TD_FLOW_D8, "d8", &d8c);
     one(dem, TD_FLOW_DINF, "dinf", NULL);
     if ((small = terrain(1000, &cx)) != NULL) {
