@@ -390,50 +390,76 @@ static void setu(fgrid *g, size_t i, uint32_t v)
 }
 
 /* Follow one chain from a cell with nothing left upstream, adding counts
- * downstream until a cell that still waits for another upstream cell. */
-static void d8_chain(fgrid *g, size_t c, td_flow_stats *st, double *done)
+ * downstream until a cell that still waits for another upstream cell;
+ * returns the cells done. */
+static size_t d8_chain(fgrid *g, size_t c, td_flow_stats *st)
 {
+    size_t done = 0;
     for (;;) {
         int k = g->code[c] & 15;
         uint32_t a = getu(g, c);
         size_t r;
+        uint8_t cr;
         g->code[c] = DONE;
-        ++*done;
+        done++;
         if (k == ROOT) {
             st->outflow += a;
             st->outlets++;
-            return;
+            return done;
         }
         r = c + (size_t)g->off[k];
         setu(g, r, getu(g, r) + a);
-        g->code[r] = (uint8_t)(g->code[r] - 16);
-        if (g->code[r] >> 4)
-            return;
+        g->code[r] = cr = (uint8_t)(g->code[r] - 16);
+        if (cr >> 4)
+            return done;
         c = r;
     }
 }
 
+/* Bit j: cell i0 + j (of 16) is a source (valid, nothing upstream: code
+ * <= ROOT with the count nibble 0). */
+static unsigned sources16(const uint8_t *code)
+{
+#ifdef __SSE2__
+    __m128i v = _mm_loadu_si128((const __m128i *)code);
+    return (unsigned)_mm_movemask_epi8(
+        _mm_cmpeq_epi8(_mm_min_epu8(v, _mm_set1_epi8(ROOT)), v));
+#else
+    unsigned m = 0, j;
+    for (j = 0; j < 16; j++)
+        m |= (unsigned)(code[j] <= ROOT) << j;
+    return m;
+#endif
+}
+
+/* D8 counts: each source's chain in raster order.  The sources are found
+ * 16 cells at a time before their chains run (a chain never enters a
+ * source, so the mask stays right). */
 static int d8_accumulate(fgrid *g, double valid, td_flow_stats *st)
 {
-    size_t i;
-    double done = 0;
+    size_t i, i0, done = 0;
     for (i = 0; i < g->n; i++) { /* upstream counts into the high nibble */
         uint8_t c = g->code[i];
         setu(g, i, c != NODATA);
         if ((c & 15) < ROOT)
             g->code[i + (size_t)g->off[c & 15]] += 16;
     }
-    for (i = 0; i < g->n; i++) {
-        uint8_t c = g->code[i];
-        if ((c & 15) <= ROOT && (c >> 4) == 0)
-            d8_chain(g, i, st, &done);
-        if ((i & 0xFFFFF) == 0 &&
-            td_progress(g->cx, "flow", 0.8 + 0.2 * (double)i / g->n) != 0)
+    for (i0 = 0; i0 < g->n; i0 += 16) {
+        unsigned m;
+        if (g->n - i0 >= 16)
+            m = sources16(g->code + i0);
+        else
+            for (m = 0, i = i0; i < g->n; i++)
+                m |= (unsigned)(g->code[i] <= ROOT) << (i - i0);
+        for (; m; m &= m - 1)
+            done += d8_chain(g, i0 + (size_t)__builtin_ctz(m), st);
+        if ((i0 & 0xFFFFF) == 0 &&
+            td_progress(g->cx, "flow", 0.8 + 0.2 * (double)i0 / g->n) != 0)
             return TD_ECANCEL;
     }
-    if (done != valid)
+    if ((double)done != valid)
         return td_seterr(g->cx, TD_EINTERNAL, "flow: D8 accumulated %.0f of "
-                         "%.0f cells", done, valid);
+                         "%.0f cells", (double)done, valid);
     return 0;
 }
 

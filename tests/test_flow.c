@@ -337,7 +337,6 @@ static void test_conservation_nodata(void)
         TT_CHECKF(nd_ok, "%s: nodata cells differ from the DEM's", NAME[m]);
         td_grid_f32_free(acc);
     }
-    td_grid_f32_free(dem);
     /* the tiled fill around the holes equals the brute force, and the
      * counts do not depend on the tile side */
     {
@@ -363,6 +362,7 @@ static void test_conservation_nodata(void)
         free(ref);
         td_grid_f32_free(fill);
     }
+    td_grid_f32_free(dem);
 }
 
 /* The flood (with its off-heap upslope tracing), in one tile or many,
