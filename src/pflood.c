@@ -692,8 +692,8 @@ fail:
 
 /* ---- driver ------------------------------------------------------------- */
 
-/* code: NODATA stays, outlets (grid edge, next to nodata) TD_FL_ROOT, the
- * rest 0; z = dem. */
+/* code: NODATA stays, outlets (grid edge, next to nodata) TD_FL_ROOT |
+ * DRAIN, the rest 0; z = dem; labels 0. */
 static void mark_outlets(pf *p)
 {
     size_t w = (size_t)p->w;
@@ -708,12 +708,13 @@ static void mark_outlets(pf *p)
         nd_next = y + 1 < p->h && memchr(c + w, TD_FL_NODATA, w) != NULL;
         if (y == 0 || y == p->h - 1) { /* edge rows: all outlets */
             for (x = 0; x < p->w; x++)
-                c[x] = c[x] == TD_FL_NODATA ? TD_FL_NODATA : TD_FL_ROOT;
+                c[x] = c[x] == TD_FL_NODATA ? TD_FL_NODATA
+                                            : TD_FL_ROOT | DRAIN;
             continue;
         }
         if (!nd_prev && !nd && !nd_next) { /* no nodata nearby */
             memset(c, 0, w);
-            c[0] = c[w - 1] = TD_FL_ROOT;
+            c[0] = c[w - 1] = TD_FL_ROOT | DRAIN;
             continue;
         }
         for (x = 0; x < p->w; x++) {
@@ -722,50 +723,59 @@ static void mark_outlets(pf *p)
                 continue;
             for (k = 0; k < 9 && !out; k++) /* k = 4: the cell, valid */
                 out = c[x + p->off[k]] == TD_FL_NODATA;
-            c[x] = out ? TD_FL_ROOT : 0;
+            c[x] = out ? TD_FL_ROOT | DRAIN : 0;
         }
     }
 }
 
-/* Drained cells: those with a path to an outlet that never climbs, found
- * uphill from the outlets.  Their level is their height, so the tile
- * floods start from them and never visit the others (on a smooth DEM
- * most cells; on white noise almost none).  Any subset would do, so the
- * search stops when its stack would pass n / 8 entries (half a byte per
- * cell).  0 or TD_ENOMEM. */
-static int drain_search(pf *p)
+/* Drain step of row y from row py (the row before it in the sweep):
+ * vertically from the three cells there, then along the row both ways.
+ * No branch per cell (on noise these tests are coin flips); NOD << 4 is
+ * DRAIN, so a nodata cell never takes it. */
+static size_t drain_row(pf *p, int y, int py)
 {
-    u32vec st = {NULL, 0, 0};
-    size_t n = (size_t)p->w * (size_t)p->h, w = (size_t)p->w, i;
-    size_t cap = n / 8 > 4096 ? n / 8 : 4096;
-    const int all[4] = {0, p->w, 0, p->h};
-    int rc = 0;
-    for (i = 0; i < n && rc == 0; i++)
-        if (p->code[i] == TD_FL_ROOT) {
-            p->code[i] |= DRAIN;
-            rc = u32_push(&st, (uint32_t)i);
-        }
-    while (rc == 0 && st.n > 0) {
-        size_t c = st.v[--st.n];
-        unsigned m, s, in;
-        if ((p->code[c] & 15) == TD_FL_ROOT) { /* maybe on the grid edge */
-            m = 0;
-            for (s = 0, in = perim_mask(p, c, all); s < 9; s++)
-                if ((in >> s & 1) &&
-                    !(p->code[c + (size_t)p->off[s]] & (DRAIN | NOD)) &&
-                    p->z[c + (size_t)p->off[s]] >= p->z[c])
-                    m |= 1u << s;
-        } else
-            m = w3_eq8(p->code, c, w, DRAIN | NOD, 0) &
-                ~w3_z(p->z, c, w, p->z[c], W3_LT);
-        for (; m && rc == 0 && st.n < cap; m &= m - 1) {
-            size_t j = c + (size_t)p->off[__builtin_ctz(m)];
-            p->code[j] |= DRAIN;
-            rc = u32_push(&st, (uint32_t)j);
-        }
+    size_t w = (size_t)p->w;
+    uint8_t *restrict c = p->code + (size_t)y * w;
+    const uint8_t *restrict pc = p->code + (size_t)py * w;
+    const float *z = p->z + (size_t)y * w, *pz = p->z + (size_t)py * w;
+    int x;
+    size_t got = 0;
+    for (x = 1; x < p->w - 1; x++) {
+        float zc = z[x];
+        unsigned d = (pc[x - 1] & (unsigned)-(pz[x - 1] <= zc)) |
+                     (pc[x] & (unsigned)-(pz[x] <= zc)) |
+                     (pc[x + 1] & (unsigned)-(pz[x + 1] <= zc));
+        c[x] |= (uint8_t)(d & DRAIN & ~((c[x] & NOD) << 4));
     }
-    free(st.v);
-    return rc ? td_seterr(p->cx, TD_ENOMEM, "flow: out of memory") : 0;
+    for (x = 1; x < p->w - 1; x++)
+        c[x] |= (uint8_t)(c[x - 1] & (unsigned)-(z[x - 1] <= z[x]) & DRAIN &
+                          ~((c[x] & NOD) << 4));
+    for (x = p->w - 2; x >= 1; x--) {
+        c[x] |= (uint8_t)(c[x + 1] & (unsigned)-(z[x + 1] <= z[x]) & DRAIN &
+                          ~((c[x] & NOD) << 4));
+        got += c[x] >> 4 & 1;
+    }
+    return got;
+}
+
+/* Drained cells: those with a path to an outlet that never climbs.  Their
+ * level is their height, so the tile floods start from them and never
+ * visit the others (on smooth DEMs most cells; on white noise almost
+ * none).  Any subset would do: two raster sweeps (down, then up), each
+ * propagating from the row before and along the row both ways, find on
+ * generated hills as many as a full search uphill from the outlets (88.4%
+ * of the cells; a third sweep adds none) at a third of its cost (the
+ * search jumps about the grid).  The outlets carry DRAIN already.  A
+ * sweep stops after 32 rows in a row with under 1% drained (white noise:
+ * then the flood does it all and the sweeps would only cost). */
+static void drain_sweeps(pf *p)
+{
+    size_t few = (size_t)p->w / 100;
+    int y, poor = 0;
+    for (y = 1; y < p->h - 1 && poor < 32; y++)
+        poor = drain_row(p, y, y - 1) <= few ? poor + 1 : 0;
+    for (y = p->h - 2, poor = 0; y >= 1 && poor < 32; y--)
+        poor = drain_row(p, y, y + 1) <= few ? poor + 1 : 0;
 }
 
 /* Raise every cell to its label's level; codes back to ROOT / 0. */
@@ -832,9 +842,8 @@ int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
         goto fail;
     }
     mark_outlets(&p);
-    rc = drain_search(&p);
-    if (rc == 0)
-        rc = flood_tiles(&p, p0, p0 + 0.9 * (p1 - p0));
+    drain_sweeps(&p);
+    rc = flood_tiles(&p, p0, p0 + 0.9 * (p1 - p0));
     if (rc == 0)
         rc = gather(&p);
     if (rc == 0)
