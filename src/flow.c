@@ -91,6 +91,9 @@ static int is_valid(const fgrid *g, size_t i)
 static int fgrid_init(fgrid *g, const td_grid_f32 *dem, td_grid_f32 *out,
                       uint8_t fill, double *valid, td_ctx *cx)
 {
+    size_t nv = 0;
+    int hn = dem && dem->has_nodata != 0;
+    float nodata = dem ? dem->nodata : 0;
     size_t i;
     int k;
     memset(g, 0, sizeof *g);
@@ -113,13 +116,13 @@ static int fgrid_init(fgrid *g, const td_grid_f32 *dem, td_grid_f32 *out,
         g->off[k] = (ptrdiff_t)DY[k] * g->w + DX[k];
     if (!(g->code = td_malloc(g->n, cx)))
         return TD_ENOMEM;
-    *valid = 0;
-    for (i = 0; i < g->n; i++) {
+    for (i = 0; i < g->n; i++) { /* no branch: vector instructions */
         float v = dem->data[i];
-        int nd = isnan(v) || (dem->has_nodata && v == dem->nodata);
+        int nd = (v != v) | (hn & (v == nodata));
         g->code[i] = nd ? NODATA : fill;
-        *valid += !nd;
+        nv += (size_t)!nd;
     }
+    *valid = (double)nv;
     out->nodata = dem->nodata;
     out->has_nodata = dem->has_nodata;
     return 0;
@@ -279,6 +282,13 @@ static double flat_one(fgrid *g, size_t i, u32vec *a, u32vec *b)
     size_t h;
     unsigned m;
     a->n = b->n = 0;
+    if (!flat_nbrs(g, i, UNSEEN)) { /* one cell (a filled pit, mostly) */
+        m = flat_nbrs(g, i, -1);
+        if (!m)
+            return -2;
+        g->code[i] = (uint8_t)first_k(m);
+        return 1;
+    }
     g->code[i] = COMP;
     if (u32_push(a, (uint32_t)i, NULL) != 0)
         return -1;
@@ -299,7 +309,16 @@ static double flat_one(fgrid *g, size_t i, u32vec *a, u32vec *b)
         g->code[b->v[h]] &= 7;
     /* seeds in raster order: the same search as one over the whole grid
      * (the flat drains to its nearest exit in short, evenly spread paths) */
-    qsort(b->v, b->n, sizeof *b->v, cmp_u32);
+    if (b->n > 16)
+        qsort(b->v, b->n, sizeof *b->v, cmp_u32);
+    else /* insertion sort: most flats are small */
+        for (h = 1; h < b->n; h++) {
+            uint32_t v = b->v[h];
+            size_t j = h;
+            for (; j > 0 && b->v[j - 1] > v; j--)
+                b->v[j] = b->v[j - 1];
+            b->v[j] = v;
+        }
     for (h = 0; h < b->n; h++)
         for (m = flat_nbrs(g, b->v[h], COMP); m; m &= m - 1) {
             unsigned s = (unsigned)__builtin_ctz(m);
@@ -389,78 +408,17 @@ static void setu(fgrid *g, size_t i, uint32_t v)
     memcpy(&g->z[i], &v, sizeof v);
 }
 
-/* Follow one chain from a cell with nothing left upstream, adding counts
- * downstream until a cell that still waits for another upstream cell;
- * returns the cells done. */
-static size_t d8_chain(fgrid *g, size_t c, td_flow_stats *st)
+/* D8 counts (src/flow_d8.c, in row bands on nth threads) into g->z as
+ * uint32. */
+static int d8_accumulate(fgrid *g, double valid, int nth, td_flow_stats *st)
 {
-    size_t done = 0;
-    for (;;) {
-        int k = g->code[c] & 15;
-        uint32_t a = getu(g, c);
-        size_t r;
-        uint8_t cr;
-        g->code[c] = DONE;
-        done++;
-        if (k == ROOT) {
-            st->outflow += a;
-            st->outlets++;
-            return done;
-        }
-        r = c + (size_t)g->off[k];
-        setu(g, r, getu(g, r) + a);
-        g->code[r] = cr = (uint8_t)(g->code[r] - 16);
-        if (cr >> 4)
-            return done;
-        c = r;
-    }
-}
-
-/* Bit j: cell i0 + j (of 16) is a source (valid, nothing upstream: code
- * <= ROOT with the count nibble 0). */
-static unsigned sources16(const uint8_t *code)
-{
-#ifdef __SSE2__
-    __m128i v = _mm_loadu_si128((const __m128i *)code);
-    return (unsigned)_mm_movemask_epi8(
-        _mm_cmpeq_epi8(_mm_min_epu8(v, _mm_set1_epi8(ROOT)), v));
-#else
-    unsigned m = 0, j;
-    for (j = 0; j < 16; j++)
-        m |= (unsigned)(code[j] <= ROOT) << j;
-    return m;
-#endif
-}
-
-/* D8 counts: each source's chain in raster order.  The sources are found
- * 16 cells at a time before their chains run (a chain never enters a
- * source, so the mask stays right). */
-static int d8_accumulate(fgrid *g, double valid, td_flow_stats *st)
-{
-    size_t i, i0, done = 0;
-    for (i = 0; i < g->n; i++) { /* upstream counts into the high nibble */
-        uint8_t c = g->code[i];
-        setu(g, i, c != NODATA);
-        if ((c & 15) < ROOT)
-            g->code[i + (size_t)g->off[c & 15]] += 16;
-    }
-    for (i0 = 0; i0 < g->n; i0 += 16) {
-        unsigned m;
-        if (g->n - i0 >= 16)
-            m = sources16(g->code + i0);
-        else
-            for (m = 0, i = i0; i < g->n; i++)
-                m |= (unsigned)(g->code[i] <= ROOT) << (i - i0);
-        for (; m; m &= m - 1)
-            done += d8_chain(g, i0 + (size_t)__builtin_ctz(m), st);
-        if ((i0 & 0xFFFFF) == 0 &&
-            td_progress(g->cx, "flow", 0.8 + 0.2 * (double)i0 / g->n) != 0)
-            return TD_ECANCEL;
-    }
-    if ((double)done != valid)
-        return td_seterr(g->cx, TD_EINTERNAL, "flow: D8 accumulated %.0f of "
-                         "%.0f cells", (double)done, valid);
-    return 0;
+    double done = 0;
+    int rc = td_d8_accumulate(g->code, (uint32_t *)(void *)g->z, g->w, g->h,
+                              nth, &st->outflow, &st->outlets, &done, g->cx);
+    if (rc == 0 && done != valid)
+        rc = td_seterr(g->cx, TD_EINTERNAL, "flow: D8 accumulated %.0f of "
+                       "%.0f cells", done, valid);
+    return rc;
 }
 
 /* ---- D-infinity (Tarboton 1997) -----------------------------------------
@@ -699,7 +657,8 @@ int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
     } else if ((rc = route(&g, p, 0.0, p->method == TD_FLOW_D8 ? 0.8
                                                   : 0.6, &s)) == 0) {
         if (p->method == TD_FLOW_D8)
-            rc = d8_accumulate(&g, s.cells, &s);
+            rc = d8_accumulate(&g, s.cells, p->threads > 0 ? p->threads
+                               : omp_get_max_threads(), &s);
         else if ((acc = td_malloc(g.n * sizeof *acc, cx)) == NULL)
             rc = TD_ENOMEM;
         else

@@ -31,4 +31,14 @@ int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
               int tile, int threads, double *raised, double p0, double p1,
               td_ctx *cx);
 
+/* D8 counts (src/flow_d8.c): code holds each valid cell's direction k
+ * (0..7: E, SE, S, SW, W, NW, N, NE), TD_FL_ROOT for outlets, TD_FL_NODATA;
+ * acc (w * h) gets each cell's count (0 on nodata).  code is overwritten.
+ * On `threads` row bands (the result does not depend on it).  *outflow,
+ * *outlets, *done: rain that left, outlets, cells counted.  Memory: 1 byte
+ * per cell (in-degrees).  0 or TD_ENOMEM. */
+int td_d8_accumulate(uint8_t *code, uint32_t *acc, int w, int h,
+                     int threads, double *outflow, double *outlets,
+                     double *done, td_ctx *cx);
+
 #endif

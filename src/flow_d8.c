@@ -1,0 +1,261 @@
+/* flow_d8.c: D8 flow accumulation in row bands, one thread per band.
+ *
+ * Every valid cell has one receiver (code k = 0..7, see flow.c) or is an
+ * outlet (TD_FL_ROOT).  A cell's count is the number of cells whose path
+ * passes it (its own included).  Linear: each cell's in-degree is counted
+ * (pulled from its 8 neighbours, so every thread writes only its own
+ * band), then chains run downstream from the cells with nothing upstream,
+ * adding counts, until a cell still waits for another upstream cell.
+ *
+ * Bands: thread t owns rows [y0, y1).  A chain that steps into another
+ * band stops and hands (receiver, count) to that band; after a barrier
+ * each band takes what it was handed (adding it, and going on downstream
+ * where that was the last upstream cell).  Rounds repeat until nothing is
+ * handed on.  A path that crosses band borders m times needs m rounds;
+ * each round is a barrier, so even a river along a border costs little.
+ * No cell is written by two threads, no atomics; the counts are exact
+ * integers, so the result is the same for any number of threads. */
+#include "flow_int.h"
+#include "window3.h"
+
+#include <omp.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { ROOT = TD_FL_ROOT, NODATA = TD_FL_NODATA, DONE = 10 };
+
+static const int DX[8] = {1, 1, 0, -1, -1, -1, 0, 1};
+static const int DY[8] = {0, 1, 1, 1, 0, -1, -1, -1};
+
+/* A hand-over: receiver cell and count. */
+typedef struct hand {
+    uint32_t r, a;
+} hand;
+
+typedef struct hvec {
+    hand *v;
+    size_t n, cap;
+} hvec;
+
+/* One band's state.  out[p][d]: handed to the band above (d = 0) or
+ * below (d = 1) in rounds of parity p. */
+typedef struct band {
+    int y0, y1;
+    size_t lo, hi; /* cells [lo, hi) */
+    hvec out[2][2];
+    double outflow, outlets;
+    size_t done;
+    int fail;
+} band;
+
+typedef struct acc8 {
+    uint8_t *code, *cnt;
+    uint32_t *acc;
+    int w, h, nb;
+    ptrdiff_t off[8];
+    band *b;
+} acc8;
+
+static int hv_push(hvec *v, uint32_t r, uint32_t a)
+{
+    if (v->n == v->cap) {
+        size_t cap = v->cap ? v->cap * 2 : 256;
+        hand *p = realloc(v->v, cap * sizeof *p);
+        if (!p)
+            return -1;
+        v->v = p;
+        v->cap = cap;
+    }
+    v->v[v->n].r = r;
+    v->v[v->n++].a = a;
+    return 0;
+}
+
+/* In-degree of cell i = (x, y): neighbours whose code points at i. */
+static unsigned indegree(const acc8 *s, size_t i, int x, int y)
+{
+    /* slot s (window3.h) holds the neighbour at (dx, dy); it points at i
+     * when its code is the direction (-dx, -dy) */
+    static const uint8_t TO_ME[16] = {1, 2, 3, 0, 0xFF, 4, 7, 6, 5,
+                                      0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF,
+                                      0xFF};
+    unsigned m = 0, k;
+    if (x > 0 && y > 0 && x < s->w - 1 && y < s->h - 1) {
+#ifdef __SSE2__
+        __m128i v = w3_bytes(s->code, i, (size_t)s->w);
+        /* lanes are rows of 4 (slot 3 r + d -> lane 4 r + d) */
+        __m128i want = _mm_set_epi8(-1, -1, -1, -1, -1, TO_ME[8],
+                                    (char)TO_ME[7], (char)TO_ME[6], -1,
+                                    (char)TO_ME[5], -1, (char)TO_ME[3], -1,
+                                    (char)TO_ME[2], (char)TO_ME[1],
+                                    (char)TO_ME[0]);
+        m = w3_pick9((unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(v, want)));
+        return (unsigned)__builtin_popcount(m);
+#endif
+    }
+    for (k = 0; k < 9; k++) {
+        int xx = x + (int)k % 3 - 1, yy = y + (int)k / 3 - 1;
+        if (k == 4 || xx < 0 || yy < 0 || xx >= s->w || yy >= s->h)
+            continue;
+        m += s->code[(size_t)yy * (size_t)s->w + (size_t)xx] == TO_ME[k];
+    }
+    return m;
+}
+
+/* Counts of the band's cells: 1 (own rain) or 0; in-degrees into cnt. */
+static void band_init(acc8 *s, band *b)
+{
+    int x, y;
+    for (y = b->y0; y < b->y1; y++) {
+        size_t i = (size_t)y * (size_t)s->w;
+        for (x = 0; x < s->w; x++, i++) {
+            s->acc[i] = s->code[i] != NODATA;
+            s->cnt[i] = s->code[i] == NODATA ? 0
+                                             : (uint8_t)indegree(s, i, x, y);
+        }
+    }
+}
+
+/* Which band holds cell i. */
+static int band_of(const acc8 *s, const band *b, size_t i)
+{
+    return i < b->lo ? -1 : i >= b->hi ? 1 : 0;
+}
+
+/* Chain from cell c of band b downstream. */
+static void chain(acc8 *s, band *b, size_t c, int par)
+{
+    for (;;) {
+        int k = s->code[c];
+        uint32_t a = s->acc[c];
+        size_t r;
+        int o;
+        s->code[c] = DONE;
+        b->done++;
+        if (k == ROOT) {
+            b->outflow += a;
+            b->outlets++;
+            return;
+        }
+        r = c + (size_t)s->off[k];
+        if ((o = band_of(s, b, r)) != 0) {
+            if (hv_push(&b->out[par][o > 0], (uint32_t)r, a) != 0)
+                b->fail = 1;
+            return;
+        }
+        s->acc[r] += a;
+        if (--s->cnt[r])
+            return;
+        c = r;
+    }
+}
+
+/* Sources of the band (nothing upstream), in raster order. */
+static void band_sources(acc8 *s, band *b)
+{
+    size_t i;
+    for (i = b->lo; i < b->hi; i++)
+        if (s->cnt[i] == 0 && s->code[i] <= ROOT)
+            chain(s, b, i, 0);
+}
+
+/* Take what the bands next to b handed over in round parity par. */
+static int band_take(acc8 *s, band *b, int t, int par)
+{
+    int d, got = 0;
+    for (d = 0; d < 2; d++) {
+        int u = d == 0 ? t - 1 : t + 1; /* the band above / below */
+        hvec *in;
+        size_t j;
+        if (u < 0 || u >= s->nb)
+            continue;
+        in = &s->b[u].out[par][d == 0]; /* u handed down (1) / up (0) */
+        for (j = 0; j < in->n; j++) {
+            size_t r = in->v[j].r;
+            got = 1;
+            s->acc[r] += in->v[j].a;
+            if (--s->cnt[r] == 0)
+                chain(s, b, r, !par);
+        }
+    }
+    return got;
+}
+
+int td_d8_accumulate(uint8_t *code, uint32_t *acc, int w, int h,
+                     int threads, double *outflow, double *outlets,
+                     double *done, td_ctx *cx)
+{
+    acc8 s;
+    int t, k, rc = 0, nb;
+    int *more;
+    memset(&s, 0, sizeof s);
+    nb = threads < 1 ? 1 : threads;
+    if (nb > h / 8)
+        nb = h / 8 > 1 ? h / 8 : 1;
+    s.code = code;
+    s.acc = acc;
+    s.w = w;
+    s.h = h;
+    s.nb = nb;
+    for (k = 0; k < 8; k++)
+        s.off[k] = (ptrdiff_t)DY[k] * w + DX[k];
+    s.cnt = malloc((size_t)w * (size_t)h);
+    s.b = calloc((size_t)nb, sizeof *s.b);
+    more = calloc(3, sizeof *more);
+    if (!s.cnt || !s.b || !more) {
+        rc = td_seterr(cx, TD_ENOMEM, "flow: out of memory");
+        goto fail;
+    }
+    for (t = 0; t < nb; t++) {
+        band *b = &s.b[t];
+        b->y0 = (int)((long long)h * t / nb);
+        b->y1 = (int)((long long)h * (t + 1) / nb);
+        b->lo = (size_t)b->y0 * (size_t)w;
+        b->hi = (size_t)b->y1 * (size_t)w;
+    }
+#pragma omp parallel num_threads(nb)
+    {
+        int me = omp_get_thread_num(), round;
+        band *b = &s.b[me];
+        band_init(&s, b);
+#pragma omp barrier
+        band_sources(&s, b);
+        for (round = 0;; round++) {
+            int par = round & 1, any = b->out[par][0].n + b->out[par][1].n;
+            if (any)
+#pragma omp atomic write
+                more[round % 3] = 1;
+#pragma omp barrier
+            { /* the next round's flag is free again */
+                int go;
+#pragma omp atomic read
+                go = more[round % 3];
+                if (me == 0)
+#pragma omp atomic write
+                    more[(round + 2) % 3] = 0;
+                if (!go)
+                    break;
+            }
+            band_take(&s, b, me, par);
+#pragma omp barrier
+            b->out[par][0].n = b->out[par][1].n = 0;
+        }
+    }
+    *outflow = *outlets = *done = 0;
+    for (t = 0; t < nb; t++) {
+        *outflow += s.b[t].outflow;
+        *outlets += s.b[t].outlets;
+        *done += (double)s.b[t].done;
+        if (s.b[t].fail)
+            rc = td_seterr(cx, TD_ENOMEM, "flow: out of memory");
+    }
+fail:
+    if (s.b)
+        for (t = 0; t < nb; t++)
+            for (k = 0; k < 4; k++)
+                free(s.b[t].out[k / 2][k % 2].v);
+    free(s.b);
+    free(s.cnt);
+    free(more);
+    return rc;
+}
