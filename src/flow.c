@@ -275,9 +275,11 @@ static int cmp_u32(const void *a, const void *b)
 /* One flat, from its cell i: gather it (connected cells of the same height
  * with no direction) into a, then search breadth-first from all its cells
  * next to an exit at once (each takes its first exit) into b.  Every cell
- * drains one step nearer an exit.  Returns the flat's cells, or -1 out of
- * memory, -2 no exit. */
-static double flat_one(fgrid *g, size_t i, u32vec *a, u32vec *b)
+ * drains one step nearer an exit.  The flat must lie in cells [lo, hi)
+ * (whole rows), else it is left as it was (-3).  Returns the flat's cells,
+ * or -1 out of memory, -2 no exit, -3 not inside. */
+static double flat_one(fgrid *g, size_t i, size_t lo, size_t hi, u32vec *a,
+                       u32vec *b)
 {
     size_t h;
     unsigned m;
@@ -295,6 +297,11 @@ static double flat_one(fgrid *g, size_t i, u32vec *a, u32vec *b)
     for (h = 0; h < a->n; h++)
         for (m = flat_nbrs(g, a->v[h], UNSEEN); m; m &= m - 1) {
             size_t j = a->v[h] + (size_t)slot_off(g, __builtin_ctz(m));
+            if (j < lo || j >= hi) { /* another band's: later, alone */
+                for (h = 0; h < a->n; h++)
+                    g->code[a->v[h]] = UNSEEN;
+                return -3;
+            }
             g->code[j] = COMP;
             if (u32_push(a, (uint32_t)j, NULL) != 0)
                 return -1;
@@ -330,26 +337,58 @@ static double flat_one(fgrid *g, size_t i, u32vec *a, u32vec *b)
     return b->n == a->n ? (double)a->n : -2;
 }
 
-/* Flats (nflat cells in all), one at a time: each is small and stays in
- * the cache (a breadth-first search over all flats at once sweeps the
- * whole grid at every step).  0, TD_ENOMEM, TD_EINTERNAL. */
-static int flats(fgrid *g, double nflat)
+/* The flats starting in cells [lo, hi) that lie in them; adds their cells
+ * to *got.  0, or -1 out of memory, -2 a flat with no exit. */
+static int flats_in(fgrid *g, size_t lo, size_t hi, double *got)
 {
     u32vec a = {NULL, 0, 0}, b = {NULL, 0, 0};
     size_t i;
-    double got = 0, r = 0;
     int rc = 0;
-    for (i = 0; i < g->n && got < nflat && r >= 0; i++)
-        if (g->code[i] == UNSEEN && (r = flat_one(g, i, &a, &b)) >= 0)
-            got += r;
+    for (i = lo; i < hi && rc == 0; i++)
+        if (g->code[i] == UNSEEN) {
+            double r = flat_one(g, i, lo, hi, &a, &b);
+            if (r > 0)
+                *got += r;
+            else if (r > -2.5) /* -1, -2; -3: not inside, left */
+                rc = (int)r;
+        }
     free(a.v);
     free(b.v);
-    if (r == -1)
-        rc = td_seterr(g->cx, TD_ENOMEM, "flow: out of memory");
-    else if (r == -2 || got != nflat)
-        rc = td_seterr(g->cx, TD_EINTERNAL, "flow: a flat has no way out "
-                       "after filling");
     return rc;
+}
+
+/* Flats (nflat cells in all), one at a time: each is small and stays in
+ * the cache (a breadth-first search over all flats at once sweeps the
+ * whole grid at every step).  On threads: each takes a band of rows and
+ * the flats inside it without its first and last row (so no thread reads
+ * what another writes); the flats left are done after, on one thread.
+ * The directions do not depend on the order.  0, TD_ENOMEM,
+ * TD_EINTERNAL. */
+static int flats(fgrid *g, double nflat, int nth)
+{
+    double got = 0;
+    int t, bad = 0, nb = nth > 1 && g->h >= 16 * nth ? nth : 1;
+    if (nflat == 0)
+        return 0;
+    if (nb > 1) {
+#pragma omp parallel for num_threads(nb) reduction(+ : got) \
+    reduction(min : bad)
+        for (t = 0; t < nb; t++) {
+            size_t y0 = (size_t)g->h * (size_t)t / (size_t)nb,
+                   y1 = (size_t)g->h * (size_t)(t + 1) / (size_t)nb;
+            int r = flats_in(g, (y0 + 1) * (size_t)g->w,
+                             (y1 - 1) * (size_t)g->w, &got);
+            bad = r < bad ? r : bad;
+        }
+    }
+    if (bad == 0)
+        bad = flats_in(g, 0, g->n, &got);
+    if (bad == -1)
+        return td_seterr(g->cx, TD_ENOMEM, "flow: out of memory");
+    if (bad == -2 || got != nflat)
+        return td_seterr(g->cx, TD_EINTERNAL, "flow: a flat has no way out "
+                         "after filling");
+    return 0;
 }
 
 /* Fill, then a direction (or ROOT) for every valid cell; progress p0..p1. */
@@ -362,7 +401,7 @@ static int route(fgrid *g, const td_flow_params *p, double p0, double p1,
     if (rc == 0) {
         double nflat = steepest(g, nth);
         rc = nflat < 0 ? td_seterr(g->cx, TD_ENOMEM, "flow: out of memory")
-                       : flats(g, nflat);
+                       : flats(g, nflat, nth);
     }
     if (rc == 0)
         rc = td_progress(g->cx, "flow", p1);
