@@ -89,7 +89,7 @@ static unsigned indegree(const acc8 *s, size_t i, int x, int y)
                                     (char)TO_ME[5], -1, (char)TO_ME[3], -1,
                                     (char)TO_ME[2], (char)TO_ME[1],
                                     (char)TO_ME[0]);
-        m = w3_pick9((unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(v, want)));
+        m = W3_MASK(_mm_cmpeq_epi8(v, want));
         return (unsigned)__builtin_popcount(m);
 #endif
     }

@@ -135,7 +135,7 @@ static int grow(void **v, size_t *cap, size_t size, size_t c0)
     return 0;
 }
 
-static int u32_push(u32vec *a, uint32_t x)
+static inline int u32_push(u32vec *a, uint32_t x)
 {
     if (a->n == a->cap && grow((void **)&a->v, &a->cap, sizeof *a->v, 1024))
         return TD_ENOMEM;
@@ -157,7 +157,7 @@ static inline __attribute__((always_inline)) int rh_put(rheap *h, hnode e)
     return 0;
 }
 
-static int heap_push(wk *q, float z, uint32_t i)
+static inline int heap_push(wk *q, float z, uint32_t i)
 {
     hnode e;
     e.key = fkey(z);

@@ -36,6 +36,20 @@ static inline unsigned w3_pick9(unsigned m)
     return (m & 7u) | (m >> 1 & 0x38u) | (m >> 2 & 0x1C0u);
 }
 
+#ifdef __SSSE3__
+#include <tmmintrin.h>
+/* Byte lanes 0-2, 4-6, 8-10 -> lanes 0-8 (one shuffle instead of
+ * w3_pick9 on the mask). */
+static inline __m128i w3_pack(__m128i v)
+{
+    return _mm_shuffle_epi8(v, _mm_set_epi8(-1, -1, -1, -1, -1, -1, -1, 10,
+                                            9, 8, 6, 5, 4, 2, 1, 0));
+}
+#define W3_MASK(v) ((unsigned)_mm_movemask_epi8(w3_pack(v)))
+#elif defined(__SSE2__)
+#define W3_MASK(v) w3_pick9((unsigned)_mm_movemask_epi8(v))
+#endif
+
 #ifdef __SSE2__
 /* The window's bytes as 3 rows of 4 lanes (the last lane unused). */
 static inline __m128i w3_bytes(const uint8_t *b, size_t i, size_t w)
@@ -52,8 +66,7 @@ static inline unsigned w3_eq8(const uint8_t *b, size_t i, size_t w,
 {
 #ifdef __SSE2__
     __m128i f = _mm_and_si128(w3_bytes(b, i, w), _mm_set1_epi8((char)mask));
-    return w3_pick9((unsigned)_mm_movemask_epi8(
-        _mm_cmpeq_epi8(f, _mm_set1_epi8((char)val))));
+    return W3_MASK(_mm_cmpeq_epi8(f, _mm_set1_epi8((char)val)));
 #else
     unsigned m = 0, s;
     for (s = 0; s < 9; s++)
@@ -69,8 +82,8 @@ static inline unsigned w3_le8(const uint8_t *b, size_t i, size_t w,
 {
 #ifdef __SSE2__
     __m128i v = w3_bytes(b, i, w);
-    return w3_pick9((unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(
-        _mm_min_epu8(v, _mm_set1_epi8((char)val)), v)));
+    return W3_MASK(_mm_cmpeq_epi8(_mm_min_epu8(v, _mm_set1_epi8((char)val)),
+                                  v));
 #else
     unsigned m = 0, s;
     for (s = 0; s < 9; s++)
@@ -91,8 +104,8 @@ static inline unsigned w3_ne16(const uint16_t *v, size_t i, size_t w,
     memcpy(&r2, v + i + w - 2, sizeof r2);
     a = _mm_set_epi64x((long long)r1, (long long)r0);
     b = _mm_set_epi64x(0, (long long)(r2 >> 16));
-    return w3_pick9(~(unsigned)_mm_movemask_epi8(_mm_packs_epi16(
-        _mm_cmpeq_epi16(a, L), _mm_cmpeq_epi16(b, L))));
+    return ~W3_MASK(_mm_packs_epi16(_mm_cmpeq_epi16(a, L),
+                                    _mm_cmpeq_epi16(b, L))) & 0x1FFu;
 #else
     unsigned m = 0, s;
     for (s = 0; s < 9; s++)
