@@ -181,6 +181,59 @@ static int band_take(acc8 *s, band *b, int t, int par)
     return got;
 }
 
+/* nb bands of rows, as even as can be. */
+static void set_bands(acc8 *s, int nb)
+{
+    int t;
+    s->nb = nb;
+    for (t = 0; t < nb; t++) {
+        band *b = &s->b[t];
+        b->y0 = (int)((long long)s->h * t / nb);
+        b->y1 = (int)((long long)s->h * (t + 1) / nb);
+        b->lo = (size_t)b->y0 * (size_t)s->w;
+        b->hi = (size_t)b->y1 * (size_t)s->w;
+    }
+}
+
+/* Every band on its own thread: in-degrees, then the sources' chains,
+ * then rounds of hand-overs until no band hands anything on.  more[3]:
+ * "something was handed on" per round, rotating (reset two rounds on). */
+static void run_bands(acc8 *s, int *more)
+{
+#pragma omp parallel num_threads(s->nb)
+    {
+        int me, round;
+        band *b;
+#pragma omp single
+        set_bands(s, omp_get_num_threads()); /* the team may be smaller */
+        me = omp_get_thread_num();
+        b = &s->b[me];
+        band_init(s, b);
+#pragma omp barrier
+        band_sources(s, b);
+        for (round = 0;; round++) {
+            int par = round & 1, any = b->out[par][0].n + b->out[par][1].n;
+            if (any)
+#pragma omp atomic write
+                more[round % 3] = 1;
+#pragma omp barrier
+            { /* the next round's flag is free again */
+                int go;
+#pragma omp atomic read
+                go = more[round % 3];
+                if (me == 0)
+#pragma omp atomic write
+                    more[(round + 2) % 3] = 0;
+                if (!go)
+                    break;
+            }
+            band_take(s, b, me, par);
+#pragma omp barrier
+            b->out[par][0].n = b->out[par][1].n = 0;
+        }
+    }
+}
+
 int td_d8_accumulate(uint8_t *code, uint32_t *acc, int w, int h,
                      int threads, double *outflow, double *outlets,
                      double *done, td_ctx *cx)
@@ -206,41 +259,7 @@ int td_d8_accumulate(uint8_t *code, uint32_t *acc, int w, int h,
         rc = td_seterr(cx, TD_ENOMEM, "flow: out of memory");
         goto fail;
     }
-    for (t = 0; t < nb; t++) {
-        band *b = &s.b[t];
-        b->y0 = (int)((long long)h * t / nb);
-        b->y1 = (int)((long long)h * (t + 1) / nb);
-        b->lo = (size_t)b->y0 * (size_t)w;
-        b->hi = (size_t)b->y1 * (size_t)w;
-    }
-#pragma omp parallel num_threads(nb)
-    {
-        int me = omp_get_thread_num(), round;
-        band *b = &s.b[me];
-        band_init(&s, b);
-#pragma omp barrier
-        band_sources(&s, b);
-        for (round = 0;; round++) {
-            int par = round & 1, any = b->out[par][0].n + b->out[par][1].n;
-            if (any)
-#pragma omp atomic write
-                more[round % 3] = 1;
-#pragma omp barrier
-            { /* the next round's flag is free again */
-                int go;
-#pragma omp atomic read
-                go = more[round % 3];
-                if (me == 0)
-#pragma omp atomic write
-                    more[(round + 2) % 3] = 0;
-                if (!go)
-                    break;
-            }
-            band_take(&s, b, me, par);
-#pragma omp barrier
-            b->out[par][0].n = b->out[par][1].n = 0;
-        }
-    }
+    run_bands(&s, more);
     *outflow = *outlets = *done = 0;
     for (t = 0; t < nb; t++) {
         *outflow += s.b[t].outflow;
