@@ -46,7 +46,7 @@ typedef enum td_flow_method {
 typedef struct td_flow_params {
     td_flow_method method; /* TD_FLOW_SOBEL, the paper's method */
     long max_steps;        /* SOBEL: moves per drop; 0: 4 (w + h) [0] */
-    int tile;              /* D8/DINF: tile side of the fill; 0: 256 [0].
+    int tile;              /* D8/DINF: tile side of the fill; 0: 512 [0].
                               Any side gives the same result (speed only) */
     int threads;           /* D8/DINF: OpenMP threads for the fill and the
                               directions; 0: the OpenMP default [0].  The
@@ -86,7 +86,7 @@ int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
 /* Priority-flood depression filling (Barnes et al. 2014, with upslope
  * tracing that skips the priority queue where it cannot change the
  * result, run in tiles of side `tile` joined through their border spill
- * levels, Barnes 2016; 0: 256; every side gives the same result): filled
+ * levels, Barnes 2016; 0: 512; every side gives the same result): filled
  * (caller-allocated, same size) gets, for every valid cell, the lowest
  * level at which water can leave the grid from it (so no valid cell is
  * lower than all its neighbours unless it is an outlet).  Flats stay flat

@@ -11,7 +11,7 @@
 enum { TD_FL_ROOT = 8, TD_FL_NODATA = 9 };
 
 /* Default tile side of the fill. */
-#define TD_PFLOOD_TILE 256
+#define TD_PFLOOD_TILE 512
 
 /* Priority-flood depression filling of the w x h heights dem into z (not
  * the same buffer), in square tiles of side `tile` (0: TD_PFLOOD_TILE;

@@ -1,11 +1,11 @@
 /* pflood.c: priority-flood depression filling in tiles.
  *
  * Barnes (2016) "Parallel priority-flood depression filling for trillion
- * cell digital elevation models", run on one core to keep the flood's
- * working set in the cache: a priority flood over the whole grid pops
+ * cell digital elevation models": tiles flooded on their own (on threads),
+ * which also keeps the flood's working set in the cache: a priority flood over the whole grid pops
  * cells in height order from anywhere, so every popped cell's 3x3 block is
- * cold; inside a 256 x 256 tile (about 450 KB of heights, codes and
- * labels) it stays in the L2 cache.
+ * cold; inside a 512 x 512 tile (1.8 MB of heights, codes and labels)
+ * it stays in the L2 cache.
  *
  *   1. Each tile alone: a priority flood (Barnes, Lehman, Mulla 2014,
  *      Alg. 2: a FIFO for cells inside depressions; upslope tracing after

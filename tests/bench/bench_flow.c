@@ -11,6 +11,8 @@
  *
  *   bench_flow [--topodig PATH] [--dir DIR] [--size N] [--no-grass]
  *              [--noise M]   (only that terrain: M metres of noise)
+ *              [--reps R]    (runs of each; the best is printed [3];
+ *                             r.watershed: the best of 2)
  *
  * Never fails the build. */
 #include "../../samples/gen/gen.h"
@@ -35,6 +37,7 @@ static double cpu_now(void)
 }
 
 static double noise_m = -1; /* < 0: both terrains */
+static int reps = 3;        /* runs of each; the best counts */
 
 static td_grid_f32 *terrain(int n, td_ctx *cx)
 {
@@ -53,30 +56,36 @@ static td_grid_f32 *terrain(int n, td_ctx *cx)
 static double one(const td_grid_f32 *dem, td_flow_method m, int threads,
                   const char *name, double *cpu)
 {
-    td_grid_f32 *out = td_grid_f32_new(dem->w, dem->h, NULL);
     td_flow_params p = td_flow_defaults();
     td_flow_stats st;
     td_ctx cx;
-    double t0, c0, c = 0, s = -1, n = (double)dem->w * dem->h;
+    double s = -1, c = 0, n = (double)dem->w * dem->h;
+    int r;
     td_ctx_init(&cx);
     p.method = m;
     p.threads = threads;
-    if (!out)
-        return -1;
-    t0 = td_now();
-    c0 = cpu_now();
-    if (td_flow_run(dem, &p, out, &st, &cx) != 0)
-        printf("  %s: %s\n", name, td_errmsg(&cx));
-    else {
-        s = td_now() - t0;
-        c = cpu_now() - c0;
-        printf("  %-5s %dx%d %d thr  %7.2f s (cpu %7.2f s)  %7.2f M cells/s "
-               "(%.2f per cpu-s)  outflow %.0f of %.0f  raised %.0f  pits "
-               "%.0f\n", name, dem->w, dem->h, threads, s, c, n / s / 1e6,
-               c > 0 ? n / c / 1e6 : 0.0, st.outflow, st.cells,
-               st.raised, st.pit_stops);
+    for (r = 0; r < reps; r++) { /* the best of reps (a shared VM drifts) */
+        td_grid_f32 *out = td_grid_f32_new(dem->w, dem->h, NULL);
+        double t0 = td_now(), c0 = cpu_now(), t1;
+        if (!out)
+            return -1;
+        if (td_flow_run(dem, &p, out, &st, &cx) != 0) {
+            printf("  %s: %s\n", name, td_errmsg(&cx));
+            td_grid_f32_free(out);
+            return -1;
+        }
+        t1 = td_now() - t0;
+        if (s < 0 || t1 < s) {
+            s = t1;
+            c = cpu_now() - c0;
+        }
+        td_grid_f32_free(out);
     }
-    td_grid_f32_free(out);
+    printf("  %-5s %dx%d %d thr  %7.2f s (cpu %7.2f s)  %7.2f M cells/s "
+           "(%.2f per cpu-s)  outflow %.0f of %.0f  raised %.0f  pits "
+           "%.0f\n", name, dem->w, dem->h, threads, s, c, n / s / 1e6,
+           c > 0 ? n / c / 1e6 : 0.0, st.outflow, st.cells, st.raised,
+           st.pit_stops);
     if (cpu)
         *cpu = c;
     return s;
@@ -117,6 +126,17 @@ static double grass(const char *path, const char *dir, double *cpu)
     return b > a ? b - a : -1;
 }
 
+/* r.watershed twice: the best run (seconds, -1 on failure), its CPU. */
+static double grass2(const char *path, const char *dir, double *cpu)
+{
+    double c1 = 0, c2 = 0, a = grass(path, dir, &c1), b;
+    if (a < 0)
+        return -1;
+    b = grass(path, dir, &c2);
+    *cpu = b >= 0 && b < a ? c2 : c1;
+    return b >= 0 && b < a ? b : a;
+}
+
 /* D8 on 1 thread and on all cores, then r.watershed -s on the same DEM. */
 static void terrain_run(const td_grid_f32 *dem, const char *label,
                         const char *dir, int use_grass)
@@ -136,7 +156,7 @@ static void terrain_run(const td_grid_f32 *dem, const char *label,
         printf("  GRASS not installed: no r.watershed ratio\n");
     else if (td_geotiff_write_f32(path, dem, NULL, &cx) != 0)
         printf("  %s\n", td_errmsg(&cx));
-    else if ((gs = grass(path, dir, &gc)) < 0)
+    else if ((gs = grass2(path, dir, &gc)) < 0)
         printf("  r.watershed failed (see %s/rwatershed.log)\n", dir);
     else
         printf("  r.watershed -s %dx%d  %7.2f s (cpu %7.2f s)  %7.2f M "
@@ -161,6 +181,8 @@ int main(int argc, char **argv)
             n = atoi(argv[++i]) > 16 ? atoi(argv[i]) : 16;
         else if (!strcmp(argv[i], "--noise") && i + 1 < argc)
             noise_m = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--reps") && i + 1 < argc)
+            reps = atoi(argv[++i]) > 0 ? atoi(argv[i]) : 1;
         else if (!strcmp(argv[i], "--no-grass"))
             use_grass = 0;
         else if (!strcmp(argv[i], "--topodig") && i + 1 < argc)
