@@ -254,42 +254,72 @@ static int lanes_step(tracer *t, lanes *q)
     return nlive;
 }
 
-/* exp(x) for the friction, on its own so that a loop over lanes can
- * vectorise it: x clamped to [-40, 0] (below -40, 1 - exp(x) is 1 in
- * double anyway), x = k ln 2 + r with |r| <= ln 2 / 2 (Cody-Waite, two-part
- * ln 2), exp(r) by its Taylor series to r^13 (error below 2e-16), 2^k
- * put into the exponent bits.  At most 1 ulp from glibc's exp (6% of 20 M
- * random arguments differ); the same bits on every machine (plain IEEE
- * operations, no fused multiply-add in ISO C mode). */
-static double er_exp(double x)
+/* The lanes of a move are taken ER_JAM vectors at a time (lanes l, l +
+ * ER_SPAN, l + 2 ER_SPAN, ...), every step of the physics written for all
+ * of them before the next step.  A lane's move is one long dependent chain
+ * (roots, divisions, the Horner steps of exp); written one lane vector
+ * after the other, the processor's scheduler fills with that chain and
+ * waits out its latency, while with the chains interleaved it works on
+ * ER_JAM of them at once.  Each lane's operations stay the same, in the
+ * same order, so the results are the same bits. */
+#define ER_JAM 4
+#define ER_SPAN (ER_LANES / ER_JAM)
+#if defined(__GNUC__)
+#define EACH _Pragma("GCC unroll 4") for (j = 0; j < ER_JAM; j++)
+#else
+#define EACH for (j = 0; j < ER_JAM; j++)
+#endif
+
+/* Scratch of one move: lane l + j ER_SPAN at [j][l]. */
+typedef struct jam {
+    double ux[ER_JAM][ER_SPAN], uy[ER_JAM][ER_SPAN], uz[ER_JAM][ER_SPAN];
+    double sp[ER_JAM][ER_SPAN], ex[ER_JAM][ER_SPAN], hs[ER_JAM][ER_SPAN];
+    double dx[ER_JAM][ER_SPAN], dy[ER_JAM][ER_SPAN], sl[ER_JAM][ER_SPAN];
+    double inv[ER_JAM][ER_SPAN];
+    double t[ER_JAM][ER_SPAN], r[ER_JAM][ER_SPAN], p[ER_JAM][ER_SPAN];
+} jam;
+
+/* exp(x) for the friction, in place on z->ex[j][l] for every j, on its
+ * own so that a loop over lanes can vectorise it: x clamped to [-40, 0]
+ * (below -40, 1 - exp(x) is 1 in double anyway), x = k ln 2 + r with |r|
+ * <= ln 2 / 2 (Cody-Waite, two-part ln 2), exp(r) by its Taylor series to
+ * r^13 (error below 2e-16), 2^k put into the exponent bits.  At most 1 ulp
+ * from glibc's exp (6% of 20 M random arguments differ); the same bits on
+ * every machine (plain IEEE operations, no fused multiply-add in ISO C
+ * mode).  The ER_JAM arguments go through each step together. */
+static inline void er_exp(jam *z, int l)
 {
+    static const double c[14] = {
+        1.0 / 6227020800.0, 1.0 / 479001600.0, 1.0 / 39916800.0,
+        1.0 / 3628800.0,    1.0 / 362880.0,    1.0 / 40320.0,
+        1.0 / 5040.0,       1.0 / 720.0,       1.0 / 120.0,
+        1.0 / 24.0,         1.0 / 6.0,         0.5,
+        1.0,                1.0};
     const double ln2hi = 6.93147180369123816490e-01;
     const double ln2lo = 1.90821492927058770002e-10;
     const double rnd = 6755399441055744.0; /* 1.5 * 2^52 */
-    double t, kd, r, p;
-    int64_t bits;
-    x = x < -40.0 ? -40.0 : x > 0.0 ? 0.0 : x;
-    t = x * 1.44269504088896338700e+00 + rnd; /* k in the low bits */
-    kd = t - rnd;                              /* k = round(x / ln 2) */
-    r = (x - kd * ln2hi) - kd * ln2lo;
-    p = 1.0 / 6227020800.0;
-    p = 1.0 / 479001600.0 + r * p;
-    p = 1.0 / 39916800.0 + r * p;
-    p = 1.0 / 3628800.0 + r * p;
-    p = 1.0 / 362880.0 + r * p;
-    p = 1.0 / 40320.0 + r * p;
-    p = 1.0 / 5040.0 + r * p;
-    p = 1.0 / 720.0 + r * p;
-    p = 1.0 / 120.0 + r * p;
-    p = 1.0 / 24.0 + r * p;
-    p = 1.0 / 6.0 + r * p;
-    p = 0.5 + r * p;
-    p = 1.0 + r * p;
-    p = 1.0 + r * p;
-    memcpy(&bits, &t, sizeof bits); /* 0x4338... + k, k in [-58, 0] */
-    bits = (int64_t)((uint64_t)(bits + 1023) << 52);
-    memcpy(&t, &bits, sizeof t); /* 2^k */
-    return p * t;
+    int j, i;
+    EACH {
+        double x = z->ex[j][l], kd;
+        x = x < -40.0 ? -40.0 : x > 0.0 ? 0.0 : x;
+        z->t[j][l] = x * 1.44269504088896338700e+00 + rnd; /* k: low bits */
+        kd = z->t[j][l] - rnd;                   /* k = round(x / ln 2) */
+        z->r[j][l] = (x - kd * ln2hi) - kd * ln2lo;
+        z->p[j][l] = c[0];
+    }
+#if defined(__GNUC__)
+#pragma GCC unroll 13
+#endif
+    for (i = 1; i < 14; i++)
+        EACH z->p[j][l] = c[i] + z->r[j][l] * z->p[j][l];
+    EACH {
+        int64_t bits;
+        double t;
+        memcpy(&bits, &z->t[j][l], sizeof bits); /* 0x4338... + k */
+        bits = (int64_t)((uint64_t)(bits + 1023) << 52);
+        memcpy(&t, &bits, sizeof t); /* 2^k, k in [-58, 0] */
+        z->ex[j][l] = z->p[j][l] * t;
+    }
 }
 
 /* One move's physics for every lane, for the acceleration a = (ax, ay,
@@ -298,43 +328,69 @@ static double er_exp(double x)
  * into e (0 if none).  |v'| = (u . t) for the unit tangent t, so the new
  * speeds need no root.  A lane where nothing horizontal is left (hs = 0)
  * rests (v = 0, e = 0); head-on into the surface (u . t <= 0) all speed
- * is lost.  Lanes not moving have a = v = 0 and so end at rest. */
+ * is lost.  Lanes not moving have a = v = 0 and so end at rest.
+ *
+ * Every value is computed, then selected with ?: on doubles: no branches
+ * and no trapping operation under a condition, so the loop vectorises;
+ * hs > 0 and dot > 0 as in the scalar form. */
 static TD_NOINLINE void lanes_move(const tracer *t, lanes *q)
 {
     const double alpha = t->p->alpha, water = t->p->water, dt = t->p->dt;
     const double bw = -t->p->beta * t->p->water;
+    const double one = 1.0, zero = 0.0;
+    jam z;
     int l;
 #pragma omp simd
-    for (l = 0; l < ER_LANES; l++) {
-        double ux = q->vx[l] + q->ax[l] * dt, uy = q->vy[l] + q->ay[l] * dt,
-               uz = q->vz[l] + q->az[l] * dt;
-        double sp = sqrt(ux * ux + uy * uy + uz * uz);
-        double fr = alpha + (1 - alpha) * (1 - er_exp(bw * sp));
-        double f = sp > 0 ? fr : 1.0;
-        double hs, ih, dx, dy, sl, inv, dot, hsp, dv, e, vx, vy, vz;
-        const double one = 1.0, zero = 0.0;
-        /* every value computed, then selected with ?: on doubles: no
-         * branches and no trapping operation under a condition, so the
-         * loop vectorises; hs > 0 and dot > 0 as in the scalar form */
-        ux *= f, uy *= f, uz *= f, sp *= f;
-        hs = sqrt(ux * ux + uy * uy);
-        ih = one / (hs > 0 ? hs : one);
-        dx = ux * ih, dy = uy * ih;
-        sl = q->gx[l] * dx + q->gy[l] * dy;
-        inv = one / sqrt(one + sl * sl);
-        dot = (ux * dx + uy * dy + uz * sl) * inv;
-        hsp = dot * inv;
-        vx = hsp * dx, vy = hsp * dy, vz = dot * sl * inv;
-        dv = sp - (dot > 0 ? dot : zero);
-        e = 0.5 * water * dv * dv;
-        e = sl * inv * sp > uz + 1e-9 * sp ? e : dot > 0 ? zero : e;
-        e = q->sp[l] > 0 ? e : zero; /* v(t) = 0: no collision */
-        q->e[l] = hs > 0 ? e : zero;
-        q->sp[l] = hs > 0 ? (dot > 0 ? dot : zero) : zero;
-        q->hsp[l] = hs > 0 ? (dot > 0 ? hsp : zero) : zero;
-        q->vx[l] = hs > 0 ? (dot > 0 ? vx : zero) : zero;
-        q->vy[l] = hs > 0 ? (dot > 0 ? vy : zero) : zero;
-        q->vz[l] = hs > 0 ? (dot > 0 ? vz : zero) : zero;
+    for (l = 0; l < ER_SPAN; l++) {
+        int j;
+        EACH {
+            int m = l + j * ER_SPAN;
+            double ux = q->vx[m] + q->ax[m] * dt;
+            double uy = q->vy[m] + q->ay[m] * dt;
+            double uz = q->vz[m] + q->az[m] * dt;
+            double sp = sqrt(ux * ux + uy * uy + uz * uz);
+            z.ux[j][l] = ux, z.uy[j][l] = uy, z.uz[j][l] = uz;
+            z.sp[j][l] = sp;
+            z.ex[j][l] = bw * sp;
+        }
+        er_exp(&z, l);
+        EACH {
+            double fr = alpha + (1 - alpha) * (1 - z.ex[j][l]);
+            double f = z.sp[j][l] > 0 ? fr : 1.0;
+            double ux = z.ux[j][l] * f, uy = z.uy[j][l] * f;
+            z.ux[j][l] = ux, z.uy[j][l] = uy;
+            z.uz[j][l] *= f, z.sp[j][l] *= f;
+            z.hs[j][l] = sqrt(ux * ux + uy * uy);
+        }
+        EACH {
+            int m = l + j * ER_SPAN;
+            double hs = z.hs[j][l], ih = one / (hs > 0 ? hs : one);
+            double dx = z.ux[j][l] * ih, dy = z.uy[j][l] * ih;
+            double sl = q->gx[m] * dx + q->gy[m] * dy;
+            z.dx[j][l] = dx, z.dy[j][l] = dy, z.sl[j][l] = sl;
+            z.inv[j][l] = one / sqrt(one + sl * sl);
+        }
+        EACH {
+            int m = l + j * ER_SPAN;
+            double ux = z.ux[j][l], uy = z.uy[j][l], uz = z.uz[j][l];
+            double sp = z.sp[j][l], dx = z.dx[j][l], dy = z.dy[j][l];
+            double sl = z.sl[j][l], inv = z.inv[j][l];
+            double dot, hsp, dv, e, vx, vy, vz;
+            int go = z.hs[j][l] > 0;
+            dot = (ux * dx + uy * dy + uz * sl) * inv;
+            hsp = dot * inv;
+            vx = hsp * dx, vy = hsp * dy, vz = dot * sl * inv;
+            dv = sp - (dot > 0 ? dot : zero);
+            e = 0.5 * water * dv * dv;
+            e = sl * inv * sp > uz + 1e-9 * sp ? e : dot > 0 ? zero : e;
+            e = q->sp[m] > 0 ? e : zero; /* v(t) = 0: no collision */
+            q->e[m] = go ? e : zero;
+            q->sp[m] = go ? (dot > 0 ? dot : zero) : zero;
+            q->hsp[m] = go ? (dot > 0 ? hsp : zero) : zero;
+            q->vx[m] = go ? (dot > 0 ? vx : zero) : zero;
+            q->vy[m] = go ? (dot > 0 ? vy : zero) : zero;
+            q->vz[m] = go ? (dot > 0 ? vz : zero) : zero;
+        }
     }
 }
 
