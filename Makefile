@@ -48,7 +48,7 @@ $(BUILD)/%.o: %.c
 # The particle lanes' arithmetic as vector instructions at any -O level:
 # sqrt need not set errno (nothing reads it) and, with no FP traps enabled,
 # both arms of a ?: may be computed.  Neither changes a value.
-$(BUILD)/src/erode_flow.o: CFLAGS += -fno-math-errno -fno-trapping-math -fno-tree-pre
+$(BUILD)/src/erode_flow.o: CFLAGS += -fno-math-errno -fno-trapping-math
 
 $(BUILD)/%.o: %.cpp
 	@mkdir -p $(dir $@)

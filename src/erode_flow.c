@@ -301,7 +301,6 @@ static inline void er_exp(jam *z, int l)
     int j, i;
     EACH {
         double x = z->ex[j][l], kd;
-        x = x < -40.0 ? -40.0 : x > 0.0 ? 0.0 : x;
         z->t[j][l] = x * 1.44269504088896338700e+00 + rnd; /* k: low bits */
         kd = z->t[j][l] - rnd;                   /* k = round(x / ln 2) */
         z->r[j][l] = (x - kd * ln2hi) - kd * ln2lo;
@@ -318,7 +317,7 @@ static inline void er_exp(jam *z, int l)
         memcpy(&bits, &z->t[j][l], sizeof bits); /* 0x4338... + k */
         bits = (int64_t)((uint64_t)(bits + 1023) << 52);
         memcpy(&t, &bits, sizeof t); /* 2^k, k in [-58, 0] */
-        z->ex[j][l] = z->p[j][l] * t;
+        z->ex[j][l] = z->ex[j][l] < -40.0 ? 0.0 : z->p[j][l] * t;
     }
 }
 
