@@ -132,13 +132,16 @@ typedef struct lanes {
      * unless moving), the gradient of the cell entered, the energy */
     ER_ALIGN double nx[ER_LANES], ny[ER_LANES];
     ER_ALIGN double ax[ER_LANES], ay[ER_LANES], az[ER_LANES];
-    ER_ALIGN double gx[ER_LANES], gy[ER_LANES], e[ER_LANES];
+    ER_ALIGN double gx[ER_LANES], gy[ER_LANES];
+    /* the sums of the last move in fixed point (ER_FX) */
+    ER_ALIGN int64_t svx[ER_LANES], svy[ER_LANES], ssp[ER_LANES], se[ER_LANES];
     ER_ALIGN int32_t c[ER_LANES]; /* cell the particle is in */
     ER_ALIGN int32_t to[ER_LANES]; /* cell it lands in, -1 off the grid */
     ER_ALIGN int32_t k[ER_LANES];  /* moves made */
     ER_ALIGN int32_t done[ER_LANES]; /* max_moves made, or at rest */
-    int32_t mode[ER_LANES];        /* this move: LN_IDLE, LN_MOVE, LN_WALL */
-    int32_t live[ER_LANES];
+    ER_ALIGN int32_t mode[ER_LANES]; /* this move: LN_IDLE, LN_MOVE, LN_WALL */
+    ER_ALIGN int32_t live[ER_LANES];
+    ER_ALIGN int32_t odd[ER_LANES];  /* live but not moving on (see lanes_enter) */
 } lanes;
 
 enum { LN_IDLE = 0, LN_MOVE = 1, LN_WALL = 2 };
@@ -199,57 +202,79 @@ static TD_NOINLINE void lanes_aim(const tracer *t, lanes *q)
     }
 }
 
-/* Per lane: the sums of its last move into the tracing thread's
- * accumulator, then the start of the next: LN_MOVE with a and the
- * gradient of the cell entered gathered, LN_WALL (stopped against a wall
- * or closed edge: v = 0 there, gravity acts again), or LN_IDLE when the
- * particle stopped or drained; a stopped lane gets the next particle,
- * which moves from the next round.  Returns the lanes still live. */
-static int lanes_step(tracer *t, lanes *q)
+/* The sums of every lane's last move (LN_MOVE or LN_WALL) into the tracing
+ * thread's accumulator, at the cell it landed in. */
+static void lanes_sum(tracer *t, const lanes *q)
 {
-    const er_state *s = t->s;
-    int l, nlive = 0;
-    for (l = 0; l < ER_LANES; l++) {
-        const er_surf *f;
-        int32_t to;
+    int l;
+    for (l = 0; l < ER_LANES; l++)
         if (q->mode[l] != LN_IDLE) {
             er_acc *a = &t->acc[q->c[l]];
-            if (q->e[l] > 0)
-                a->e += (int64_t)(q->e[l] * ER_FX);
             a->n++;
-            a->vx += (int64_t)(q->vx[l] * ER_FX);
-            a->vy += (int64_t)(q->vy[l] * ER_FX);
-            a->sp += (int64_t)(q->hsp[l] * ER_FX);
+            a->vx += q->svx[l];
+            a->vy += q->svy[l];
+            a->sp += q->ssp[l];
+            a->e += q->se[l];
         }
-        q->mode[l] = LN_IDLE;
-        q->ax[l] = q->ay[l] = q->az[l] = 0;
-        if (!q->live[l])
-            continue;
-        if (q->done[l])
-            goto stop;
-        q->k[l]++;
-        if ((to = q->to[l]) < 0 && !t->p->closed_edges) {
-            t->dr++; /* over an open edge: drained */
-            goto stop;
+}
+
+/* Start the next move of every live lane that lands inside the grid on a
+ * cell that is not a wall and is not done: LN_MOVE, the acceleration of
+ * the cell left (a) and the gradient and acceleration of the cell entered
+ * gathered; every other lane gets a = 0 and LN_IDLE, and the live ones
+ * among them are flagged odd for lanes_step.  No branches: it vectorises
+ * (the surface records are gathered). */
+static TD_NOINLINE void lanes_enter(const tracer *t, lanes *q)
+{
+    const er_surf *surf = t->s->surf;
+    int l;
+#pragma omp simd
+    for (l = 0; l < ER_LANES; l++) {
+        int32_t to = q->to[l], go = q->live[l] & !q->done[l];
+        int32_t ti = to > 0 ? to : 0;
+        double gx = surf[ti].gx, gy = surf[ti].gy;
+        double ax = surf[ti].ax, ay = surf[ti].ay, az = surf[ti].az;
+        int32_t mv = go & (to >= 0) & !surf[ti].wall;
+        q->k[l] += go;
+        q->odd[l] = q->live[l] & !mv;
+        q->mode[l] = mv ? LN_MOVE : LN_IDLE;
+        q->ax[l] = mv ? q->cax[l] : 0.0;
+        q->ay[l] = mv ? q->cay[l] : 0.0;
+        q->az[l] = mv ? q->caz[l] : 0.0;
+        q->x[l] = mv ? q->nx[l] : q->x[l];
+        q->y[l] = mv ? q->ny[l] : q->y[l];
+        q->c[l] = mv ? to : q->c[l];
+        q->gx[l] = mv ? gx : q->gx[l];
+        q->gy[l] = mv ? gy : q->gy[l];
+        q->cax[l] = mv ? ax : q->cax[l];
+        q->cay[l] = mv ? ay : q->cay[l];
+        q->caz[l] = mv ? az : q->caz[l];
+    }
+}
+
+/* One round's memory work: the sums of the last move, then the start of
+ * the next (lanes_enter); the odd lanes one by one: LN_WALL (stopped
+ * against a wall or closed edge: v = 0 there, gravity acts again), or
+ * the particle stopped (done) or drained and the lane gets the next
+ * particle, which moves from the next round.  Returns the lanes still
+ * live. */
+static int lanes_step(tracer *t, lanes *q)
+{
+    int l, nlive = 0;
+    lanes_sum(t, q);
+    lanes_enter(t, q);
+    for (l = 0; l < ER_LANES; l++) {
+        if (q->odd[l]) {
+            if (!q->done[l] && (q->to[l] >= 0 || t->p->closed_edges)) {
+                q->vx[l] = q->vy[l] = q->vz[l] = q->sp[l] = q->hsp[l] = 0;
+                q->mode[l] = LN_WALL;
+            } else {
+                t->dr += !q->done[l]; /* over an open edge: drained */
+                t->mv += q->k[l];
+                launch(t->s, q, l, &t->next, t->end, t->acc);
+            }
         }
-        if (to < 0 || (f = &s->surf[to])->wall) {
-            q->vx[l] = q->vy[l] = q->vz[l] = q->sp[l] = q->hsp[l] = 0;
-            q->e[l] = 0;
-            q->mode[l] = LN_WALL;
-            nlive++;
-            continue;
-        }
-        q->ax[l] = q->cax[l], q->ay[l] = q->cay[l], q->az[l] = q->caz[l];
-        q->x[l] = q->nx[l], q->y[l] = q->ny[l];
-        q->c[l] = to;
-        q->gx[l] = f->gx, q->gy[l] = f->gy;
-        q->cax[l] = f->ax, q->cay[l] = f->ay, q->caz[l] = f->az;
-        q->mode[l] = LN_MOVE;
-        nlive++;
-        continue;
-    stop:
-        t->mv += q->k[l];
-        nlive += launch(s, q, l, &t->next, t->end, t->acc);
+        nlive += q->live[l];
     }
     return nlive;
 }
@@ -383,12 +408,16 @@ static TD_NOINLINE void lanes_move(const tracer *t, lanes *q)
             e = 0.5 * water * dv * dv;
             e = sl * inv * sp > uz + 1e-9 * sp ? e : dot > 0 ? zero : e;
             e = q->sp[m] > 0 ? e : zero; /* v(t) = 0: no collision */
-            q->e[m] = go ? e : zero;
+            e = go ? e : zero;
             q->sp[m] = go ? (dot > 0 ? dot : zero) : zero;
             q->hsp[m] = go ? (dot > 0 ? hsp : zero) : zero;
             q->vx[m] = go ? (dot > 0 ? vx : zero) : zero;
             q->vy[m] = go ? (dot > 0 ? vy : zero) : zero;
             q->vz[m] = go ? (dot > 0 ? vz : zero) : zero;
+            q->svx[m] = (int64_t)(q->vx[m] * ER_FX);
+            q->svy[m] = (int64_t)(q->vy[m] * ER_FX);
+            q->ssp[m] = (int64_t)(q->hsp[m] * ER_FX);
+            q->se[m] = e > 0 ? (int64_t)(e * ER_FX) : 0;
         }
     }
 }
