@@ -146,37 +146,52 @@ typedef struct lanes {
 
 enum { LN_IDLE = 0, LN_MOVE = 1, LN_WALL = 2 };
 
-/* Start the particle of the next non-wall cell of [*next, end) in lane l;
- * 0 when the range is used up. */
-static int launch(const er_state *s, lanes *q, int l, long *next, long end,
-                  er_acc *acc)
-{
-    const er_surf *f;
-    while (*next < end && s->wall[*next])
-        (*next)++;
-    if (*next >= end)
-        return q->live[l] = 0;
-    q->c[l] = (int32_t)*next;
-    q->x[l] = (double)(*next % s->w);
-    q->y[l] = (double)(*next / s->w);
-    q->vx[l] = q->vy[l] = q->vz[l] = q->sp[l] = q->hsp[l] = 0;
-    f = &s->surf[*next];
-    q->cax[l] = f->ax, q->cay[l] = f->ay, q->caz[l] = f->az;
-    q->k[l] = 0;
-    acc[*next].n++;
-    (*next)++;
-    return q->live[l] = 1;
-}
-
 typedef struct tracer {
     const er_state *s;
     const td_erode_params *p;
     er_acc *acc;
     double dtc, vstop2;
     int max_moves;
-    long next, end;
+    long next, end; /* the cells of the thread's current chunk */
+    long *chunk;    /* shared by the threads: the next chunk's first cell */
     int64_t mv, dr;
 } tracer;
+
+/* Start the particle of the next non-wall cell in lane l, taking the next
+ * chunk of ER_CHUNK cells (dynamically, over the threads) when the thread's
+ * own is used up; 0 when every cell has its particle.  Lanes thus stay
+ * busy up to the end of the step. */
+static int launch(tracer *t, lanes *q, int l)
+{
+    const er_state *s = t->s;
+    const er_surf *f;
+    long i;
+    for (;;) {
+        while (t->next < t->end && s->wall[t->next])
+            t->next++;
+        if (t->next < t->end)
+            break;
+#pragma omp atomic capture
+        {
+            i = *t->chunk;
+            *t->chunk += ER_CHUNK;
+        }
+        if (i >= (long)s->n)
+            return q->live[l] = 0;
+        t->next = i;
+        t->end = i + ER_CHUNK < (long)s->n ? i + ER_CHUNK : (long)s->n;
+    }
+    i = t->next++;
+    q->c[l] = (int32_t)i;
+    q->x[l] = (double)(i % s->w);
+    q->y[l] = (double)(i / s->w);
+    q->vx[l] = q->vy[l] = q->vz[l] = q->sp[l] = q->hsp[l] = 0;
+    f = &s->surf[i];
+    q->cax[l] = f->ax, q->cay[l] = f->ay, q->caz[l] = f->az;
+    q->k[l] = 0;
+    t->acc[i].n++;
+    return q->live[l] = 1;
+}
 
 /* Where every lane lands with x += v dt: its nearest cell `to` (-1 off the
  * grid: (int)(x + 0.5) is taken only inside it), and whether the particle
@@ -271,7 +286,7 @@ static int lanes_step(tracer *t, lanes *q)
             } else {
                 t->dr += !q->done[l]; /* over an open edge: drained */
                 t->mv += q->k[l];
-                launch(t->s, q, l, &t->next, t->end, t->acc);
+                launch(t, q, l);
             }
         }
         nlive += q->live[l];
@@ -422,12 +437,12 @@ static TD_NOINLINE void lanes_move(const tracer *t, lanes *q)
     }
 }
 
-/* Trace the particles of cells [lo, hi), ER_LANES at a time, one move of
- * each lane per round, until every particle has stopped or drained.  Adds
- * the moves and drained particles to *mv, *dr. */
-static void trace_range(const er_state *s, const td_erode_params *p,
-                        long lo, long hi, int max_moves, er_acc *acc,
-                        int64_t *mv, int64_t *dr)
+/* Trace particles ER_LANES at a time, one move of each lane per round,
+ * from the chunks of cells taken through *chunk until every particle has
+ * stopped or drained.  Adds the moves and drained particles to *mv, *dr. */
+static void trace(const er_state *s, const td_erode_params *p,
+                  int max_moves, long *chunk, er_acc *acc, int64_t *mv,
+                  int64_t *dr)
 {
     static const lanes zero;
     lanes q = zero;
@@ -437,10 +452,11 @@ static void trace_range(const er_state *s, const td_erode_params *p,
     t.dtc = p->dt / p->cell;
     t.vstop2 = p->v_stop * p->v_stop;
     t.max_moves = max_moves;
-    t.next = lo, t.end = hi;
+    t.next = t.end = 0;
+    t.chunk = chunk;
     t.mv = t.dr = 0;
     for (l = 0; l < ER_LANES; l++)
-        launch(s, &q, l, &t.next, hi, acc);
+        launch(&t, &q, l);
     for (;;) { /* a round: one move of every lane */
         lanes_aim(&t, &q);
         if (lanes_step(&t, &q) == 0)
@@ -475,20 +491,14 @@ void er_velocity_field(er_state *s, const td_erode_params *p, int64_t *moves,
 {
     int max_moves = p->max_moves > 0 ? p->max_moves : 2 * (s->w + s->h);
     int64_t mv = 0, dr = 0;
-    long z, nz = (long)(s->n * (size_t)s->nthreads);
+    long z, nz = (long)(s->n * (size_t)s->nthreads), chunk = 0;
     /* all slots zeroed first: OpenMP may start fewer threads than asked */
 #pragma omp parallel for num_threads(s->nthreads) schedule(static)
     for (z = 0; z < nz; z++)
         memset(&s->acc[z], 0, sizeof *s->acc);
 #pragma omp parallel num_threads(s->nthreads) reduction(+ : mv, dr)
-    {
-        er_acc *acc = s->acc + (size_t)omp_get_thread_num() * s->n;
-        long i, n = (long)s->n;
-#pragma omp for schedule(dynamic, 1)
-        for (i = 0; i < n; i += ER_CHUNK)
-            trace_range(s, p, i, i + ER_CHUNK < n ? i + ER_CHUNK : n,
-                        max_moves, acc, &mv, &dr);
-    }
+    trace(s, p, max_moves, &chunk,
+          s->acc + (size_t)omp_get_thread_num() * s->n, &mv, &dr);
     reduce(s);
     *moves = mv;
     *drained = dr;
