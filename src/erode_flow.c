@@ -142,6 +142,11 @@ typedef struct lanes {
     ER_ALIGN int32_t mode[ER_LANES]; /* this move: LN_IDLE, LN_MOVE, LN_WALL */
     ER_ALIGN int32_t live[ER_LANES];
     ER_ALIGN int32_t odd[ER_LANES];  /* live but not moving on (see lanes_enter) */
+    /* the surface record of the cell landed in (of cell 0 when off the
+     * grid), fetched lane by lane for the vectorised lanes_enter */
+    ER_ALIGN float fax[ER_LANES], fay[ER_LANES], faz[ER_LANES];
+    ER_ALIGN float fgx[ER_LANES], fgy[ER_LANES];
+    ER_ALIGN int32_t fwall[ER_LANES];
 } lanes;
 
 enum { LN_IDLE = 0, LN_MOVE = 1, LN_WALL = 2 };
@@ -217,12 +222,16 @@ static TD_NOINLINE void lanes_aim(const tracer *t, lanes *q)
     }
 }
 
-/* The sums of every lane's last move (LN_MOVE or LN_WALL) into the tracing
- * thread's accumulator, at the cell it landed in. */
-static void lanes_sum(tracer *t, const lanes *q)
+/* Lane by lane: the sums of the last move (LN_MOVE or LN_WALL) into the
+ * tracing thread's accumulator at the cell it landed in, and the surface
+ * record of the cell the next move lands in copied into the lanes (plain
+ * loads and stores; a vectorised gather of the records is slower). */
+static void lanes_fetch(tracer *t, lanes *q)
 {
+    const er_surf *surf = t->s->surf;
     int l;
-    for (l = 0; l < ER_LANES; l++)
+    for (l = 0; l < ER_LANES; l++) {
+        const er_surf *f = &surf[q->to[l] > 0 ? q->to[l] : 0];
         if (q->mode[l] != LN_IDLE) {
             er_acc *a = &t->acc[q->c[l]];
             a->n++;
@@ -231,6 +240,10 @@ static void lanes_sum(tracer *t, const lanes *q)
             a->sp += q->ssp[l];
             a->e += q->se[l];
         }
+        q->fax[l] = f->ax, q->fay[l] = f->ay, q->faz[l] = f->az;
+        q->fgx[l] = f->gx, q->fgy[l] = f->gy;
+        q->fwall[l] = f->wall;
+    }
 }
 
 /* Start the next move of every live lane that lands inside the grid on a
@@ -241,15 +254,13 @@ static void lanes_sum(tracer *t, const lanes *q)
  * (the surface records are gathered). */
 static TD_NOINLINE void lanes_enter(const tracer *t, lanes *q)
 {
-    const er_surf *surf = t->s->surf;
     int l;
 #pragma omp simd
     for (l = 0; l < ER_LANES; l++) {
         int32_t to = q->to[l], go = q->live[l] & !q->done[l];
-        int32_t ti = to > 0 ? to : 0;
-        double gx = surf[ti].gx, gy = surf[ti].gy;
-        double ax = surf[ti].ax, ay = surf[ti].ay, az = surf[ti].az;
-        int32_t mv = go & (to >= 0) & !surf[ti].wall;
+        double gx = q->fgx[l], gy = q->fgy[l];
+        double ax = q->fax[l], ay = q->fay[l], az = q->faz[l];
+        int32_t mv = go & (to >= 0) & !q->fwall[l];
         q->k[l] += go;
         q->odd[l] = q->live[l] & !mv;
         q->mode[l] = mv ? LN_MOVE : LN_IDLE;
@@ -276,7 +287,7 @@ static TD_NOINLINE void lanes_enter(const tracer *t, lanes *q)
 static int lanes_step(tracer *t, lanes *q)
 {
     int l, nlive = 0;
-    lanes_sum(t, q);
+    lanes_fetch(t, q);
     lanes_enter(t, q);
     for (l = 0; l < ER_LANES; l++) {
         if (q->odd[l]) {
