@@ -28,7 +28,6 @@
 #include <omp.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/mman.h>
 
 td_erode_params td_erode_defaults(void)
 {
@@ -98,32 +97,6 @@ int td_erode_check(const td_erode_params *p, td_ctx *cx)
     return 0;
 }
 
-/* calloc for the large per-cell arrays the particles hit at random:
- * aligned to 2 MiB and marked for transparent huge pages where the system
- * has them (one TLB entry covers 2 MiB instead of 4 KiB). */
-static void *big_calloc(size_t n, size_t size, td_ctx *cx)
-{
-    const size_t huge = (size_t)2 << 20;
-    size_t bytes;
-    void *p = NULL;
-    if (size && n > ((size_t)-1 - huge) / size) {
-        td_seterr(cx, TD_ENOMEM, "out of memory (%zu x %zu bytes)", n, size);
-        return NULL;
-    }
-    bytes = (n * size + huge - 1) / huge * huge;
-    if (bytes == 0)
-        bytes = huge;
-    if (posix_memalign(&p, huge, bytes) != 0) {
-        td_seterr(cx, TD_ENOMEM, "out of memory (%zu x %zu bytes)", n, size);
-        return NULL;
-    }
-#ifdef MADV_HUGEPAGE
-    madvise(p, bytes, MADV_HUGEPAGE); /* a hint: no error if refused */
-#endif
-    memset(p, 0, bytes);
-    return p;
-}
-
 static void state_free(er_state *s)
 {
     free(s->T);
@@ -158,8 +131,8 @@ static int state_alloc(er_state *s, const td_grid_f32 *in, int nthreads,
                          in->w, in->h);
     if (!(s->T = td_malloc(n * sizeof *s->T, cx)) ||
         !(s->wall = td_calloc(n, 1, cx)) ||
-        !(s->surf = big_calloc(n, sizeof *s->surf, cx)) ||
-        !(s->acc = big_calloc(n * (size_t)nthreads, sizeof *s->acc, cx)) ||
+        !(s->surf = td_malloc(n * sizeof *s->surf, cx)) ||
+        !(s->acc = td_calloc(n * (size_t)nthreads, sizeof *s->acc, cx)) ||
         !(s->sq = td_calloc(n, sizeof(double), cx)) ||
         !(s->se = td_calloc(n, sizeof(double), cx)) ||
         !(s->smax = td_calloc(n, sizeof(double), cx)) ||
