@@ -108,12 +108,22 @@ void er_surface(er_state *s, const td_erode_params *p)
     }
 }
 
-/* The particles in flight, ER_LANES at a time, as structure of arrays:
- * one move of every lane is a few loops over the lanes without branches
- * (the roots and divisions run as vector instructions), with the memory
- * look-ups of each lane (its cell, the cell it lands in) and the sums into
- * acc in plain per-lane loops around them.  Lanes do not interact, and the
- * sums are integers, so the grouping changes no result. */
+/* The particles in flight, ER_LANES at a time, as structure of arrays.  A
+ * round moves every lane once:
+ *
+ *   lanes_aim    where each lane lands, whether it is done     (vectorised)
+ *   lanes_fetch  the last move's sums into acc, the landing
+ *                cell's surface record into the lanes          (per lane)
+ *   lanes_enter  the next move started where nothing special
+ *                happens (selects)                             (vectorised)
+ *   lanes_step   walls, stops, drains; a stopped lane gets the
+ *                next particle                                 (odd lanes)
+ *   lanes_move   the physics of the move                       (vectorised)
+ *
+ * A thread's lanes are refilled from chunk after chunk of cells until the
+ * step's particles are used up.  Lanes do not interact, and the sums are
+ * integers, so neither the grouping nor the thread that traces a particle
+ * changes a result. */
 #define ER_LANES 32
 #define ER_ALIGN _Alignas(64)
 #if defined(__GNUC__)
@@ -224,8 +234,9 @@ static TD_NOINLINE void lanes_aim(const tracer *t, lanes *q)
 
 /* Lane by lane: the sums of the last move (LN_MOVE or LN_WALL) into the
  * tracing thread's accumulator at the cell it landed in, and the surface
- * record of the cell the next move lands in copied into the lanes (plain
- * loads and stores; a vectorised gather of the records is slower). */
+ * record of the cell the next move lands in copied into the lanes, plain
+ * loads and stores (GCC gathers the 24-byte records for a vectorised loop
+ * with one insert per value: slower). */
 static void lanes_fetch(tracer *t, lanes *q)
 {
     const er_surf *surf = t->s->surf;
@@ -246,12 +257,12 @@ static void lanes_fetch(tracer *t, lanes *q)
     }
 }
 
-/* Start the next move of every live lane that lands inside the grid on a
- * cell that is not a wall and is not done: LN_MOVE, the acceleration of
- * the cell left (a) and the gradient and acceleration of the cell entered
- * gathered; every other lane gets a = 0 and LN_IDLE, and the live ones
- * among them are flagged odd for lanes_step.  No branches: it vectorises
- * (the surface records are gathered). */
+/* Start the next move of every live lane that is not done and lands
+ * inside the grid on a cell that is not a wall: LN_MOVE, the acceleration
+ * of the cell left (a) and the gradient and acceleration of the cell
+ * entered (fetched) taken over; every other lane gets a = 0 and LN_IDLE,
+ * and the live ones among them are flagged odd for lanes_step.  No
+ * branches: it vectorises. */
 static TD_NOINLINE void lanes_enter(const tracer *t, lanes *q)
 {
     int l;
@@ -279,11 +290,11 @@ static TD_NOINLINE void lanes_enter(const tracer *t, lanes *q)
 }
 
 /* One round's memory work: the sums of the last move, then the start of
- * the next (lanes_enter); the odd lanes one by one: LN_WALL (stopped
- * against a wall or closed edge: v = 0 there, gravity acts again), or
- * the particle stopped (done) or drained and the lane gets the next
- * particle, which moves from the next round.  Returns the lanes still
- * live. */
+ * the next (lanes_fetch, lanes_enter), then the odd lanes one by one:
+ * LN_WALL (stopped against a wall or closed edge: v = 0 there, gravity
+ * acts again), or the particle stopped (done) or drained and the lane gets
+ * the next particle, which moves from the next round.  Returns the lanes
+ * still live (0: no sums left pending either). */
 static int lanes_step(tracer *t, lanes *q)
 {
     int l, nlive = 0;
@@ -321,7 +332,9 @@ static int lanes_step(tracer *t, lanes *q)
 #define EACH for (j = 0; j < ER_JAM; j++)
 #endif
 
-/* Scratch of one move: lane l + j ER_SPAN at [j][l]. */
+/* Scratch of one move, lane l + j ER_SPAN at [j][l]: declared outside the
+ * loop over l (arrays inside an omp simd loop are kept per lane in memory
+ * and stop the vectoriser). */
 typedef struct jam {
     double ux[ER_JAM][ER_SPAN], uy[ER_JAM][ER_SPAN], uz[ER_JAM][ER_SPAN];
     double sp[ER_JAM][ER_SPAN], ex[ER_JAM][ER_SPAN], hs[ER_JAM][ER_SPAN];
@@ -331,13 +344,15 @@ typedef struct jam {
 } jam;
 
 /* exp(x) for the friction, in place on z->ex[j][l] for every j, on its
- * own so that a loop over lanes can vectorise it: x clamped to [-40, 0]
- * (below -40, 1 - exp(x) is 1 in double anyway), x = k ln 2 + r with |r|
- * <= ln 2 / 2 (Cody-Waite, two-part ln 2), exp(r) by its Taylor series to
- * r^13 (error below 2e-16), 2^k put into the exponent bits.  At most 1 ulp
- * from glibc's exp (6% of 20 M random arguments differ); the same bits on
- * every machine (plain IEEE operations, no fused multiply-add in ISO C
- * mode).  The ER_JAM arguments go through each step together. */
+ * own so that a loop over lanes can vectorise it.  x = -beta w |u| <= 0
+ * (beta, w > 0).  x = k ln 2 + r with |r| <= ln 2 / 2 (Cody-Waite,
+ * two-part ln 2), exp(r) by its Taylor series to r^13 (error below 2e-16),
+ * 2^k put into the exponent bits; below x = -40 the result is 0 instead
+ * (exp(-40) = 4e-18 < 2^-54, so 1 - exp(x) is 1.0 in double either way),
+ * selected after the polynomial so that no branch splits the lanes' chains.
+ * At most 1 ulp from glibc's exp (6% of 20 M random arguments differ); the
+ * same bits on every machine (plain IEEE operations, no fused multiply-add
+ * in ISO C mode).  The ER_JAM arguments go through each step together. */
 static inline void er_exp(jam *z, int l)
 {
     static const double c[14] = {
@@ -367,7 +382,7 @@ static inline void er_exp(jam *z, int l)
         double t;
         memcpy(&bits, &z->t[j][l], sizeof bits); /* 0x4338... + k */
         bits = (int64_t)((uint64_t)(bits + 1023) << 52);
-        memcpy(&t, &bits, sizeof t); /* 2^k, k in [-58, 0] */
+        memcpy(&t, &bits, sizeof t); /* 2^k, k in [-58, 0] if x >= -40 */
         z->ex[j][l] = z->ex[j][l] < -40.0 ? 0.0 : z->p[j][l] * t;
     }
 }
