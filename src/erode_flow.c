@@ -151,7 +151,7 @@ typedef struct lanes {
     ER_ALIGN int32_t done[ER_LANES]; /* max_moves made, or at rest */
     ER_ALIGN int32_t mode[ER_LANES]; /* this move: LN_IDLE, LN_MOVE, LN_WALL */
     ER_ALIGN int32_t live[ER_LANES];
-    ER_ALIGN int32_t odd[ER_LANES];  /* live but not moving on (see lanes_enter) */
+    ER_ALIGN int32_t odd[ER_LANES];  /* live, not moving on (lanes_enter) */
     /* the surface record of the cell landed in (of cell 0 when off the
      * grid), fetched lane by lane for the vectorised lanes_enter */
     ER_ALIGN float fax[ER_LANES], fay[ER_LANES], faz[ER_LANES];
@@ -324,7 +324,7 @@ static int lanes_step(tracer *t, lanes *q)
  * waits out its latency, while with the chains interleaved it works on
  * ER_JAM of them at once.  Each lane's operations stay the same, in the
  * same order, so the results are the same bits. */
-#define ER_JAM 4
+#define ER_JAM 4 /* the unroll count in EACH must be at least this */
 #define ER_SPAN (ER_LANES / ER_JAM)
 #if defined(__GNUC__)
 #define EACH _Pragma("GCC unroll 4") for (j = 0; j < ER_JAM; j++)
