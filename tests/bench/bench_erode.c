@@ -7,7 +7,12 @@
  * particle path length, mass-balance residual, and whether 2 threads gave
  * the same bytes as 1.
  *
- *   bench_erode [--steps N] [--dir DIR] [--topodig PATH]   (last two unused)
+ *   bench_erode [--steps N] [--size WxH] [--threads T] [--dir DIR]
+ *               [--topodig PATH]
+ *
+ * --size runs only that grid, --threads only that thread count (for
+ * shorter experiments, or two builds side by side on two cores); the last
+ * two options are unused.
  *
  * Never fails the build. */
 #ifndef _DEFAULT_SOURCE
@@ -29,6 +34,8 @@ static double cpu_now(void)
         return 0;
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
+
+static int only_threads; /* --threads: this count only, no comparison */
 
 static void one(int w, int h, int threads, int steps, float *ref)
 {
@@ -62,7 +69,7 @@ static void one(int w, int h, int threads, int steps, float *ref)
            ref == NULL ? "" : memcmp(ref, o->data, (size_t)w * h * 4) == 0
                                   ? "  same bytes as 1 thread" : "  DIFFERS");
 done: /* after the 1-thread run, the 2-thread run compared with it */
-    if (ref == NULL && o && threads == 1) {
+    if (ref == NULL && o && threads == 1 && only_threads == 0) {
         float *keep = malloc((size_t)w * h * 4);
         if (keep) {
             memcpy(keep, o->data, (size_t)w * h * 4);
@@ -76,16 +83,26 @@ done: /* after the 1-thread run, the 2-thread run compared with it */
 
 int main(int argc, char **argv)
 {
-    int steps = 5, i;
+    int steps = 5, i, w = 0, h = 0;
     double load[3] = {0, 0, 0};
     for (i = 1; i + 1 < argc; i += 2)
         if (!strcmp(argv[i], "--steps"))
             steps = atoi(argv[i + 1]) > 0 ? atoi(argv[i + 1]) : 5;
+        else if (!strcmp(argv[i], "--size") &&
+                 (sscanf(argv[i + 1], "%dx%d", &w, &h) != 2 || w < 1 ||
+                  h < 1 || w > 16384 || h > 16384))
+            w = h = 0;
+        else if (!strcmp(argv[i], "--threads"))
+            only_threads = atoi(argv[i + 1]) > 0 ? atoi(argv[i + 1]) : 0;
     if (getloadavg(load, 3) < 1)
         load[0] = -1;
     printf("  velocity-field erosion, default parameters, mound relief "
            "size/8; load average %.2f at start\n", load[0]);
-    one(1024, 1024, 1, steps, NULL);
-    one(2048, 1024, 1, steps, NULL);
+    if (w > 0) {
+        one(w, h, only_threads ? only_threads : 1, steps, NULL);
+        return 0;
+    }
+    one(1024, 1024, only_threads ? only_threads : 1, steps, NULL);
+    one(2048, 1024, only_threads ? only_threads : 1, steps, NULL);
     return 0;
 }
