@@ -427,13 +427,10 @@ int td_flow_fill(const td_grid_f32 *dem, td_grid_f32 *filled, int tile,
 }
 
 /* ---- D8 -----------------------------------------------------------------
- * Seeds (edge cells, cells next to nodata) are outlets (ROOT): their water
- * leaves the grid.  Other cells: steepest descent (drop / distance) on the
- * filled DEM, decided while flooding (flood_visit); a cell with no lower
- * neighbour keeps its flood-tree direction (filled pits and flats drain
- * towards their spill point).  Every edge goes strictly down or along the
- * flood tree, so the graph has no cycles. */
-/* D8 counts are uint32 stored in the float buffer g->z (after the filled
+ * Outlets (edge cells, cells next to nodata, ROOT): their water leaves the
+ * grid.  Other cells: the direction from route() (steepest descent on the
+ * filled DEM, or one step nearer a flat's exit).  Counts: src/flow_d8.c.
+ * D8 counts are uint32 stored in the float buffer g->z (after the filled
  * heights are no longer needed); memcpy keeps that free of aliasing. */
 static uint32_t getu(const fgrid *g, size_t i)
 {
@@ -466,7 +463,7 @@ static int d8_accumulate(fgrid *g, double valid, int nth, td_flow_stats *st)
  * r = atan(s2 / s1) clamped to [0, pi/4] (slope s1 at 0, (e0 - e2)/sqrt 2 at
  * pi/4, else hypot(s1, s2)); the steepest facet's flow is split e1 : e2 =
  * (1 - r/(pi/4)) : r/(pi/4).  Every receiver with a share is strictly lower;
- * with no positive facet the flood-tree direction is used, as in D8. */
+ * with no positive facet the D8 direction is used (flats as in D8). */
 static const int FCARD[8] = {0, 2, 2, 4, 4, 6, 6, 0};
 static const int FDIAG[8] = {1, 1, 3, 3, 5, 5, 7, 7};
 

@@ -15,10 +15,11 @@
  *                  nodata (it drains out), or after max_steps moves.
  *                  Cost: cells x mean path length.
  *   TD_FLOW_D8     priority-flood depression filling (no epsilon; in
- *                  tiles, Barnes 2016: the same result, cache-friendly), then
+ *                  tiles on threads, Barnes 2016: the same result), then
  *                  steepest descent on the filled DEM; cells with no lower
- *                  neighbour (filled pits and flats) drain along the flood
- *                  tree towards their spill point; linear-time accumulation.
+ *                  neighbour (filled pits and flats) drain by shortest
+ *                  paths to the nearest exit of their flat; linear-time
+ *                  accumulation (row bands on threads).
  *   TD_FLOW_DINF   as D8 but Tarboton's D-infinity split between two
  *                  neighbours (flats as in D8).
  *
