@@ -234,8 +234,8 @@ static double steepest(fgrid *g, int nth)
     return fail ? -1 : flat;
 }
 
-enum { COMP = 0xFE, FIRST = 0x80 }; /* flat cell: in the component being
-                                      searched; first step chosen */
+enum { COMP = 0xFE, LATER = 0xFD, FIRST = 0x80 }; /* flat cell: in the
+    flat being searched; in a flat left for later; first step chosen */
 
 /* Window slot s (window3.h) -> neighbour code k, and back. */
 static const int SLOT_K[9] = {5, 6, 7, 4, -1, 0, 3, 2, 1};
@@ -276,13 +276,14 @@ static int cmp_u32(const void *a, const void *b)
  * with no direction) into a, then search breadth-first from all its cells
  * next to an exit at once (each takes its first exit) into b.  Every cell
  * drains one step nearer an exit.  The flat must lie in cells [lo, hi)
- * (whole rows), else it is left as it was (-3).  Returns the flat's cells,
- * or -1 out of memory, -2 no exit, -3 not inside. */
+ * (whole rows), else its cells there are marked LATER (-3).  Returns the
+ * flat's cells, or -1 out of memory, -2 no exit, -3 not inside. */
 static double flat_one(fgrid *g, size_t i, size_t lo, size_t hi, u32vec *a,
                        u32vec *b)
 {
     size_t h;
     unsigned m;
+    int out = 0;
     a->n = b->n = 0;
     if (!flat_nbrs(g, i, UNSEEN)) { /* one cell (a filled pit, mostly) */
         m = flat_nbrs(g, i, -1);
@@ -298,14 +299,18 @@ static double flat_one(fgrid *g, size_t i, size_t lo, size_t hi, u32vec *a,
         for (m = flat_nbrs(g, a->v[h], UNSEEN); m; m &= m - 1) {
             size_t j = a->v[h] + (size_t)slot_off(g, __builtin_ctz(m));
             if (j < lo || j >= hi) { /* another band's: later, alone */
-                for (h = 0; h < a->n; h++)
-                    g->code[a->v[h]] = UNSEEN;
-                return -3;
+                out = 1;
+                continue;
             }
             g->code[j] = COMP;
             if (u32_push(a, (uint32_t)j, NULL) != 0)
                 return -1;
         }
+    if (out) { /* all of it in [lo, hi) marked, so the scan skips it */
+        for (h = 0; h < a->n; h++)
+            g->code[a->v[h]] = LATER;
+        return -3;
+    }
     for (h = 0; h < a->n; h++)
         if ((m = flat_nbrs(g, a->v[h], -1)) != 0) {
             g->code[a->v[h]] = (uint8_t)(FIRST | first_k(m));
@@ -380,6 +385,12 @@ static int flats(fgrid *g, double nflat, int nth)
                              (y1 - 1) * (size_t)g->w, &got);
             bad = r < bad ? r : bad;
         }
+    }
+    if (bad == 0 && nb > 1) { /* the flats left for later */
+        size_t i;
+        for (i = 0; i < g->n; i++)
+            if (g->code[i] == LATER)
+                g->code[i] = UNSEEN;
     }
     if (bad == 0)
         bad = flats_in(g, 0, g->n, &got);

@@ -220,6 +220,41 @@ static void test_flat_drains_to_outlet(void)
     td_grid_f32_free(dem);
 }
 
+/* One flat across every row band (a walled 60 x 240 floor, one gap at the
+ * bottom): on 1 to 4 threads the counts are the same, and the gap's
+ * neighbour collects the whole floor. */
+static void test_flat_across_bands(void)
+{
+    const int w = 60, h = 240;
+    td_grid_f32 *dem = td_grid_f32_new(w, h, NULL), *ref = NULL;
+    int x, y, t;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++)
+            TD_AT(dem, x, y) = (x == 0 || y == 0 || x == w - 1 ||
+                                y == h - 1) ? 10.0f : 1.0f;
+    TD_AT(dem, w / 2, h - 1) = 0.0f;
+    for (t = 1; t <= 4; t++) {
+        td_flow_params p = td_flow_defaults();
+        td_grid_f32 *acc = td_grid_f32_new(w, h, NULL);
+        td_flow_stats st;
+        td_ctx cx;
+        td_ctx_init(&cx);
+        p.method = TD_FLOW_D8;
+        p.threads = t;
+        TT_CHECK(acc && td_flow_run(dem, &p, acc, &st, &cx) == 0);
+        TT_NEAR(TD_AT(acc, w / 2, h - 1), (w - 2) * (h - 2) + 1, 0.5);
+        if (t == 1)
+            ref = acc;
+        else {
+            TT_CHECKF(memcmp(ref->data, acc->data, sizeof *acc->data *
+                             (size_t)(w * h)) == 0, "%d threads differ", t);
+            td_grid_f32_free(acc);
+        }
+    }
+    td_grid_f32_free(ref);
+    td_grid_f32_free(dem);
+}
+
 static int nodata_at(const td_grid_f32 *dem, int x, int y)
 {
     float v = TD_AT(dem, x, y);
@@ -532,6 +567,7 @@ int main(void)
     TT_RUN(test_vvalley_axis);
     TT_RUN(test_pit_filled_and_drains);
     TT_RUN(test_flat_drains_to_outlet);
+    TT_RUN(test_flat_across_bands);
     TT_RUN(test_conservation_nodata);
     TT_RUN(test_fill_matches_brute_force);
     TT_RUN(test_classes_ridge_valley);
