@@ -94,7 +94,7 @@ static int fgrid_init(fgrid *g, const td_grid_f32 *dem, td_grid_f32 *out,
     size_t nv = 0;
     int hn = dem && dem->has_nodata != 0;
     float nodata = dem ? dem->nodata : 0;
-    size_t i;
+    ptrdiff_t i;
     int k;
     memset(g, 0, sizeof *g);
     if (!dem || !out || !dem->data || !out->data)
@@ -116,7 +116,8 @@ static int fgrid_init(fgrid *g, const td_grid_f32 *dem, td_grid_f32 *out,
         g->off[k] = (ptrdiff_t)DY[k] * g->w + DX[k];
     if (!(g->code = td_malloc(g->n, cx)))
         return TD_ENOMEM;
-    for (i = 0; i < g->n; i++) { /* no branch: vector instructions */
+#pragma omp parallel for schedule(static) reduction(+ : nv)
+    for (i = 0; i < (ptrdiff_t)g->n; i++) { /* no branch: vectorised */
         float v = dem->data[i];
         int nd = (v != v) | (hn & (v == nodata));
         g->code[i] = nd ? NODATA : fill;
@@ -661,20 +662,23 @@ td_flow_params td_flow_defaults(void)
 }
 
 /* Counts (uint32 in g->z, or acc) -> floats; nodata where there is none. */
-static void store(fgrid *g, const double *acc, float nodata,
+static void store(fgrid *g, const double *acc, float nodata, int nth,
                   td_flow_stats *st)
 {
-    size_t i;
-    for (i = 0; i < g->n; i++) {
-        double v = acc ? acc[i] : (double)getu(g, i);
-        if (!is_valid(g, i)) {
+    ptrdiff_t i, n = (ptrdiff_t)g->n;
+    double mx = 0;
+#pragma omp parallel for num_threads(nth) schedule(static) \
+    reduction(max : mx)
+    for (i = 0; i < n; i++) {
+        double v = acc ? acc[i] : (double)getu(g, (size_t)i);
+        if (!is_valid(g, (size_t)i)) {
             g->z[i] = nodata;
             continue;
         }
         g->z[i] = (float)v;
-        if (v > st->max_pass)
-            st->max_pass = v;
+        mx = v > mx ? v : mx;
     }
+    st->max_pass = mx;
 }
 
 int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
@@ -713,7 +717,8 @@ int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
     }
     if (rc != 0)
         goto fail;
-    store(&g, acc, dem->nodata, &s);
+    store(&g, acc, dem->nodata, p->threads > 0 ? p->threads
+                                          : omp_get_max_threads(), &s);
     rc = td_progress(cx, "flow", 1.0);
 fail:
     if (st)

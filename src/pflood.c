@@ -694,38 +694,60 @@ fail:
 
 /* code: NODATA stays, outlets (grid edge, next to nodata) TD_FL_ROOT |
  * DRAIN, the rest 0; z = dem; labels 0. */
-static void mark_outlets(pf *p)
+/* Row y of code, given whether rows y-1, y, y+1 hold nodata (nd3). */
+static void outlet_row(pf *p, int y, int nd3)
 {
     size_t w = (size_t)p->w;
-    int x, y, k, nd_prev = 0, nd = 0, nd_next;
-    memcpy(p->z, p->dem, w * (size_t)p->h * sizeof *p->z);
-    memset(p->lab, 0, w * (size_t)p->h * sizeof *p->lab);
-    nd_next = memchr(p->code, TD_FL_NODATA, w) != NULL;
-    for (y = 0; y < p->h; y++) {
-        uint8_t *c = p->code + (size_t)y * w;
-        nd_prev = nd;
-        nd = nd_next;
-        nd_next = y + 1 < p->h && memchr(c + w, TD_FL_NODATA, w) != NULL;
-        if (y == 0 || y == p->h - 1) { /* edge rows: all outlets */
-            for (x = 0; x < p->w; x++)
-                c[x] = c[x] == TD_FL_NODATA ? TD_FL_NODATA
-                                            : TD_FL_ROOT | DRAIN;
-            continue;
-        }
-        if (!nd_prev && !nd && !nd_next) { /* no nodata nearby */
-            memset(c, 0, w);
-            c[0] = c[w - 1] = TD_FL_ROOT | DRAIN;
-            continue;
-        }
-        for (x = 0; x < p->w; x++) {
-            int out = x == 0 || x == p->w - 1;
-            if (c[x] == TD_FL_NODATA)
-                continue;
-            for (k = 0; k < 9 && !out; k++) /* k = 4: the cell, valid */
-                out = c[x + p->off[k]] == TD_FL_NODATA;
-            c[x] = out ? TD_FL_ROOT | DRAIN : 0;
-        }
+    uint8_t *c = p->code + (size_t)y * w;
+    int x, k;
+    if (y == 0 || y == p->h - 1) { /* edge rows: all outlets */
+        for (x = 0; x < p->w; x++)
+            c[x] = c[x] == TD_FL_NODATA ? TD_FL_NODATA : TD_FL_ROOT | DRAIN;
+        return;
     }
+    if (!nd3) { /* no nodata nearby */
+        memset(c, 0, w);
+        c[0] = c[w - 1] = TD_FL_ROOT | DRAIN;
+        return;
+    }
+    for (x = 0; x < p->w; x++) {
+        int out = x == 0 || x == p->w - 1;
+        if (c[x] == TD_FL_NODATA)
+            continue;
+        for (k = 0; k < 9 && !out; k++) /* k = 4: the cell, valid */
+            out = c[x + p->off[k]] == TD_FL_NODATA;
+        c[x] = out ? TD_FL_ROOT | DRAIN : 0;
+    }
+}
+
+/* Rows on threads; a row next to nodata reads its neighbours' codes, so
+ * those rows are done after, on one thread.  0 or TD_ENOMEM. */
+static int mark_outlets(pf *p)
+{
+    size_t w = (size_t)p->w;
+    uint8_t *nd = malloc((size_t)p->h + 2);
+    int y, any = 0;
+    if (!nd)
+        return td_seterr(p->cx, TD_ENOMEM, "flow: out of memory");
+    nd[0] = nd[p->h + 1] = 0; /* nd[y + 1]: row y holds nodata */
+#pragma omp parallel for num_threads(p->nth) schedule(static) \
+    reduction(| : any)
+    for (y = 0; y < p->h; y++) {
+        size_t o = (size_t)y * w;
+        memcpy(p->z + o, p->dem + o, w * sizeof *p->z);
+        memset(p->lab + o, 0, w * sizeof *p->lab);
+        nd[y + 1] = memchr(p->code + o, TD_FL_NODATA, w) != NULL;
+        any |= nd[y + 1];
+    }
+#pragma omp parallel for num_threads(p->nth) schedule(static)
+    for (y = 0; y < p->h; y++)
+        if (!(nd[y] | nd[y + 1] | nd[y + 2]))
+            outlet_row(p, y, 0);
+    for (y = 0; any && y < p->h; y++)
+        if (nd[y] | nd[y + 1] | nd[y + 2])
+            outlet_row(p, y, 1);
+    free(nd);
+    return 0;
 }
 
 /* Drain step of row y from row py (the row before it in the sweep):
@@ -841,9 +863,11 @@ int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
         rc = td_seterr(cx, TD_ENOMEM, "flow: out of memory");
         goto fail;
     }
-    mark_outlets(&p);
-    drain_sweeps(&p);
-    rc = flood_tiles(&p, p0, p0 + 0.9 * (p1 - p0));
+    rc = mark_outlets(&p);
+    if (rc == 0) {
+        drain_sweeps(&p);
+        rc = flood_tiles(&p, p0, p0 + 0.9 * (p1 - p0));
+    }
     if (rc == 0)
         rc = gather(&p);
     if (rc == 0)
