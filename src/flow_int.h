@@ -1,5 +1,6 @@
-/* flow_int.h: what src/flow.c and src/pflood.c (the tiled priority-flood
- * fill under D8 and D-infinity) share.  Not public. */
+/* flow_int.h: what src/flow.c, src/pflood.c (the tiled priority-flood
+ * fill under D8 and D-infinity) and src/flow_d8.c (D8 counts) share.  Not
+ * public. */
 #ifndef TD_FLOW_INT_H
 #define TD_FLOW_INT_H
 
@@ -24,8 +25,8 @@ enum { TD_FL_ROOT = 8, TD_FL_NODATA = 9 };
  * cells raised.  Tiles are flooded on `threads` OpenMP threads (0: the
  * OpenMP default); the result does not depend on it.  Progress as stage
  * "flow" from p0 to p1.  Memory: 2 bytes
- * per cell of labels (freed on return) plus the label graph (about 4
- * labels per tile side).  0, TD_ENOMEM, TD_ECANCEL, TD_EINVAL (more than
+ * per cell of labels (freed on return) plus the label graph (a few labels
+ * per tile side) and each thread's tile-sized queues.  0, TD_ENOMEM, TD_ECANCEL, TD_EINVAL (more than
  * 2^32 - 2 cells). */
 int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
               int tile, int threads, double *raised, double p0, double p1,

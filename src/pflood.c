@@ -1,31 +1,33 @@
 /* pflood.c: priority-flood depression filling in tiles.
  *
  * Barnes (2016) "Parallel priority-flood depression filling for trillion
- * cell digital elevation models": tiles flooded on their own (on threads),
- * which also keeps the flood's working set in the cache: a priority flood over the whole grid pops
- * cells in height order from anywhere, so every popped cell's 3x3 block is
- * cold; inside a 512 x 512 tile (1.8 MB of heights, codes and labels)
- * it stays in the L2 cache.
+ * cell digital elevation models": tiles flooded on their own, on threads.
+ * That also keeps each flood's working set in the cache (a priority flood
+ * over the whole grid pops cells in height order from anywhere, so every
+ * popped cell's 3x3 block is cold; a 512 x 512 tile's heights, codes and
+ * labels, 1.8 MB, stay in the L2 cache).
  *
+ *   0. Drained cells (a path to an outlet that never climbs) keep their
+ *      height: found by two raster sweeps, label 0, never flooded.
  *   1. Each tile alone: a priority flood (Barnes, Lehman, Mulla 2014,
  *      Alg. 2: a FIFO for cells inside depressions; upslope tracing after
- *      Zhou, Sun, Fu 2016) from the tile's perimeter cells at their own
- *      heights and from the real outlets (grid edge, next to nodata).  A
- *      perimeter cell popped before any flood reached it starts a new
- *      label; every cell the flood reaches takes the label of the cell it
- *      came from, and its level F (its height, or the level it is raised
- *      to inside the tile).  The real outlets are label 0 (OUTSIDE).  When
- *      two labels meet, the edge (a, b) gets the spill max(F_a, F_b)
+ *      Zhou, Sun, Fu 2016; a byte-digit radix heap) from the tile's
+ *      undrained perimeter cells at their own heights and from the drained
+ *      cells next to undrained ones (label 0, OUTSIDE).  A perimeter cell
+ *      popped before any flood reached it starts a new label; every cell
+ *      the flood reaches takes the label of the cell it came from, and its
+ *      level F (its height, or the level it is raised to inside the tile).
+ *      When two labels meet, the edge (a, b) gets the spill max(F_a, F_b)
  *      (lowest per pair).
  *   2. Tile borders: each pair of 8-neighbours in different tiles joins
  *      their labels at max(F_p, F_q) (perimeter cells keep F = height).
- *   3. The label graph (about 4 labels per tile side): W(label) = the
- *      lowest level over paths to OUTSIDE of the highest spill on the way
+ *   3. The label graph (a few labels per tile side): W(label) = the lowest
+ *      level over paths to OUTSIDE of the highest spill on the way
  *      (Dijkstra with max for +), W(OUTSIDE) = -inf.
  *   4. Each cell's filled level is max(F, W(its label)).
  *
- * The result equals the flood over the whole grid for every tile size
- * (tests/test_flow.c checks it against a brute-force fill for several). */
+ * The result equals the flood over the whole grid for every tile size and
+ * thread count (tests/test_flow.c checks it against a brute-force fill). */
 #include "flow_int.h"
 #include "window3.h"
 
@@ -38,7 +40,6 @@
 /* Flood-time code bits (valid cells have low nibble 0 or TD_FL_ROOT;
  * TD_FL_NODATA = 9 is the only value with bit 0). */
 enum { NOD = 0x01, DRAIN = 0x10, PERIM = 0x20, SEEN = 0x40 };
-
 
 typedef struct hnode {
     uint32_t key; /* order-preserving image of the height (fkey) */
