@@ -755,25 +755,27 @@ static int mark_outlets(pf *p)
  * vertically from the three cells there, then along the row both ways.
  * No branch per cell (on noise these tests are coin flips); NOD << 4 is
  * DRAIN, so a nodata cell never takes it. */
-static size_t drain_row(pf *p, int y, int py)
+static size_t drain_row(pf *p, int y, int py, int x0, int x1)
 {
     size_t w = (size_t)p->w;
     uint8_t *restrict c = p->code + (size_t)y * w;
     const uint8_t *restrict pc = p->code + (size_t)py * w;
     const float *z = p->z + (size_t)y * w, *pz = p->z + (size_t)py * w;
-    int x;
+    int x, xa = x0 > 1 ? x0 : 1, xb = x1 < p->w - 1 ? x1 : p->w - 1;
     size_t got = 0;
-    for (x = 1; x < p->w - 1; x++) {
+    for (x = xa; x < xb; x++) { /* the strip's own columns only */
         float zc = z[x];
-        unsigned d = (pc[x - 1] & (unsigned)-(pz[x - 1] <= zc)) |
-                     (pc[x] & (unsigned)-(pz[x] <= zc)) |
-                     (pc[x + 1] & (unsigned)-(pz[x + 1] <= zc));
+        unsigned d = (pc[x] & (unsigned)-(pz[x] <= zc));
+        if (x - 1 >= x0)
+            d |= pc[x - 1] & (unsigned)-(pz[x - 1] <= zc);
+        if (x + 1 < x1)
+            d |= pc[x + 1] & (unsigned)-(pz[x + 1] <= zc);
         c[x] |= (uint8_t)(d & DRAIN & ~((c[x] & NOD) << 4));
     }
-    for (x = 1; x < p->w - 1; x++)
+    for (x = xa > x0 ? xa : x0 + 1; x < xb; x++)
         c[x] |= (uint8_t)(c[x - 1] & (unsigned)-(z[x - 1] <= z[x]) & DRAIN &
                           ~((c[x] & NOD) << 4));
-    for (x = p->w - 2; x >= 1; x--) {
+    for (x = (xb < x1 ? xb : x1 - 1) - 1; x >= xa; x--) {
         c[x] |= (uint8_t)(c[x + 1] & (unsigned)-(z[x + 1] <= z[x]) & DRAIN &
                           ~((c[x] & NOD) << 4));
         got += c[x] >> 4 & 1;
@@ -790,15 +792,22 @@ static size_t drain_row(pf *p, int y, int py)
  * of the cells; a third sweep adds none) at a third of its cost (the
  * search jumps about the grid).  The outlets carry DRAIN already.  A
  * sweep stops after 32 rows in a row with under 1% drained (white noise:
- * then the flood does it all and the sweeps would only cost). */
+ * then the flood does it all and the sweeps would only cost).  On threads,
+ * each in its own strip of columns, reading only its own cells (paths that
+ * cross a strip border are not followed: fewer cells, the same fill). */
 static void drain_sweeps(pf *p)
 {
-    size_t few = (size_t)p->w / 100;
-    int y, poor = 0;
-    for (y = 1; y < p->h - 1 && poor < 32; y++)
-        poor = drain_row(p, y, y - 1) <= few ? poor + 1 : 0;
-    for (y = p->h - 2, poor = 0; y >= 1 && poor < 32; y--)
-        poor = drain_row(p, y, y + 1) <= few ? poor + 1 : 0;
+    int t, ns = p->nth > 1 && p->w >= 64 * p->nth ? p->nth : 1;
+#pragma omp parallel for num_threads(ns) schedule(static, 1)
+    for (t = 0; t < ns; t++) {
+        int x0 = (int)((long long)p->w * t / ns);
+        int x1 = (int)((long long)p->w * (t + 1) / ns), y, poor = 0;
+        size_t few = (size_t)(x1 - x0) / 100;
+        for (y = 1; y < p->h - 1 && poor < 32; y++)
+            poor = drain_row(p, y, y - 1, x0, x1) <= few ? poor + 1 : 0;
+        for (y = p->h - 2, poor = 0; y >= 1 && poor < 32; y--)
+            poor = drain_row(p, y, y + 1, x0, x1) <= few ? poor + 1 : 0;
+    }
 }
 
 /* Raise every cell to its label's level; codes back to ROOT / 0. */
