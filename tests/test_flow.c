@@ -5,6 +5,7 @@
 #include "tt.h"
 
 #include "flow.h"
+#include "flow_int.h"
 #include "samples/gen/gen.h"
 #include "terrain_gen.h"
 
@@ -261,6 +262,40 @@ static int nodata_at(const td_grid_f32 *dem, int x, int y)
     return isnan(v) || (dem->has_nodata && v == dem->nodata);
 }
 
+/* src/flow_d8.c on its own: one path that snakes down column 0, up column
+ * 1, down column 2, ... so it crosses every row band's border in both
+ * directions (a hand-over round per crossing).  The cell k steps along the
+ * path collects k + 1; the last cell is the outlet.  1 to 4 bands. */
+static void test_d8_bands_snake(void)
+{
+    const int w = 9, h = 64;
+    uint8_t *code = malloc((size_t)(w * h));
+    uint32_t *acc = malloc(sizeof *acc * (size_t)(w * h));
+    int t, x, y;
+    for (t = 1; t <= 4 && code && acc; t++) {
+        double out, outlets, done;
+        int bad = 0, k = 0;
+        for (x = 0; x < w; x++)
+            for (y = 0; y < h; y++) {
+                int down = !(x & 1), last = down ? y == h - 1 : y == 0;
+                code[y * w + x] = x == w - 1 && last ? TD_FL_ROOT
+                                  : last ? 0 /* E */ : down ? 2 : 6;
+            }
+        TT_CHECK(td_d8_accumulate(code, acc, w, h, t, &out, &outlets, &done,
+                                  NULL) == 0);
+        for (x = 0; x < w; x++)
+            for (y = 0; y < h; y++, k++) {
+                int yy = x & 1 ? h - 1 - y : y;
+                bad += acc[yy * w + x] != (uint32_t)k + 1;
+            }
+        TT_CHECKF(bad == 0, "%d bands: %d counts off the path position", t,
+                  bad);
+        TT_CHECK(out == w * h && outlets == 1 && done == w * h);
+    }
+    free(code);
+    free(acc);
+}
+
 /* Brute-force fill: repeat W = max(dem, min over valid neighbours of W)
  * from +inf inside and dem on the seeds (grid edge, next to nodata) until
  * nothing changes; nodata cells get the nodata value. */
@@ -399,8 +434,9 @@ static void test_conservation_nodata(void)
     td_grid_f32_free(dem);
 }
 
-/* The flood (with its off-heap upslope tracing), in one tile or many,
- * equals the brute force: noisy, quantised (flats) and smooth DEMs. */
+/* The flood (src/pflood.c: tiles, labels, drained-cell sweeps, upslope
+ * tracing), in one tile or many, equals the brute force: noisy, quantised
+ * (flats) and smooth DEMs. */
 static void test_fill_matches_brute_force(void)
 {
     int seed, i, t;
@@ -573,5 +609,6 @@ int main(void)
     TT_RUN(test_classes_ridge_valley);
     TT_RUN(test_classify_quantiles);
     TT_RUN(test_edge_cases);
+    TT_RUN(test_d8_bands_snake);
     return tt_summary();
 }
