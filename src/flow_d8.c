@@ -102,59 +102,114 @@ static unsigned indegree(const acc8 *s, size_t i, int x, int y)
     return m;
 }
 
-/* Counts of the band's cells: 1 (own rain) or 0; in-degrees into cnt. */
+/* Count (1: own rain, 0: nodata) and in-degree of cell i = (x, y). */
+static void init_cell(acc8 *s, size_t i, int x, int y)
+{
+    s->acc[i] = s->code[i] != NODATA;
+    s->cnt[i] = s->code[i] == NODATA ? 0 : (uint8_t)indegree(s, i, x, y);
+}
+
+#ifdef __SSE2__
+/* Cells [i, i + 16) of an interior row, none on the grid edge: each
+ * neighbour direction k is one compare of the row shifted by off[k] (the
+ * neighbour points back when its code is k + 4 mod 8). */
+static void init_16(acc8 *s, size_t i)
+{
+    const __m128i z = _mm_setzero_si128();
+    __m128i c = _mm_loadu_si128((const __m128i *)(s->code + i));
+    __m128i nod = _mm_cmpeq_epi8(c, _mm_set1_epi8(NODATA));
+    __m128i n = z, one = _mm_andnot_si128(nod, _mm_set1_epi8(1));
+    __m128i lo, hi;
+    int k;
+    for (k = 0; k < 8; k++) {
+        __m128i v = _mm_loadu_si128((const __m128i *)(s->code + i +
+                                                      s->off[k]));
+        n = _mm_sub_epi8(n, _mm_cmpeq_epi8(v, _mm_set1_epi8(
+                                                  (char)((k + 4) & 7))));
+    }
+    _mm_storeu_si128((__m128i *)(s->cnt + i), _mm_andnot_si128(nod, n));
+    lo = _mm_unpacklo_epi8(one, z);
+    hi = _mm_unpackhi_epi8(one, z);
+    _mm_storeu_si128((__m128i *)(s->acc + i), _mm_unpacklo_epi16(lo, z));
+    _mm_storeu_si128((__m128i *)(s->acc + i + 4), _mm_unpackhi_epi16(lo, z));
+    _mm_storeu_si128((__m128i *)(s->acc + i + 8), _mm_unpacklo_epi16(hi, z));
+    _mm_storeu_si128((__m128i *)(s->acc + i + 12),
+                     _mm_unpackhi_epi16(hi, z));
+}
+#endif
+
+/* Counts and in-degrees of the band's cells. */
 static void band_init(acc8 *s, band *b)
 {
     int x, y;
     for (y = b->y0; y < b->y1; y++) {
         size_t i = (size_t)y * (size_t)s->w;
-        for (x = 0; x < s->w; x++, i++) {
-            s->acc[i] = s->code[i] != NODATA;
-            s->cnt[i] = s->code[i] == NODATA ? 0
-                                             : (uint8_t)indegree(s, i, x, y);
+        x = 0;
+#ifdef __SSE2__
+        if (y > 0 && y < s->h - 1) {
+            init_cell(s, i, 0, y);
+            for (x = 1, i++; x + 16 < s->w; x += 16, i += 16)
+                init_16(s, i);
         }
+#endif
+        for (; x < s->w; x++, i++)
+            init_cell(s, i, x, y);
     }
-}
-
-/* Which band holds cell i. */
-static int band_of(const acc8 *s, const band *b, size_t i)
-{
-    return i < b->lo ? -1 : i >= b->hi ? 1 : 0;
 }
 
 /* Chain from cell c of band b downstream. */
 static void chain(acc8 *s, band *b, size_t c, int par)
 {
+    uint8_t *restrict code = s->code, *restrict cnt = s->cnt;
+    uint32_t *restrict acc = s->acc;
+    const ptrdiff_t *off = s->off;
+    const size_t lo = b->lo, hi = b->hi;
+    uint32_t a = acc[c];
+    size_t done = 0;
     for (;;) {
-        int k = s->code[c];
-        uint32_t a = s->acc[c];
+        int k = code[c];
         size_t r;
-        int o;
-        s->code[c] = DONE;
-        b->done++;
+        code[c] = DONE;
+        done++;
         if (k == ROOT) {
             b->outflow += a;
             b->outlets++;
-            return;
+            break;
         }
-        r = c + (size_t)s->off[k];
-        if ((o = band_of(s, b, r)) != 0) {
-            if (hv_push(&b->out[par][o > 0], (uint32_t)r, a) != 0)
+        r = c + (size_t)off[k];
+        if (r < lo || r >= hi) {
+            if (hv_push(&b->out[par][r >= hi], (uint32_t)r, a) != 0)
                 b->fail = 1;
-            return;
+            break;
         }
-        s->acc[r] += a;
-        if (--s->cnt[r])
-            return;
+        a += acc[r];
+        acc[r] = a;
+        if (--cnt[r])
+            break;
         c = r;
     }
+    b->done += done;
 }
 
-/* Sources of the band (nothing upstream), in raster order. */
+/* Sources of the band (nothing upstream), in raster order.  A chain only
+ * enters a cell it brings to 0, never a source, so a 16-cell mask taken
+ * before that mask's chains run stays right. */
 static void band_sources(acc8 *s, band *b)
 {
-    size_t i;
-    for (i = b->lo; i < b->hi; i++)
+    size_t i = b->lo;
+#ifdef __SSE2__
+    for (; i + 16 <= b->hi; i += 16) {
+        __m128i c = _mm_loadu_si128((const __m128i *)(s->code + i));
+        __m128i n = _mm_loadu_si128((const __m128i *)(s->cnt + i));
+        __m128i src = _mm_and_si128(
+            _mm_cmpeq_epi8(n, _mm_setzero_si128()),
+            _mm_cmpeq_epi8(_mm_min_epu8(c, _mm_set1_epi8(ROOT)), c));
+        unsigned m = (unsigned)_mm_movemask_epi8(src);
+        for (; m; m &= m - 1)
+            chain(s, b, i + (size_t)__builtin_ctz(m), 0);
+    }
+#endif
+    for (; i < b->hi; i++)
         if (s->cnt[i] == 0 && s->code[i] <= ROOT)
             chain(s, b, i, 0);
 }
