@@ -386,42 +386,64 @@ static int visit(const pf *p, wk *q, uint32_t c, int in_order,
     return rc;
 }
 
+/* Seed cell i of tile t (perim: on the tile's perimeter). */
+static int seed_cell(const pf *p, wk *q, size_t i, int perim, const int t[4])
+{
+    uint8_t c = p->code[i];
+    unsigned m;
+    if (c & NOD)
+        return 0;
+    if (perim)
+        p->code[i] = c = (uint8_t)(c | PERIM);
+    if (!(c & DRAIN))
+        return perim ? heap_push(q, p->z[i], (uint32_t)i) : 0;
+    p->code[i] = (uint8_t)(c | SEEN);
+    if (perim) {
+        unsigned s;
+        m = perim_mask(p, i, t);
+        for (s = 0; s < 9; s++)
+            if ((m >> s & 1) &&
+                !(p->code[i + (size_t)p->off[s]] & (DRAIN | NOD)))
+                break;
+        m = s < 9;
+    } else
+        m = w3_eq8(p->code, i, (size_t)p->w, DRAIN | NOD, 0);
+    return m ? heap_push(q, p->z[i], (uint32_t)i) : 0;
+}
+
 /* Seeds of tile t: the drained cells next to undrained ones (label 0:
  * OUTSIDE, at their height; the other drained cells are done) and the
- * undrained cells of the perimeter (no label until popped or reached). */
+ * undrained cells of the perimeter (no label until popped or reached).
+ * Inside the tile, 16 cells without a drained one are passed over at
+ * once (white noise: almost all). */
 static int tile_seeds(const pf *p, wk *q, const int t[4])
 {
     int x, y, rc = 0;
     for (y = t[2]; y < t[3] && rc == 0; y++) {
         size_t i = (size_t)y * (size_t)p->w + (size_t)t[0];
-        int edge_row = y == t[2] || y == t[3] - 1;
-        for (x = t[0]; x < t[1] && rc == 0; x++, i++) {
-            uint8_t c = p->code[i];
-            int perim = edge_row || x == t[0] || x == t[1] - 1;
-            unsigned m;
-            if (c & NOD)
-                continue;
-            if (perim)
-                p->code[i] = c = (uint8_t)(c | PERIM);
-            if (!(c & DRAIN)) {
-                if (perim)
-                    rc = heap_push(q, p->z[i], (uint32_t)i);
-                continue;
-            }
-            p->code[i] = (uint8_t)(c | SEEN);
-            if (perim) {
-                unsigned s;
-                m = perim_mask(p, i, t);
-                for (s = 0; s < 9; s++)
-                    if ((m >> s & 1) &&
-                        !(p->code[i + (size_t)p->off[s]] & (DRAIN | NOD)))
-                        break;
-                m = s < 9;
-            } else
-                m = w3_eq8(p->code, i, (size_t)p->w, DRAIN | NOD, 0);
-            if (m)
-                rc = heap_push(q, p->z[i], (uint32_t)i);
+        if (y == t[2] || y == t[3] - 1) {
+            for (x = t[0]; x < t[1] && rc == 0; x++, i++)
+                rc = seed_cell(p, q, i, 1, t);
+            continue;
         }
+        rc = seed_cell(p, q, i++, 1, t);
+        for (x = t[0] + 1; x < t[1] - 1 && rc == 0;) {
+#ifdef __SSE2__
+            if (x + 16 <= t[1] - 1) {
+                __m128i v = _mm_loadu_si128((const __m128i *)(p->code + i));
+                if (!_mm_movemask_epi8(_mm_slli_epi16(v, 3))) { /* DRAIN:
+                                                        bit 4 -> bit 7 */
+                    x += 16;
+                    i += 16;
+                    continue;
+                }
+            }
+#endif
+            rc = seed_cell(p, q, i++, 0, t);
+            x++;
+        }
+        if (rc == 0 && t[1] - 1 > t[0])
+            rc = seed_cell(p, q, i, 1, t);
     }
     return rc;
 }
@@ -810,11 +832,12 @@ static void drain_sweeps(pf *p)
     }
 }
 
-/* Raise every cell to its label's level; codes back to ROOT / 0. */
+/* Raise every cell to its label's level; codes back to ROOT / 0.  No
+ * branch per cell: label 0 (drained, nodata) reads W[0] = -FLT_MAX. */
 static void apply(pf *p, const float *W, double *raised)
 {
     int ty;
-    double r = 0;
+    size_t r = 0;
 #pragma omp parallel for num_threads(p->nth) schedule(dynamic, 1) \
     reduction(+ : r)
     for (ty = 0; ty < p->nty; ty++) {
@@ -824,19 +847,21 @@ static void apply(pf *p, const float *W, double *raised)
                 uint32_t base = p->base[ty * p->ntx + tx];
                 int xe = (tx + 1) * p->ts < p->w ? (tx + 1) * p->ts : p->w;
                 size_t i = (size_t)y * (size_t)p->w + (size_t)tx * p->ts;
+                uint8_t *restrict code = p->code;
+                float *restrict z = p->z;
                 for (x = tx * p->ts; x < xe; x++, i++) {
-                    uint8_t c = p->code[i];
-                    if (c & NOD)
-                        continue;
-                    p->code[i] = c & 15;
-                    if (p->lab[i] && W[base + p->lab[i]] > p->z[i])
-                        p->z[i] = W[base + p->lab[i]];
-                    r += p->z[i] > p->dem[i];
+                    uint8_t c = code[i];
+                    unsigned l = p->lab[i];
+                    float wv = W[l ? base + l : 0], zz = z[i];
+                    zz = wv > zz ? wv : zz;
+                    z[i] = zz;
+                    code[i] = c & (uint8_t)(15u | (0u - (c & NOD)));
+                    r += zz > p->dem[i];
                 }
             }
     }
     if (raised)
-        *raised = r;
+        *raised = (double)r;
 }
 
 int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
