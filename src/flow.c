@@ -23,7 +23,6 @@
 #include <emmintrin.h>
 #endif
 #include <stdlib.h>
-#include <stdio.h>
 #include <string.h>
 
 enum { ROOT = TD_FL_ROOT, NODATA = TD_FL_NODATA, DONE = 10, STOP = 11,
@@ -221,6 +220,7 @@ static double steepest(fgrid *g, int nth)
             uint8_t *code = g->code + (size_t)y * (size_t)g->w;
             const float *z = g->z + (size_t)y * (size_t)g->w;
             int x0, x, nb;
+            size_t nf = 0;
             if (!bs || !best) {
                 fail = 1;
                 continue;
@@ -229,13 +229,14 @@ static double steepest(fgrid *g, int nth)
                 nb = g->w - 1 - x0 < STEEP_BLOCK ? g->w - 1 - x0
                                                  : STEEP_BLOCK;
                 steepest_row(g, z + x0, nb, bs, best);
-                for (x = 0; x < nb; x++)
-                    if (code[x0 + x] == 0) {
-                        code[x0 + x] = best[x] < 0 ? UNSEEN
-                                                   : (uint8_t)(int)best[x];
-                        flat += best[x] < 0;
-                    }
+                for (x = 0; x < nb; x++) { /* selects, no branch */
+                    uint8_t c = code[x0 + x];
+                    int k = (int)best[x], open = c == 0;
+                    code[x0 + x] = open ? (k < 0 ? UNSEEN : (uint8_t)k) : c;
+                    nf += (size_t)(open & (k < 0));
+                }
             }
+            flat += (double)nf;
         }
         free(bs);
         free(best);
@@ -395,17 +396,14 @@ static int flats(fgrid *g, double nflat, int nth)
             bad = r < bad ? r : bad;
         }
     }
-    double T5 = omp_get_wtime();
     if (bad == 0 && nb > 1) { /* the flats left for later */
         size_t i;
         for (i = 0; i < g->n; i++)
             if (g->code[i] == LATER)
                 g->code[i] = UNSEEN;
     }
-    double T6 = omp_get_wtime(), g0 = got;
     if (bad == 0)
         bad = flats_in(g, 0, g->n, &got);
-    if (getenv("TDT")) fprintf(stderr, "TDT flats: bands+reset %.3f serial %.3f (%.0f cells)\n", T6 - T5, omp_get_wtime() - T6, got - g0);
     if (bad == -1)
         return td_seterr(g->cx, TD_ENOMEM, "flow: out of memory");
     if (bad == -2 || got != nflat)
@@ -419,16 +417,12 @@ static int route(fgrid *g, const td_flow_params *p, double p0, double p1,
                  td_flow_stats *st)
 {
     int nth = p->threads > 0 ? p->threads : omp_get_max_threads();
-    double T0 = omp_get_wtime(), T1, T2;
     int rc = td_pflood(g->dem, g->z, g->code, g->w, g->h, p->tile, nth,
                        &st->raised, p0, p0 + 0.8 * (p1 - p0), g->cx);
-    T1 = omp_get_wtime();
     if (rc == 0) {
         double nflat = steepest(g, nth);
-        T2 = omp_get_wtime();
         rc = nflat < 0 ? td_seterr(g->cx, TD_ENOMEM, "flow: out of memory")
                        : flats(g, nflat, nth);
-        if (getenv("TDT")) fprintf(stderr, "TDT fill %.3f dirs %.3f flats %.3f (nflat %.0f)\n", T1-T0, T2-T1, omp_get_wtime()-T2, nflat);
     }
     if (rc == 0)
         rc = td_progress(g->cx, "flow", p1);
@@ -711,7 +705,6 @@ int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
         rc = td_seterr(cx, TD_EINVAL, "flow: bad parameters");
         goto fail;
     }
-    double T4 = omp_get_wtime();
     rc = fgrid_init(&g, dem, passes, 0,
                     &s.cells, cx);
     if (rc == 0)
@@ -723,7 +716,6 @@ int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
         rc = sobel_run(&g, ms, &s);
     } else if ((rc = route(&g, p, 0.0, p->method == TD_FLOW_D8 ? 0.8
                                                   : 0.6, &s)) == 0) {
-        double T3 = omp_get_wtime();
         if (p->method == TD_FLOW_D8)
             rc = d8_accumulate(&g, s.cells, p->threads > 0 ? p->threads
                                : omp_get_max_threads(), &s);
@@ -731,13 +723,11 @@ int td_flow_run(const td_grid_f32 *dem, const td_flow_params *p,
             rc = TD_ENOMEM;
         else
             rc = dinf_accumulate(&g, acc, s.cells, &s);
-        if (getenv("TDT")) fprintf(stderr, "TDT accum %.3f\n", omp_get_wtime()-T3);
     }
     if (rc != 0)
         goto fail;
     store(&g, acc, dem->nodata, p->threads > 0 ? p->threads
                                           : omp_get_max_threads(), &s);
-    if (getenv("TDT")) fprintf(stderr, "TDT total %.3f\n", omp_get_wtime()-T4);
     rc = td_progress(cx, "flow", 1.0);
 fail:
     if (st)
