@@ -250,15 +250,18 @@ enum { COMP = 0xFE, LATER = 0xFD, FIRST = 0x80 }; /* flat cell: in the
 /* Window slot s (window3.h) -> neighbour code k, and back. */
 static const int SLOT_K[9] = {5, 6, 7, 4, -1, 0, 3, 2, 1};
 
-/* The neighbours of flat cell i (never on the grid edge) of the same
- * height whose code is `want`, or (want < 0) that are exits (outlets,
- * cells with a direction), as a window mask. */
+/* The neighbours of flat cell i (never on the grid edge) whose code is
+ * `want`, or (want < 0) that are exits (outlets, cells with a direction)
+ * of the same height, as a window mask.  Flat cells next to each other
+ * have the same height (neither has a lower neighbour), so only exits
+ * need the height test. */
 static unsigned flat_nbrs(const fgrid *g, size_t i, int want)
 {
     size_t w = (size_t)g->w;
-    unsigned m = want < 0 ? w3_le8(g->code, i, w, ROOT)
-                          : w3_eq8(g->code, i, w, 0xFF, (uint8_t)want);
-    return m & w3_z(g->z, i, w, g->z[i], W3_EQ) & ~0x10u;
+    if (want >= 0)
+        return w3_eq8(g->code, i, w, 0xFF, (uint8_t)want) & ~0x10u;
+    return w3_le8(g->code, i, w, ROOT) &
+           w3_z(g->z, i, w, g->z[i], W3_EQ) & ~0x10u;
 }
 
 /* Offset of window slot s. */
