@@ -244,9 +244,6 @@ static double steepest(fgrid *g, int nth)
     return fail ? -1 : flat;
 }
 
-enum { COMP = 0xFE, LATER = 0xFD, FIRST = 0x80 }; /* flat cell: in the
-    flat being searched; in a flat left for later; first step chosen */
-
 /* Window slot s (window3.h) -> neighbour code k, and back. */
 static const int SLOT_K[9] = {5, 6, 7, 4, -1, 0, 3, 2, 1};
 
@@ -262,6 +259,17 @@ static unsigned flat_nbrs(const fgrid *g, size_t i, int want)
         return w3_eq8(g->code, i, w, 0xFF, (uint8_t)want) & ~0x10u;
     return w3_le8(g->code, i, w, ROOT) &
            w3_z(g->z, i, w, g->z[i], W3_EQ) & ~0x10u;
+}
+
+enum { COMP = 0xFE, LATER = 0xFD, FIRST = 0x80 }; /* flat cell: in the
+    flat being searched; in a flat left for later; first step chosen */
+
+/* The flat neighbours of flat cell i not yet taken: UNSEEN, and (late)
+ * LATER too (0xFD, 0xFF: both have the bits of 0xFD). */
+static unsigned flat_open(const fgrid *g, size_t i, int late)
+{
+    uint8_t m = late ? LATER : UNSEEN;
+    return w3_eq8(g->code, i, (size_t)g->w, m, m) & ~0x10u;
 }
 
 /* Offset of window slot s. */
@@ -291,14 +299,14 @@ static int cmp_u32(const void *a, const void *b)
  * drains one step nearer an exit.  The flat must lie in cells [lo, hi)
  * (whole rows), else its cells there are marked LATER (-3).  Returns the
  * flat's cells, or -1 out of memory, -2 no exit, -3 not inside. */
-static double flat_one(fgrid *g, size_t i, size_t lo, size_t hi, u32vec *a,
-                       u32vec *b)
+static double flat_one(fgrid *g, size_t i, size_t lo, size_t hi, int late,
+                       u32vec *a, u32vec *b)
 {
     size_t h;
     unsigned m;
     int out = 0;
     a->n = b->n = 0;
-    if (!flat_nbrs(g, i, UNSEEN)) { /* one cell (a filled pit, mostly) */
+    if (!flat_open(g, i, late)) { /* one cell (a filled pit, mostly) */
         m = flat_nbrs(g, i, -1);
         if (!m)
             return -2;
@@ -309,7 +317,7 @@ static double flat_one(fgrid *g, size_t i, size_t lo, size_t hi, u32vec *a,
     if (u32_push(a, (uint32_t)i, NULL) != 0)
         return -1;
     for (h = 0; h < a->n; h++)
-        for (m = flat_nbrs(g, a->v[h], UNSEEN); m; m &= m - 1) {
+        for (m = flat_open(g, a->v[h], late); m; m &= m - 1) {
             size_t j = a->v[h] + (size_t)slot_off(g, __builtin_ctz(m));
             if (j < lo || j >= hi) { /* another band's: later, alone */
                 out = 1;
@@ -355,16 +363,18 @@ static double flat_one(fgrid *g, size_t i, size_t lo, size_t hi, u32vec *a,
     return b->n == a->n ? (double)a->n : -2;
 }
 
-/* The flats starting in cells [lo, hi) that lie in them; adds their cells
- * to *got.  0, or -1 out of memory, -2 a flat with no exit. */
-static int flats_in(fgrid *g, size_t lo, size_t hi, double *got)
+/* The flats with a cell in [s0, s1) that lie in cells [lo, hi) (late:
+ * any flat, its cells UNSEEN or LATER); adds their cells to *got.  0, or
+ * -1 out of memory, -2 a flat with no exit. */
+static int flats_in(fgrid *g, size_t lo, size_t hi, size_t s0, size_t s1,
+                    int late, double *got)
 {
     u32vec a = {NULL, 0, 0}, b = {NULL, 0, 0};
     size_t i;
     int rc = 0;
-    for (i = lo; i < hi && rc == 0; i++)
+    for (i = s0; i < s1 && rc == 0; i++)
         if (g->code[i] == UNSEEN) {
-            double r = flat_one(g, i, lo, hi, &a, &b);
+            double r = flat_one(g, i, lo, hi, late, &a, &b);
             if (r > 0)
                 *got += r;
             else if (r > -2.5) /* -1, -2; -3: not inside, left */
@@ -379,34 +389,38 @@ static int flats_in(fgrid *g, size_t lo, size_t hi, double *got)
  * the cache (a breadth-first search over all flats at once sweeps the
  * whole grid at every step).  On threads: each takes a band of rows and
  * the flats inside it without its first and last row (so no thread reads
- * what another writes); the flats left are done after, on one thread.
+ * what another writes).  A flat it cannot finish reaches into one of
+ * those rows (the search steps one row at a time), so the flats left
+ * are found there after, on one thread, taking their LATER cells along.
  * The directions do not depend on the order.  0, TD_ENOMEM,
  * TD_EINTERNAL. */
 static int flats(fgrid *g, double nflat, int nth)
 {
     double got = 0;
+    size_t w = (size_t)g->w;
     int t, bad = 0, nb = nth > 1 && g->h >= 16 * nth ? nth : 1;
     if (nflat == 0)
         return 0;
-    if (nb > 1) {
+    if (nb == 1)
+        bad = flats_in(g, 0, g->n, 0, g->n, 0, &got);
+    else {
 #pragma omp parallel for num_threads(nb) reduction(+ : got) \
     reduction(min : bad)
         for (t = 0; t < nb; t++) {
             size_t y0 = (size_t)g->h * (size_t)t / (size_t)nb,
                    y1 = (size_t)g->h * (size_t)(t + 1) / (size_t)nb;
-            int r = flats_in(g, (y0 + 1) * (size_t)g->w,
-                             (y1 - 1) * (size_t)g->w, &got);
+            int r = flats_in(g, (y0 + 1) * w, (y1 - 1) * w, (y0 + 1) * w,
+                             (y1 - 1) * w, 0, &got);
             bad = r < bad ? r : bad;
         }
+        for (t = 0; t < nb && bad == 0; t++) { /* the rows left out */
+            size_t y0 = (size_t)g->h * (size_t)t / (size_t)nb,
+                   y1 = (size_t)g->h * (size_t)(t + 1) / (size_t)nb;
+            bad = flats_in(g, 0, g->n, y0 * w, (y0 + 1) * w, 1, &got);
+            if (bad == 0)
+                bad = flats_in(g, 0, g->n, (y1 - 1) * w, y1 * w, 1, &got);
+        }
     }
-    if (bad == 0 && nb > 1) { /* the flats left for later */
-        size_t i;
-        for (i = 0; i < g->n; i++)
-            if (g->code[i] == LATER)
-                g->code[i] = UNSEEN;
-    }
-    if (bad == 0)
-        bad = flats_in(g, 0, g->n, &got);
     if (bad == -1)
         return td_seterr(g->cx, TD_ENOMEM, "flow: out of memory");
     if (bad == -2 || got != nflat)
