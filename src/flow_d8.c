@@ -158,7 +158,8 @@ static void band_init(acc8 *s, band *b)
 }
 
 /* Chain from cell c of band b downstream. */
-static void chain(acc8 *s, band *b, size_t c, int par)
+static inline __attribute__((always_inline)) void
+chain(acc8 *s, band *b, size_t c, int par)
 {
     uint8_t *restrict code = s->code, *restrict cnt = s->cnt;
     uint32_t *restrict acc = s->acc;
