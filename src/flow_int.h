@@ -11,8 +11,9 @@
 /* Code byte values shared by both files (flow.c adds its own above 9). */
 enum { TD_FL_ROOT = 8, TD_FL_NODATA = 9 };
 
-/* Default tile side of the fill. */
-#define TD_PFLOOD_TILE 512
+/* Default tile side of the fill (256: with the ranked queue, as fast as
+ * 512 and 2-6 MB smaller on two threads). */
+#define TD_PFLOOD_TILE 256
 
 /* Priority-flood depression filling of the w x h heights dem into z (not
  * the same buffer), in square tiles of side `tile` (0: TD_PFLOOD_TILE;
