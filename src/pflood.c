@@ -800,34 +800,121 @@ static int mark_outlets(pf *p)
     return 0;
 }
 
-/* Drain step of row y from row py (the row before it in the sweep):
- * vertically from the three cells there, then along the row both ways.
- * No branch per cell (on noise these tests are coin flips); NOD << 4 is
- * DRAIN, so a nodata cell never takes it. */
-static size_t drain_row(pf *p, int y, int py, int x0, int x1)
+/* ---- drained cells, 64 columns per word ------------------------------- */
+
+/* Bit j: a[j] <= b[j], for j < n (n <= 64). */
+static uint64_t le_bits(const float *a, const float *b, int n)
 {
-    size_t w = (size_t)p->w;
+    uint64_t m = 0;
+    int j = 0;
+#ifdef __SSE2__
+    for (; j + 4 <= n; j += 4)
+        m |= (uint64_t)_mm_movemask_ps(_mm_cmple_ps(_mm_loadu_ps(a + j),
+                                                    _mm_loadu_ps(b + j)))
+             << j;
+#endif
+    for (; j < n; j++)
+        m |= (uint64_t)(a[j] <= b[j]) << j;
+    return m;
+}
+
+/* Bit j: (b[j] & mask) != 0, for j < n (n <= 64). */
+static uint64_t byte_bits(const uint8_t *b, uint8_t mask, int n)
+{
+    uint64_t m = 0;
+    int j = 0;
+#ifdef __SSE2__
+    const __m128i k = _mm_set1_epi8((char)mask), z = _mm_setzero_si128();
+    for (; j + 16 <= n; j += 16) {
+        __m128i v = _mm_and_si128(_mm_loadu_si128((const __m128i *)(b + j)),
+                                  k);
+        m |= (uint64_t)(~(unsigned)_mm_movemask_epi8(_mm_cmpeq_epi8(v, z)) &
+                        0xFFFFu)
+             << j;
+    }
+#endif
+    for (; j < n; j++)
+        m |= (uint64_t)((b[j] & mask) != 0) << j;
+    return m;
+}
+
+/* The bits of columns [lo, hi) in the word whose bit 0 is column b. */
+static uint64_t span_bits(int b, int lo, int hi)
+{
+    int l = lo - b < 0 ? 0 : lo - b, h = hi - b > 64 ? 64 : hi - b;
+    if (h <= l)
+        return 0;
+    return (h == 64 ? ~0ull : (1ull << h) - 1) & ~((1ull << l) - 1);
+}
+
+/* Carry propagation (g and p disjoint): bit j of the result is g[j] |
+ * (p[j] & result[j - 1]), result[-1] = *cin; *cin becomes bit 63.  The
+ * carries of (g | p) + g are exactly that chain. */
+static uint64_t spread(uint64_t g, uint64_t p, uint64_t *cin)
+{
+    uint64_t a = g | p, r = g | (p & ((a + g + *cin) ^ a ^ g));
+    *cin = r >> 63;
+    return r;
+}
+
+static uint64_t bit_reverse(uint64_t v)
+{
+    v = __builtin_bswap64(v);
+    v = (v >> 4 & 0x0F0F0F0F0F0F0F0Full) | (v & 0x0F0F0F0F0F0F0F0Full) << 4;
+    v = (v >> 2 & 0x3333333333333333ull) | (v & 0x3333333333333333ull) << 2;
+    return (v >> 1 & 0x5555555555555555ull) |
+           (v & 0x5555555555555555ull) << 1;
+}
+
+/* Drain step of row y from row py (the row before it in the sweep), in
+ * columns [x0, x1): a cell drains when a drained cell of row py next to it
+ * (or above/below it) is not higher, then along the row both ways through
+ * cells not lower than the one before.  64 columns per word, no branch
+ * per cell: the run along the row is the carry chain of an addition.
+ * Scratch: 3 words per 64 columns.  Returns the drained cells of the
+ * row. */
+static size_t drain_row(pf *p, int y, int py, int x0, int x1, uint64_t *buf)
+{
+    size_t w = (size_t)p->w, got = 0;
     uint8_t *restrict c = p->code + (size_t)y * w;
     const uint8_t *restrict pc = p->code + (size_t)py * w;
     const float *z = p->z + (size_t)y * w, *pz = p->z + (size_t)py * w;
-    int x, xa = x0 > 1 ? x0 : 1, xb = x1 < p->w - 1 ? x1 : p->w - 1;
-    size_t got = 0;
-    for (x = xa; x < xb; x++) { /* the strip's own columns only */
-        float zc = z[x];
-        unsigned d = (pc[x] & (unsigned)-(pz[x] <= zc));
-        if (x - 1 >= x0)
-            d |= pc[x - 1] & (unsigned)-(pz[x - 1] <= zc);
-        if (x + 1 < x1)
-            d |= pc[x + 1] & (unsigned)-(pz[x + 1] <= zc);
-        c[x] |= (uint8_t)(d & DRAIN & ~((c[x] & NOD) << 4));
+    int xa = x0 > 1 ? x0 : 1, xb = x1 < p->w - 1 ? x1 : p->w - 1;
+    int lo = xa > x0 ? xa : x0 + 1, hi = xb < x1 ? xb : x1 - 1;
+    int nw = (x1 - x0 + 63) / 64, k;
+    uint64_t *dp = buf, *d = buf + nw, *v = buf + 2 * nw, cin = 0;
+    for (k = 0; k < nw; k++) {
+        int b = x0 + 64 * k, n = x1 - b < 64 ? x1 - b : 64;
+        dp[k] = byte_bits(pc + b, DRAIN, n);
     }
-    for (x = xa > x0 ? xa : x0 + 1; x < xb; x++)
-        c[x] |= (uint8_t)(c[x - 1] & (unsigned)-(z[x - 1] <= z[x]) & DRAIN &
-                          ~((c[x] & NOD) << 4));
-    for (x = (xb < x1 ? xb : x1 - 1) - 1; x >= xa; x--) {
-        c[x] |= (uint8_t)(c[x + 1] & (unsigned)-(z[x + 1] <= z[x]) & DRAIN &
-                          ~((c[x] & NOD) << 4));
-        got += c[x] >> 4 & 1;
+    for (k = 0; k < nw; k++) { /* from row py */
+        int b = x0 + 64 * k, n = x1 - b < 64 ? x1 - b : 64, last = k == nw - 1;
+        uint64_t cm = le_bits(pz + b, z + b, n);
+        uint64_t cl = k == 0 ? le_bits(pz + b, z + b + 1, n - 1) << 1
+                             : le_bits(pz + b - 1, z + b, n);
+        uint64_t cr = le_bits(pz + b + 1, z + b, last ? n - 1 : n);
+        uint64_t dl = dp[k] << 1 | (k > 0 ? dp[k - 1] >> 63 : 0);
+        uint64_t dr = dp[k] >> 1 | (!last ? dp[k + 1] << 63 : 0);
+        v[k] = span_bits(b, b, b + n) & ~byte_bits(c + b, NOD, n);
+        d[k] = byte_bits(c + b, DRAIN, n) |
+               (v[k] & span_bits(b, xa, xb) &
+                ((dp[k] & cm) | (dl & cl) | (dr & cr)));
+    }
+    for (k = 0; k < nw; k++) { /* along the row, left to right */
+        int b = x0 + 64 * k, n = x1 - b < 64 ? x1 - b : 64;
+        uint64_t e = k == 0 ? le_bits(z + b, z + b + 1, n - 1) << 1
+                            : le_bits(z + b - 1, z + b, n);
+        d[k] = spread(d[k], e & v[k] & span_bits(b, lo, xb) & ~d[k], &cin);
+    }
+    for (k = nw - 1, cin = 0; k >= 0; k--) { /* right to left */
+        int b = x0 + 64 * k, n = x1 - b < 64 ? x1 - b : 64, last = k == nw - 1;
+        uint64_t e = le_bits(z + b + 1, z + b, last ? n - 1 : n);
+        uint64_t pm = e & v[k] & span_bits(b, xa, hi) & ~d[k];
+        uint64_t m;
+        d[k] = bit_reverse(spread(bit_reverse(d[k]), bit_reverse(pm), &cin));
+        got += (size_t)__builtin_popcountll(d[k] & span_bits(b, xa, hi));
+        for (m = d[k] & ~byte_bits(c + b, DRAIN, n); m; m &= m - 1)
+            c[b + __builtin_ctzll(m)] |= DRAIN;
     }
     return got;
 }
@@ -852,10 +939,15 @@ static void drain_sweeps(pf *p)
         int x0 = (int)((long long)p->w * t / ns);
         int x1 = (int)((long long)p->w * (t + 1) / ns), y, poor = 0;
         size_t few = (size_t)(x1 - x0) / 100;
+        uint64_t *buf = malloc(3 * (size_t)((x1 - x0 + 63) / 64) *
+                               sizeof *buf);
+        if (!buf) /* no sweep: the floods do it all */
+            continue;
         for (y = 1; y < p->h - 1 && poor < 32; y++)
-            poor = drain_row(p, y, y - 1, x0, x1) <= few ? poor + 1 : 0;
+            poor = drain_row(p, y, y - 1, x0, x1, buf) <= few ? poor + 1 : 0;
         for (y = p->h - 2, poor = 0; y >= 1 && poor < 32; y--)
-            poor = drain_row(p, y, y + 1, x0, x1) <= few ? poor + 1 : 0;
+            poor = drain_row(p, y, y + 1, x0, x1, buf) <= few ? poor + 1 : 0;
+        free(buf);
     }
 }
 
