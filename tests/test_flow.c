@@ -265,12 +265,13 @@ static int nodata_at(const td_grid_f32 *dem, int x, int y)
 /* src/flow_d8.c on its own: one path that snakes down column 0, up column
  * 1, down column 2, ... so it crosses every row band's border in both
  * directions (a hand-over round per crossing).  The cell k steps along the
- * path collects k + 1; the last cell is the outlet.  1 to 4 bands. */
-static void test_d8_bands_snake(void)
+ * path collects k + 1; the last cell is the outlet.  1 to 4 bands, w x 64
+ * cells. */
+static void snake(int w)
 {
-    const int w = 9, h = 64;
-    uint8_t *code = malloc((size_t)(w * h));
-    uint32_t *acc = malloc(sizeof *acc * (size_t)(w * h));
+    const int h = 64;
+    uint8_t *code = malloc((size_t)w * h);
+    uint32_t *acc = malloc(sizeof *acc * (size_t)w * h);
     int t, x, y;
     for (t = 1; t <= 4 && code && acc; t++) {
         double out, outlets, done;
@@ -288,12 +289,21 @@ static void test_d8_bands_snake(void)
                 int yy = x & 1 ? h - 1 - y : y;
                 bad += acc[yy * w + x] != (uint32_t)k + 1;
             }
-        TT_CHECKF(bad == 0, "%d bands: %d counts off the path position", t,
-                  bad);
-        TT_CHECK(out == w * h && outlets == 1 && done == w * h);
+        TT_CHECKF(bad == 0, "%d wide, %d bands: %d counts off the path "
+                  "position", w, t, bad);
+        TT_CHECK(out == (double)w * h && outlets == 1 &&
+                 done == (double)w * h);
     }
     free(code);
     free(acc);
+}
+
+/* 9 wide: one block of rows per band.  8192 wide: blocks of 16 rows, so
+ * the path also crosses the blocks inside each band, down and up. */
+static void test_d8_bands_snake(void)
+{
+    snake(9);
+    snake(8192);
 }
 
 /* Brute-force fill: repeat W = max(dem, min over valid neighbours of W)
