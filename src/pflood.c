@@ -443,6 +443,46 @@ static inline int seed_cell(const pf *p, wk *q, size_t i, int perim,
     return u32_push(&q->seeds, (uint32_t)i);
 }
 
+#ifdef __SSE2__
+/* Cells [i, i + 16) inside a tile (off its perimeter) as seed_cell does
+ * them: undrained ones are candidates, drained ones are SEEN (DRAIN << 2)
+ * and seeds when a neighbour is undrained, found 16 at a time (smooth
+ * DEMs: most cells are drained, and few of them seeds). */
+static int seed_16(const pf *p, wk *q, size_t i)
+{
+    const __m128i dn = _mm_set1_epi8(DRAIN | NOD), zero = _mm_setzero_si128();
+    __m128i c = _mm_loadu_si128((const __m128i *)(p->code + i)), und;
+    unsigned cand, drained, m;
+    int s, rc = 0;
+    und = _mm_cmpeq_epi8(_mm_and_si128(c, dn), zero);
+    cand = (unsigned)_mm_movemask_epi8(und);
+    drained = (unsigned)_mm_movemask_epi8(_mm_slli_epi16(c, 3)); /* bit 4 */
+    for (m = cand; m; m &= m - 1) {
+        size_t j = i + (size_t)__builtin_ctz(m);
+        rq_add(&q->heap, p->z[j], (uint32_t)j);
+    }
+    if (!drained)
+        return 0;
+    und = zero;
+    for (s = 0; s < 9; s++)
+        if (s != 4)
+            und = _mm_or_si128(und, _mm_cmpeq_epi8(_mm_and_si128(
+                      _mm_loadu_si128((const __m128i *)(p->code + i +
+                                                        p->off[s])), dn),
+                                                   zero));
+    _mm_storeu_si128((__m128i *)(p->code + i),
+                     _mm_or_si128(c, _mm_slli_epi16(_mm_and_si128(
+                                      c, _mm_set1_epi8(DRAIN)), 2)));
+    for (m = drained & (unsigned)_mm_movemask_epi8(und); m && rc == 0;
+         m &= m - 1) {
+        size_t j = i + (size_t)__builtin_ctz(m);
+        rq_add(&q->heap, p->z[j], (uint32_t)j);
+        rc = u32_push(&q->seeds, (uint32_t)j);
+    }
+    return rc;
+}
+#endif
+
 /* Seeds of tile t: the drained cells next to undrained ones (label 0:
  * OUTSIDE, at their height; the other drained cells are done) and the
  * undrained cells of the perimeter (no label until popped or reached),
@@ -466,7 +506,12 @@ static int tile_seeds(const pf *p, wk *q, const int t[4])
             continue;
         }
         rc = seed_cell(p, q, i++, 1, t);
-        for (x = t[0] + 1; x < t[1] - 1 && rc == 0; x++, i++) {
+        x = t[0] + 1;
+#ifdef __SSE2__
+        for (; x + 16 <= t[1] - 1 && rc == 0; x += 16, i += 16)
+            rc = seed_16(p, q, i);
+#endif
+        for (; x < t[1] - 1 && rc == 0; x++, i++) {
             uint8_t c = p->code[i];
             if (!(c & (DRAIN | NOD))) /* white noise: almost all */
                 rq_add(h, p->z[i], (uint32_t)i);
