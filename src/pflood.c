@@ -83,7 +83,7 @@ typedef struct ehash {
 
 /* One thread's flood state, reused from tile to tile. */
 typedef struct wk {
-    rq heap;
+    rq queue;
     u32vec fifo, stack, seeds;
     size_t fhead;
     ehash eh;
@@ -406,7 +406,7 @@ static int visit(const pf *p, wk *q, uint32_t c, int in_order,
         } else if (traceable(p, n))
             rc = u32_push(&q->stack, (uint32_t)n);
         else
-            rq_push(&q->heap, (uint32_t)n);
+            rq_push(&q->queue, (uint32_t)n);
     }
     return rc;
 }
@@ -423,7 +423,7 @@ static inline int seed_cell(const pf *p, wk *q, size_t i, int perim,
     if (perim)
         p->code[i] = c = (uint8_t)(c | PERIM);
     if (!(c & DRAIN)) {
-        rq_add(&q->heap, p->z[i], (uint32_t)i);
+        rq_add(&q->queue, p->z[i], (uint32_t)i);
         return perim ? u32_push(&q->seeds, (uint32_t)i) : 0;
     }
     p->code[i] = (uint8_t)(c | SEEN);
@@ -439,7 +439,7 @@ static inline int seed_cell(const pf *p, wk *q, size_t i, int perim,
         m = w3_eq8(p->code, i, (size_t)p->w, DRAIN | NOD, 0);
     if (!m)
         return 0;
-    rq_add(&q->heap, p->z[i], (uint32_t)i);
+    rq_add(&q->queue, p->z[i], (uint32_t)i);
     return u32_push(&q->seeds, (uint32_t)i);
 }
 
@@ -459,7 +459,7 @@ static int seed_16(const pf *p, wk *q, size_t i)
     drained = (unsigned)_mm_movemask_epi8(_mm_slli_epi16(c, 3)); /* bit 4 */
     for (m = cand; m; m &= m - 1) {
         size_t j = i + (size_t)__builtin_ctz(m);
-        rq_add(&q->heap, p->z[j], (uint32_t)j);
+        rq_add(&q->queue, p->z[j], (uint32_t)j);
     }
     if (!drained)
         return 0;
@@ -476,7 +476,7 @@ static int seed_16(const pf *p, wk *q, size_t i)
     for (m = drained & (unsigned)_mm_movemask_epi8(und); m && rc == 0;
          m &= m - 1) {
         size_t j = i + (size_t)__builtin_ctz(m);
-        rq_add(&q->heap, p->z[j], (uint32_t)j);
+        rq_add(&q->queue, p->z[j], (uint32_t)j);
         rc = u32_push(&q->seeds, (uint32_t)j);
     }
     return rc;
@@ -489,7 +489,7 @@ static int seed_16(const pf *p, wk *q, size_t i)
  * queued; every undrained cell is a candidate of the queue. */
 static int tile_seeds(const pf *p, wk *q, const int t[4])
 {
-    rq *h = &q->heap;
+    rq *h = &q->queue;
     size_t k;
     int x, y, rc = 0;
     h->org = (size_t)t[2] * (size_t)p->w + (size_t)t[0];
@@ -544,9 +544,9 @@ static int next_cell(wk *q, uint32_t *c, int *in_order)
         *in_order = 0;
         return 0;
     }
-    if (q->heap.n == 0)
+    if (q->queue.n == 0)
         return 1;
-    *c = rq_pop(&q->heap);
+    *c = rq_pop(&q->queue);
     return 0;
 }
 
@@ -577,7 +577,7 @@ static void wk_free(wk *q)
 {
     if (!q)
         return;
-    rq_free(&q->heap);
+    rq_free(&q->queue);
     free(q->seeds.v);
     free(q->fifo.v);
     free(q->stack.v);
@@ -593,7 +593,7 @@ static int flood_tiles(pf *p, double p0, double p1)
 #pragma omp parallel num_threads(p->nth)
     {
         wk *q = calloc(1, sizeof *q);
-        if (q && rq_alloc(&q->heap, p->ts) != 0) {
+        if (q && rq_alloc(&q->queue, p->ts) != 0) {
             wk_free(q);
             q = NULL;
         }
