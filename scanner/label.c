@@ -13,6 +13,7 @@
 #include "label.h"
 
 #include "contain.h"
+#include "heights_int.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -820,6 +821,8 @@ int td_label_auto(td_lines *ls, const td_label_params *p,
     memset(&s, 0, sizeof s);
     if (!(p->interval > 0) || !isfinite(p->interval) || !isfinite(p->base))
         return td_seterr(cx, TD_EINVAL, "label: the interval must be > 0");
+    if (p->method == TD_LABEL_FACES)
+        return td_heights_solve(ls, p, rep, cx);
     s.ls = ls, s.p = p, s.n = ls->n, s.rep = rep;
     if ((rc = td_contain_build(ls, p->w, p->h, &s.ct, cx)) != 0)
         return rc;

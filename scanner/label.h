@@ -42,7 +42,13 @@ typedef struct td_label_point {
                       -1: located by position */
 } td_label_point;
 
+typedef enum td_labeller {
+    TD_LABEL_FACES = 0, /* one global solve over the faces (heights.c) */
+    TD_LABEL_TREE       /* the containment tree (label.c; the old default) */
+} td_labeller;
+
 typedef struct td_label_params {
+    td_labeller method;    /* default TD_LABEL_FACES */
     double base, interval; /* heights are base + k * interval; interval > 0 */
     int w, h;              /* sheet size in px (for border closing) */
     double near;           /* a known point within this many px of a line is
@@ -74,6 +80,9 @@ typedef struct td_label_report {
                                a --depressions ring */
     long *assumed_ids;
     char *text;             /* warnings, one per line ('\n'), or NULL */
+    size_t by_source[5];    /* labelled lines per td_hsource (faces) */
+    size_t conflicts;       /* face edges the solution breaks (faces) */
+    size_t known_broken;    /* known points the solution overrode (faces) */
 } td_label_report;
 
 /* Defaults: base 0, interval 0 (must be set), w = h = 0 (must be set),

@@ -102,7 +102,8 @@ static int fmt_coord(char *p, double v, int map)
 /* The feature's properties object. */
 static void put_properties(jbuf *j, const td_line *l)
 {
-    char s[360], h[40], par[32], wd[40] = "";
+    static const char *src[] = {"", "known", "label", "solved", "assumed"};
+    char s[600], h[40], par[32], wd[40] = "", hs[80] = "", why[200] = "";
     if (l->has_height && isfinite(l->height))
         snprintf(h, sizeof h, "%.10g", l->height);
     else
@@ -113,13 +114,18 @@ static void put_properties(jbuf *j, const td_line *l)
         snprintf(par, sizeof par, "null");
     if (l->width > 0 && isfinite(l->width))
         snprintf(wd, sizeof wd, ",\"width\":%.2f", l->width);
+    if (l->hsource > TD_HS_NONE && l->hsource <= TD_HS_ASSUMED)
+        snprintf(hs, sizeof hs, ",\"height_source\":\"%s\",\"confidence\""
+                 ":%.3f", src[l->hsource], l->confidence);
+    if (l->why && !l->has_height) /* static text without quotes */
+        snprintf(why, sizeof why, ",\"height_reason\":\"%.150s\"", l->why);
     snprintf(s, sizeof s,
              "{\"type\":\"Feature\",\"properties\":{\"id\":%ld,"
              "\"height\":%s,\"closed\":%s,\"edge\":%s,\"parent\":%s,"
-             "\"bridged\":%d%s},\"geometry\":{\"type\":\"LineString\","
+             "\"bridged\":%d%s%s%s},\"geometry\":{\"type\":\"LineString\","
              "\"coordinates\":[",
              l->id, h, l->closed ? "true" : "false",
-             l->edge ? "true" : "false", par, l->bridged, wd);
+             l->edge ? "true" : "false", par, l->bridged, wd, hs, why);
     jputs(j, s);
 }
 

@@ -40,7 +40,7 @@ typedef struct jkey {
 typedef struct fprops {
     int has_id, has_height, closed, edge, bridged; /* closed -1: unknown */
     long id, parent;
-    double height, width;
+    double height, width, confidence;
 } fprops;
 
 /* Reader state: the points of the current geometry (positions with their
@@ -396,7 +396,7 @@ static int read_prop(jp *p, const jkey *k, fprops *P, size_t fi)
     int is_int;
     if (!is(k, "id") && !is(k, "height") && !is(k, "closed") &&
         !is(k, "edge") && !is(k, "parent") && !is(k, "bridged") &&
-        !is(k, "width"))
+        !is(k, "width") && !is(k, "confidence"))
         return jskip(p, 1);
     if ((rc = jscalar(p, &kind, &v)) != 0)
         return rc;
@@ -411,6 +411,10 @@ static int read_prop(jp *p, const jkey *k, fprops *P, size_t fi)
         if (kind != V_NUM && kind != V_NULL)
             return type_err(p, fi, k->s, "a number or null");
         P->width = kind == V_NUM && isfinite(v) && v > 0 ? v : 0.0;
+    } else if (is(k, "confidence")) {
+        if (kind != V_NUM && kind != V_NULL)
+            return type_err(p, fi, k->s, "a number or null");
+        P->confidence = kind == V_NUM && v >= 0 && v <= 1 ? v : 0.0;
     } else if (is(k, "id") || is(k, "parent")) {
         if (!is_int && kind != V_NULL)
             return type_err(p, fi, k->s, "an integer or null");
@@ -572,6 +576,7 @@ static int emit(rd *R, size_t a, size_t b, const fprops *P, long id,
     l->height = P->has_height ? P->height : 0.0;
     l->parent = P->parent;
     l->width = P->width;
+    l->confidence = P->confidence;
     return 0;
 }
 
@@ -606,7 +611,7 @@ static int emit_feature(jp *p, rd *R, const jkey *t, const fprops *P,
 /* One feature object (cursor at '{'). */
 static int feature(jp *p, rd *R, size_t fi)
 {
-    fprops P = {0, 0, -1, 0, 0, 0, -1, 0.0, 0.0};
+    fprops P = {0, 0, -1, 0, 0, 0, -1, 0.0, 0.0, 0.0};
     jkey k, t = {"", 0}, ft = {"Feature", 7};
     int first = 1, r;
     R->n = R->np = 0;

@@ -14,6 +14,15 @@ extern "C" {
 
 struct td_georef;
 
+/* Where a line's height came from (the labeller, scanner/label.h). */
+typedef enum td_hsource {
+    TD_HS_NONE = 0, /* not labelled by the solver (input, or no height) */
+    TD_HS_KNOWN,    /* a known point (--known) lies on the line */
+    TD_HS_LABEL,    /* a height label read from the sheet */
+    TD_HS_SOLVED,   /* implied by the other evidence through the topology */
+    TD_HS_ASSUMED   /* only a default (summits rise) decided it */
+} td_hsource;
+
 typedef struct td_line {
     double *xy;       /* x0,y0,x1,y1,...: n points */
     size_t n, cap;
@@ -26,6 +35,9 @@ typedef struct td_line {
     long parent;      /* id of the enclosing line, -1 when none/unknown */
     double width;     /* ink width in px measured from the mask (the scanner,
                          scanner/width.h), 0 when not measured */
+    int hsource;       /* td_hsource */
+    double confidence; /* 0..1 that the height is right (with hsource) */
+    const char *why;   /* static text: why the height is null, or NULL */
 } td_line;
 
 typedef struct td_lines {
@@ -51,7 +63,9 @@ double td_line_length(const td_line *l);
 
 /* Write lines as a GeoJSON FeatureCollection of LineStrings, atomically.
  * Properties: id, height (null unless has_height), closed, edge, parent
- * (null when -1), bridged, and width (px, only when measured, > 0).  When georef is valid, coordinates are mapped
+ * (null when -1), bridged, width (px, only when measured, > 0), and when the
+ * labeller set them height_source ("known", "label", "solved", "assumed"),
+ * confidence (0..1) and height_reason (why the height is null).  When georef is valid, coordinates are mapped
  * through it and its EPSG code (if known) is named in a "crs" member, which
  * GDAL/OGR and QGIS read.  Returns 0 or an error naming the file. */
 int td_geojson_write_lines(const char *path, const td_lines *ls,

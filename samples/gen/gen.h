@@ -20,8 +20,10 @@ typedef enum {
     TD_GEN_CONE,  /* one cone in the centre: concentric closed rings */
     TD_GEN_PLANE, /* tilted plane: parallel open lines, all edge */
     TD_GEN_RIDGES, /* many contours, dense (for benchmarks) */
-    TD_GEN_VALLEYS /* a valley network: main valley and four tributaries
-                      cut V-shaped into a tilted plane (drainage) */
+    TD_GEN_VALLEYS, /* a valley network: main valley and four tributaries
+                       cut V-shaped into a tilted plane (drainage) */
+    TD_GEN_DEM /* a real DEM (td_gen_params.dem_in) upsampled smoothly to
+                  the sheet: real valleys, ridges and border-cut lines */
 } td_gen_terrain_kind;
 
 typedef struct td_gen_params {
@@ -47,6 +49,9 @@ typedef struct td_gen_params {
     int labels; /* inline elevation labels per index contour (every 5th
                    level, base + 5k * interval), 0 = none (the default):
                    see td_gen_labels */
+    const td_grid_f32 *dem_in; /* TD_GEN_DEM: the source DEM (not owned;
+                                  no nodata cells), stretched over the
+                                  whole sheet */
     double label_bend; /* labels only where the line stays within this many
                           px of the chord over the label and 25 px either
                           side; 0: 2.5 (straight stretches, the default);
@@ -94,7 +99,9 @@ double td_gen_max_slope(const td_grid_f32 *dem);
 /* The interval td_gen_sheet uses: p->interval when > 0, else the smallest
  * of 1, 2, 2.5, 5 x 10^k that is >= 10 and keeps adjacent contours of dem
  * at least 6.5 px apart (10 on a default 1000 x 1000 HILLS sheet, 20 at
- * 600 x 450, 50 at 200 x 200; always 10 for RIDGES). */
+ * 600 x 450, 50 at 200 x 200; always 10 for RIDGES).  For TD_GEN_DEM the
+ * slope is the 98th percentile, not the maximum, so contours crowd and
+ * touch on the steepest 2% as they do on printed maps. */
 double td_gen_auto_interval(const td_gen_params *p, const td_grid_f32 *dem);
 
 /* True contours of dem at base + k*interval: one td_line per connected

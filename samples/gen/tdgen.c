@@ -3,6 +3,7 @@
  *   tdgen -o sheet.png --truth truth.geojson [--dem truth.tif] [options]
  *
  * Errors are one line on stderr and exit status 1. */
+#include "demio.h"
 #include "gen.h"
 #include "imageio.h"
 
@@ -19,7 +20,7 @@ static const char usage[] =
     "             [--noise SD] [--specks N] [--breaks N] [--break-len A,B]\n"
     "             [--index-width PX] [--labels N] [--label-bend PX]\n"
     "             [--colour] [--distractors]\n"
-    "             [--tiff] [-q|--quiet]\n"
+    "             [--dem-in REAL.tif [--scale S]] [--tiff] [-q|--quiet]\n"
     "\n"
     "Writes a synthetic scanned contour sheet (PNG, or grey GeoTIFF with\n"
     "--tiff), its true contour lines (GeoJSON: height, closed, edge) and the\n"
@@ -31,12 +32,16 @@ static const char usage[] =
     "250 px) where the line stays within --label-bend px (default 2.5) of\n"
     "the label's chord.  --colour: brown ink on cream (RGB, PNG only);\n"
     "--distractors adds a blue river and black lettering to a colour\n"
-    "sheet.\n";
+    "sheet.  --dem-in: draw the sheet from a real DEM (any single-band\n"
+    "GeoTIFF or .asc without nodata cells), stretched smoothly (bicubic)\n"
+    "to --size, or to S times its size with --scale S (default 8); the\n"
+    "interval then keeps contours 6.5 px apart on all but the steepest 2%.\n";
 
 typedef struct opts {
     td_gen_params p;
-    const char *out, *truth, *dem;
-    int tiff, quiet;
+    const char *out, *truth, *dem, *dem_in;
+    double scale;
+    int tiff, quiet, sized;
 } opts;
 
 static int fail(const char *msg, const char *arg)
@@ -126,6 +131,7 @@ static int value_opt(const char *o, const char *v, opts *op)
         {"--index-width", 0, 50, &p->index_width},
         {"--labels", 0, 1000, &labels},
         {"--label-bend", 0, 1000, &p->label_bend},
+        {"--scale", 0.01, 1000, &op->scale},
     };
     size_t i;
     for (i = 0; i < sizeof nums / sizeof nums[0]; i++)
@@ -144,8 +150,10 @@ static int value_opt(const char *o, const char *v, opts *op)
         op->truth = v;
     else if (!strcmp(o, "--dem"))
         op->dem = v;
+    else if (!strcmp(o, "--dem-in"))
+        op->dem_in = v;
     else if (!strcmp(o, "--size"))
-        return !parse_size(v, p);
+        return !(op->sized = parse_size(v, p));
     else if (!strcmp(o, "--terrain"))
         return !parse_terrain(v, p);
     else if (!strcmp(o, "--break-len"))
@@ -218,13 +226,37 @@ static int write_sheet(const opts *op, const td_image *im, td_ctx *cx)
     return td_geotiff_write_u8(op->out, &g, NULL, cx);
 }
 
+/* --dem-in: read the source DEM and size the sheet from it. */
+static int load_dem_in(opts *op, td_grid_f32 **src, td_ctx *cx)
+{
+    td_georef geo;
+    int rc;
+    td_georef_init(&geo);
+    rc = td_dem_read(op->dem_in, src, &geo, cx);
+    td_georef_clear(&geo);
+    if (rc)
+        return rc;
+    op->p.terrain = TD_GEN_DEM;
+    op->p.dem_in = *src;
+    if (!op->sized) {
+        double s = op->scale > 0 ? op->scale : 8.0;
+        double w = (*src)->w * s, h = (*src)->h * s;
+        if (w < 2 || h < 2 || w > TD_MAX_DIM || h > TD_MAX_DIM)
+            return td_seterr(cx, TD_EINVAL, "--scale %g: sheet %.0f x %.0f "
+                             "out of range", s, w, h);
+        op->p.w = (int)(w + 0.5);
+        op->p.h = (int)(h + 0.5);
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     opts op;
     td_ctx cx;
     td_image *im = NULL;
     td_lines *ls = NULL;
-    td_grid_f32 *dem = NULL;
+    td_grid_f32 *dem = NULL, *src = NULL;
     double t0;
     int rc;
     memset(&op, 0, sizeof op);
@@ -233,7 +265,9 @@ int main(int argc, char **argv)
         return rc;
     td_ctx_init(&cx);
     t0 = td_now();
-    rc = td_gen_sheet(&op.p, &im, &ls, &dem, &cx);
+    rc = op.dem_in ? load_dem_in(&op, &src, &cx) : 0;
+    if (!rc)
+        rc = td_gen_sheet(&op.p, &im, &ls, &dem, &cx);
     if (!rc)
         rc = write_sheet(&op, im, &cx);
     if (!rc && op.truth)
@@ -249,6 +283,7 @@ int main(int argc, char **argv)
     td_image_free(im);
     td_lines_free(ls);
     td_grid_f32_free(dem);
+    td_grid_f32_free(src);
     if (rc)
         return fail(td_errmsg(&cx), NULL);
     return 0;

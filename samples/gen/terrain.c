@@ -270,6 +270,60 @@ static void fill_cone(const td_gen_params *p, td_grid_f32 *g)
     }
 }
 
+/* Catmull-Rom weights for fraction t in [0,1). */
+static void cr_weights(double t, double *w)
+{
+    double t2 = t * t, t3 = t2 * t;
+    w[0] = 0.5 * (-t3 + 2 * t2 - t);
+    w[1] = 0.5 * (3 * t3 - 5 * t2 + 2);
+    w[2] = 0.5 * (-3 * t3 + 4 * t2 + t);
+    w[3] = 0.5 * (t3 - t2);
+}
+
+static int clampi(long v, int n)
+{
+    return v < 0 ? 0 : v >= n ? n - 1 : (int)v;
+}
+
+/* A real DEM stretched over the sheet (bicubic, edges clamped).  Source
+ * cell c's centre sits at sheet x = (c + 0.5) * w / sw. */
+static int fill_dem(const td_gen_params *p, td_grid_f32 *g, td_ctx *cx)
+{
+    const td_grid_f32 *s = p->dem_in;
+    double sx, sy;
+    int i, j, k, m;
+    if (!s || s->w < 2 || s->h < 2)
+        return td_seterr(cx, TD_EINVAL, "terrain: no source DEM");
+    sx = (double)s->w / p->w;
+    sy = (double)s->h / p->h;
+    for (i = 0; i < s->h; i++)
+        for (j = 0; j < s->w; j++)
+            if (!isfinite(TD_AT(s, j, i)) || TD_AT(s, j, i) == s->nodata)
+                return td_seterr(cx, TD_EINVAL, "terrain: source DEM has a "
+                                 "nodata cell at column %d, row %d", j, i);
+    for (i = 0; i < g->h; i++) {
+        double fy = (i + 0.5) * sy - 0.5, wy[4];
+        long y0 = (long)floor(fy);
+        float *out = g->data + (size_t)i * g->stride;
+        cr_weights(fy - y0, wy);
+        for (j = 0; j < g->w; j++) {
+            double fx = (j + 0.5) * sx - 0.5, wx[4], z = 0;
+            long x0 = (long)floor(fx);
+            cr_weights(fx - x0, wx);
+            for (k = 0; k < 4; k++) {
+                const float *row = s->data + (size_t)clampi(y0 - 1 + k, s->h) *
+                                                 s->stride;
+                double r = 0;
+                for (m = 0; m < 4; m++)
+                    r += wx[m] * row[clampi(x0 - 1 + m, s->w)];
+                z += wy[k] * r;
+            }
+            out[j] = (float)z;
+        }
+    }
+    return 0;
+}
+
 /* Contract in gen.h. */
 int td_gen_terrain(const td_gen_params *p, td_grid_f32 **dem, td_ctx *cx)
 {
@@ -296,6 +350,9 @@ int td_gen_terrain(const td_gen_params *p, td_grid_f32 **dem, td_ctx *cx)
     case TD_GEN_VALLEYS:
         fill_valleys(p, g);
         break;
+    case TD_GEN_DEM:
+        rc = fill_dem(p, g, cx);
+        break;
     default:
         rc = td_seterr(cx, TD_EINVAL, "terrain: unknown kind %d",
                        (int)p->terrain);
@@ -303,7 +360,7 @@ int td_gen_terrain(const td_gen_params *p, td_grid_f32 **dem, td_ctx *cx)
     if (rc)
         goto fail;
     if (p->terrain != TD_GEN_CONE && p->terrain != TD_GEN_VALLEYS &&
-        (rc = fill_terms(&t, g, cx)) != 0)
+        p->terrain != TD_GEN_DEM && (rc = fill_terms(&t, g, cx)) != 0)
         goto fail;
     terms_free(&t);
     *dem = g;
@@ -355,6 +412,27 @@ double td_gen_max_slope(const td_grid_f32 *dem)
     return sqrt(best);
 }
 
+/* The 98th percentile of the slope (height units per px), from a histogram
+ * of every 4th cell of every 4th row. */
+static double slope_p98(const td_grid_f32 *dem)
+{
+    enum { NB = 4096 };
+    static const double top = 20.0; /* m/px: anything steeper in the last bin */
+    size_t hist[NB], n = 0, acc = 0;
+    int i, j, b;
+    memset(hist, 0, sizeof hist);
+    for (i = 0; i < dem->h; i += 4)
+        for (j = 0; j < dem->w; j += 4) {
+            double s = sqrt(slope2_at(dem, i, j)) / top * NB;
+            hist[s >= NB - 1 ? NB - 1 : (int)s]++;
+            n++;
+        }
+    for (b = 0; b < NB; b++)
+        if ((acc += hist[b]) >= 0.98 * n)
+            break;
+    return (b + 1) * top / NB;
+}
+
 /* Contract in gen.h. */
 double td_gen_auto_interval(const td_gen_params *p, const td_grid_f32 *dem)
 {
@@ -363,7 +441,8 @@ double td_gen_auto_interval(const td_gen_params *p, const td_grid_f32 *dem)
     int k;
     if (p->interval > 0.0)
         return p->interval;
-    need = 6.5 * td_gen_max_slope(dem);
+    need = 6.5 * (p->terrain == TD_GEN_DEM ? slope_p98(dem)
+                                            : td_gen_max_slope(dem));
     if (need < 10.0)
         need = 10.0;
     for (dec = 1.0; dec < 1e12; dec *= 10.0)

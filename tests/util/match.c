@@ -499,3 +499,70 @@ void td_match_print(const td_match_report *r, FILE *f)
             r->worst_mean_id, r->n_mixed, r->n_split, r->n_closed_wrong,
             r->n_edge_wrong, r->n_unmatched_traced);
 }
+
+/* Contract in match.h. */
+int td_match_heights(const td_lines *truth, const td_lines *traced, int w,
+                     int h, double tol, td_hscore *r, FILE *log)
+{
+    return td_match_heights_v(truth, traced, w, h, tol, r, log, NULL);
+}
+
+/* Contract in match.h. */
+int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
+                       int h, double tol, td_hscore *r, FILE *log,
+                       int *verdict)
+{
+    segidx tix;
+    size_t i, k, near[MAX_NEAR];
+    double dist[MAX_NEAR];
+    memset(r, 0, sizeof *r);
+    if (idx_build(&tix, truth, w, h) != 0)
+        return TD_ENOMEM;
+    for (i = 0; i < traced->n; i++) {
+        const td_line *l = &traced->v[i];
+        double same = 0, other = 0, major_h = 0, major_len = 0, off = 0;
+        for (k = 0; k < nseg(l); k++) {
+            const double *p, *q;
+            size_t best;
+            double len, th;
+            seg_pts(l, k, &p, &q);
+            len = hypot(q[0] - p[0], q[1] - p[1]);
+            idx_query(&tix, 0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), tol,
+                      near, dist, &best);
+            if (best == SIZE_MAX) {
+                r->off += len;
+                off += len;
+                continue;
+            }
+            th = truth->v[best].height;
+            if (!l->has_height)
+                r->null_len += len;
+            else if (fabs(l->height - th) < 1e-6 * (1 + fabs(th)))
+                r->right += len, same += len;
+            else
+                r->wrong += len, other += len;
+            if (len > 0 && (major_len == 0 || th == major_h))
+                major_h = th, major_len += len;
+        }
+        r->n_lines++;
+        if (verdict)
+            verdict[i] = off > same + other ? 3 : !l->has_height ? 2
+                         : same >= other    ? 0
+                                            : 1;
+        if (l->has_height && l->confidence >= 0.9 && other > same) {
+            r->n_wrong_sure++;
+            r->wrong_sure_len += other;
+            if (log)
+                fprintf(log, "wrong sure: line %ld height %g conf %.2f, "
+                        "truth mostly %g (%.0f px right, %.0f wrong)\n",
+                        l->id, l->height, l->confidence, major_h, same,
+                        other);
+        }
+    }
+    idx_free(&tix);
+    {
+        double d = r->right + r->wrong + r->null_len;
+        r->accuracy = d > 0 ? r->right / d : 0.0;
+    }
+    return 0;
+}

@@ -74,3 +74,28 @@ int td_match_ok(const td_match_report *r);
 void td_match_print(const td_match_report *r, FILE *f);
 
 #endif
+
+/* Height accuracy of labelled traced lines against the truth: each traced
+ * segment (its middle) goes to the nearest truth line within tol px; its
+ * length counts as right (the traced line's height is that truth line's),
+ * wrong (another height), null (no height) or off (no truth line near).
+ * accuracy = right / (right + wrong + null).  A traced line with a height
+ * and confidence >= 0.9 whose majority truth height (by length) differs
+ * counts in n_wrong_sure. */
+typedef struct td_hscore {
+    double right, wrong, null_len, off, accuracy;
+    long n_lines, n_wrong_sure;
+    double wrong_sure_len;
+} td_hscore;
+
+/* Fills *r; log (may be NULL) gets one line per wrong sure line.  Returns 0
+ * or TD_ENOMEM. */
+int td_match_heights(const td_lines *truth, const td_lines *traced, int w,
+                     int h, double tol, td_hscore *r, FILE *log);
+
+/* As td_match_heights, and verdict[i] (traced->n entries, may be NULL) gets
+ * line i's majority verdict by length: 0 right, 1 wrong, 2 no height, 3 no
+ * truth line near. */
+int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
+                       int h, double tol, td_hscore *r, FILE *log,
+                       int *verdict);

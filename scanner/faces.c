@@ -1,0 +1,345 @@
+/* Faces by probes (contract and picture in faces.h).
+ *
+ * The lines' segments are binned in a grid of CELL x CELL px cells (each
+ * segment in every cell its bounding box touches); a ray walks the cells it
+ * crosses in order (Amanatides & Woo's traversal) and stops at the first
+ * cell whose nearest crossing lies inside it. */
+#include "faces.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define CELL 8
+
+struct td_faces {
+    const td_lines *ls;
+    int w, h, gw, gh;
+    uint32_t *start; /* gw * gh + 1 offsets into seg */
+    uint32_t *seg;   /* pairs: line index, first vertex index */
+    unsigned char *used;
+    td_faces_params p;
+};
+
+td_faces_params td_faces_defaults(void)
+{
+    td_faces_params p;
+    p.spacing = 4.0;
+    p.min_len = 12.0;
+    return p;
+}
+
+/* Segment k of line l (k + 1 wraps for a closed line's closing segment). */
+static void seg_ends(const td_line *l, size_t k, double *a, double *b)
+{
+    size_t k1 = k + 1 < l->n ? k + 1 : 0;
+    a[0] = l->xy[2 * k];
+    a[1] = l->xy[2 * k + 1];
+    b[0] = l->xy[2 * k1];
+    b[1] = l->xy[2 * k1 + 1];
+}
+
+static size_t nsegs(const td_line *l)
+{
+    return l->n < 2 ? 0 : l->closed ? l->n : l->n - 1;
+}
+
+static int cell_of(double v, int n)
+{
+    long c = (long)floor(v / CELL);
+    return c < 0 ? 0 : c >= n ? n - 1 : (int)c;
+}
+
+/* Calls back for every (cell, line, segment) pair: pass 0 counts, pass 1
+ * fills. */
+static void bin_segments(td_faces *f, int pass, uint32_t *fill)
+{
+    size_t i, k;
+    for (i = 0; i < f->ls->n; i++) {
+        const td_line *l = &f->ls->v[i];
+        if (!f->used[i])
+            continue;
+        for (k = 0; k < nsegs(l); k++) {
+            double a[2], b[2];
+            int x0, x1, y0, y1, cx, cy;
+            seg_ends(l, k, a, b);
+            x0 = cell_of(fmin(a[0], b[0]), f->gw);
+            x1 = cell_of(fmax(a[0], b[0]), f->gw);
+            y0 = cell_of(fmin(a[1], b[1]), f->gh);
+            y1 = cell_of(fmax(a[1], b[1]), f->gh);
+            for (cy = y0; cy <= y1; cy++)
+                for (cx = x0; cx <= x1; cx++) {
+                    size_t c = (size_t)cy * f->gw + cx;
+                    if (pass == 0) {
+                        f->start[c + 1]++;
+                    } else {
+                        uint32_t at = fill[c]++;
+                        f->seg[2 * at] = (uint32_t)i;
+                        f->seg[2 * at + 1] = (uint32_t)k;
+                    }
+                }
+        }
+    }
+}
+
+/* Contract in faces.h. */
+td_faces *td_faces_new(const td_lines *ls, int w, int h,
+                       const td_faces_params *p, td_ctx *cx)
+{
+    td_faces *f;
+    uint32_t *fill = NULL;
+    size_t i, nc;
+    if (w < 1 || h < 1) {
+        td_seterr(cx, TD_EINVAL, "faces: bad sheet size %d x %d", w, h);
+        return NULL;
+    }
+    if (!(f = td_calloc(1, sizeof *f, cx)))
+        return NULL;
+    f->ls = ls;
+    f->w = w;
+    f->h = h;
+    f->p = p ? *p : td_faces_defaults();
+    f->gw = (w + CELL - 1) / CELL;
+    f->gh = (h + CELL - 1) / CELL;
+    nc = (size_t)f->gw * f->gh;
+    if (!(f->used = td_calloc(ls->n + 1, 1, cx)) ||
+        !(f->start = td_calloc(nc + 1, sizeof *f->start, cx)))
+        goto fail;
+    for (i = 0; i < ls->n; i++)
+        f->used[i] = ls->v[i].n >= 2 &&
+                     td_line_length(&ls->v[i]) >= f->p.min_len;
+    bin_segments(f, 0, NULL);
+    for (i = 0; i < nc; i++) {
+        if (f->start[i + 1] > UINT32_MAX / 2 - f->start[i]) {
+            td_seterr(cx, TD_ENOMEM, "faces: too many segments");
+            goto fail;
+        }
+        f->start[i + 1] += f->start[i];
+    }
+    if (!(f->seg = td_malloc(2 * (size_t)f->start[nc] * sizeof *f->seg + 8,
+                             cx)) ||
+        !(fill = td_malloc(nc * sizeof *fill, cx)))
+        goto fail;
+    memcpy(fill, f->start, nc * sizeof *fill);
+    bin_segments(f, 1, fill);
+    free(fill);
+    return f;
+fail:
+    free(fill);
+    td_faces_free(f);
+    return NULL;
+}
+
+void td_faces_free(td_faces *f)
+{
+    if (!f)
+        return;
+    free(f->start);
+    free(f->seg);
+    free(f->used);
+    free(f);
+}
+
+int td_faces_used(const td_faces *f, size_t i)
+{
+    return i < f->ls->n && f->used[i];
+}
+
+/* The nearest crossing of the ray with the segments of cell c beyond t0:
+ * updates *best (distance) and *node. */
+static void test_cell(const td_faces *f, size_t c, const double *o,
+                      const double *d, long skip, double skip_t, double *best,
+                      long *node)
+{
+    uint32_t s;
+    for (s = f->start[c]; s < f->start[c + 1]; s++) {
+        uint32_t li = f->seg[2 * s], k = f->seg[2 * s + 1];
+        double a[2], b[2], S[2], q[2], den, t, u;
+        seg_ends(&f->ls->v[li], k, a, b);
+        S[0] = b[0] - a[0];
+        S[1] = b[1] - a[1];
+        den = d[0] * S[1] - d[1] * S[0];
+        if (fabs(den) < 1e-12)
+            continue; /* parallel: the neighbouring segments decide */
+        q[0] = a[0] - o[0];
+        q[1] = a[1] - o[1];
+        t = (q[0] * S[1] - q[1] * S[0]) / den;
+        u = (q[0] * d[1] - q[1] * d[0]) / den;
+        if (u < 0 || u > 1 || t <= 1e-9 || t >= *best)
+            continue;
+        if ((long)li == skip && t < skip_t)
+            continue;
+        *best = t;
+        /* side 0 (left on screen) when the start is left of the segment */
+        *node = 2 * (long)li + ((S[0] * -q[1] - S[1] * -q[0]) < 0 ? 0 : 1);
+    }
+}
+
+/* Contract in faces.h. */
+long td_faces_ray(const td_faces *f, double x, double y, double dx, double dy,
+                  long skip, double skip_t, double *t)
+{
+    double o[2] = {x, y}, d[2], len = hypot(dx, dy), best = INFINITY;
+    double tmx, tmy, tdx, tdy;
+    long node = -1;
+    int cx, cy, sx, sy;
+    if (!(len > 0) || !(x >= 0 && x <= f->w && y >= 0 && y <= f->h))
+        return -1;
+    d[0] = dx / len;
+    d[1] = dy / len;
+    cx = cell_of(x, f->gw);
+    cy = cell_of(y, f->gh);
+    sx = d[0] > 0 ? 1 : -1;
+    sy = d[1] > 0 ? 1 : -1;
+    tdx = d[0] != 0 ? CELL / fabs(d[0]) : INFINITY;
+    tdy = d[1] != 0 ? CELL / fabs(d[1]) : INFINITY;
+    tmx = d[0] != 0 ? ((cx + (sx > 0)) * (double)CELL - x) / d[0] : INFINITY;
+    tmy = d[1] != 0 ? ((cy + (sy > 0)) * (double)CELL - y) / d[1] : INFINITY;
+    for (;;) {
+        double texit = fmin(tmx, tmy);
+        test_cell(f, (size_t)cy * f->gw + cx, o, d, skip, skip_t, &best,
+                  &node);
+        if (best <= texit)
+            break;
+        if (tmx < tmy) {
+            cx += sx;
+            tmx += tdx;
+        } else {
+            cy += sy;
+            tmy += tdy;
+        }
+        if (cx < 0 || cy < 0 || cx >= f->gw || cy >= f->gh)
+            break;
+    }
+    if (node >= 0 && t)
+        *t = best;
+    return node;
+}
+
+/* Contract in faces.h. */
+int td_faces_around(const td_faces *f, double x, double y, long nodes[16])
+{
+    int k, hits = 0;
+    for (k = 0; k < 16; k++) {
+        double a = k * (3.14159265358979323846 / 8);
+        nodes[k] = td_faces_ray(f, x, y, cos(a), sin(a), -1, 0, NULL);
+        hits += nodes[k] >= 0;
+    }
+    return hits;
+}
+
+typedef struct hit {
+    uint32_t a, b;
+    float x, y, hx, hy;
+} hit;
+
+static int cmp_hit(const void *pa, const void *pb)
+{
+    const hit *a = pa, *b = pb;
+    if (a->a != b->a)
+        return a->a < b->a ? -1 : 1;
+    return (a->b > b->b) - (a->b < b->b);
+}
+
+/* The unit normal (left on screen) of line l at vertex k, from the chord
+ * over two vertices either side. */
+static int normal_at(const td_line *l, size_t k, double *n)
+{
+    size_t a, b;
+    double tx, ty, len;
+    if (l->closed) {
+        a = (k + 2 * l->n - 2) % l->n;
+        b = (k + 2) % l->n;
+    } else {
+        a = k >= 2 ? k - 2 : 0;
+        b = k + 2 < l->n ? k + 2 : l->n - 1;
+    }
+    tx = l->xy[2 * b] - l->xy[2 * a];
+    ty = l->xy[2 * b + 1] - l->xy[2 * a + 1];
+    len = hypot(tx, ty);
+    if (!(len > 0))
+        return -1;
+    n[0] = ty / len;
+    n[1] = -tx / len;
+    return 0;
+}
+
+/* Probes of line i into hits (grown as needed). */
+static int probe_line(const td_faces *f, size_t i, hit **hv, size_t *nh,
+                      size_t *cap, td_ctx *cx)
+{
+    const td_line *l = &f->ls->v[i];
+    double next = 0.5 * f->p.spacing, s = 0;
+    size_t k;
+    for (k = 0; k < l->n; k++) {
+        double n[2], x = l->xy[2 * k], y = l->xy[2 * k + 1];
+        int side;
+        if (k > 0)
+            s += hypot(x - l->xy[2 * k - 2], y - l->xy[2 * k - 1]);
+        if (s < next || normal_at(l, k, n) != 0)
+            continue;
+        next = s + f->p.spacing;
+        for (side = 0; side < 2; side++) {
+            double sg = side ? -1.0 : 1.0;
+            double t = 0;
+            long m = td_faces_ray(f, x, y, sg * n[0], sg * n[1], (long)i,
+                                  1.5, &t);
+            uint32_t me = (uint32_t)(2 * i + side);
+            if (m < 0 || (uint32_t)m == me || (size_t)m / 2 == i)
+                continue; /* the border, or this line again */
+            if (*nh == *cap) {
+                size_t nc = *cap ? 2 * *cap : 4096;
+                hit *v = realloc(*hv, nc * sizeof *v);
+                if (!v)
+                    return td_seterr(cx, TD_ENOMEM, "faces: out of memory");
+                *hv = v;
+                *cap = nc;
+            }
+            (*hv)[*nh].a = me < (uint32_t)m ? me : (uint32_t)m;
+            (*hv)[*nh].b = me < (uint32_t)m ? (uint32_t)m : me;
+            (*hv)[*nh].x = (float)x;
+            (*hv)[*nh].y = (float)y;
+            (*hv)[*nh].hx = (float)(x + sg * n[0] * t);
+            (*hv)[(*nh)++].hy = (float)(y + sg * n[1] * t);
+        }
+    }
+    return 0;
+}
+
+/* Contract in faces.h. */
+int td_faces_edges(const td_faces *f, td_face_edge **out, size_t *n,
+                   td_ctx *cx)
+{
+    hit *hv = NULL;
+    td_face_edge *e = NULL;
+    size_t nh = 0, cap = 0, i, m = 0;
+    *out = NULL;
+    *n = 0;
+    for (i = 0; i < f->ls->n; i++)
+        if (f->used[i] && probe_line(f, i, &hv, &nh, &cap, cx) != 0) {
+            free(hv);
+            return TD_ENOMEM;
+        }
+    qsort(hv, nh, sizeof *hv, cmp_hit);
+    if (nh && !(e = td_malloc(nh * sizeof *e, cx))) {
+        free(hv);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < nh; i++) {
+        if (m > 0 && e[m - 1].a == hv[i].a && e[m - 1].b == hv[i].b) {
+            e[m - 1].w += 1;
+            continue;
+        }
+        e[m].a = hv[i].a;
+        e[m].b = hv[i].b;
+        e[m].w = 1;
+        e[m].x = hv[i].x;
+        e[m].y = hv[i].y;
+        e[m].hx = hv[i].hx;
+        e[m++].hy = hv[i].hy;
+    }
+    free(hv);
+    *out = e;
+    *n = m;
+    return 0;
+}

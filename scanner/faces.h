@@ -1,0 +1,79 @@
+/* faces.h: which contour lines border one face, found by probes
+ * (ALGORITHMS.md A.5, "faces"; ours).
+ *
+ * Every line has two sides: side 0 on the left of its direction of travel
+ * as seen on the screen (y down), side 1 on the right.  Side node 2i + s is
+ * side s of line i.  A probe leaves line i perpendicular to it, from one
+ * side, and runs straight until it meets the first other line (or the
+ * sheet border):
+ *
+ *        line m  ------------<------------      the probe meets m's side
+ *                            ^                  that faces where it came
+ *                            |  probe           from: both sides border
+ *        line i  ---->-------+--------->        one face, so they lie in
+ *                         (from side 0)         one band of heights
+ *
+ * Probes every p->spacing px along each line, on both sides, give "same
+ * face" edges between side nodes, weighted by the number of probes that
+ * agree.  Unlike faces cut from a raster, a gap in a line (a label gap left
+ * open, a break) does not merge two faces: only the few probes that pass
+ * exactly through the gap say so, and they are outvoted (the solver keeps
+ * the strongest edges, heights.c).  The same index answers "which sides
+ * face this point" for spot heights and known points. */
+#ifndef TD_FACES_H
+#define TD_FACES_H
+
+#include "../src/lines.h"
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct td_face_edge {
+    uint32_t a, b; /* side nodes, a < b (a == b never stored) */
+    float w;       /* probes that say so */
+    float x, y;    /* where one of them started (for messages) */
+    float hx, hy;  /* and where it met the other line */
+} td_face_edge;
+
+typedef struct td_faces_params {
+    double spacing; /* px between probes along a line (default 4) */
+    double min_len; /* lines shorter than this take no part (default 12) */
+} td_faces_params;
+
+typedef struct td_faces td_faces; /* the segment index; opaque */
+
+/* Defaults as listed above. */
+td_faces_params td_faces_defaults(void);
+
+/* Index ls on a w x h sheet.  ls must outlive the index.  Returns NULL with
+ * the error in cx (TD_EINVAL: w or h < 1; TD_ENOMEM). */
+td_faces *td_faces_new(const td_lines *ls, int w, int h,
+                       const td_faces_params *p, td_ctx *cx);
+void td_faces_free(td_faces *f);
+
+/* Nonzero when line i takes part (long enough). */
+int td_faces_used(const td_faces *f, size_t i);
+
+/* The "same face" edges of every line's probes, merged per node pair:
+ * *out (free()) and *n.  Returns 0 or TD_ENOMEM. */
+int td_faces_edges(const td_faces *f, td_face_edge **out, size_t *n,
+                   td_ctx *cx);
+
+/* The first line met from (x,y) in direction (dx,dy) (any length), not
+ * counting line `skip` within `skip_t` px of the start: returns the side
+ * node met (2 * line + side facing the start) and its distance in *t, or
+ * -1 when the ray leaves the sheet first. */
+long td_faces_ray(const td_faces *f, double x, double y, double dx, double dy,
+                  long skip, double skip_t, double *t);
+
+/* The side nodes around point (x,y): rays in 16 directions; nodes[k] gets
+ * the node met by ray k (-1: none).  Returns how many rays met a line. */
+int td_faces_around(const td_faces *f, double x, double y, long nodes[16]);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,865 @@
+/* Heights by one global solve over the faces (ALGORITHMS.md A.5; ours, the
+ * default labeller; the model is in label.h, the faces in faces.h).
+ *
+ * Unknowns: the band b(v) of every side node v (its ground lies between
+ * base + b I and base + (b + 1) I).  Costs:
+ *
+ *   line l:        |b(2l) - b(2l+1)| = 1, else PLINE; its height level
+ *                  h = max of the two; known points on it (WKNOWN when
+ *                  h differs), its ink width (index contours: h a multiple
+ *                  of index_every, W_INDEX), the summit prior (a ring with
+ *                  nothing inside: inside higher, W_SUMMIT), --depressions
+ *                  (the side facing the point lower, W_DEPR);
+ *   face edge:     probes say sides u and v border one face: b(u) = b(v),
+ *                  else WFACE per probe;
+ *   spot height:   on the sides its 16 rays meet, the band holding it,
+ *                  WKNOWN split over the rays.
+ *
+ *      side 0 ----- line l ----- side 1        face edges (probes) join
+ *        |  b = k            b = k+1 |         sides of different lines;
+ *      face edges                face edges    line edges join a line's
+ *        |                           |         own two sides
+ *
+ * The line edges and the strongest face edges form a forest (Kruskal, all
+ * line edges first); min-sum dynamic programming over it gives the best
+ * bands exactly, and a second pass (messages down) the best cost of every
+ * other height of every line: the gap to the best is its confidence.  The
+ * face edges left out are checked afterwards: those the solution breaks are
+ * leaks or merged lines (reported).  Solved twice: without the priors
+ * (summit) a line whose height is still decided is "solved", one decided
+ * only with them "assumed", one decided by neither has no height. */
+#include "heights_int.h"
+
+#include "contain.h"
+#include "faces.h"
+
+#include <limits.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PLINE 1000.0
+#define WKNOWN 1000.0
+#define WFACE 2.0
+#define W_INDEX 3.0
+#define W_SUMMIT 0.5
+#define W_RING 0.25
+#define W_DEPR 50.0
+#define WFOLD 1.0
+#define GAP_EPS 1e-3
+#define MAX_CELLS (96u << 20) /* band table entries (8 bytes each, x3) */
+
+enum { E_LINE, E_FACE };
+
+typedef struct tedge {
+    uint32_t to, kind, id; /* id: line index or face edge index */
+} tedge;
+
+typedef struct hs {
+    td_lines *ls;
+    const td_label_params *p;
+    td_label_report *rep;
+    td_faces *fx;
+    td_face_edge *fe;
+    size_t nfe, N, V; /* lines, side nodes (2N) */
+    /* per line */
+    double *lknown;   /* level a known point gives (NAN: none) */
+    int *nknown;      /* known points on the line */
+    signed char *idx; /* +1 thick (index), -1 thin, 0 unknown */
+    double *up_cost;  /* 2 per line: cost when side s is the higher */
+    double *up_prior; /* the same, priors only (summit) */
+    double *ilen;     /* weight of the index evidence */
+    /* per node */
+    uint32_t *uf, *comp, *par, *order, *pkind, *pid, *adj_start;
+    tedge *adj;
+    unsigned char *intree;
+    /* unary evidence: (node, lo, hi, w): band outside [lo,hi] costs w */
+    double *un;
+    size_t nun, capun;
+    long *compdepth;
+    unsigned char *comp_abs; /* component holds absolute evidence */
+    long kofs;
+    size_t K;
+    double *up, *msg, *down;
+    long *band, *band_prior;
+    double *gap, *gap_prior;
+    int priors; /* this pass uses the priors */
+} hs;
+
+static uint32_t uf_find(uint32_t *uf, uint32_t a)
+{
+    while (uf[a] != a) {
+        uf[a] = uf[uf[a]];
+        a = uf[a];
+    }
+    return a;
+}
+
+/* ---- evidence ---- */
+
+static int add_unary(hs *s, long node, long lo, long hi, double w,
+                     td_ctx *cx)
+{
+    if (s->nun == s->capun) {
+        size_t nc = s->capun ? 2 * s->capun : 64;
+        double *v = realloc(s->un, nc * 4 * sizeof *v);
+        if (!v)
+            return td_seterr(cx, TD_ENOMEM, "label: out of memory");
+        s->un = v;
+        s->capun = nc;
+    }
+    s->un[4 * s->nun] = (double)node;
+    s->un[4 * s->nun + 1] = (double)lo;
+    s->un[4 * s->nun + 2] = (double)hi;
+    s->un[4 * s->nun++ + 3] = w;
+    return 0;
+}
+
+/* The used line nearest (x,y) within p->near px, -1 when none. */
+static long line_near(const hs *s, double x, double y, double *dist)
+{
+    size_t i;
+    long best = -1;
+    double bd = s->p->near;
+    for (i = 0; i < s->N; i++) {
+        double d;
+        if (!td_faces_used(s->fx, i))
+            continue;
+        d = td_contain_dist(&s->ls->v[i], x, y);
+        if (d <= bd) {
+            bd = d;
+            best = (long)i;
+        }
+    }
+    if (dist)
+        *dist = bd;
+    return best;
+}
+
+static long line_by_id(const hs *s, long id)
+{
+    size_t i;
+    for (i = 0; i < s->N; i++)
+        if (s->ls->v[i].id == id)
+            return td_faces_used(s->fx, i) ? (long)i : -2;
+    return -1;
+}
+
+/* A known point inside a face: the band holding it on every side node
+ * its rays meet. */
+static int known_in_face(hs *s, const td_label_point *q, td_ctx *cx)
+{
+    long nodes[16], lo, hi;
+    double f = (q->height - s->p->base) / s->p->interval;
+    int k, hits = td_faces_around(s->fx, q->x, q->y, nodes);
+    if (hits == 0) {
+        td_label_warn(s->rep, "known point (%g,%g)=%g: no line around it, "
+                      "not used", q->x, q->y, q->height);
+        return 0;
+    }
+    lo = (long)floor(f + 1e-9);
+    hi = lo;
+    if (fabs(f - lround(f)) < 1e-9) { /* on a multiple: either band */
+        lo = lround(f) - 1;
+        hi = lround(f);
+    }
+    for (k = 0; k < 16; k++)
+        if (nodes[k] >= 0 &&
+            add_unary(s, nodes[k], lo, hi, WKNOWN / hits, cx) != 0)
+            return TD_ENOMEM;
+    return 0;
+}
+
+static int setup_known(hs *s, td_ctx *cx)
+{
+    size_t i;
+    for (i = 0; i < s->p->nknown; i++) {
+        const td_label_point *q = &s->p->known[i];
+        long l;
+        double f = (q->height - s->p->base) / s->p->interval;
+        if (q->id >= 0) {
+            l = line_by_id(s, q->id);
+            if (l < 0) {
+                td_label_warn(s->rep, "height %g for line %ld: no such line "
+                              "(or too short), not used", q->height, q->id);
+                continue;
+            }
+        } else if ((l = line_near(s, q->x, q->y, NULL)) < 0) {
+            if (!(q->x >= 0 && q->y >= 0 && q->x <= s->p->w &&
+                  q->y <= s->p->h))
+                return td_seterr(cx, TD_EINVAL, "known point (%g,%g) is off "
+                                 "the %d x %d sheet", q->x, q->y, s->p->w,
+                                 s->p->h);
+            if (known_in_face(s, q, cx) != 0)
+                return TD_ENOMEM;
+            continue;
+        }
+        if (fabs(f - lround(f)) > 1e-6) {
+            td_label_warn(s->rep, "known point (%g,%g)=%g lies on line %ld "
+                          "but is not base + a multiple of the interval; "
+                          "taken as %g", q->x, q->y, q->height,
+                          s->ls->v[l].id,
+                          s->p->base + lround(f) * s->p->interval);
+        }
+        if (s->nknown[l] && s->lknown[l] != (double)lround(f))
+            td_label_warn(s->rep, "line %ld: two known points disagree (%g "
+                          "and %g); the solve decides", s->ls->v[l].id,
+                          s->p->base + s->lknown[l] * s->p->interval,
+                          q->height);
+        s->lknown[l] = (double)lround(f);
+        s->nknown[l]++;
+    }
+    return 0;
+}
+
+/* Which side of closed line l is its inside: 0 or 1. */
+static int inner_side(const td_line *l)
+{
+    double a = 0;
+    size_t k;
+    for (k = 0; k < l->n; k++) {
+        size_t k1 = (k + 1) % l->n;
+        a += l->xy[2 * k] * l->xy[2 * k1 + 1] -
+             l->xy[2 * k1] * l->xy[2 * k + 1];
+    }
+    /* y down: a > 0 is clockwise on the screen, inside on the right */
+    return a > 0 ? 1 : 0;
+}
+
+/* Priors and hints on the direction of each line: the summit prior and
+ * --depressions. */
+static int setup_directions(hs *s, const unsigned char *touched,
+                            td_ctx *cx)
+{
+    size_t i, k;
+    for (i = 0; i < s->N; i++) {
+        const td_line *l = &s->ls->v[i];
+        int in;
+        if (!td_faces_used(s->fx, i) || !l->closed)
+            continue;
+        in = inner_side(l);
+        s->up_prior[2 * i + (1 - in)] += W_RING; /* rings rise, usually */
+        if (!touched[2 * i + in]) /* nothing inside: a summit, usually */
+            s->up_prior[2 * i + (1 - in)] += W_SUMMIT;
+    }
+    for (k = 0; k < s->p->ndepressions; k++) {
+        long nodes[16];
+        int r, hits = td_faces_around(s->fx, s->p->depressions[2 * k],
+                                      s->p->depressions[2 * k + 1], nodes);
+        for (r = 0; r < 16; r++)
+            if (nodes[r] >= 0) /* the side facing the point is lower */
+                s->up_cost[nodes[r]] += W_DEPR / hits;
+    }
+    (void)cx;
+    return 0;
+}
+
+/* Index contours by their ink width. */
+static int setup_index(hs *s, td_ctx *cx)
+{
+    double cut;
+    size_t i;
+    int rc;
+    if (s->p->index_every <= 0)
+        return 0;
+    if ((rc = td_label_thick_cut(s->ls, s->p, &cut, cx)) < 0)
+        return rc;
+    if (rc == 0) {
+        td_label_warn(s->rep, "--index-every: the line widths show no "
+                      "thicker index contours; not used");
+        return 0;
+    }
+    for (i = 0; i < s->N; i++) {
+        const td_line *l = &s->ls->v[i];
+        double len = td_line_length(l);
+        if (!td_faces_used(s->fx, i) || !(l->width > 0) || len < 30)
+            continue;
+        s->idx[i] = l->width >= cut ? 1 : -1;
+        s->ilen[i] = W_INDEX * fmin(1.0, len / 200.0);
+    }
+    return 0;
+}
+
+/* ---- the forest ---- */
+
+static int cmp_fe(const void *pa, const void *pb)
+{
+    const td_face_edge *a = pa, *b = pb;
+    return (a->w < b->w) - (a->w > b->w);
+}
+
+static int build_forest(hs *s, td_ctx *cx)
+{
+    size_t i, V = s->V, ne = 0;
+    uint32_t *deg;
+    for (i = 0; i < V; i++)
+        s->uf[i] = (uint32_t)i;
+    for (i = 0; i < s->N; i++)
+        if (td_faces_used(s->fx, i)) {
+            s->uf[2 * i + 1] = (uint32_t)(2 * i);
+            ne++;
+        }
+    qsort(s->fe, s->nfe, sizeof *s->fe, cmp_fe);
+    for (i = 0; i < s->nfe; i++) {
+        uint32_t a = uf_find(s->uf, s->fe[i].a), b = uf_find(s->uf, s->fe[i].b);
+        if (a == b)
+            continue;
+        s->uf[a] = b;
+        s->intree[i] = 1;
+        ne++;
+    }
+    if (!(deg = td_calloc(V + 1, sizeof *deg, cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < s->N; i++)
+        if (td_faces_used(s->fx, i))
+            deg[2 * i]++, deg[2 * i + 1]++;
+    for (i = 0; i < s->nfe; i++)
+        if (s->intree[i])
+            deg[s->fe[i].a]++, deg[s->fe[i].b]++;
+    s->adj_start[0] = 0;
+    for (i = 0; i < V; i++)
+        s->adj_start[i + 1] = s->adj_start[i] + deg[i];
+    memset(deg, 0, (V + 1) * sizeof *deg);
+#define PUT(u, v, k, d)                                                      \
+    do {                                                                     \
+        tedge *t_ = &s->adj[s->adj_start[u] + deg[u]++];                     \
+        t_->to = (uint32_t)(v), t_->kind = (k), t_->id = (uint32_t)(d);      \
+    } while (0)
+    for (i = 0; i < s->N; i++)
+        if (td_faces_used(s->fx, i)) {
+            PUT(2 * i, 2 * i + 1, E_LINE, i);
+            PUT(2 * i + 1, 2 * i, E_LINE, i);
+        }
+    for (i = 0; i < s->nfe; i++)
+        if (s->intree[i]) {
+            PUT(s->fe[i].a, s->fe[i].b, E_FACE, i);
+            PUT(s->fe[i].b, s->fe[i].a, E_FACE, i);
+        }
+#undef PUT
+    free(deg);
+    (void)ne;
+    return 0;
+}
+
+/* Breadth-first order, parents and components; the depth of each
+ * component in line edges. */
+static int order_forest(hs *s, td_ctx *cx)
+{
+    size_t V = s->V, head = 0, tail = 0, r;
+    long *dep = td_malloc((V + 1) * sizeof *dep, cx);
+    if (!dep)
+        return TD_ENOMEM;
+    for (r = 0; r < V; r++)
+        s->comp[r] = UINT32_MAX;
+    for (r = 0; r < V; r++) {
+        if (s->comp[r] != UINT32_MAX || !td_faces_used(s->fx, r / 2))
+            continue;
+        s->comp[r] = (uint32_t)r;
+        s->par[r] = UINT32_MAX;
+        dep[r] = 0;
+        s->compdepth[r] = 0;
+        s->order[tail++] = (uint32_t)r;
+        while (head < tail) {
+            uint32_t u = s->order[head++], k;
+            for (k = s->adj_start[u]; k < s->adj_start[u + 1]; k++) {
+                const tedge *t = &s->adj[k];
+                if (s->comp[t->to] != UINT32_MAX)
+                    continue;
+                s->comp[t->to] = (uint32_t)r;
+                s->par[t->to] = u;
+                s->pkind[t->to] = t->kind;
+                s->pid[t->to] = t->id;
+                dep[t->to] = dep[u] + (t->kind == E_LINE);
+                if (dep[t->to] > s->compdepth[r])
+                    s->compdepth[r] = dep[t->to];
+                s->order[tail++] = t->to;
+            }
+        }
+    }
+    s->order[tail] = UINT32_MAX;
+    free(dep);
+    return 0;
+}
+
+/* The band range every node can need, from the evidence and the depths. */
+static int set_domain(hs *s, td_ctx *cx)
+{
+    long lo = LONG_MAX, hi = LONG_MIN, D = 0;
+    size_t i;
+    for (i = 0; i < s->N; i++)
+        if (s->nknown[i]) {
+            lo = lo < s->lknown[i] - 1 ? lo : (long)s->lknown[i] - 1;
+            hi = hi > s->lknown[i] ? hi : (long)s->lknown[i];
+        }
+    for (i = 0; i < s->nun; i++) {
+        lo = lo < (long)s->un[4 * i + 1] ? lo : (long)s->un[4 * i + 1];
+        hi = hi > (long)s->un[4 * i + 2] ? hi : (long)s->un[4 * i + 2];
+    }
+    if (lo > hi)
+        lo = hi = 0;
+    for (i = 0; i < s->V; i++)
+        if (s->comp[i] == i && s->compdepth[i] > D)
+            D = s->compdepth[i];
+    s->kofs = lo - 2 * D - 2;
+    s->K = (size_t)(hi - lo) + 4 * (size_t)D + 5;
+    if (2 * s->K > MAX_CELLS / (s->V + 1))
+        return td_seterr(cx, TD_ENOMEM, "label: %zu lines over %zu levels "
+                         "are too many to solve at once", s->N, s->K);
+    return 0;
+}
+
+/* ---- min-sum dynamic programming over the forest ----
+ *
+ * A node's state is (band k, d): d = 1 when its line's other side is one
+ * band higher (this side is the lower), d = 0 when one lower.  State
+ * index 2k + d; K2 = 2K states.  A line edge then fixes the child's state
+ * from the parent's: (k, d) -> (k + (d ? 1 : -1), 1 - d).  A face edge
+ * costs WFACE * probes when the bands differ and the fold cost when both
+ * lines step the same way from the face (a ridge or valley band). */
+
+/* Cost of line l with side 0 at band a0 and side 1 at a1 (adjacent). */
+static double line_cost(const hs *s, size_t l, long a0, long a1)
+{
+    long h = (a0 > a1 ? a0 : a1) + s->kofs;
+    double c = a0 > a1 ? s->up_cost[2 * l] : s->up_cost[2 * l + 1];
+    if (s->priors)
+        c += a0 > a1 ? s->up_prior[2 * l] : s->up_prior[2 * l + 1];
+    if (s->nknown[l] && (double)h != s->lknown[l])
+        c += WKNOWN * s->nknown[l];
+    if (s->idx[l]) {
+        long N = s->p->index_every, m = ((h % N) + N) % N;
+        if ((s->idx[l] > 0) != (m == 0))
+            c += s->ilen[l];
+    }
+    return c;
+}
+
+/* The state of the other side of line l from state st of its side xs, or
+ * -1 when off the band range; *cost gets the line's cost. */
+static long across(const hs *s, size_t l, int xs, long st, double *cost)
+{
+    long a = st >> 1, d = st & 1, b = d ? a + 1 : a - 1;
+    if (b < 0 || b >= (long)s->K)
+        return -1;
+    *cost = xs ? line_cost(s, l, b, a) : line_cost(s, l, a, b);
+    return 2 * b + (1 - d);
+}
+
+static double fold_w(const hs *s, uint32_t c)
+{
+    return s->priors ? WFOLD : 0.0;
+    (void)c;
+}
+
+/* Messages over the edge from node c to its parent (up) or back (down):
+ * out[x] = min over y of cost(x, y) + in[y]. */
+static void pass_edge(const hs *s, uint32_t c, const double *in, double *out,
+                      int down)
+{
+    size_t K2 = 2 * s->K, x;
+    if (s->pkind[c] == E_LINE) {
+        /* x is the state of the parent (up) or of c (down) */
+        int xs = down ? (int)(c & 1) : (int)(1 - (c & 1));
+        for (x = 0; x < K2; x++) {
+            double lc;
+            long y = across(s, s->pid[c], xs, (long)x, &lc);
+            out[x] = y >= 0 ? in[y] + lc : INFINITY;
+        }
+        return;
+    } else {
+        double m[2] = {INFINITY, INFINITY}, wf = WFACE * s->fe[s->pid[c]].w,
+               fo = fold_w(s, c);
+        for (x = 0; x < K2; x++)
+            m[x & 1] = in[x] < m[x & 1] ? in[x] : m[x & 1];
+        for (x = 0; x < K2; x++) {
+            size_t d = x & 1;
+            double v = in[x] + fo, o = in[x ^ 1];
+            double esc = wf + (m[d] + fo < m[1 - d] ? m[d] + fo : m[1 - d]);
+            v = o < v ? o : v;
+            out[x] = esc < v ? esc : v;
+        }
+    }
+}
+
+static void solve_pass(hs *s)
+{
+    size_t K2 = 2 * s->K, i, n;
+    for (i = 0; i < s->V * K2; i++)
+        s->up[i] = s->down[i] = 0.0;
+    for (i = 0; i < s->nun; i++) {
+        long node = (long)s->un[4 * i], k;
+        for (k = 0; k < (long)K2; k++) {
+            long b = (k >> 1) + s->kofs;
+            if (b < (long)s->un[4 * i + 1] || b > (long)s->un[4 * i + 2])
+                s->up[node * K2 + k] += s->un[4 * i + 3];
+        }
+    }
+    for (n = 0; s->order[n] != UINT32_MAX; n++)
+        ;
+    for (i = n; i-- > 0;) { /* leaves first */
+        uint32_t c = s->order[i], u = s->par[c];
+        size_t k;
+        if (u == UINT32_MAX)
+            continue;
+        pass_edge(s, c, s->up + (size_t)c * K2, s->msg + (size_t)c * K2, 0);
+        for (k = 0; k < K2; k++)
+            s->up[(size_t)u * K2 + k] += s->msg[(size_t)c * K2 + k];
+    }
+    for (i = 0; i < n; i++) { /* roots first */
+        uint32_t c = s->order[i], u = s->par[c];
+        double *pre = s->msg + (size_t)c * K2; /* reused: msg is spent */
+        size_t k;
+        if (u == UINT32_MAX)
+            continue;
+        for (k = 0; k < K2; k++) {
+            double a = s->up[(size_t)u * K2 + k];
+            /* infinities: the parent state is impossible either way */
+            pre[k] = isinf(a) ? INFINITY
+                              : s->down[(size_t)u * K2 + k] + a - pre[k];
+        }
+        pass_edge(s, c, pre, s->down + (size_t)c * K2, 1);
+    }
+}
+
+/* The best band of every node (ties: the lowest) into band[]. */
+static void decode(hs *s, long *band)
+{
+    size_t K2 = 2 * s->K, i;
+    for (i = 0; s->order[i] != UINT32_MAX; i++) {
+        uint32_t c = s->order[i];
+        const double *u = s->up + (size_t)c * K2,
+                     *d = s->down + (size_t)c * K2;
+        double best = INFINITY;
+        size_t k, am = 0;
+        for (k = 0; k < K2; k++)
+            if (u[k] + d[k] < best - 1e-9)
+                best = u[k] + d[k], am = k;
+        band[c] = (long)(am >> 1);
+    }
+}
+
+/* Line l's gap: best cost of any other height minus the best cost (after
+ * solve_pass, msg[c] holds everything but c's subtree with c's parent in
+ * each state).  *hbest gets the best height (a band index). */
+static double line_gap(const hs *s, size_t l, double *H, long *hbest)
+{
+    size_t K2 = 2 * s->K;
+    uint32_t c = s->par[2 * l] == 2 * l + 1 ? (uint32_t)(2 * l)
+                                             : (uint32_t)(2 * l + 1);
+    const double *uc = s->up + (size_t)c * K2, *pre = s->msg + (size_t)c * K2;
+    double b1 = INFINITY, b2 = INFINITY;
+    long x, h1 = 0;
+    *hbest = -1;
+    if (s->par[c] == UINT32_MAX || s->pkind[c] != E_LINE)
+        return 0.0;
+    for (x = 0; x <= (long)s->K; x++)
+        H[x] = INFINITY;
+    for (x = 0; x < (long)K2; x++) {
+        double lc, v;
+        long y = across(s, l, (int)(1 - (c & 1)), x, &lc), h;
+        if (y < 0)
+            continue;
+        h = (x >> 1) > (y >> 1) ? (x >> 1) : (y >> 1);
+        v = pre[x] + lc + uc[y];
+        H[h] = v < H[h] ? v : H[h];
+    }
+    for (x = 0; x <= (long)s->K; x++)
+        if (H[x] < b1)
+            b1 = H[x], h1 = x;
+    for (x = 0; x <= (long)s->K; x++)
+        if (x != h1 && H[x] < b2)
+            b2 = H[x];
+    *hbest = h1;
+    if (getenv("TD_DEBUG_HEIGHTS") && l == 0) {
+        fprintf(stderr, "line 0 c %u priors %d:", c, s->priors);
+        for (x = 0; x <= (long)s->K; x++)
+            if (isfinite(H[x]))
+                fprintf(stderr, " H[%ld]=%g", x, H[x]);
+        fprintf(stderr, "\n");
+    }
+    return b2 - b1;
+}
+
+/* ---- results ---- */
+
+static void mark_abs(hs *s)
+{
+    size_t i;
+    for (i = 0; i < s->N; i++)
+        if (s->nknown[i] && td_faces_used(s->fx, i))
+            s->comp_abs[s->comp[2 * i]] = 1;
+    for (i = 0; i < s->nun; i++) {
+        uint32_t c = s->comp[(size_t)s->un[4 * i]];
+        if (c != UINT32_MAX)
+            s->comp_abs[c] = 1;
+    }
+}
+
+static void set_line(hs *s, size_t i, const double *H)
+{
+    td_line *l = &s->ls->v[i];
+    double gA = s->gap_prior[i], gB = s->gap[i];
+    long h = s->band_prior[i] + s->kofs;
+    l->has_height = 0;
+    l->hsource = TD_HS_NONE;
+    l->confidence = 0;
+    (void)H;
+    if (!td_faces_used(s->fx, i)) {
+        l->why = "shorter than 12 px: not labelled";
+        return;
+    }
+    if (!s->comp_abs[s->comp[2 * i]]) {
+        l->why = "no known point, spot height or label reaches this part "
+                 "of the sheet";
+        return;
+    }
+    if (gB > GAP_EPS && s->band[i] == s->band_prior[i]) {
+        l->hsource = s->nknown[i] && (double)h == s->lknown[i] ? TD_HS_KNOWN
+                                                                : TD_HS_SOLVED;
+        l->confidence = l->hsource == TD_HS_KNOWN ? 1.0 : 1.0 - exp(-gB / 3.0);
+    } else if (gA > GAP_EPS) {
+        l->hsource = TD_HS_ASSUMED;
+        l->confidence = 0.5 * (1.0 - exp(-gA / W_SUMMIT));
+    } else {
+        l->why = "undecided: the evidence allows more than one height here "
+                 "(add --known on or next to it)";
+        return;
+    }
+    l->has_height = 1;
+    l->height = s->p->base + (double)h * s->p->interval;
+    l->why = NULL;
+}
+
+static int cmp_w_desc(const void *pa, const void *pb)
+{
+    const double *a = pa, *b = pb;
+    return (a[0] < b[0]) - (a[0] > b[0]);
+}
+
+/* Face edges the solution breaks: leaks or merged lines; the five
+ * strongest are named. */
+static int report_conflicts(hs *s, const long *node_band, td_ctx *cx)
+{
+    size_t i, n = 0, k;
+    double *v = td_malloc((s->nfe + 1) * 2 * sizeof *v, cx);
+    if (!v)
+        return TD_ENOMEM;
+    for (i = 0; i < s->nfe; i++) {
+        const td_face_edge *e = &s->fe[i];
+        if (!s->intree[i] && node_band[e->a] != node_band[e->b]) {
+            v[2 * n] = e->w;
+            v[2 * n++ + 1] = (double)i;
+        }
+    }
+    qsort(v, n, 2 * sizeof *v, cmp_w_desc);
+    s->rep->conflicts = n;
+    for (k = 0; k < n && k < 5; k++) {
+        const td_face_edge *e = &s->fe[(size_t)v[2 * k + 1]];
+        td_label_warn(s->rep, "lines %ld and %ld border one face (%g probes, "
+                      "near %.0f,%.0f) but differ by %ld intervals: a gap or "
+                      "two contours traced as one there",
+                      s->ls->v[e->a / 2].id, s->ls->v[e->b / 2].id,
+                      (double)e->w, e->x, e->y,
+                      labs(node_band[e->a] - node_band[e->b]));
+    }
+    free(v);
+    return 0;
+}
+
+static void report_known(hs *s)
+{
+    size_t i;
+    for (i = 0; i < s->N; i++) {
+        const td_line *l = &s->ls->v[i];
+        double x, y;
+        if (!s->nknown[i] || !td_faces_used(s->fx, i) ||
+            (l->has_height &&
+             l->height == s->p->base + s->lknown[i] * s->p->interval))
+            continue;
+        td_label_where(l, &x, &y);
+        td_label_warn(s->rep, "known height %g of line %ld (near %.0f,%.0f) "
+                      "contradicts the other evidence; the solve gives %s",
+                      s->p->base + s->lknown[i] * s->p->interval, l->id, x, y,
+                      l->has_height ? "another height" : "no height");
+        if (l->has_height)
+            s->rep->known_broken++;
+    }
+}
+
+/* One dynamic-programming pass; per line its gap and best height. */
+static void run_pass(hs *s, int priors, double *gap, long *band, double *H)
+{
+    size_t i;
+    s->priors = priors;
+    solve_pass(s);
+    for (i = 0; i < s->N; i++) {
+        gap[i] = 0;
+        band[i] = -1;
+        if (td_faces_used(s->fx, i))
+            gap[i] = line_gap(s, i, H, &band[i]);
+    }
+}
+
+static int alloc_all(hs *s, td_ctx *cx)
+{
+    size_t N = s->N, V = s->V;
+    s->lknown = td_calloc(N + 1, sizeof *s->lknown, cx);
+    s->nknown = td_calloc(N + 1, sizeof *s->nknown, cx);
+    s->idx = td_calloc(N + 1, 1, cx);
+    s->ilen = td_calloc(N + 1, sizeof *s->ilen, cx);
+    s->up_cost = td_calloc(V + 1, sizeof *s->up_cost, cx);
+    s->up_prior = td_calloc(V + 1, sizeof *s->up_prior, cx);
+    s->uf = td_calloc(V + 1, sizeof *s->uf, cx);
+    s->comp = td_calloc(V + 1, sizeof *s->comp, cx);
+    s->par = td_calloc(V + 1, sizeof *s->par, cx);
+    s->order = td_calloc(V + 1, sizeof *s->order, cx);
+    s->pkind = td_calloc(V + 1, sizeof *s->pkind, cx);
+    s->pid = td_calloc(V + 1, sizeof *s->pid, cx);
+    s->adj_start = td_calloc(V + 2, sizeof *s->adj_start, cx);
+    s->adj = td_calloc(2 * (V + s->nfe) + 1, sizeof *s->adj, cx);
+    s->intree = td_calloc(s->nfe + 1, 1, cx);
+    s->compdepth = td_calloc(V + 1, sizeof *s->compdepth, cx);
+    s->comp_abs = td_calloc(V + 1, 1, cx);
+    s->band = td_calloc(V + 1, sizeof *s->band, cx);
+    s->band_prior = td_calloc(V + 1, sizeof *s->band_prior, cx);
+    s->gap = td_calloc(N + 1, sizeof *s->gap, cx);
+    s->gap_prior = td_calloc(N + 1, sizeof *s->gap_prior, cx);
+    if (!s->lknown || !s->nknown || !s->idx || !s->ilen || !s->up_cost ||
+        !s->up_prior || !s->uf || !s->comp || !s->par || !s->order ||
+        !s->pkind || !s->pid || !s->adj_start || !s->adj || !s->intree ||
+        !s->compdepth || !s->comp_abs || !s->band || !s->band_prior ||
+        !s->gap || !s->gap_prior)
+        return TD_ENOMEM;
+    return 0;
+}
+
+static void free_all(hs *s)
+{
+    free(s->lknown), free(s->nknown), free(s->idx), free(s->ilen);
+    free(s->up_cost), free(s->up_prior), free(s->uf), free(s->comp);
+    free(s->par), free(s->order), free(s->pkind), free(s->pid);
+    free(s->adj_start), free(s->adj), free(s->intree), free(s->compdepth);
+    free(s->comp_abs), free(s->band), free(s->band_prior), free(s->gap);
+    free(s->gap_prior), free(s->un), free(s->up), free(s->msg);
+    free(s->down), free(s->fe);
+    td_faces_free(s->fx);
+}
+
+/* Which side nodes any face edge touches (a ring's inside with none holds
+ * nothing). */
+static int touched_nodes(const hs *s, unsigned char **out, td_ctx *cx)
+{
+    size_t i;
+    unsigned char *t = td_calloc(s->V + 1, 1, cx);
+    if (!t)
+        return TD_ENOMEM;
+    for (i = 0; i < s->nfe; i++)
+        t[s->fe[i].a] = t[s->fe[i].b] = 1;
+    *out = t;
+    return 0;
+}
+
+static int solve_all(hs *s, td_ctx *cx)
+{
+    size_t KV, i;
+    double *H = NULL;
+    long *nb = NULL;
+    int rc;
+    if ((rc = build_forest(s, cx)) != 0 || (rc = order_forest(s, cx)) != 0 ||
+        (rc = set_domain(s, cx)) != 0)
+        return rc;
+    mark_abs(s);
+    if (getenv("TD_DEBUG_HEIGHTS")) {
+        size_t nc = 0, na = 0, j, nt = 0;
+        for (j = 0; j < s->V; j++)
+            if (s->comp[j] == j) {
+                nc++;
+                na += s->comp_abs[j];
+            }
+        for (j = 0; j < s->nfe; j++)
+            nt += s->intree[j];
+        fprintf(stderr, "heights: %zu lines, %zu face edges (%zu in tree), "
+                "%zu components (%zu with evidence), K %zu\n", s->N, s->nfe,
+                nt, nc, na, s->K);
+    }
+    KV = 2 * s->K * s->V;
+    if (!(s->up = td_malloc(KV * sizeof *s->up + 8, cx)) ||
+        !(s->msg = td_malloc(KV * sizeof *s->msg + 8, cx)) ||
+        !(s->down = td_malloc(KV * sizeof *s->down + 8, cx)) ||
+        !(H = td_malloc((s->K + 1) * sizeof *H, cx)) ||
+        !(nb = td_malloc((s->V + 1) * sizeof *nb, cx))) {
+        free(H);
+        return TD_ENOMEM;
+    }
+    run_pass(s, 0, s->gap, s->band, H);
+    run_pass(s, 1, s->gap_prior, s->band_prior, H);
+    if (getenv("TD_DEBUG_HEIGHTS")) {
+        size_t j;
+        for (j = 0; j < s->N && j < 4000; j += 1)
+            if (s->nknown[j] || j % 50 == 0)
+            fprintf(stderr, "line %zu used %d known %d(%g) gap %g/%g band %ld/%ld par %u/%u\n", j,
+                    td_faces_used(s->fx, j), s->nknown[j], s->lknown[j], s->gap[j], s->gap_prior[j],
+                    s->band[j], s->band_prior[j], s->par[2*j], s->par[2*j+1]);
+    }
+    decode(s, nb);
+    for (i = 0; i < s->N; i++)
+        set_line(s, i, H);
+    rc = report_conflicts(s, nb, cx);
+    report_known(s);
+    free(H);
+    free(nb);
+    return rc;
+}
+
+static void count(hs *s)
+{
+    td_label_report *r = s->rep;
+    size_t i;
+    for (i = 0; i < s->N; i++) {
+        const td_line *l = &s->ls->v[i];
+        if (!l->has_height) {
+            r->undetermined_ids[r->undetermined++] = l->id;
+            continue;
+        }
+        r->labelled++;
+        r->by_source[l->hsource]++;
+        if (l->hsource == TD_HS_ASSUMED)
+            r->assumed_ids[r->assumed++] = l->id;
+    }
+}
+
+/* Contract in heights_int.h. */
+int td_heights_solve(td_lines *ls, const td_label_params *p,
+                     td_label_report *rep, td_ctx *cx)
+{
+    hs s;
+    td_faces_params fp = td_faces_defaults();
+    unsigned char *touched = NULL;
+    int rc = TD_ENOMEM;
+    memset(&s, 0, sizeof s);
+    s.ls = ls, s.p = p, s.rep = rep, s.N = ls->n, s.V = 2 * ls->n;
+    if (ls->n > UINT32_MAX / 4)
+        return td_seterr(cx, TD_EINVAL, "label: too many lines (%zu)", ls->n);
+    if (!(s.fx = td_faces_new(ls, p->w, p->h, &fp, cx)) ||
+        (rc = td_faces_edges(s.fx, &s.fe, &s.nfe, cx)) != 0 ||
+        (rc = alloc_all(&s, cx)) != 0 ||
+        (rc = touched_nodes(&s, &touched, cx)) != 0 ||
+        (rc = setup_known(&s, cx)) != 0 ||
+        (rc = setup_directions(&s, touched, cx)) != 0 ||
+        (rc = setup_index(&s, cx)) != 0 || (rc = solve_all(&s, cx)) != 0)
+        goto fail;
+    rc = TD_ENOMEM;
+    if (!(rep->undetermined_ids = td_calloc(ls->n + 1, sizeof(long), cx)) ||
+        !(rep->assumed_ids = td_calloc(ls->n + 1, sizeof(long), cx)))
+        goto fail;
+    count(&s);
+    rc = 0;
+fail:
+    if (rc && !cx->code)
+        td_seterr(cx, rc, "label: out of memory");
+    free(touched);
+    free_all(&s);
+    return rc;
+}

@@ -1,0 +1,140 @@
+/* bench_heights: height accuracy of the labeller on sheets drawn from real
+ * DEMs (../shared/dems) and the generator's terrains, scanned or clean,
+ * with three known points or one known point and the index contours'
+ * widths; the share of traced line length with the right height
+ * (td_match_heights), lines wrong with confidence >= 0.9, where heights
+ * came from, and the labelling time.  Numbers for docs/benchmarks.md.
+ *
+ *   bench_heights [--dems DIR] [--only NAME] [--tree] [--log] */
+#include "../util/hsheet.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct sheet_case {
+    const char *name, *dem; /* dem NULL: analytic terrain */
+    td_gen_terrain_kind terrain;
+    double scale, interval;
+    int size;
+} sheet_case;
+
+static const sheet_case cases[] = {
+    {"elkhorn", "elkhorn_srtm3.tif", TD_GEN_DEM, 6, 0, 0},
+    {"frontrange", "frontrange_srtm3.tif", TD_GEN_DEM, 10, 20, 0},
+    {"orkhon", "orkhon_92m.tif", TD_GEN_DEM, 10, 0, 0},
+    {"cone", NULL, TD_GEN_CONE, 0, 0, 800},
+    {"hills", NULL, TD_GEN_HILLS, 0, 0, 1500},
+    {"ridges", NULL, TD_GEN_RIDGES, 0, 0, 2000},
+};
+
+static void defects(td_gen_params *p, int scanned)
+{
+    p->line_width = 1.8;
+    p->index_width = 3.2;
+    if (!scanned)
+        return;
+    p->blur = 0.8;
+    p->noise = 8;
+    p->specks = 300;
+    p->breaks = 40;
+    p->break_min = 3;
+    p->break_max = 10;
+    p->labels = 3;
+    p->label_bend = 6;
+}
+
+int main(int argc, char **argv)
+{
+    const char *dir = "../shared/dems", *only = NULL, *png = NULL;
+    int tree = 0, logit = 0, a;
+    size_t c;
+    for (a = 1; a < argc; a++) {
+        if (!strcmp(argv[a], "--dems") && a + 1 < argc)
+            dir = argv[++a];
+        else if (!strcmp(argv[a], "--only") && a + 1 < argc)
+            only = argv[++a];
+        else if (!strcmp(argv[a], "--tree"))
+            tree = 1;
+        else if (!strcmp(argv[a], "--log"))
+            logit = 1;
+        else if (!strcmp(argv[a], "--png") && a + 1 < argc)
+            png = argv[++a];
+        else if (!strcmp(argv[a], "--topodig") || !strcmp(argv[a], "--dir"))
+            a++; /* make bench's common options */
+    }
+    printf("%-11s %-7s %-13s %6s %6s %6s  %5s %5s %5s %5s %5s  %5s %6s\n",
+           "sheet", "scan", "hints", "lines", "acc", "null", "known",
+           "solvd", "assum", "none", "sure!", "confl", "secs");
+    for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        const sheet_case *k = &cases[c];
+        td_grid_f32 *src = NULL;
+        td_ctx cx;
+        int scanned, hint;
+        char path[512];
+        if (only && strcmp(only, k->name))
+            continue;
+        td_ctx_init(&cx);
+        if (k->dem) {
+            snprintf(path, sizeof path, "%s/%s", dir, k->dem);
+            if (td_hsheet_load_dem(path, &src, &cx) != 0) {
+                printf("%-11s (skipped: %s)\n", k->name, td_errmsg(&cx));
+                continue;
+            }
+        }
+        for (scanned = 0; scanned < 3; scanned++)
+            for (hint = 0; hint < 2; hint++) {
+                td_hsheet hs;
+                memset(&hs, 0, sizeof hs);
+                hs.gp = td_gen_defaults();
+                hs.gp.terrain = k->terrain;
+                hs.gp.dem_in = src;
+                hs.gp.interval = k->interval;
+                if (src) {
+                    hs.gp.w = (int)(src->w * k->scale);
+                    hs.gp.h = (int)(src->h * k->scale);
+                } else {
+                    hs.gp.w = hs.gp.h = k->size;
+                }
+                defects(&hs.gp, scanned == 2);
+                hs.use_truth_lines = scanned == 0;
+                hs.nknown = hint == 0 ? 3 : 1;
+                hs.index_every = hint == 0 ? 0 : getenv("NOIDX") ? 0 : 5;
+                hs.method = tree ? TD_LABEL_TREE : TD_LABEL_FACES;
+                if (png) {
+                    snprintf(path, sizeof path, "%s/%s_%d_%d.png", png,
+                             k->name, scanned, hint);
+                    hs.png = path;
+                }
+                if (td_hsheet_run(&hs, logit ? stdout : NULL, &cx) != 0) {
+                    printf("%-11s %-7s %-13s failed: %s\n", k->name,
+                           scanned == 0 ? "truth" : scanned == 1 ? "clean"
+                                                                 : "scanned",
+                           hint == 0 ? "3 known" : "1 known+index",
+                           td_errmsg(&cx));
+                    td_ctx_clear(&cx);
+                    td_label_report_free(&hs.rep);
+                    continue;
+                }
+                printf("%-11s %-7s %-13s %6zu %6.3f %6.3f  %5zu %5zu %5zu "
+                       "%5zu %5ld  %5zu %6.2f\n",
+                       k->name,
+                       scanned == 0 ? "truth" : scanned == 1 ? "clean"
+                                                             : "scanned",
+                       hint == 0 ? "3 known" : "1 known+index", hs.traced,
+                       hs.score.accuracy,
+                       hs.score.null_len /
+                           (hs.score.right + hs.score.wrong +
+                            hs.score.null_len + 1e-9),
+                       hs.rep.by_source[TD_HS_KNOWN],
+                       hs.rep.by_source[TD_HS_SOLVED],
+                       hs.rep.by_source[TD_HS_ASSUMED], hs.rep.undetermined,
+                       hs.score.n_wrong_sure, hs.rep.conflicts,
+                       hs.label_secs);
+                fflush(stdout);
+                td_label_report_free(&hs.rep);
+            }
+        td_grid_f32_free(src);
+    }
+    return 0;
+}

@@ -1,0 +1,182 @@
+/* hsheet.c: see hsheet.h. */
+#include "hsheet.h"
+
+#include "../../scanner/scan.h"
+#include "../../src/demio.h"
+#include "../../src/draw.h"
+#include "../../src/imageio.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int td_hsheet_load_dem(const char *path, td_grid_f32 **out, td_ctx *cx)
+{
+    td_georef g;
+    int rc;
+    td_georef_init(&g);
+    rc = td_dem_read(path, out, &g, cx);
+    td_georef_clear(&g);
+    return rc;
+}
+
+static int cmp_len_desc(const void *pa, const void *pb)
+{
+    const double *a = pa, *b = pb;
+    return (a[0] < b[0]) - (a[0] > b[0]);
+}
+
+/* Up to n known points on the longest index contours of distinct heights. */
+static int pick_known(const td_lines *tl, double interval, int n,
+                      td_label_point *kp)
+{
+    double *v = malloc((tl->n + 1) * 2 * sizeof *v);
+    size_t i, m = 0;
+    int got = 0;
+    if (!v)
+        return 0;
+    for (i = 0; i < tl->n; i++) {
+        double k = tl->v[i].height / interval;
+        if (fabs(k / 5 - floor(k / 5 + 0.5)) < 1e-6) {
+            v[2 * m] = td_line_length(&tl->v[i]);
+            v[2 * m++ + 1] = (double)i;
+        }
+    }
+    qsort(v, m, 2 * sizeof *v, cmp_len_desc);
+    for (i = 0; i < m && got < n; i++) {
+        const td_line *l = &tl->v[(size_t)v[2 * i + 1]];
+        int j, dup = 0;
+        for (j = 0; j < got; j++)
+            dup |= kp[j].height == l->height;
+        if (dup)
+            continue;
+        kp[got].x = l->xy[2 * (l->n / 2)];
+        kp[got].y = l->xy[2 * (l->n / 2) + 1];
+        kp[got].height = l->height;
+        kp[got++].id = -1;
+    }
+    free(v);
+    return got;
+}
+
+static int draw_verdicts(const td_hsheet *hs, const td_image *im,
+                         const td_lines *ls, const int *verdict, td_ctx *cx)
+{
+    static const uint8_t col[6][3] = {{0, 160, 0},   {230, 0, 0},
+                                      {150, 150, 150}, {200, 200, 255},
+                                      {0, 90, 255},  {255, 140, 0}};
+    td_image *out = td_image_new(im->w, im->h, 3, cx);
+    size_t i;
+    int x, y, rc;
+    if (!out)
+        return TD_ENOMEM;
+    for (y = 0; y < im->h; y++)
+        for (x = 0; x < im->w; x++) {
+            const uint8_t *s = im->data + (size_t)y * im->stride +
+                               (size_t)x * im->channels;
+            uint8_t *d = out->data + (size_t)y * out->stride + 3 * (size_t)x;
+            int c;
+            for (c = 0; c < 3; c++)
+                d[c] = (uint8_t)(200 + s[im->channels == 3 ? c : 0] * 55 / 255);
+        }
+    for (i = 0; i < ls->n; i++) {
+        int v = verdict[i];
+        if (ls->v[i].hsource == TD_HS_ASSUMED && v < 2)
+            v += 4;
+        td_draw_line(out, &ls->v[i], col[v]);
+    }
+    rc = td_png_write(hs->png, out, cx);
+    td_image_free(out);
+    return rc;
+}
+
+static int copy_lines(const td_lines *in, td_lines **out, td_ctx *cx)
+{
+    size_t i, k;
+    if (!(*out = td_lines_new(cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < in->n; i++) {
+        td_line *l = td_lines_add(*out, cx);
+        if (!l)
+            return TD_ENOMEM;
+        l->closed = in->v[i].closed;
+        l->width = in->v[i].width;
+        l->edge = in->v[i].edge;
+        for (k = 0; k < in->v[i].n; k++)
+            if (td_line_push(l, in->v[i].xy[2 * k], in->v[i].xy[2 * k + 1],
+                             cx))
+                return TD_ENOMEM;
+    }
+    return 0;
+}
+
+int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
+{
+    td_image *im = NULL;
+    td_lines *tl = NULL, *ls = NULL;
+    td_grid_f32 *dem = NULL;
+    td_scan_result res;
+    td_label_params lp = td_label_defaults();
+    td_label_point kp[8];
+    double t0;
+    int rc;
+    memset(&res, 0, sizeof res);
+    memset(&hs->rep, 0, sizeof hs->rep);
+    if ((rc = td_gen_sheet(&hs->gp, &im, &tl, &dem, cx)) != 0)
+        goto done;
+    hs->interval = td_gen_auto_interval(&hs->gp, dem);
+    hs->truth = tl->n;
+    {
+        size_t i;
+        for (i = 0; i < tl->n; i++) { /* the ink widths as drawn */
+            double k = (tl->v[i].height - hs->gp.base) / hs->interval / 5;
+            tl->v[i].width = hs->gp.index_width > 0 &&
+                                     fabs(k - floor(k + 0.5)) < 1e-6
+                                 ? hs->gp.index_width
+                                 : hs->gp.line_width;
+        }
+    }
+    if (hs->use_truth_lines) {
+        if ((rc = copy_lines(tl, &ls, cx)) != 0)
+            goto done;
+    } else {
+        td_scan_params sp = td_scan_defaults();
+        if (hs->gp.colour)
+            sp.bin.ink = TD_INK_BROWN;
+        if ((rc = td_scan(im, &sp, &res, cx)) != 0)
+            goto done;
+        ls = res.lines;
+        res.lines = NULL;
+    }
+    hs->traced = ls->n;
+    lp.method = hs->method;
+    lp.interval = hs->interval;
+    lp.base = hs->gp.base;
+    lp.w = im->w;
+    lp.h = im->h;
+    lp.index_every = hs->index_every;
+    lp.nknown = (size_t)pick_known(tl, hs->interval,
+                                   hs->nknown > 8 ? 8 : hs->nknown, kp);
+    lp.known = kp;
+    t0 = td_now();
+    rc = td_label_auto(ls, &lp, &hs->rep, cx);
+    hs->label_secs = td_now() - t0;
+    if (rc == 0) {
+        int *verdict = calloc(ls->n + 1, sizeof *verdict);
+        if (!verdict)
+            rc = TD_ENOMEM;
+        if (rc == 0)
+            rc = td_match_heights_v(tl, ls, im->w, im->h, 2.0, &hs->score,
+                                    log, verdict);
+        if (rc == 0 && hs->png)
+            rc = draw_verdicts(hs, im, ls, verdict, cx);
+        free(verdict);
+    }
+done:
+    td_scan_result_free(&res);
+    td_image_free(im);
+    td_lines_free(tl);
+    td_lines_free(ls);
+    td_grid_f32_free(dem);
+    return rc;
+}

@@ -1,0 +1,35 @@
+/* hsheet.h: height accuracy end to end on a generated sheet (tests and
+ * benchmarks): generate (any terrain, or a real DEM), scan, label with
+ * hints taken from the truth, score with td_match_heights. */
+#ifndef TD_TEST_HSHEET_H
+#define TD_TEST_HSHEET_H
+
+#include "../../samples/gen/gen.h"
+#include "../../scanner/label.h"
+#include "match.h"
+
+typedef struct td_hsheet {
+    td_gen_params gp;     /* the sheet (terrain, dem_in, size, defects) */
+    int nknown;           /* known points on index contours (0..8) */
+    int index_every;      /* pass --index-every (0: no) */
+    int use_truth_lines;  /* label the truth lines, not the traced ones */
+    td_labeller method;
+    const char *png;      /* when set: the verdicts drawn over the sheet
+                             (green right, red wrong, blue assumed and
+                             right, orange assumed and wrong, grey none) */
+    /* results */
+    td_hscore score;
+    td_label_report rep;  /* the labeller's report (free it) */
+    size_t traced, truth;
+    double interval, label_secs;
+} td_hsheet;
+
+/* Run *hs; 0, or an error in cx.  Hints: the nknown longest index contours
+ * (levels multiple of 5) with distinct heights, each at its middle
+ * vertex.  log (may be NULL) gets the wrong sure lines. */
+int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx);
+
+/* Load a real DEM (../shared/dems/NAME) into *out, or return nonzero. */
+int td_hsheet_load_dem(const char *path, td_grid_f32 **out, td_ctx *cx);
+
+#endif
