@@ -18,6 +18,11 @@ struct td_faces {
     uint32_t *start; /* gw * gh + 1 offsets into seg */
     uint32_t *seg;   /* pairs: line index, first vertex index */
     unsigned char *used;
+    size_t *voff;     /* per line: offset of its vertices in vchunk */
+    uint32_t *vchunk; /* per vertex: its chunk (segment k: vertex k's) */
+    uint32_t *cline;  /* per chunk: its line */
+    uint32_t *cfirst; /* per chunk: its first vertex */
+    size_t nchunks;
     td_faces_params p;
 };
 
@@ -26,6 +31,7 @@ td_faces_params td_faces_defaults(void)
     td_faces_params p;
     p.spacing = 4.0;
     p.min_len = 12.0;
+    p.chunk_len = 0.0;
     return p;
 }
 
@@ -82,6 +88,63 @@ static void bin_segments(td_faces *f, int pass, uint32_t *fill)
     }
 }
 
+/* Cut every used line into chunks of about p.chunk_len px of arc (one
+ * chunk per line when chunk_len <= 0). */
+static int make_chunks(td_faces *f, td_ctx *cx)
+{
+    size_t i, k, nv = 0, nc = 0;
+    for (i = 0; i < f->ls->n; i++) {
+        f->voff[i] = nv;
+        nv += f->ls->v[i].n;
+        if (f->used[i]) {
+            double len = td_line_length(&f->ls->v[i]);
+            size_t m = f->p.chunk_len > 0
+                           ? (size_t)floor(len / f->p.chunk_len + 0.5) : 1;
+            nc += m ? m : 1;
+        }
+    }
+    f->voff[f->ls->n] = nv;
+    if (nc >= UINT32_MAX / 4)
+        return td_seterr(cx, TD_ENOMEM, "faces: too many chunks");
+    if (!(f->vchunk = td_malloc((nv + 1) * sizeof *f->vchunk, cx)) ||
+        !(f->cline = td_malloc((nc + 1) * sizeof *f->cline, cx)) ||
+        !(f->cfirst = td_malloc((nc + 1) * sizeof *f->cfirst, cx)))
+        return TD_ENOMEM;
+    nc = 0;
+    for (i = 0; i < f->ls->n; i++) {
+        const td_line *l = &f->ls->v[i];
+        double len, s = 0;
+        size_t m, c0 = nc;
+        if (!f->used[i])
+            continue;
+        len = td_line_length(l);
+        m = f->p.chunk_len > 0 ? (size_t)floor(len / f->p.chunk_len + 0.5)
+                               : 1;
+        m = m ? m : 1;
+        for (k = 0; k < m; k++) {
+            f->cline[nc + k] = (uint32_t)i;
+            f->cfirst[nc + k] = UINT32_MAX;
+        }
+        for (k = 0; k < l->n; k++) {
+            size_t c;
+            if (k > 0)
+                s += hypot(l->xy[2 * k] - l->xy[2 * k - 2],
+                           l->xy[2 * k + 1] - l->xy[2 * k - 1]);
+            c = (size_t)(s / len * m);
+            c = c < m ? c : m - 1;
+            f->vchunk[f->voff[i] + k] = (uint32_t)(c0 + c);
+            if (f->cfirst[c0 + c] == UINT32_MAX)
+                f->cfirst[c0 + c] = (uint32_t)k;
+        }
+        for (k = 0; k < m; k++) /* a chunk no vertex fell in: empty */
+            if (f->cfirst[c0 + k] == UINT32_MAX)
+                f->cfirst[c0 + k] = k ? f->cfirst[c0 + k - 1] : 0;
+        nc += m;
+    }
+    f->nchunks = nc;
+    return 0;
+}
+
 /* Contract in faces.h. */
 td_faces *td_faces_new(const td_lines *ls, int w, int h,
                        const td_faces_params *p, td_ctx *cx)
@@ -103,11 +166,14 @@ td_faces *td_faces_new(const td_lines *ls, int w, int h,
     f->gh = (h + CELL - 1) / CELL;
     nc = (size_t)f->gw * f->gh;
     if (!(f->used = td_calloc(ls->n + 1, 1, cx)) ||
+        !(f->voff = td_calloc(ls->n + 1, sizeof *f->voff, cx)) ||
         !(f->start = td_calloc(nc + 1, sizeof *f->start, cx)))
         goto fail;
     for (i = 0; i < ls->n; i++)
         f->used[i] = ls->v[i].n >= 2 &&
                      td_line_length(&ls->v[i]) >= f->p.min_len;
+    if (make_chunks(f, cx) != 0)
+        goto fail;
     bin_segments(f, 0, NULL);
     for (i = 0; i < nc; i++) {
         if (f->start[i + 1] > UINT32_MAX / 2 - f->start[i]) {
@@ -137,12 +203,38 @@ void td_faces_free(td_faces *f)
     free(f->start);
     free(f->seg);
     free(f->used);
+    free(f->voff);
+    free(f->vchunk);
+    free(f->cline);
+    free(f->cfirst);
     free(f);
 }
 
 int td_faces_used(const td_faces *f, size_t i)
 {
     return i < f->ls->n && f->used[i];
+}
+
+size_t td_faces_nchunks(const td_faces *f)
+{
+    return f->nchunks;
+}
+
+size_t td_faces_chunk_line(const td_faces *f, size_t c)
+{
+    return f->cline[c];
+}
+
+size_t td_faces_chunk_first(const td_faces *f, size_t c)
+{
+    return f->cfirst[c];
+}
+
+long td_faces_chunk_at(const td_faces *f, size_t i, size_t k)
+{
+    if (!td_faces_used(f, i) || k >= f->ls->v[i].n)
+        return -1;
+    return (long)f->vchunk[f->voff[i] + k];
 }
 
 /* The nearest crossing of the ray with the segments of cell c beyond t0:
@@ -171,7 +263,8 @@ static void test_cell(const td_faces *f, size_t c, const double *o,
             continue;
         *best = t;
         /* side 0 (left on screen) when the start is left of the segment */
-        *node = 2 * (long)li + ((S[0] * -q[1] - S[1] * -q[0]) < 0 ? 0 : 1);
+        *node = 2 * (long)f->vchunk[f->voff[li] + k] +
+                ((S[0] * -q[1] - S[1] * -q[0]) < 0 ? 0 : 1);
     }
 }
 
@@ -284,9 +377,9 @@ static int probe_line(const td_faces *f, size_t i, hit **hv, size_t *nh,
             double t = 0;
             long m = td_faces_ray(f, x, y, sg * n[0], sg * n[1], (long)i,
                                   1.5, &t);
-            uint32_t me = (uint32_t)(2 * i + side);
-            if (m < 0 || (uint32_t)m == me || (size_t)m / 2 == i)
-                continue; /* the border, or this line again */
+            uint32_t me = 2 * f->vchunk[f->voff[i] + k] + (uint32_t)side;
+            if (m < 0 || (uint32_t)m / 2 == me / 2)
+                continue; /* the border, or this chunk again */
             if (*nh == *cap) {
                 size_t nc = *cap ? 2 * *cap : 4096;
                 hit *v = realloc(*hv, nc * sizeof *v);

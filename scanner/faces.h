@@ -2,8 +2,10 @@
  * (ALGORITHMS.md A.5, "faces"; ours).
  *
  * Every line has two sides: side 0 on the left of its direction of travel
- * as seen on the screen (y down), side 1 on the right.  Side node 2i + s is
- * side s of line i.  A probe leaves line i perpendicular to it, from one
+ * as seen on the screen (y down), side 1 on the right.  Lines are cut into
+ * chunks along their arc (p->chunk_len; one chunk per line by default), and
+ * side node 2c + s is side s of chunk c (chunks are numbered line by line,
+ * in order along each line).  A probe leaves line i perpendicular to it, from one
  * side, and runs straight until it meets the first other line (or the
  * sheet border):
  *
@@ -41,6 +43,9 @@ typedef struct td_face_edge {
 typedef struct td_faces_params {
     double spacing; /* px between probes along a line (default 4) */
     double min_len; /* lines shorter than this take no part (default 12) */
+    double chunk_len; /* cut lines into chunks of about this many px of
+                         arc, each with its own two side nodes; <= 0: one
+                         chunk per line (the default) */
 } td_faces_params;
 
 typedef struct td_faces td_faces; /* the segment index; opaque */
@@ -57,6 +62,13 @@ void td_faces_free(td_faces *f);
 /* Nonzero when line i takes part (long enough). */
 int td_faces_used(const td_faces *f, size_t i);
 
+/* Chunks: how many, the line of chunk c, its first vertex, and the chunk
+ * of vertex k of line i (-1 when the line takes no part). */
+size_t td_faces_nchunks(const td_faces *f);
+size_t td_faces_chunk_line(const td_faces *f, size_t c);
+size_t td_faces_chunk_first(const td_faces *f, size_t c);
+long td_faces_chunk_at(const td_faces *f, size_t i, size_t k);
+
 /* The "same face" edges of every line's probes, merged per node pair:
  * *out (free()) and *n.  Returns 0 or TD_ENOMEM. */
 int td_faces_edges(const td_faces *f, td_face_edge **out, size_t *n,
@@ -64,7 +76,7 @@ int td_faces_edges(const td_faces *f, td_face_edge **out, size_t *n,
 
 /* The first line met from (x,y) in direction (dx,dy) (any length), not
  * counting line `skip` within `skip_t` px of the start: returns the side
- * node met (2 * line + side facing the start) and its distance in *t, or
+ * node met (2 * chunk + side facing the start) and its distance in *t, or
  * -1 when the ray leaves the sheet first. */
 long td_faces_ray(const td_faces *f, double x, double y, double dx, double dy,
                   long skip, double skip_t, double *t);

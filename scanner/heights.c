@@ -43,19 +43,27 @@
 #define PLINE 1000.0
 #define WKNOWN 1000.0
 #define WFACE 2.0
+#define WCONT 24.0     /* a chunk continues its line: same state */
+#define CHUNK 48.0     /* px of arc per chunk */
 #define W_INDEX 3.0
 #define W_SUMMIT 0.5
 #define W_RING 0.25
 #define W_DEPR 50.0
 #define WFOLD 1.0
 #define GAP_EPS 1e-3
-#define MAX_CELLS (96u << 20) /* band table entries (8 bytes each, x3) */
+#define MAX_CELLS (96u << 20) /* state table entries (8 bytes each, x3) */
 
-enum { E_LINE, E_FACE };
+enum { E_LINE, E_FACE, E_CONT };
 
 typedef struct tedge {
-    uint32_t to, kind, id; /* id: line index or face edge index */
+    uint32_t to, kind, id; /* id: chunk (line, continuity) or face edge */
 } tedge;
+
+/* A candidate edge of the forest. */
+typedef struct cedge {
+    uint32_t a, b, kind, id;
+    double w;
+} cedge;
 
 typedef struct hs {
     td_lines *ls;
@@ -63,18 +71,21 @@ typedef struct hs {
     td_label_report *rep;
     td_faces *fx;
     td_face_edge *fe;
-    size_t nfe, N, V; /* lines, side nodes (2N) */
-    /* per line */
+    size_t nfe, N, C, V; /* lines, chunks, side nodes (2C) */
+    /* per chunk */
     double *lknown;   /* level a known point gives (NAN: none) */
-    int *nknown;      /* known points on the line */
+    int *nknown;      /* known points on the chunk */
     signed char *idx; /* +1 thick (index), -1 thin, 0 unknown */
-    double *up_cost;  /* 2 per line: cost when side s is the higher */
-    double *up_prior; /* the same, priors only (summit) */
     double *ilen;     /* weight of the index evidence */
+    double *up_cost;  /* 2 per chunk: cost when side s is the higher */
+    double *up_prior; /* the same, priors only (rings, summits) */
+    unsigned char *hole; /* per node: the outside of a closed line */
     /* per node */
     uint32_t *uf, *comp, *par, *order, *pkind, *pid, *adj_start;
     tedge *adj;
-    unsigned char *intree;
+    cedge *ce;
+    size_t nce;
+    unsigned char *intree; /* per candidate edge */
     /* unary evidence: (node, lo, hi, w): band outside [lo,hi] costs w */
     double *un;
     size_t nun, capun;
@@ -82,9 +93,9 @@ typedef struct hs {
     unsigned char *comp_abs; /* component holds absolute evidence */
     long kofs;
     size_t K;
-    double *up, *msg, *down;
-    long *band, *band_prior;
-    double *gap, *gap_prior;
+    double *up, *msg, *down; /* per node and state: the DP's tables */
+    long *band, *band_prior; /* per chunk: best height (band index) */
+    double *gap, *gap_prior; /* per chunk */
     int priors; /* this pass uses the priors */
 } hs;
 
@@ -117,25 +128,42 @@ static int add_unary(hs *s, long node, long lo, long hi, double w,
     return 0;
 }
 
-/* The used line nearest (x,y) within p->near px, -1 when none. */
-static long line_near(const hs *s, double x, double y, double *dist)
+/* The chunks of used line l: the first in *c0, how many returned. */
+static size_t line_chunks(const hs *s, size_t l, size_t *c0)
 {
-    size_t i;
+    long a = td_faces_chunk_at(s->fx, l, 0);
+    long b = td_faces_chunk_at(s->fx, l, s->ls->v[l].n - 1);
+    if (a < 0)
+        return 0;
+    *c0 = (size_t)a;
+    return (size_t)(b - a + 1);
+}
+
+/* The chunk of the used line nearest (x,y) within p->near px (its line in
+ * *line), -1 when none. */
+static long chunk_near(const hs *s, double x, double y, long *line)
+{
+    size_t i, k, bk = 0;
     long best = -1;
     double bd = s->p->near;
     for (i = 0; i < s->N; i++) {
-        double d;
-        if (!td_faces_used(s->fx, i))
+        const td_line *l = &s->ls->v[i];
+        if (!td_faces_used(s->fx, i) || td_contain_dist(l, x, y) > bd)
             continue;
-        d = td_contain_dist(&s->ls->v[i], x, y);
-        if (d <= bd) {
-            bd = d;
-            best = (long)i;
-        }
+        bd = td_contain_dist(l, x, y);
+        best = (long)i;
     }
-    if (dist)
-        *dist = bd;
-    return best;
+    if (best < 0)
+        return -1;
+    bd = INFINITY;
+    for (k = 0; k < s->ls->v[best].n; k++) {
+        const double *q = s->ls->v[best].xy + 2 * k;
+        double d = hypot(q[0] - x, q[1] - y);
+        if (d < bd)
+            bd = d, bk = k;
+    }
+    *line = best;
+    return td_faces_chunk_at(s->fx, (size_t)best, bk);
 }
 
 static long line_by_id(const hs *s, long id)
@@ -172,21 +200,36 @@ static int known_in_face(hs *s, const td_label_point *q, td_ctx *cx)
     return 0;
 }
 
+static void put_known(hs *s, size_t c, long level, long line)
+{
+    if (s->nknown[c] && s->lknown[c] != (double)level)
+        td_label_warn(s->rep, "line %ld: two known points disagree (%g "
+                      "and %g); the solve decides", s->ls->v[line].id,
+                      s->p->base + s->lknown[c] * s->p->interval,
+                      s->p->base + (double)level * s->p->interval);
+    s->lknown[c] = (double)level;
+    s->nknown[c]++;
+}
+
 static int setup_known(hs *s, td_ctx *cx)
 {
-    size_t i;
+    size_t i, k, c0, m;
     for (i = 0; i < s->p->nknown; i++) {
         const td_label_point *q = &s->p->known[i];
-        long l;
+        long l = -1, c;
         double f = (q->height - s->p->base) / s->p->interval;
         if (q->id >= 0) {
-            l = line_by_id(s, q->id);
-            if (l < 0) {
+            if ((l = line_by_id(s, q->id)) < 0) {
                 td_label_warn(s->rep, "height %g for line %ld: no such line "
                               "(or too short), not used", q->height, q->id);
                 continue;
             }
-        } else if ((l = line_near(s, q->x, q->y, NULL)) < 0) {
+            m = line_chunks(s, (size_t)l, &c0);
+            for (k = 0; k < m; k++)
+                put_known(s, c0 + k, lround(f), l);
+        } else if ((c = chunk_near(s, q->x, q->y, &l)) >= 0) {
+            put_known(s, (size_t)c, lround(f), l);
+        } else {
             if (!(q->x >= 0 && q->y >= 0 && q->x <= s->p->w &&
                   q->y <= s->p->h))
                 return td_seterr(cx, TD_EINVAL, "known point (%g,%g) is off "
@@ -196,20 +239,12 @@ static int setup_known(hs *s, td_ctx *cx)
                 return TD_ENOMEM;
             continue;
         }
-        if (fabs(f - lround(f)) > 1e-6) {
+        if (fabs(f - lround(f)) > 1e-6)
             td_label_warn(s->rep, "known point (%g,%g)=%g lies on line %ld "
                           "but is not base + a multiple of the interval; "
                           "taken as %g", q->x, q->y, q->height,
                           s->ls->v[l].id,
                           s->p->base + lround(f) * s->p->interval);
-        }
-        if (s->nknown[l] && s->lknown[l] != (double)lround(f))
-            td_label_warn(s->rep, "line %ld: two known points disagree (%g "
-                          "and %g); the solve decides", s->ls->v[l].id,
-                          s->p->base + s->lknown[l] * s->p->interval,
-                          q->height);
-        s->lknown[l] = (double)lround(f);
-        s->nknown[l]++;
     }
     return 0;
 }
@@ -228,21 +263,25 @@ static int inner_side(const td_line *l)
     return a > 0 ? 1 : 0;
 }
 
-/* Priors and hints on the direction of each line: the summit prior and
- * --depressions. */
-static int setup_directions(hs *s, const unsigned char *touched,
-                            td_ctx *cx)
+/* Priors and hints on the direction of each line: rings rise, summits
+ * (rings with nothing inside) rise more, --depressions. */
+static void setup_directions(hs *s, const unsigned char *touched)
 {
-    size_t i, k;
+    size_t i, k, c0, m;
     for (i = 0; i < s->N; i++) {
         const td_line *l = &s->ls->v[i];
-        int in;
+        int in, empty = 1;
         if (!td_faces_used(s->fx, i) || !l->closed)
             continue;
         in = inner_side(l);
-        s->up_prior[2 * i + (1 - in)] += W_RING; /* rings rise, usually */
-        if (!touched[2 * i + in]) /* nothing inside: a summit, usually */
-            s->up_prior[2 * i + (1 - in)] += W_SUMMIT;
+        m = line_chunks(s, i, &c0);
+        for (k = 0; k < m; k++)
+            s->hole[2 * (c0 + k) + (1 - in)] = 1;
+        for (k = 0; k < m; k++)
+            empty &= !touched[2 * (c0 + k) + in];
+        for (k = 0; k < m; k++)
+            s->up_prior[2 * (c0 + k) + (1 - in)] +=
+                (W_RING + (empty ? W_SUMMIT : 0)) / m;
     }
     for (k = 0; k < s->p->ndepressions; k++) {
         long nodes[16];
@@ -252,15 +291,13 @@ static int setup_directions(hs *s, const unsigned char *touched,
             if (nodes[r] >= 0) /* the side facing the point is lower */
                 s->up_cost[nodes[r]] += W_DEPR / hits;
     }
-    (void)cx;
-    return 0;
 }
 
 /* Index contours by their ink width. */
 static int setup_index(hs *s, td_ctx *cx)
 {
     double cut;
-    size_t i;
+    size_t i, k, c0, m;
     int rc;
     if (s->p->index_every <= 0)
         return 0;
@@ -276,70 +313,86 @@ static int setup_index(hs *s, td_ctx *cx)
         double len = td_line_length(l);
         if (!td_faces_used(s->fx, i) || !(l->width > 0) || len < 30)
             continue;
-        s->idx[i] = l->width >= cut ? 1 : -1;
-        s->ilen[i] = W_INDEX * fmin(1.0, len / 200.0);
+        m = line_chunks(s, i, &c0);
+        for (k = 0; k < m; k++) {
+            s->idx[c0 + k] = l->width >= cut ? 1 : -1;
+            s->ilen[c0 + k] = W_INDEX * fmin(1.0, len / 200.0) / m;
+        }
     }
     return 0;
 }
 
 /* ---- the forest ---- */
 
-static int cmp_fe(const void *pa, const void *pb)
+static int cmp_ce(const void *pa, const void *pb)
 {
-    const td_face_edge *a = pa, *b = pb;
+    const cedge *a = pa, *b = pb;
     return (a->w < b->w) - (a->w > b->w);
+}
+
+/* Candidate edges: every chunk's line edge (first: always in the forest),
+ * then continuity and face edges, strongest first. */
+static int candidates(hs *s, td_ctx *cx)
+{
+    size_t i, c, n = 0, c0, m;
+    if (!(s->ce = td_malloc((2 * s->C + s->nfe + 1) * sizeof *s->ce, cx)))
+        return TD_ENOMEM;
+    for (c = 0; c < s->C; c++)
+        s->ce[n++] = (cedge){(uint32_t)(2 * c), (uint32_t)(2 * c + 1), E_LINE,
+                             (uint32_t)c, INFINITY};
+    for (i = 0; i < s->N; i++) {
+        if (!td_faces_used(s->fx, i))
+            continue;
+        m = line_chunks(s, i, &c0);
+        for (c = 0; c + 1 < m + (s->ls->v[i].closed && m > 2); c++) {
+            size_t a = c0 + c, b = c0 + (c + 1) % m;
+            s->ce[n++] = (cedge){(uint32_t)(2 * a), (uint32_t)(2 * b), E_CONT,
+                                 (uint32_t)a, WCONT};
+        }
+    }
+    for (i = 0; i < s->nfe; i++)
+        s->ce[n++] = (cedge){s->fe[i].a, s->fe[i].b, E_FACE, (uint32_t)i,
+                             WFACE * s->fe[i].w};
+    qsort(s->ce + s->C, n - s->C, sizeof *s->ce, cmp_ce);
+    s->nce = n;
+    return 0;
 }
 
 static int build_forest(hs *s, td_ctx *cx)
 {
-    size_t i, V = s->V, ne = 0;
+    size_t i, V = s->V;
     uint32_t *deg;
+    int rc;
+    if ((rc = candidates(s, cx)) != 0)
+        return rc;
+    if (!(s->intree = td_calloc(s->nce + 1, 1, cx)) ||
+        !(s->adj = td_malloc((2 * s->nce + 1) * sizeof *s->adj, cx)) ||
+        !(deg = td_calloc(V + 1, sizeof *deg, cx)))
+        return TD_ENOMEM;
     for (i = 0; i < V; i++)
         s->uf[i] = (uint32_t)i;
-    for (i = 0; i < s->N; i++)
-        if (td_faces_used(s->fx, i)) {
-            s->uf[2 * i + 1] = (uint32_t)(2 * i);
-            ne++;
-        }
-    qsort(s->fe, s->nfe, sizeof *s->fe, cmp_fe);
-    for (i = 0; i < s->nfe; i++) {
-        uint32_t a = uf_find(s->uf, s->fe[i].a), b = uf_find(s->uf, s->fe[i].b);
+    for (i = 0; i < s->nce; i++) {
+        uint32_t a = uf_find(s->uf, s->ce[i].a), b = uf_find(s->uf, s->ce[i].b);
         if (a == b)
             continue;
         s->uf[a] = b;
         s->intree[i] = 1;
-        ne++;
+        deg[s->ce[i].a]++, deg[s->ce[i].b]++;
     }
-    if (!(deg = td_calloc(V + 1, sizeof *deg, cx)))
-        return TD_ENOMEM;
-    for (i = 0; i < s->N; i++)
-        if (td_faces_used(s->fx, i))
-            deg[2 * i]++, deg[2 * i + 1]++;
-    for (i = 0; i < s->nfe; i++)
-        if (s->intree[i])
-            deg[s->fe[i].a]++, deg[s->fe[i].b]++;
     s->adj_start[0] = 0;
     for (i = 0; i < V; i++)
         s->adj_start[i + 1] = s->adj_start[i] + deg[i];
     memset(deg, 0, (V + 1) * sizeof *deg);
-#define PUT(u, v, k, d)                                                      \
-    do {                                                                     \
-        tedge *t_ = &s->adj[s->adj_start[u] + deg[u]++];                     \
-        t_->to = (uint32_t)(v), t_->kind = (k), t_->id = (uint32_t)(d);      \
-    } while (0)
-    for (i = 0; i < s->N; i++)
-        if (td_faces_used(s->fx, i)) {
-            PUT(2 * i, 2 * i + 1, E_LINE, i);
-            PUT(2 * i + 1, 2 * i, E_LINE, i);
-        }
-    for (i = 0; i < s->nfe; i++)
-        if (s->intree[i]) {
-            PUT(s->fe[i].a, s->fe[i].b, E_FACE, i);
-            PUT(s->fe[i].b, s->fe[i].a, E_FACE, i);
-        }
-#undef PUT
+    for (i = 0; i < s->nce; i++) {
+        const cedge *e = &s->ce[i];
+        if (!s->intree[i])
+            continue;
+        s->adj[s->adj_start[e->a] + deg[e->a]++] = (tedge){e->b, e->kind,
+                                                           e->id};
+        s->adj[s->adj_start[e->b] + deg[e->b]++] = (tedge){e->a, e->kind,
+                                                           e->id};
+    }
     free(deg);
-    (void)ne;
     return 0;
 }
 
@@ -354,7 +407,7 @@ static int order_forest(hs *s, td_ctx *cx)
     for (r = 0; r < V; r++)
         s->comp[r] = UINT32_MAX;
     for (r = 0; r < V; r++) {
-        if (s->comp[r] != UINT32_MAX || !td_faces_used(s->fx, r / 2))
+        if (s->comp[r] != UINT32_MAX)
             continue;
         s->comp[r] = (uint32_t)r;
         s->par[r] = UINT32_MAX;
@@ -388,7 +441,7 @@ static int set_domain(hs *s, td_ctx *cx)
 {
     long lo = LONG_MAX, hi = LONG_MIN, D = 0;
     size_t i;
-    for (i = 0; i < s->N; i++)
+    for (i = 0; i < s->C; i++)
         if (s->nknown[i]) {
             lo = lo < s->lknown[i] - 1 ? lo : (long)s->lknown[i] - 1;
             hi = hi > s->lknown[i] ? hi : (long)s->lknown[i];
@@ -419,6 +472,18 @@ static int set_domain(hs *s, td_ctx *cx)
  * costs WFACE * probes when the bands differ and the fold cost when both
  * lines step the same way from the face (a ridge or valley band). */
 
+static double vmin(const double *v, size_t K, size_t *arg)
+{
+    double m = INFINITY;
+    size_t k, am = 0;
+    for (k = 0; k < K; k++)
+        if (v[k] < m)
+            m = v[k], am = k;
+    if (arg)
+        *arg = am;
+    return m;
+}
+
 /* Cost of line l with side 0 at band a0 and side 1 at a1 (adjacent). */
 static double line_cost(const hs *s, size_t l, long a0, long a1)
 {
@@ -447,10 +512,19 @@ static long across(const hs *s, size_t l, int xs, long st, double *cost)
     return 2 * b + (1 - d);
 }
 
+/* The fold prior on face edge (c, its parent): a face whose boundary
+ * pieces (open lines, the inside of rings) step the same way is a ridge
+ * or valley band, rarer than a slope.  Not between a ring's outside (a
+ * hole of the face: hills and pits stand on slopes at any height, the ring
+ * prior speaks for them) and anything else. */
 static double fold_w(const hs *s, uint32_t c)
 {
-    return s->priors ? WFOLD : 0.0;
-    (void)c;
+    static double wf = -1;
+    if (wf < 0)
+        wf = getenv("TD_WFOLD") ? atof(getenv("TD_WFOLD")) : WFOLD;
+    if (!s->priors || s->hole[c] || s->hole[s->par[c]])
+        return 0.0;
+    return wf;
 }
 
 /* Messages over the edge from node c to its parent (up) or back (down):
@@ -468,6 +542,10 @@ static void pass_edge(const hs *s, uint32_t c, const double *in, double *out,
             out[x] = y >= 0 ? in[y] + lc : INFINITY;
         }
         return;
+    } else if (s->pkind[c] == E_CONT) {
+        double m = vmin(in, K2, NULL) + WCONT;
+        for (x = 0; x < K2; x++)
+            out[x] = in[x] < m ? in[x] : m;
     } else {
         double m[2] = {INFINITY, INFINITY}, wf = WFACE * s->fe[s->pid[c]].w,
                fo = fold_w(s, c);
@@ -587,8 +665,8 @@ static double line_gap(const hs *s, size_t l, double *H, long *hbest)
 static void mark_abs(hs *s)
 {
     size_t i;
-    for (i = 0; i < s->N; i++)
-        if (s->nknown[i] && td_faces_used(s->fx, i))
+    for (i = 0; i < s->C; i++)
+        if (s->nknown[i])
             s->comp_abs[s->comp[2 * i]] = 1;
     for (i = 0; i < s->nun; i++) {
         uint32_t c = s->comp[(size_t)s->un[4 * i]];
@@ -597,39 +675,222 @@ static void mark_abs(hs *s)
     }
 }
 
-static void set_line(hs *s, size_t i, const double *H)
+/* What chunk c says: 0 undecided, else its source and confidence. */
+static int chunk_verdict(const hs *s, size_t c, int *src, double *conf)
 {
-    td_line *l = &s->ls->v[i];
-    double gA = s->gap_prior[i], gB = s->gap[i];
-    long h = s->band_prior[i] + s->kofs;
+    double gA = s->gap_prior[c], gB = s->gap[c];
+    long h = s->band_prior[c] + s->kofs;
+    if (!s->comp_abs[s->comp[2 * c]])
+        return 0;
+    if (gB > GAP_EPS && s->band[c] == s->band_prior[c]) {
+        *src = s->nknown[c] && (double)h == s->lknown[c] ? TD_HS_KNOWN
+                                                          : TD_HS_SOLVED;
+        *conf = *src == TD_HS_KNOWN ? 1.0 : 1.0 - exp(-gB / 3.0);
+        return 1;
+    }
+    if (gA > GAP_EPS) {
+        *src = TD_HS_ASSUMED;
+        *conf = 0.5 * (1.0 - exp(-gA / W_SUMMIT));
+        return 1;
+    }
+    return 0;
+}
+
+/* A run of chunks of one line with one height. */
+typedef struct run {
+    size_t c0, m;   /* first chunk, count (wrapping on closed lines) */
+    long h;         /* band index */
+    int decided;
+    size_t nsrc[5]; /* chunks per source */
+    double conf;    /* mean over its chunks (undecided: 0) */
+} run;
+
+/* Runs of line l's chunks; undecided chunks join the run before them (or
+ * the first decided one).  Returns how many (at most m) into r. */
+static size_t line_runs(const hs *s, size_t c0, size_t m, int closed, run *r)
+{
+    size_t k, n = 0, first = m;
+    for (k = 0; k < m; k++) {
+        int src;
+        double conf;
+        if (chunk_verdict(s, c0 + k, &src, &conf)) {
+            if (first == m)
+                first = k;
+            if (n == 0 || r[n - 1].h != s->band_prior[c0 + k]) {
+                memset(&r[n], 0, sizeof r[n]);
+                r[n].c0 = c0 + k;
+                r[n].h = s->band_prior[c0 + k];
+                r[n++].decided = 1;
+            }
+            r[n - 1].nsrc[src]++;
+            r[n - 1].conf += conf;
+        }
+        if (n > 0)
+            r[n - 1].m = c0 + k + 1 - r[n - 1].c0;
+    }
+    if (n == 0) {
+        memset(r, 0, sizeof *r);
+        r->c0 = c0;
+        r->m = m;
+        return 1;
+    }
+    /* the undecided chunks before the first decided one */
+    if (closed && n > 1 && r[0].h == r[n - 1].h) { /* wrap: one run */
+        r[0].c0 = r[n - 1].c0;
+        r[0].m += r[n - 1].m + first;
+        for (k = 0; k < 5; k++)
+            r[0].nsrc[k] += r[n - 1].nsrc[k];
+        r[0].conf += r[n - 1].conf;
+        n--;
+    } else if (closed && n > 1) {
+        r[n - 1].m += first; /* wraps round to the first run */
+    } else {
+        r[0].c0 = c0;
+        r[0].m += first;
+    }
+    if (n == 1 && closed) {
+        r[0].c0 = c0;
+        r[0].m = m;
+    }
+    for (k = 0; k < n; k++)
+        r[k].conf /= (double)r[k].m;
+    return n;
+}
+
+static void apply_run(const hs *s, td_line *l, const run *r)
+{
+    size_t tot = 0, k;
     l->has_height = 0;
     l->hsource = TD_HS_NONE;
     l->confidence = 0;
-    (void)H;
-    if (!td_faces_used(s->fx, i)) {
-        l->why = "shorter than 12 px: not labelled";
-        return;
-    }
-    if (!s->comp_abs[s->comp[2 * i]]) {
-        l->why = "no known point, spot height or label reaches this part "
-                 "of the sheet";
-        return;
-    }
-    if (gB > GAP_EPS && s->band[i] == s->band_prior[i]) {
-        l->hsource = s->nknown[i] && (double)h == s->lknown[i] ? TD_HS_KNOWN
-                                                                : TD_HS_SOLVED;
-        l->confidence = l->hsource == TD_HS_KNOWN ? 1.0 : 1.0 - exp(-gB / 3.0);
-    } else if (gA > GAP_EPS) {
-        l->hsource = TD_HS_ASSUMED;
-        l->confidence = 0.5 * (1.0 - exp(-gA / W_SUMMIT));
-    } else {
+    if (!r->decided) {
         l->why = "undecided: the evidence allows more than one height here "
                  "(add --known on or next to it)";
         return;
     }
+    for (k = 0; k < 5; k++)
+        tot += r->nsrc[k];
+    l->hsource = r->nsrc[TD_HS_KNOWN]                 ? TD_HS_KNOWN
+                 : 2 * r->nsrc[TD_HS_SOLVED] >= tot ? TD_HS_SOLVED
+                                                      : TD_HS_ASSUMED;
+    l->confidence = l->hsource == TD_HS_KNOWN ? 1.0 : r->conf;
     l->has_height = 1;
-    l->height = s->p->base + (double)h * s->p->interval;
+    l->height = s->p->base + (double)(r->h + s->kofs) * s->p->interval;
     l->why = NULL;
+}
+
+/* A new line with vertices [k0, k1) of l (wrapping), for a run. */
+static int piece(const td_line *l, size_t k0, size_t k1, td_line *out,
+                 td_ctx *cx)
+{
+    size_t n = (k1 + l->n - k0) % l->n, k;
+    if (n == 0)
+        n = l->n;
+    memset(out, 0, sizeof *out);
+    out->xy = td_malloc(2 * (n + 1) * sizeof *out->xy, cx);
+    if (!out->xy)
+        return TD_ENOMEM;
+    for (k = 0; k < n; k++) {
+        size_t v = (k0 + k) % l->n;
+        out->xy[2 * k] = l->xy[2 * v];
+        out->xy[2 * k + 1] = l->xy[2 * v + 1];
+    }
+    if (!l->closed || k1 != k0) { /* the next piece's first vertex too */
+        size_t v = k1 % l->n;
+        if (l->closed || k1 < l->n) {
+            out->xy[2 * n] = l->xy[2 * v];
+            out->xy[2 * n + 1] = l->xy[2 * v + 1];
+            n++;
+        }
+    }
+    out->n = out->cap = n;
+    out->edge = l->edge;
+    out->width = l->width;
+    out->parent = -1;
+    return 0;
+}
+
+/* Give every line its height; lines whose chunks disagree are cut where
+ * the height changes (the pieces after the first get new ids). */
+static int set_lines(hs *s, td_ctx *cx)
+{
+    td_lines *ls = s->ls;
+    td_line *nv = NULL;
+    run *r = NULL;
+    size_t i, n = 0, cap = ls->n + 16, k, maxm = 1;
+    long next_id = 0;
+    for (i = 0; i < ls->n; i++) {
+        size_t c0, m = td_faces_used(s->fx, i) ? line_chunks(s, i, &c0) : 0;
+        maxm = m > maxm ? m : maxm;
+        next_id = ls->v[i].id >= next_id ? ls->v[i].id + 1 : next_id;
+    }
+    if (!(r = td_malloc((maxm + 1) * sizeof *r, cx)) ||
+        !(nv = td_malloc(cap * sizeof *nv, cx))) {
+        free(r);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < ls->n; i++) {
+        td_line *l = &ls->v[i];
+        size_t c0, m, nr;
+        if (!td_faces_used(s->fx, i)) {
+            l->has_height = 0;
+            l->hsource = TD_HS_NONE;
+            l->why = "shorter than 12 px: not labelled";
+            nv[n++] = *l;
+            continue;
+        }
+        m = line_chunks(s, i, &c0);
+        nr = line_runs(s, c0, m, l->closed, r);
+        if (nr == 1) {
+            apply_run(s, l, &r[0]);
+            nv[n++] = *l;
+            continue;
+        }
+        s->rep->split++;
+        if (n + nr > cap) {
+            td_line *t = realloc(nv, (cap = 2 * (n + nr)) * sizeof *nv);
+            if (!t)
+                goto nomem;
+            nv = t;
+        }
+        for (k = 0; k < nr; k++) {
+            size_t a = td_faces_chunk_first(s->fx, r[k].c0);
+            size_t b = td_faces_chunk_first(s->fx, r[(k + 1) % nr].c0);
+            if (!l->closed && k + 1 == nr)
+                b = l->n;
+            if (piece(l, a, b, &nv[n], cx) != 0)
+                goto nomem;
+            nv[n].id = k == 0 ? l->id : next_id++;
+            apply_run(s, &nv[n++], &r[k]);
+        }
+        l->why = "cut"; /* its vertices are freed once all is done */
+    }
+    for (i = 0; i < ls->n; i++)
+        if (ls->v[i].why && !strcmp(ls->v[i].why, "cut"))
+            free(ls->v[i].xy);
+    free(ls->v);
+    ls->v = nv;
+    ls->n = n;
+    ls->cap = cap;
+    free(r);
+    return 0;
+nomem:
+    /* ls is whole; free the pieces made so far (their own vertices, the
+     * lines not cut share theirs with ls) */
+    for (k = 0; k < n; k++) {
+        size_t j;
+        int shared = 0;
+        for (j = 0; j < ls->n && !shared; j++)
+            shared = nv[k].xy == ls->v[j].xy;
+        if (!shared)
+            free(nv[k].xy);
+    }
+    for (i = 0; i < ls->n; i++)
+        if (ls->v[i].why && !strcmp(ls->v[i].why, "cut"))
+            ls->v[i].why = NULL;
+    free(nv);
+    free(r);
+    return td_seterr(cx, TD_ENOMEM, "label: out of memory");
 }
 
 static int cmp_w_desc(const void *pa, const void *pb)
@@ -643,14 +904,15 @@ static int cmp_w_desc(const void *pa, const void *pb)
 static int report_conflicts(hs *s, const long *node_band, td_ctx *cx)
 {
     size_t i, n = 0, k;
-    double *v = td_malloc((s->nfe + 1) * 2 * sizeof *v, cx);
+    double *v = td_malloc((s->nce + 1) * 2 * sizeof *v, cx);
     if (!v)
         return TD_ENOMEM;
-    for (i = 0; i < s->nfe; i++) {
-        const td_face_edge *e = &s->fe[i];
-        if (!s->intree[i] && node_band[e->a] != node_band[e->b]) {
+    for (i = 0; i < s->nce; i++) {
+        const cedge *e = &s->ce[i];
+        if (e->kind == E_FACE && !s->intree[i] &&
+            node_band[e->a] != node_band[e->b]) {
             v[2 * n] = e->w;
-            v[2 * n++ + 1] = (double)i;
+            v[2 * n++ + 1] = (double)e->id;
         }
     }
     qsort(v, n, 2 * sizeof *v, cmp_w_desc);
@@ -660,7 +922,8 @@ static int report_conflicts(hs *s, const long *node_band, td_ctx *cx)
         td_label_warn(s->rep, "lines %ld and %ld border one face (%g probes, "
                       "near %.0f,%.0f) but differ by %ld intervals: a gap or "
                       "two contours traced as one there",
-                      s->ls->v[e->a / 2].id, s->ls->v[e->b / 2].id,
+                      s->ls->v[td_faces_chunk_line(s->fx, e->a / 2)].id,
+                      s->ls->v[td_faces_chunk_line(s->fx, e->b / 2)].id,
                       (double)e->w, e->x, e->y,
                       labs(node_band[e->a] - node_band[e->b]));
     }
@@ -668,49 +931,46 @@ static int report_conflicts(hs *s, const long *node_band, td_ctx *cx)
     return 0;
 }
 
+/* Known points the solve overrode (before set_lines: ids still the
+ * chunks' lines). */
 static void report_known(hs *s)
 {
-    size_t i;
-    for (i = 0; i < s->N; i++) {
-        const td_line *l = &s->ls->v[i];
+    size_t c;
+    for (c = 0; c < s->C; c++) {
+        const td_line *l = &s->ls->v[td_faces_chunk_line(s->fx, c)];
+        long h = s->band_prior[c] + s->kofs;
         double x, y;
-        if (!s->nknown[i] || !td_faces_used(s->fx, i) ||
-            (l->has_height &&
-             l->height == s->p->base + s->lknown[i] * s->p->interval))
+        if (!s->nknown[c] || (double)h == s->lknown[c])
             continue;
         td_label_where(l, &x, &y);
         td_label_warn(s->rep, "known height %g of line %ld (near %.0f,%.0f) "
-                      "contradicts the other evidence; the solve gives %s",
-                      s->p->base + s->lknown[i] * s->p->interval, l->id, x, y,
-                      l->has_height ? "another height" : "no height");
-        if (l->has_height)
-            s->rep->known_broken++;
+                      "contradicts the other evidence; the solve gives %g",
+                      s->p->base + s->lknown[c] * s->p->interval, l->id, x, y,
+                      s->p->base + (double)h * s->p->interval);
+        s->rep->known_broken++;
     }
 }
 
-/* One dynamic-programming pass; per line its gap and best height. */
+/* One dynamic-programming pass; per chunk its gap and best height. */
 static void run_pass(hs *s, int priors, double *gap, long *band, double *H)
 {
-    size_t i;
+    size_t c;
     s->priors = priors;
     solve_pass(s);
-    for (i = 0; i < s->N; i++) {
-        gap[i] = 0;
-        band[i] = -1;
-        if (td_faces_used(s->fx, i))
-            gap[i] = line_gap(s, i, H, &band[i]);
-    }
+    for (c = 0; c < s->C; c++)
+        gap[c] = line_gap(s, c, H, &band[c]);
 }
 
 static int alloc_all(hs *s, td_ctx *cx)
 {
-    size_t N = s->N, V = s->V;
-    s->lknown = td_calloc(N + 1, sizeof *s->lknown, cx);
-    s->nknown = td_calloc(N + 1, sizeof *s->nknown, cx);
-    s->idx = td_calloc(N + 1, 1, cx);
-    s->ilen = td_calloc(N + 1, sizeof *s->ilen, cx);
+    size_t C = s->C, V = s->V;
+    s->lknown = td_calloc(C + 1, sizeof *s->lknown, cx);
+    s->nknown = td_calloc(C + 1, sizeof *s->nknown, cx);
+    s->idx = td_calloc(C + 1, 1, cx);
+    s->ilen = td_calloc(C + 1, sizeof *s->ilen, cx);
     s->up_cost = td_calloc(V + 1, sizeof *s->up_cost, cx);
     s->up_prior = td_calloc(V + 1, sizeof *s->up_prior, cx);
+    s->hole = td_calloc(V + 1, 1, cx);
     s->uf = td_calloc(V + 1, sizeof *s->uf, cx);
     s->comp = td_calloc(V + 1, sizeof *s->comp, cx);
     s->par = td_calloc(V + 1, sizeof *s->par, cx);
@@ -718,19 +978,17 @@ static int alloc_all(hs *s, td_ctx *cx)
     s->pkind = td_calloc(V + 1, sizeof *s->pkind, cx);
     s->pid = td_calloc(V + 1, sizeof *s->pid, cx);
     s->adj_start = td_calloc(V + 2, sizeof *s->adj_start, cx);
-    s->adj = td_calloc(2 * (V + s->nfe) + 1, sizeof *s->adj, cx);
-    s->intree = td_calloc(s->nfe + 1, 1, cx);
     s->compdepth = td_calloc(V + 1, sizeof *s->compdepth, cx);
     s->comp_abs = td_calloc(V + 1, 1, cx);
-    s->band = td_calloc(V + 1, sizeof *s->band, cx);
-    s->band_prior = td_calloc(V + 1, sizeof *s->band_prior, cx);
-    s->gap = td_calloc(N + 1, sizeof *s->gap, cx);
-    s->gap_prior = td_calloc(N + 1, sizeof *s->gap_prior, cx);
+    s->band = td_calloc(C + 1, sizeof *s->band, cx);
+    s->band_prior = td_calloc(C + 1, sizeof *s->band_prior, cx);
+    s->gap = td_calloc(C + 1, sizeof *s->gap, cx);
+    s->gap_prior = td_calloc(C + 1, sizeof *s->gap_prior, cx);
     if (!s->lknown || !s->nknown || !s->idx || !s->ilen || !s->up_cost ||
-        !s->up_prior || !s->uf || !s->comp || !s->par || !s->order ||
-        !s->pkind || !s->pid || !s->adj_start || !s->adj || !s->intree ||
-        !s->compdepth || !s->comp_abs || !s->band || !s->band_prior ||
-        !s->gap || !s->gap_prior)
+        !s->up_prior || !s->hole || !s->uf || !s->comp || !s->par || !s->order ||
+        !s->pkind || !s->pid || !s->adj_start || !s->compdepth ||
+        !s->comp_abs || !s->band || !s->band_prior || !s->gap ||
+        !s->gap_prior)
         return TD_ENOMEM;
     return 0;
 }
@@ -738,12 +996,13 @@ static int alloc_all(hs *s, td_ctx *cx)
 static void free_all(hs *s)
 {
     free(s->lknown), free(s->nknown), free(s->idx), free(s->ilen);
-    free(s->up_cost), free(s->up_prior), free(s->uf), free(s->comp);
+    free(s->up_cost), free(s->up_prior), free(s->hole), free(s->uf);
+    free(s->comp);
     free(s->par), free(s->order), free(s->pkind), free(s->pid);
     free(s->adj_start), free(s->adj), free(s->intree), free(s->compdepth);
     free(s->comp_abs), free(s->band), free(s->band_prior), free(s->gap);
     free(s->gap_prior), free(s->un), free(s->up), free(s->msg);
-    free(s->down), free(s->fe);
+    free(s->down), free(s->fe), free(s->ce);
     td_faces_free(s->fx);
 }
 
@@ -761,9 +1020,26 @@ static int touched_nodes(const hs *s, unsigned char **out, td_ctx *cx)
     return 0;
 }
 
+static void debug_print(const hs *s)
+{
+    size_t nc = 0, na = 0, j, nt = 0;
+    if (!getenv("TD_DEBUG_HEIGHTS"))
+        return;
+    for (j = 0; j < s->V; j++)
+        if (s->comp[j] == j) {
+            nc++;
+            na += s->comp_abs[j];
+        }
+    for (j = 0; j < s->nce; j++)
+        nt += s->intree[j] && s->ce[j].kind != E_LINE;
+    fprintf(stderr, "heights: %zu lines, %zu chunks, %zu face edges, %zu "
+            "edges besides lines in the forest, %zu components (%zu with "
+            "evidence), K %zu\n", s->N, s->C, s->nfe, nt, nc, na, s->K);
+}
+
 static int solve_all(hs *s, td_ctx *cx)
 {
-    size_t KV, i;
+    size_t KV;
     double *H = NULL;
     long *nb = NULL;
     int rc;
@@ -771,43 +1047,23 @@ static int solve_all(hs *s, td_ctx *cx)
         (rc = set_domain(s, cx)) != 0)
         return rc;
     mark_abs(s);
-    if (getenv("TD_DEBUG_HEIGHTS")) {
-        size_t nc = 0, na = 0, j, nt = 0;
-        for (j = 0; j < s->V; j++)
-            if (s->comp[j] == j) {
-                nc++;
-                na += s->comp_abs[j];
-            }
-        for (j = 0; j < s->nfe; j++)
-            nt += s->intree[j];
-        fprintf(stderr, "heights: %zu lines, %zu face edges (%zu in tree), "
-                "%zu components (%zu with evidence), K %zu\n", s->N, s->nfe,
-                nt, nc, na, s->K);
-    }
+    debug_print(s);
     KV = 2 * s->K * s->V;
     if (!(s->up = td_malloc(KV * sizeof *s->up + 8, cx)) ||
         !(s->msg = td_malloc(KV * sizeof *s->msg + 8, cx)) ||
         !(s->down = td_malloc(KV * sizeof *s->down + 8, cx)) ||
         !(H = td_malloc((s->K + 1) * sizeof *H, cx)) ||
         !(nb = td_malloc((s->V + 1) * sizeof *nb, cx))) {
-        free(H);
+        free(H), free(nb);
         return TD_ENOMEM;
     }
     run_pass(s, 0, s->gap, s->band, H);
     run_pass(s, 1, s->gap_prior, s->band_prior, H);
-    if (getenv("TD_DEBUG_HEIGHTS")) {
-        size_t j;
-        for (j = 0; j < s->N && j < 4000; j += 1)
-            if (s->nknown[j] || j % 50 == 0)
-            fprintf(stderr, "line %zu used %d known %d(%g) gap %g/%g band %ld/%ld par %u/%u\n", j,
-                    td_faces_used(s->fx, j), s->nknown[j], s->lknown[j], s->gap[j], s->gap_prior[j],
-                    s->band[j], s->band_prior[j], s->par[2*j], s->par[2*j+1]);
-    }
     decode(s, nb);
-    for (i = 0; i < s->N; i++)
-        set_line(s, i, H);
-    rc = report_conflicts(s, nb, cx);
-    report_known(s);
+    if ((rc = report_conflicts(s, nb, cx)) == 0) {
+        report_known(s);
+        rc = set_lines(s, cx);
+    }
     free(H);
     free(nb);
     return rc;
@@ -817,7 +1073,7 @@ static void count(hs *s)
 {
     td_label_report *r = s->rep;
     size_t i;
-    for (i = 0; i < s->N; i++) {
+    for (i = 0; i < s->ls->n; i++) {
         const td_line *l = &s->ls->v[i];
         if (!l->has_height) {
             r->undetermined_ids[r->undetermined++] = l->id;
@@ -839,16 +1095,21 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
     unsigned char *touched = NULL;
     int rc = TD_ENOMEM;
     memset(&s, 0, sizeof s);
-    s.ls = ls, s.p = p, s.rep = rep, s.N = ls->n, s.V = 2 * ls->n;
+    s.ls = ls, s.p = p, s.rep = rep, s.N = ls->n;
+    fp.chunk_len = 0; /* chunks (CHUNK px): see docs/label.md */
     if (ls->n > UINT32_MAX / 4)
         return td_seterr(cx, TD_EINVAL, "label: too many lines (%zu)", ls->n);
-    if (!(s.fx = td_faces_new(ls, p->w, p->h, &fp, cx)) ||
-        (rc = td_faces_edges(s.fx, &s.fe, &s.nfe, cx)) != 0 ||
+    if (!(s.fx = td_faces_new(ls, p->w, p->h, &fp, cx)))
+        goto fail;
+    s.C = td_faces_nchunks(s.fx);
+    s.V = 2 * s.C;
+    if ((rc = td_faces_edges(s.fx, &s.fe, &s.nfe, cx)) != 0 ||
         (rc = alloc_all(&s, cx)) != 0 ||
         (rc = touched_nodes(&s, &touched, cx)) != 0 ||
-        (rc = setup_known(&s, cx)) != 0 ||
-        (rc = setup_directions(&s, touched, cx)) != 0 ||
-        (rc = setup_index(&s, cx)) != 0 || (rc = solve_all(&s, cx)) != 0)
+        (rc = setup_known(&s, cx)) != 0)
+        goto fail;
+    setup_directions(&s, touched);
+    if ((rc = setup_index(&s, cx)) != 0 || (rc = solve_all(&s, cx)) != 0)
         goto fail;
     rc = TD_ENOMEM;
     if (!(rep->undetermined_ids = td_calloc(ls->n + 1, sizeof(long), cx)) ||

@@ -83,6 +83,8 @@ typedef struct td_label_report {
     size_t by_source[5];    /* labelled lines per td_hsource (faces) */
     size_t conflicts;       /* face edges the solution breaks (faces) */
     size_t known_broken;    /* known points the solution overrode (faces) */
+    size_t split;           /* lines cut where their height changes: two
+                               contours traced as one (faces) */
 } td_label_report;
 
 /* Defaults: base 0, interval 0 (must be set), w = h = 0 (must be set),

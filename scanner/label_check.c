@@ -27,15 +27,19 @@ static long level_of(const td_label_params *p, double h, int *off)
 /* Otsu's split of sorted log widths v[0..n-1]: the first thick index
  * (1..n-1), the class means in *thin and *thick (as widths). */
 static size_t otsu_split(const double *v, size_t n, double *thin,
-                         double *thick)
+                         double *thick, int every)
 {
     double total = 0, left = 0, best = -1;
     size_t i, cut = 1;
     for (i = 0; i < n; i++)
         total += v[i];
     for (i = 1; i < n; i++) {
-        double m0, m1, between;
+        double m0, m1, between, share = (double)(n - i) / (double)n;
         left += v[i - 1];
+        /* every Nth line is an index line: the thick class holds about
+         * 1/N of them (0.4/N .. 2.5/N allowed) */
+        if (every >= 2 && (share < 0.4 / every || share > 2.5 / every))
+            continue;
         m0 = left / (double)i;
         m1 = (total - left) / (double)(n - i);
         between = (double)i * (double)(n - i) * (m1 - m0) * (m1 - m0);
@@ -109,7 +113,7 @@ int td_label_thick_cut(const td_lines *ls, const td_label_params *p,
                        double *cut, td_ctx *cx)
 {
     double *v, thin = 0, thick = 0;
-    size_t i, n = 0;
+    size_t i, n = 0, k = 1;
     if (!(v = td_calloc(ls->n + 1, sizeof *v, cx)))
         return TD_ENOMEM;
     for (i = 0; i < ls->n; i++)
@@ -117,11 +121,12 @@ int td_label_thick_cut(const td_lines *ls, const td_label_params *p,
             v[n++] = log(ls->v[i].width);
     qsort(v, n, sizeof *v, cmp_d);
     if (n >= 2)
-        otsu_split(v, n, &thin, &thick);
+        k = otsu_split(v, n, &thin, &thick, p->index_every);
+    if (n >= 2) /* the widest gap's middle between the classes */
+        *cut = exp(0.5 * (v[k - 1] + v[k]));
     free(v);
     if (n < 2 || thick < p->thick_ratio * thin)
         return 0;
-    *cut = sqrt(thin * thick); /* the geometric middle */
     return 1;
 }
 
@@ -142,8 +147,8 @@ int td_label_check_index(const td_lines *ls, const td_label_params *p,
         if (ls->v[i].width > 0 && td_line_length(&ls->v[i]) >= MIN_CHECK_LEN)
             v[n++] = log(ls->v[i].width);
     qsort(v, n, sizeof *v, cmp_d);
-    if (n < 2 || (otsu_split(v, n, &thin, &thick), thick < p->thick_ratio *
-                  thin)) {
+    if (n < 2 || (otsu_split(v, n, &thin, &thick, p->index_every),
+                  thick < p->thick_ratio * thin)) {
         td_label_warn(rep, "index check skipped: %s", n < 2 ? "no measured "
                       "line widths (scan the sheet again, or give --like "
                       "SCAN)" : "no thicker lines among the widths");

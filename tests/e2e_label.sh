@@ -23,7 +23,7 @@ check "negative interval: exit 1" "[ $? = 1 ] && one_error '--interval'"
 check "no output left behind" "[ ! -e '$T/o.geojson' ]"
 
 "$TD" scan samples/hills.png -o "$T/lines.geojson" -q
-"$TD" label "$T/lines.geojson" -o "$T/lab.geojson" --interval 20 \
+"$TD" label --labeller tree "$T/lines.geojson" -o "$T/lab.geojson" --interval 20 \
     --known 210.5,260.8,180 --known 267.5,244.2,200 --export-csv "$T/h.csv" \
     2>"$T/err"
 rc=$?
@@ -35,10 +35,10 @@ else
       "grep -Eq '^label: [0-9]+ lines, [0-9]+ labelled, 0 undetermined, 0 warnings' '$T/err'"
     check "label sample: heights written" \
       "! grep -q '\"height\":null' '$T/lab.geojson'"
-    "$TD" label "$T/lines.geojson" -o "$T/lab2.geojson" --interval 20 \
+    "$TD" label --labeller tree "$T/lines.geojson" -o "$T/lab2.geojson" --interval 20 \
         --heights "$T/h.csv" --export-csv "$T/h2.csv" -q
     check "CSV round trip gives the same heights" "cmp -s '$T/h.csv' '$T/h2.csv'"
-    "$TD" label "$T/lines.geojson" -o "$T/bad.geojson" --interval 20 \
+    "$TD" label --labeller tree "$T/lines.geojson" -o "$T/bad.geojson" --interval 20 \
         --known 210.5,260.8,180 --known 267.5,244.2,300 2>"$T/err"
     check "contradictory points: exit 1 naming both" \
       "[ $? = 1 ] && one_error 'known points contradict' && grep -q '(210.5,260.8)=180' '$T/err' && grep -q '(267.5,244.2)=300' '$T/err'"
@@ -46,7 +46,7 @@ else
 
     # --interactive with piped answers: Enter x3, 180, 200, then end of
     # input (accept the rest): the same heights as the two known points.
-    printf '\n\n\n180\n200\n' | "$TD" label "$T/lines.geojson" -o "$T/int.geojson" \
+    printf '\n\n\n180\n200\n' | "$TD" label --labeller tree "$T/lines.geojson" -o "$T/int.geojson" \
         --interval 20 --interactive --like samples/hills.png \
         --export-csv "$T/int.csv" 2>"$T/err"
     check "interactive: exit 0" "[ $? = 0 ]"
@@ -58,11 +58,11 @@ else
       "grep -q '^line 4 .*height \\[200\\]: 200' '$T/err'"
     check "interactive: same heights as two known points" \
       "cmp -s '$T/h.csv' '$T/int.csv'"
-    printf 'abc\n\nq\n' | "$TD" label "$T/lines.geojson" -o "$T/q.geojson" \
+    printf 'abc\n\nq\n' | "$TD" label --labeller tree "$T/lines.geojson" -o "$T/q.geojson" \
         --interval 20 --interactive --sheet "$T/q.png" 2>"$T/err"
     check "interactive: q stops, bad answer asked again" \
       "[ $? = 0 ] && [ \$(grep -c 'height \\[' '$T/err') = 3 ] && grep -q 'Enter to accept' '$T/err' && [ -s '$T/q.png' ]"
-    printf '185\n' | "$TD" label "$T/lines.geojson" -o "$T/w.geojson" \
+    printf '185\n' | "$TD" label --labeller tree "$T/lines.geojson" -o "$T/w.geojson" \
         --interval 20 --interactive --sheet "$T/w.png" 2>"$T/err"
     check "interactive: off-interval height warned" \
       "grep -q 'warning: height 185 for line 0' '$T/err'"
@@ -72,29 +72,29 @@ else
 {"type":"Feature","properties":{"id":7},"geometry":{"type":"LineString","coordinates":[[0.5,50.5],[99.5,50.5]]}},
 {"type":"Feature","properties":{"id":9},"geometry":{"type":"LineString","coordinates":[[40.5,0.5],[60.5,99.5]]}}]}
 JSON
-    "$TD" label "$T/x.geojson" -o "$T/x.out.geojson" --interval 10 \
+    "$TD" label --labeller tree "$T/x.geojson" -o "$T/x.out.geojson" --interval 10 \
         --size 100x100 2>"$T/err"
     check "crossing lines: warning naming both and the place" \
       "[ $? = 0 ] && grep -q 'warning: lines 7 and 9 cross at (50.6,50.5)' '$T/err' && grep -q ', 1 warnings' '$T/err'"
 
     # Undetermined lines export as "id," and read back as no height.
-    "$TD" label "$T/lines.geojson" -o "$T/u.geojson" --interval 20 \
+    "$TD" label --labeller tree "$T/lines.geojson" -o "$T/u.geojson" --interval 20 \
         --export-csv "$T/u.csv" -q
-    "$TD" label "$T/lines.geojson" -o "$T/u2.geojson" --interval 20 \
+    "$TD" label --labeller tree "$T/lines.geojson" -o "$T/u2.geojson" --interval 20 \
         --heights "$T/u.csv" --export-csv "$T/u2.csv" 2>"$T/err"
     check "CSV round trip with undetermined lines" \
       "[ $? = 0 ] && grep -q '^0,\$' '$T/u.csv' && cmp -s '$T/u.csv' '$T/u2.csv'"
     sed 's/^3,.*/3,245/' "$T/h.csv" >"$T/h3.csv"
-    "$TD" label "$T/lines.geojson" -o "$T/h3.geojson" --interval 20 \
+    "$TD" label --labeller tree "$T/lines.geojson" -o "$T/h3.geojson" --interval 20 \
         --heights "$T/h3.csv" 2>"$T/err"
     check "--heights off the interval: warned with the place, counted" \
       "[ $? = 0 ] && grep -q '^label: warning: --heights: height 245 of line 3 (near [0-9]*,[0-9]*)' '$T/err' && grep -q ', 1 warnings' '$T/err'"
-    printf '180\n\n\n\n300\n' | "$TD" label "$T/lines.geojson" \
+    printf '180\n\n\n\n300\n' | "$TD" label --labeller tree "$T/lines.geojson" \
         -o "$T/c.geojson" --interval 20 --interactive --sheet "$T/c.png" \
         2>"$T/err"
     check "interactive: contradicting typed heights counted" \
       "grep -q 'heights not re-suggested' '$T/err' && grep -q ', 1 warnings' '$T/err'"
-    "$TD" label "$T/lines.geojson" -o "$T/one.geojson" --interval 20 \
+    "$TD" label --labeller tree "$T/lines.geojson" -o "$T/one.geojson" --interval 20 \
         --known 210.5,260.8,180 2>"$T/err"
     check "one known point: the assumed lines listed" \
       "grep -q '^label: note: 25 lines are higher or lower' '$T/err'"
@@ -106,16 +106,16 @@ JSON
     "$TD" scan "$T/cone.png" -o "$T/cone.geojson" -q
     check "scan writes line widths" "grep -q '\"width\":4' '$T/cone.geojson'"
     # rings only (the corner lines need a point per corner)
-    "$TD" label "$T/cone.geojson" -o "$T/cl.geojson" --interval 20 \
+    "$TD" label --labeller tree "$T/cone.geojson" -o "$T/cl.geojson" --interval 20 \
         --known 200,150,398 --index-every 5 2>"$T/err"
     check "index check: right heights, at most the 3 corner lines flagged" \
       "[ $? = 0 ] && [ \$(grep -c 'drawn' '$T/err') -le 3 ] && ! grep -q 'look' '$T/err'"
-    "$TD" label "$T/cone.geojson" -o "$T/cl.geojson" --interval 20 \
+    "$TD" label --labeller tree "$T/cone.geojson" -o "$T/cl.geojson" --interval 20 \
         --known 200,150,418 --index-every 5 2>"$T/err"
     check "index check: heights one interval high named" \
       "[ $? = 0 ] && [ \$(grep -c 'is drawn thick' '$T/err') -ge 5 ] && grep -q 'heights look +20 off' '$T/err'"
     sed 's/,"width":[0-9.]*//' "$T/cone.geojson" >"$T/nw.geojson"
-    "$TD" label "$T/nw.geojson" -o "$T/cl.geojson" --interval 20 \
+    "$TD" label --labeller tree "$T/nw.geojson" -o "$T/cl.geojson" --interval 20 \
         --known 200,150,418 --index-every 5 --like "$T/cone.png" 2>"$T/err"
     check "index check: widths measured on --like SCAN" \
       "grep -q 'heights look +20 off' '$T/err'"

@@ -14,6 +14,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* These tests are of the containment-tree labeller (--labeller tree). */
+static td_label_params tree_defaults(void)
+{
+    td_label_params p = td_label_defaults();
+    p.method = TD_LABEL_TREE;
+    return p;
+}
+
 typedef struct truth {
     td_gen_params gp;
     td_grid_f32 *dem;
@@ -124,7 +132,7 @@ static void test_cone_one_point(void)
 {
     truth t;
     td_lines *ls;
-    td_label_params p = td_label_defaults();
+    td_label_params p = tree_defaults();
     td_label_report rep;
     td_label_point q;
     td_ctx cx;
@@ -162,7 +170,7 @@ static void test_cone_one_point(void)
 static size_t label_cone_index(const truth *t, int every, size_t *assumed)
 {
     td_lines *ls = unlabelled(t->lines);
-    td_label_params p = td_label_defaults();
+    td_label_params p = tree_defaults();
     td_label_report rep;
     td_label_point q;
     td_ctx cx;
@@ -218,7 +226,7 @@ static void test_true_points_agree(void)
     TT_CHECK(make_truth(&t, TD_GEN_HILLS, 600, 450) == 0);
     for (set = 0; set < 40; set++) {
         td_lines *ls = unlabelled(t.lines);
-        td_label_params p = td_label_defaults();
+        td_label_params p = tree_defaults();
         td_label_report rep;
         td_ctx cx;
         int k, nk = 2 + set % 11;
@@ -256,7 +264,7 @@ static void label_hills(int w, int h, int use_mark)
 {
     truth t;
     td_lines *ls;
-    td_label_params p = td_label_defaults();
+    td_label_params p = tree_defaults();
     td_label_report rep;
     td_label_point q[3];
     td_ctx cx;
@@ -309,7 +317,7 @@ static void test_hills_without_pit(void)
 {
     truth t;
     td_lines *ls;
-    td_label_params p = td_label_defaults();
+    td_label_params p = tree_defaults();
     td_label_report rep;
     td_label_point q[2];
     td_ctx cx;
@@ -341,7 +349,7 @@ static void test_contradiction(void)
 {
     truth t;
     td_lines *ls;
-    td_label_params p = td_label_defaults();
+    td_label_params p = tree_defaults();
     td_label_report rep;
     td_label_point q[2];
     td_ctx cx;
@@ -351,7 +359,8 @@ static void test_contradiction(void)
     td_ctx_init(&cx);
     TT_CHECK(make_truth(&t, TD_GEN_CONE, 400, 300) == 0);
     ls = unlabelled(t.lines);
-    TT_CHECK(td_label_auto(ls, &(td_label_params){.interval = 1, .w = 400,
+    TT_CHECK(td_label_auto(ls, &(td_label_params){.method = TD_LABEL_TREE,
+                                                   .interval = 1, .w = 400,
                                                    .h = 300}, &rep, &cx) == 0);
     TT_CHECK(rep.undetermined == ls->n); /* no known point: nothing */
     td_label_report_free(&rep);
@@ -378,7 +387,7 @@ static void test_warnings(void)
 {
     truth t;
     td_lines *ls;
-    td_label_params p = td_label_defaults();
+    td_label_params p = tree_defaults();
     td_label_report rep;
     td_label_point q[2];
     td_ctx cx;
@@ -475,7 +484,7 @@ static void test_missing_line(void)
 {
     truth t;
     td_lines *ls;
-    td_label_params p = td_label_defaults();
+    td_label_params p = tree_defaults();
     td_label_report rep;
     td_label_point q[2];
     td_ctx cx;
@@ -526,7 +535,7 @@ static void test_spot_on_multiple(void)
 {
     truth t;
     td_lines *ls;
-    td_label_params p = td_label_defaults();
+    td_label_params p = tree_defaults();
     td_label_report rep;
     td_label_point q[2];
     td_ctx cx;
@@ -566,7 +575,7 @@ static void test_index_widths(void)
     td_grid_f32 *dem = NULL;
     td_scan_result res;
     td_scan_params sp = td_scan_defaults();
-    td_label_params p = td_label_defaults();
+    td_label_params p = tree_defaults();
     td_label_report rep;
     td_label_point q[3];
     td_ctx cx;

@@ -1,6 +1,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 
+#include "../../scanner/label.h"
+
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -92,4 +94,19 @@ int td_cli_parse_double(const char *s, double lo, double hi, double *out)
         return -1;
     *out = v;
     return 0;
+}
+
+/* Contract in cli.h. */
+void td_cli_heights_summary(const char *cmd, const td_label_report *rep)
+{
+    const size_t *b = rep->by_source;
+    if (b[TD_HS_KNOWN] + b[TD_HS_LABEL] + b[TD_HS_SOLVED] +
+            b[TD_HS_ASSUMED] == 0 &&
+        rep->conflicts == 0)
+        return;
+    fprintf(stderr, "%s: heights: %zu known, %zu from labels, %zu solved, "
+            "%zu assumed, %zu without; %zu face conflicts, %zu lines cut, "
+            "%zu known points overridden\n", cmd, b[TD_HS_KNOWN],
+            b[TD_HS_LABEL], b[TD_HS_SOLVED], b[TD_HS_ASSUMED],
+            rep->undetermined, rep->conflicts, rep->split, rep->known_broken);
 }

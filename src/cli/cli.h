@@ -34,6 +34,12 @@ int td_cli_failf(const char *cmd, const char *fmt, ...)
 int td_cli_parse_int(const char *s, long lo, long hi, long *out);
 int td_cli_parse_double(const char *s, double lo, double hi, double *out);
 
+struct td_label_report;
+/* One line "CMD: heights: N known, N solved, N assumed, N without; ..."
+ * from a faces labeller's report (nothing for the tree labeller's). */
+void td_cli_heights_summary(const char *cmd,
+                            const struct td_label_report *rep);
+
 /* Subcommands (src/cli/<name>.c, listed in src/cli/main.c): each returns
  * the process exit code. */
 int td_cmd_scan(int argc, char **argv);

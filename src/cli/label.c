@@ -25,11 +25,16 @@ static const char help[] =
     "usage: topodig label LINES.geojson -o LABELLED.geojson --interval I\n"
     "                     [--base B] [--known X,Y,H]... [options]\n"
     "\n"
-    "Build the containment tree of the traced lines (lines ending on the\n"
-    "sheet border are closed along it, never past the top-left corner) and\n"
-    "give every line its height from a few known points and the interval:\n"
-    "one interval per nesting step, rings higher than their surroundings\n"
-    "unless a known point or a depression mark says otherwise.\n"
+    "Give every traced line its height from a few known points and the\n"
+    "interval.  The default labeller (--labeller faces) finds which lines\n"
+    "border one face by probes across the sheet and solves all heights at\n"
+    "once (each line one interval between its two faces); the evidence is\n"
+    "the known points, the index contours' widths (--index-every), and the\n"
+    "defaults that rings rise and slopes run on rather than fold back.\n"
+    "Every line gets height_source (known, solved, assumed) and confidence\n"
+    "(0..1); a line nothing decides keeps a null height and a\n"
+    "height_reason.  --labeller tree is the earlier containment tree (one\n"
+    "interval per nesting step, rings rising).\n"
     "\n"
     "options:\n"
     "  -o, --output FILE      labelled GeoJSON (required)\n"
@@ -60,14 +65,17 @@ static const char help[] =
     "                         disagrees with its height\n"
     "      --thick-ratio R    thick/thin width ratio that tells index lines\n"
     "                         (default 1.3)\n"
-    "      --no-missing       a known point one interval off the nesting is\n"
-    "                         a contradiction, not a missing contour\n"
+    "      --no-missing       tree: a known point one interval off the\n"
+    "                         nesting is a contradiction, not a missing\n"
+    "                         contour\n"
+    "      --labeller L       faces (default) | tree\n"
     "  -q, --quiet            no summary or warnings\n"
     "  -h, --help             this help\n"
     "\n"
     "Coordinates are scan pixels (column, row).  Summary on stderr:\n"
-    "lines labelled, undetermined, warnings.  Exit 1 on bad input or\n"
-    "contradictory known points (the message names both and their lines).\n";
+    "lines labelled, undetermined, warnings, and where the heights came\n"
+    "from.  Exit 1 on bad input; known points that contradict each other\n"
+    "are a warning naming them and the solver's choice (tree: exit 1).\n";
 
 typedef struct pts {
     td_label_point *v;
@@ -76,7 +84,7 @@ typedef struct pts {
 
 typedef struct label_opts {
     const char *in, *out, *csv_out, *sheet, *like;
-    int quiet, w, h, interactive, index_every, no_missing;
+    int quiet, w, h, interactive, index_every, no_missing, tree;
     double base, interval, thick_ratio;
     pts known;
     double *dep;
@@ -85,7 +93,7 @@ typedef struct label_opts {
 
 enum { O_INTERVAL = 256, O_BASE, O_KNOWN, O_KNOWNF, O_DEPR, O_HEIGHTS,
        O_EXPORT, O_SIZE, O_INTER, O_SHEET, O_LIKE, O_INDEX, O_THICK,
-       O_NOMISS };
+       O_NOMISS, O_LABELLER };
 
 static int push_pt(pts *a, double x, double y, double h, long id, td_ctx *cx)
 {
@@ -187,6 +195,12 @@ static int parse_opt(int c, const char *arg, label_opts *o, pts *heights,
     case O_SHEET: o->sheet = arg; return 0;
     case O_LIKE: o->like = arg; return 0;
     case O_NOMISS: o->no_missing = 1; return 0;
+    case O_LABELLER:
+        if (strcmp(arg, "faces") && strcmp(arg, "tree"))
+            return td_seterr(cx, TD_EINVAL, "--labeller: '%s' is not faces "
+                             "or tree", arg);
+        o->tree = !strcmp(arg, "tree");
+        return 0;
     case O_INDEX: {
         long n;
         if (td_cli_parse_int(arg, 2, 1000, &n) != 0)
@@ -253,6 +267,7 @@ static int parse_args(int argc, char **argv, label_opts *o, pts *heights)
         {"interactive", 0, 0, O_INTER}, {"sheet", 1, 0, O_SHEET},
         {"like", 1, 0, O_LIKE}, {"index-every", 1, 0, O_INDEX},
         {"thick-ratio", 1, 0, O_THICK}, {"no-missing", 0, 0, O_NOMISS},
+        {"labeller", 1, 0, O_LABELLER},
         {0, 0, 0, 0}};
     td_ctx cx;
     int c;
@@ -410,6 +425,7 @@ static void summary(const td_lines *ls, td_label_report *rep,
             fprintf(stderr, "%s%ld", shown++ ? "," : " (undetermined ids: ",
                     ls->v[i].id);
     fputs(shown ? (shown < ls->n - lab ? ",...)\n" : ")\n") : "\n", stderr);
+    td_cli_heights_summary("label", rep);
 }
 
 /* ---- --interactive: the paper's way (001 §2.3, one height per line) ---- */
@@ -737,6 +753,7 @@ int td_cmd_label(int argc, char **argv)
     p.known = o.known.v, p.nknown = o.known.n;
     p.depressions = o.dep, p.ndepressions = o.ndep;
     p.index_every = o.index_every, p.missing = !o.no_missing;
+    p.method = o.tree ? TD_LABEL_TREE : TD_LABEL_FACES;
     if (o.thick_ratio > 0)
         p.thick_ratio = o.thick_ratio;
     if ((ncross = warn_crossings(ls, o.quiet, &cx)) < 0) {

@@ -37,6 +37,8 @@ static const char help[] =
     "      --depressions X,Y the ring around X,Y is a depression\n"
     "      --index-every N   every Nth contour is drawn thicker: its width\n"
     "                        decides the slopes the known points leave open\n"
+    "      --labeller L      faces (default: one solve over the faces) |\n"
+    "                        tree (the containment tree); see topodig label\n"
     "      --ink KIND        dark | brown | R,G,B[:tol] (default dark)\n"
     "      --threshold T     otsu | sauvola | N (default otsu)\n"
     "      --method M        multidir (default) | scanline (the paper) |\n"
@@ -56,9 +58,9 @@ static const char help[] =
     "  -q, --quiet           no progress and no summary\n"
     "  -h, --help            this help\n"
     "\n"
-    "Lines the known points cannot label are left out (counted in the\n"
-    "summary).  Summary on stderr: lines, labelled, cells determined,\n"
-    "seconds per stage.\n";
+    "Lines the evidence cannot label are left out (counted in the\n"
+    "summary).  Summary on stderr: lines, labelled, where the heights came\n"
+    "from, cells determined, seconds per stage.\n";
 
 typedef struct run_opts {
     const char *in, *out;
@@ -68,13 +70,13 @@ typedef struct run_opts {
     size_t nknown;
     double *dep;
     size_t ndep;
-    int index_every;
+    int index_every, tree;
     td_scan_params sp;
     td_interp_params ip;
 } run_opts;
 
 enum { O_INTERVAL = 256, O_BASE, O_KNOWN, O_DEPR, O_INK, O_THR, O_PASS,
-       O_INDEX };
+       O_INDEX, O_LABELLER };
 
 static int parse_nums(const char *s, double *v, int n)
 {
@@ -129,6 +131,12 @@ static int parse_opt(int c, const char *name, const char *arg, run_opts *o,
     case O_INK: return td_binarise_parse_ink(arg, &o->sp.bin, cx);
     case O_THR: return td_binarise_parse_threshold(arg, &o->sp.bin, cx);
     case O_PASS: return td_interp_set(&o->ip, name, arg, cx);
+    case O_LABELLER:
+        if (strcmp(arg, "faces") && strcmp(arg, "tree"))
+            return td_seterr(cx, TD_EINVAL, "--labeller: '%s' is not faces "
+                             "or tree", arg);
+        o->tree = !strcmp(arg, "tree");
+        return 0;
     case O_INDEX: {
         double v;
         if (td_cli_parse_double(arg, 2, 1000, &v) != 0 || v != floor(v))
@@ -154,7 +162,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         {"output", 1, 0, 'o'}, {"interval", 1, 0, O_INTERVAL},
         {"base", 1, 0, O_BASE}, {"known", 1, 0, O_KNOWN},
         {"depressions", 1, 0, O_DEPR}, {"ink", 1, 0, O_INK},
-        {"index-every", 1, 0, O_INDEX},
+        {"index-every", 1, 0, O_INDEX}, {"labeller", 1, 0, O_LABELLER},
         {"threshold", 1, 0, O_THR}, {"method", 1, 0, O_PASS},
         {"step", 1, 0, O_PASS}, {"summit", 1, 0, O_PASS},
         {"peninsula", 1, 0, O_PASS}, {"weight", 1, 0, O_PASS},
@@ -202,6 +210,7 @@ typedef struct run_state {
     td_interp_method method;
     int hfallback;
     td_homotopy_stats hs; /* --method homotopy */
+    td_label_report rep;
 } run_state;
 
 /* Scan; keeps only the lines (the image and the scanner's grids are freed
@@ -232,11 +241,10 @@ static int do_scan(const run_opts *o, run_state *s, td_ctx *cx)
 static int do_label(const run_opts *o, run_state *s, td_ctx *cx)
 {
     td_label_params p = td_label_defaults();
-    td_label_report rep;
     double t0 = td_now();
     size_t i;
     int rc;
-    memset(&rep, 0, sizeof rep);
+    p.method = o->tree ? TD_LABEL_TREE : TD_LABEL_FACES;
     p.base = o->base;
     p.interval = o->interval;
     p.w = s->w;
@@ -246,10 +254,9 @@ static int do_label(const run_opts *o, run_state *s, td_ctx *cx)
     p.depressions = o->dep;
     p.ndepressions = o->ndep;
     p.index_every = o->index_every;
-    rc = td_label_auto(s->ls, &p, &rep, cx);
-    td_label_report_free(&rep);
-    if (rc != 0)
+    if ((rc = td_label_auto(s->ls, &p, &s->rep, cx)) != 0)
         return rc;
+    s->traced = s->ls->n; /* lines cut where two contours ran as one */
     for (i = s->ls->n; i-- > 0;)
         if (!s->ls->v[i].has_height) {
             td_lines_remove(s->ls, i);
@@ -292,6 +299,7 @@ static void summary(const run_state *s)
             "interp %.2f s, write %.2f s\n", s->traced,
             s->traced - s->dropped, s->dropped, s->dem->w, s->dem->h,
             100.0 * ok / n, s->secs[0], s->secs[1], s->secs[2], s->secs[3]);
+    td_cli_heights_summary("run", &s->rep);
     if (s->method == TD_INTERP_HOMOTOPY)
         fprintf(stderr, "run: homotopy %zu cells in %zu of %zu bands, "
                 "%s fallback %zu cells\n", s->hs.cells_homotopy,
@@ -331,6 +339,7 @@ int td_cmd_run(int argc, char **argv)
     rc = rc == 0 ? 0 : td_cli_fail("run", &cx);
     td_grid_f32_free(s.dem);
     td_lines_free(s.ls);
+    td_label_report_free(&s.rep);
     td_georef_clear(&s.geo);
 done:
     free(o.known);
