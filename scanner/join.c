@@ -26,8 +26,16 @@
 #include "join.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+/* Two ends at one skeleton junction are joined only when the line goes on
+ * within this many degrees of straight (touching contours cross or run
+ * together there; a contour does not turn onto its neighbour). */
+#define JUNC_TURN 75.0
+#define JUNC_LEAVE 25.0 /* cost of leaving a junction end open */
+#define JUNC_MAX 8      /* ends in one junction zone searched exhaustively */
 
 typedef struct jend {
     double x, y, tx, ty;
@@ -36,6 +44,7 @@ typedef struct jend {
     double k2;        /* the curvature over a shorter stretch (ARC_L2) */
     size_t line;
     int at_end;   /* 0: the line's first point, 1: its last */
+    int junc;     /* the end is next to a skeleton junction (tracer cut) */
     long partner; /* index of the joined end, -1 when free */
     long path;    /* stage 2 arc joins: index of the join's path, -1 */
     int path_from; /* the path runs from this end */
@@ -54,6 +63,7 @@ td_join_params td_join_defaults(int w, int h)
     p.max_angle = 40.0;
     p.tangent = 8.0;
     p.min_length = 25.0;
+    p.bridge_max = 12.0;
     p.long_gap = 70.0;
     p.long_tangent = 20.0;
     p.curves = 1;
@@ -100,6 +110,7 @@ static void end_of(const td_line *l, int at_end, double tangent, jend *e)
     e->tx = d > 0 ? dx / d : 0.0;
     e->ty = d > 0 ? dy / d : 0.0;
     e->at_end = at_end;
+    e->junc = (l->junc >> at_end) & 1;
     e->partner = -1;
     e->path = -1;
     e->k = e->k2 = 0.0;
@@ -251,6 +262,21 @@ static double pair_cost(const td_lines *ls, const jend *a, const jend *b,
     if (a->line == b->line &&
         (ls->v[a->line].n < 4 || td_line_length(&ls->v[a->line]) < 4 * d))
         return -1.0;
+    if (a->junc && b->junc) { /* across a junction: go on straight */
+        double turn = angle_to(a->tx, a->ty, -b->tx, -b->ty);
+        if (turn > JUNC_TURN || (d > 3.0 && (!faces(a->tx, a->ty, gx, gy,
+                                                    angle_to(a->tx, a->ty,
+                                                             gx, gy),
+                                                    p->max_angle) ||
+                                             !faces(b->tx, b->ty, -gx, -gy,
+                                                    angle_to(b->tx, b->ty,
+                                                             -gx, -gy),
+                                                    p->max_angle))))
+            return -1.0;
+        if (stage == 2)
+            return -1.0; /* stage 1 pairs junction ends */
+        return (d > 1 ? d : 1) * (1.0 + turn / JUNC_TURN);
+    }
     if (stage == 2 && d <= 0)
         return 0.0;
     if (stage == 2) {
@@ -768,6 +794,133 @@ static int keep_path(jend *a, jend *b, const double *pts, size_t np,
 /* Greedy acceptance, cheapest first; stage 2 also rejects joins whose path
  * meets a line or an accepted join, and keeps the accepted paths (pieces
  * in *acc, polylines in paths). */
+/* ---- stage 1: junction zones ------------------------------------------
+ *
+ * Where contours touch, the tracer cut the skeleton at the junction and
+ * 2-8 ends meet there.  Contours touch but never cross, so the ends are
+ * paired as a whole: the pairing with the least cost (turning, gap; an end
+ * left open costs JUNC_LEAVE) among those whose joins do not cross:
+ *
+ *      a \   / b        a-d and b-c would cross (an X): never;
+ *         ) (           a-b and c-d turn back (U): only when nothing
+ *      c /   \ d        better; a-c and b-d: the two contours touching. */
+
+static int segs_cross(const jend *a, const jend *b, const jend *c,
+                      const jend *d)
+{
+    double d1 = (b->x - a->x) * (c->y - a->y) - (b->y - a->y) * (c->x - a->x);
+    double d2 = (b->x - a->x) * (d->y - a->y) - (b->y - a->y) * (d->x - a->x);
+    double d3 = (d->x - c->x) * (a->y - c->y) - (d->y - c->y) * (a->x - c->x);
+    double d4 = (d->x - c->x) * (b->y - c->y) - (d->y - c->y) * (b->x - c->x);
+    return ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) &&
+           ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0));
+}
+
+typedef struct zsearch {
+    const jend *e;
+    const size_t *ends; /* the zone's ends (indices into e) */
+    size_t n;
+    const double *cost; /* n x n pair costs, < 0: no pair */
+    int mate[JUNC_MAX], best_mate[JUNC_MAX];
+    double best;
+} zsearch;
+
+static void zone_search(zsearch *z, double sofar)
+{
+    size_t i, j, k;
+    if (sofar >= z->best)
+        return;
+    for (i = 0; i < z->n && z->mate[i] != -2; i++)
+        ;
+    if (i == z->n) {
+        z->best = sofar;
+        memcpy(z->best_mate, z->mate, sizeof z->mate);
+        return;
+    }
+    z->mate[i] = -1; /* left open */
+    zone_search(z, sofar + JUNC_LEAVE);
+    for (j = i + 1; j < z->n; j++) {
+        double c = z->cost[i * z->n + j];
+        int ok = c >= 0 && z->mate[j] == -2;
+        for (k = 0; ok && k < z->n; k++)
+            if (z->mate[k] > (int)k)
+                ok = !segs_cross(&z->e[z->ends[i]], &z->e[z->ends[j]],
+                                 &z->e[z->ends[k]],
+                                 &z->e[z->ends[z->mate[k]]]);
+        if (!ok)
+            continue;
+        z->mate[i] = (int)j;
+        z->mate[j] = (int)i;
+        zone_search(z, sofar + c);
+        z->mate[j] = -2;
+    }
+    z->mate[i] = -2;
+}
+
+static size_t zfind(size_t *uf, size_t a)
+{
+    while (uf[a] != a)
+        a = uf[a] = uf[uf[a]];
+    return a;
+}
+
+/* Choose each junction zone's pairing: its pairs get cost -1 (accepted
+ * first), the zone's other junction-to-junction pairs are dropped. */
+static int junction_zones(const jend *e, size_t ne, jpair *pairs, size_t *np,
+                          td_ctx *cx)
+{
+    size_t *uf = td_malloc((ne + 1) * sizeof *uf, cx), i, j, n = *np, m = 0;
+    size_t ends[JUNC_MAX];
+    double cost[JUNC_MAX * JUNC_MAX];
+    unsigned char *zone_done = td_calloc(ne + 1, 1, cx);
+    if (!uf || !zone_done) {
+        free(uf);
+        free(zone_done);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < ne; i++)
+        uf[i] = i;
+    for (i = 0; i < n; i++)
+        if (e[pairs[i].a].junc && e[pairs[i].b].junc)
+            uf[zfind(uf, pairs[i].a)] = zfind(uf, pairs[i].b);
+    for (i = 0; i < ne; i++) {
+        size_t r = zfind(uf, i), k, a, b;
+        zsearch z;
+        if (!e[i].junc || zone_done[r])
+            continue;
+        zone_done[r] = 1;
+        for (k = i, z.n = 0; k < ne; k++)
+            if (e[k].junc && zfind(uf, k) == r && z.n < JUNC_MAX)
+                ends[z.n++] = k;
+        if (z.n < 2)
+            continue;
+        for (a = 0; a < z.n * z.n; a++)
+            cost[a] = -1.0;
+        for (j = 0; j < n; j++)
+            for (a = 0; a < z.n; a++)
+                for (b = 0; b < z.n; b++)
+                    if (pairs[j].a == ends[a] && pairs[j].b == ends[b])
+                        cost[a * z.n + b] = cost[b * z.n + a] = pairs[j].cost;
+        z.e = e, z.ends = ends, z.cost = cost, z.best = HUGE_VAL;
+        for (a = 0; a < JUNC_MAX; a++)
+            z.mate[a] = -2, z.best_mate[a] = -1;
+        zone_search(&z, 0.0);
+        for (j = 0; j < n; j++)
+            for (a = 0; a < z.n; a++)
+                for (b = 0; b < z.n; b++)
+                    if (pairs[j].a == ends[a] && pairs[j].b == ends[b])
+                        pairs[j].cost = z.best_mate[a] == (int)b ? -1.0
+                                                                 : -2.0;
+    }
+    for (i = 0; i < n; i++) /* drop the pairs marked -2 */
+        if (pairs[i].cost != -2.0)
+            pairs[m++] = pairs[i];
+    *np = m;
+    free(uf);
+    free(zone_done);
+    return 0;
+}
+
 static int accept_pairs(const td_lines *ls, const td_join_params *p,
                         int stage, jend *e, jpair *pairs, size_t np,
                         double **acc, size_t *nacc, td_lines *paths,
@@ -843,6 +996,7 @@ static int join_pass(td_lines **lsp, const td_join_params *p, int stage,
     if ((rc = collect_ends(ls, p, stage == 2 ? p->long_tangent : p->tangent,
                            stage, &e, &ne, &eol, cx)) != 0 ||
         (rc = find_pairs(ls, e, ne, p, stage, &pairs, &np, cx)) != 0 ||
+        (stage == 1 && (rc = junction_zones(e, ne, pairs, &np, cx)) != 0) ||
         (rc = accept_pairs(ls, p, stage, e, pairs, np, &acc, &nacc, paths,
                            st, cx)) != 0)
         goto fail;
@@ -921,6 +1075,76 @@ fail:
     return rc;
 }
 
+/* Short pieces between two skeleton junctions (the tracer cut there):
+ * where two contours touch along a stretch, the stretch is one skeleton
+ * piece that belongs to both; removed, so the joiner pairs the branches
+ * on either side by direction. */
+static void remove_bridges(td_lines *ls, const td_join_params *p,
+                           td_join_stats *st)
+{
+    size_t i;
+    for (i = ls->n; i-- > 0;) {
+        const td_line *l = &ls->v[i];
+        if (!l->closed && l->junc == 3 &&
+            td_line_length(l) <= p->bridge_max) {
+            td_lines_remove(ls, i);
+            st->bridges++;
+        }
+    }
+}
+
+static int cmp_xy(const void *pa, const void *pb)
+{
+    const double *a = pa, *b = pb;
+    if (a[0] != b[0])
+        return a[0] < b[0] ? -1 : 1;
+    return (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+/* The junction end points of ls, sorted (x, y pairs), for junc_restore. */
+static int junc_points(const td_lines *ls, double **out, size_t *n,
+                       td_ctx *cx)
+{
+    size_t i, m = 0;
+    double *v = td_malloc((4 * ls->n + 2) * sizeof *v, cx);
+    if (!v)
+        return TD_ENOMEM;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        if (l->closed || l->n == 0)
+            continue;
+        if (l->junc & 1)
+            v[2 * m] = l->xy[0], v[2 * m++ + 1] = l->xy[1];
+        if (l->junc & 2)
+            v[2 * m] = l->xy[2 * l->n - 2], v[2 * m++ + 1] = l->xy[2 * l->n - 1];
+    }
+    qsort(v, m, 2 * sizeof *v, cmp_xy);
+    *out = v;
+    *n = m;
+    return 0;
+}
+
+/* The joined lines are new lines: their ends at junctions are found again
+ * by position (joins keep the end points as they were). */
+static void junc_restore(td_lines *ls, const double *pts, size_t n)
+{
+    size_t i;
+    int k;
+    for (i = 0; i < ls->n; i++) {
+        td_line *l = &ls->v[i];
+        l->junc = 0;
+        if (l->closed || l->n == 0)
+            continue;
+        for (k = 0; k < 2; k++) {
+            double q[2];
+            q[0] = l->xy[k ? 2 * l->n - 2 : 0];
+            q[1] = l->xy[k ? 2 * l->n - 1 : 1];
+            if (n && bsearch(q, pts, n, 2 * sizeof *pts, cmp_xy))
+                l->junc |= (unsigned char)(1 << k);
+        }
+    }
+}
+
 static size_t count_open_ends(const td_lines *ls, const td_join_params *p)
 {
     size_t i, n = 0;
@@ -946,18 +1170,25 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
             td_ctx *cx)
 {
     td_join_stats local;
+    double *jpts = NULL;
+    size_t njpts = 0;
     int rc;
     if (!st)
         st = &local;
     memset(st, 0, sizeof *st);
+    if (p->bridge_max > 0)
+        remove_bridges(*lsp, p, st);
     if (p->min_length > 0 && (rc = remove_fragments(*lsp, p, st, cx)) != 0)
         goto fail;
-    if ((rc = join_pass(lsp, p, 1, st, cx)) != 0)
+    if ((rc = junc_points(*lsp, &jpts, &njpts, cx)) != 0 ||
+        (rc = join_pass(lsp, p, 1, st, cx)) != 0)
         goto fail;
+    junc_restore(*lsp, jpts, njpts);
     if (p->long_gap > p->max_gap && (rc = join_pass(lsp, p, 2, st, cx)) != 0)
         goto fail;
     st->ends_open = count_open_ends(*lsp, p);
 fail:
+    free(jpts);
     if (st == &local)
         td_join_stats_free(&local);
     return rc;

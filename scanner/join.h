@@ -33,6 +33,11 @@ typedef struct td_join_params {
                           tangents; 0: straight rule and chords only
                           (default 1) */
     int record;        /* keep the stage-2 join paths in the stats */
+    double bridge_max; /* before stage 0: open pieces no longer than this
+                          (px) with both ends at skeleton junctions (the
+                          tracer's cut, td_line.junc) are removed: a
+                          stretch two touching contours share (default
+                          12; 0: off) */
 } td_join_params;
 
 typedef struct td_join_stats {
@@ -41,6 +46,7 @@ typedef struct td_join_stats {
     size_t ends_open;  /* open ends left (not on the border) */
     size_t fragments;  /* short open fragments removed (stage 0) */
     size_t long_joins; /* of joins: made by stage 2 */
+    size_t bridges;    /* short pieces between two junctions removed */
     size_t glyphs;     /* small closed rings (digits such as 0, 6, 8, 9)
                           removed because a stage-2 join passes through */
     td_lines *segments; /* p->record only: each stage-2 join as a line

@@ -27,7 +27,11 @@
  *    ends, the line is reversed and traced on from its start, so one open
  *    contour gives one line;
  *  - a junction (touching contours) is passed along one branch; the others
- *    start lines of their own, so no pixel is lost;
+ *    start lines of their own, so no pixel is lost (the paper, cut 0);
+ *    ours (cut 1, the default): junction pixels are left out, every branch
+ *    ends next to the junction (no 5x5 bridge from there: it is no break)
+ *    and td_join pairs the branches by direction, so a line does not turn
+ *    onto a touching contour;
  *  - open lines ending within edge_dist px of the border are extended to it
  *    (along their direction) and flagged edge;
  *  - a line fitting in a 3x3 window off the border is a ring smaller than
@@ -41,6 +45,7 @@
 #include <string.h>
 
 #define VISITED 0x02
+#define JUNCTION 0x04 /* cut: a junction pixel, traced by no line */
 
 static const int R5X[16] = {2, 2, 2, 1, 0, -1, -2, -2, -2, -2, -2, -1, 0, 1, 2, 2};
 static const int R5Y[16] = {0, -1, -2, -2, -2, -2, -2, -1, 0, 1, 2, 2, 2, 2, 2, 1};
@@ -51,6 +56,7 @@ td_trace_params td_trace_defaults(void)
     p.bridge = 1;
     p.edge_dist = 3;
     p.min_closed = 4;
+    p.cut = 1;
     return p;
 }
 
@@ -111,6 +117,19 @@ static int cheb(const td_line *l, size_t a, size_t b)
     return dx > dy ? dx : dy;
 }
 
+/* Is a junction pixel (cut) among the 8 neighbours of (x,y)? */
+static int at_junction(const td_grid_u8 *g, int x, int y)
+{
+    int k;
+    for (k = 0; k < 8; k++) {
+        int u = x + TD_DX[k], v = y + TD_DY[k];
+        if (u >= 0 && v >= 0 && u < g->w && v < g->h &&
+            (TD_AT(g, u, v) & JUNCTION))
+            return 1;
+    }
+    return 0;
+}
+
 /* Follow the line from its last point (already visited) until it ends or
  * closes on its first point.  Returns 0 or an error. */
 static int follow(td_grid_u8 *g, td_line *l, const td_trace_params *p,
@@ -125,7 +144,8 @@ static int follow(td_grid_u8 *g, td_line *l, const td_trace_params *p,
                 l->closed = 1;
                 return 0;
             }
-            found = search_next(g, x, y, p->bridge, &nx, &ny);
+            found = search_next(g, x, y, p->bridge && !at_junction(g, x, y),
+                                &nx, &ny);
             if (!found)
                 return 0;
             l->bridged++;
@@ -219,7 +239,8 @@ static int trace_line(td_grid_u8 *g, td_lines *ls, int x, int y,
     int nx, ny;
     if (!l || visit(g, l, x, y, cx) != 0 || follow(g, l, p, cx) != 0)
         return TD_ENOMEM;
-    if (!l->closed && search_next(g, x, y, p->bridge, &nx, &ny)) {
+    if (!l->closed &&
+        search_next(g, x, y, p->bridge && !at_junction(g, x, y), &nx, &ny)) {
         td_line_reverse(l);
         if (follow(g, l, p, cx) != 0)
             return TD_ENOMEM;
@@ -228,6 +249,12 @@ static int trace_line(td_grid_u8 *g, td_lines *ls, int x, int y,
         cheb(l, 0, l->n - 1) <= 2 && p->bridge) {
         l->closed = 1;
         l->bridged++;
+    }
+    if (!l->closed && p->cut) {
+        size_t e = l->n - 1;
+        l->junc = (unsigned char)(
+            at_junction(g, (int)l->xy[0], (int)l->xy[1]) |
+            at_junction(g, (int)l->xy[2 * e], (int)l->xy[2 * e + 1]) << 1);
     }
     flag_edge(l, g->w, g->h);
     if (!l->closed && !l->edge)
@@ -239,15 +266,27 @@ static int trace_line(td_grid_u8 *g, td_lines *ls, int x, int y,
     return 0;
 }
 
-static size_t count_junctions(const td_grid_u8 *g)
+/* Count junction pixels; with mark, flag them JUNCTION (read on the
+ * unmarked skeleton: the flags are set one row behind). */
+static size_t count_junctions(td_grid_u8 *g, int mark)
 {
     size_t n = 0;
     int x, y;
     for (y = 0; y < g->h; y++) {
-        const uint8_t *r = g->data + (size_t)y * g->stride;
+        uint8_t *r = g->data + (size_t)y * g->stride;
         for (x = td_skel_next_ink(r, 0, g->w); x < g->w;
              x = td_skel_next_ink(r, x + 1, g->w))
-            n += td_skel_crossings(td_skel_nbits(g, x, y)) >= 3;
+            if (td_skel_crossings(td_skel_nbits(g, x, y)) >= 3) {
+                n++;
+                if (mark)
+                    r[x] |= 0x80; /* pending: nbits reads bit 0 only */
+            }
+    }
+    for (y = 0; mark && y < g->h; y++) {
+        uint8_t *r = g->data + (size_t)y * g->stride;
+        for (x = 0; x < g->w; x++)
+            if (r[x] & 0x80)
+                r[x] = (uint8_t)((r[x] & 0x7f) | JUNCTION);
     }
     return n;
 }
@@ -278,7 +317,7 @@ int td_trace(td_grid_u8 *g, const td_trace_params *p, td_lines **out,
     *out = NULL;
     if (!ls)
         return TD_ENOMEM;
-    st->junctions = count_junctions(g);
+    st->junctions = count_junctions(g, p->cut);
     for (y = 0; y < g->h && rc == 0; y++) {
         const uint8_t *r = g->data + (size_t)y * g->stride;
         for (x = td_skel_next_ink(r, 0, g->w); x < g->w && rc == 0;

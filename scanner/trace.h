@@ -17,6 +17,11 @@ typedef struct td_trace_params {
                        (thinning pulls line ends back from the border by
                        about half the line width); default 3, 0 = off */
     int min_closed; /* fewest points a closed line has (default 4) */
+    int cut;        /* nonzero (ours, the default): lines stop at skeleton
+                       junctions (>= 3 branches: touching contours) instead
+                       of passing along the first branch counter-clockwise
+                       (the paper, 0); td_join then pairs the ends across
+                       the junction by direction */
 } td_trace_params;
 
 typedef struct td_trace_stats {
@@ -29,7 +34,8 @@ typedef struct td_trace_stats {
 
 td_trace_params td_trace_defaults(void);
 
-/* Trace every skeleton pixel of skel (cells 0/1) into exactly one line.
+/* Trace every skeleton pixel of skel (cells 0/1) into exactly one line
+ * (with p->cut, junction pixels into none).
  * skel is used for visit marks and restored before returning.  *out gets a
  * new td_lines (caller frees with td_lines_free).  st may be NULL.
  * Returns 0, TD_ENOMEM or TD_ECANCEL. */

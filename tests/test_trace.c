@@ -15,6 +15,7 @@ static td_lines *trace(td_grid_u8 *g, int bridge, td_trace_stats *st)
     td_trace_params p = td_trace_defaults();
     td_lines *ls = NULL;
     p.bridge = bridge;
+    p.cut = 0; /* the paper's tracer: through junctions */
     if (g->w < 20)
         p.edge_dist = 0; /* hand-drawn patterns sit close to the border */
     if (td_trace(g, &p, &ls, st, NULL) != 0)
@@ -144,6 +145,7 @@ static void test_every_pixel_once(void)
                     4 + rand_r(&seed) % 15, 6 + rand_r(&seed) % 20);
         td_thin_hilditch(g, NULL, NULL);
         p.edge_dist = 0;
+        p.cut = 0; /* the paper's: every pixel in a line */
         TT_CHECK(td_trace(g, &p, &ls, NULL, NULL) == 0);
         seen = td_grid_u8_new(80, 60, NULL);
         for (i = 0; i < ls->n; i++)
@@ -185,6 +187,39 @@ static void test_touching_rings(void)
     td_grid_u8_free(g);
 }
 
+/* Ours (cut): two rings touching at a point are cut at the junction and
+ * the joiner closes each ring on itself, so no line runs from one ring
+ * onto the other: every vertex of each line lies on one ring. */
+static void test_touching_rings_cut(void)
+{
+    td_grid_u8 *g = td_grid_u8_new(120, 70, NULL);
+    td_trace_params p = td_trace_defaults();
+    td_join_params jp = td_join_defaults(120, 70);
+    td_trace_stats st;
+    td_lines *ls = NULL;
+    size_t i, k, closed = 0, mixed = 0;
+    tg_ring(g, 35, 35, 24, 25.5);
+    tg_ring(g, 85, 35, 24, 25.5);
+    td_thin_hilditch(g, NULL, NULL);
+    p.edge_dist = 0;
+    TT_CHECK(td_trace(g, &p, &ls, &st, NULL) == 0 && st.junctions > 0);
+    jp.min_length = 0;
+    TT_CHECK(ls && td_join(&ls, &jp, NULL, NULL) == 0);
+    for (i = 0; ls && i < ls->n; i++) {
+        int left = 0, right = 0;
+        for (k = 0; k < ls->v[i].n; k++) {
+            left += ls->v[i].xy[2 * k] < 59.0;
+            right += ls->v[i].xy[2 * k] > 61.0;
+        }
+        mixed += left > 2 && right > 2;
+        closed += ls->v[i].closed != 0;
+    }
+    TT_CHECKF(ls && mixed == 0 && closed == 2, "%zu lines, %zu mixed, %zu "
+              "closed", ls ? ls->n : 0, mixed, closed);
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+}
+
 /* Gap joining: a 6-px gap along a line is joined; two parallel lines whose
  * ends are 6 px apart sideways are not. */
 static void test_join(void)
@@ -216,6 +251,7 @@ int main(void)
     TT_RUN(test_edge);
     TT_RUN(test_every_pixel_once);
     TT_RUN(test_touching_rings);
+    TT_RUN(test_touching_rings_cut);
     TT_RUN(test_join);
     return tt_summary();
 }
