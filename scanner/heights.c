@@ -263,6 +263,84 @@ static int inner_side(const td_line *l)
     return a > 0 ? 1 : 0;
 }
 
+static int inside(const td_line *l, double x, double y)
+{
+    size_t k, j;
+    int in = 0;
+    for (k = 0, j = l->n - 1; k < l->n; j = k++) {
+        double xk = l->xy[2 * k], yk = l->xy[2 * k + 1];
+        double xj = l->xy[2 * j], yj = l->xy[2 * j + 1];
+        if ((yk > y) != (yj > y) && x < (xj - xk) * (y - yk) / (yj - yk) + xk)
+            in = !in;
+    }
+    return in;
+}
+
+static double ring_area(const td_line *l)
+{
+    double a = 0;
+    size_t k;
+    for (k = 0; k < l->n; k++) {
+        size_t k1 = (k + 1) % l->n;
+        a += l->xy[2 * k] * l->xy[2 * k1 + 1] -
+             l->xy[2 * k1] * l->xy[2 * k + 1];
+    }
+    return fabs(0.5 * a);
+}
+
+/* Do the face edges of line l's inner side reach only line `prev`? */
+static int holds_only(const hs *s, size_t l, int in, long prev)
+{
+    size_t i, c0, m = line_chunks(s, l, &c0);
+    for (i = 0; i < s->nfe; i++) {
+        uint32_t a = s->fe[i].a, b = s->fe[i].b, o;
+        size_t ca = a / 2, cb = b / 2;
+        if (ca >= c0 && ca < c0 + m && (int)(a & 1) == in)
+            o = b;
+        else if (cb >= c0 && cb < c0 + m && (int)(b & 1) == in)
+            o = a;
+        else
+            continue;
+        if ((long)td_faces_chunk_line(s->fx, o / 2) != prev)
+            return 0;
+    }
+    return 1;
+}
+
+/* --depressions X,Y: the innermost closed line around the point falls
+ * inwards, and so does each closed line around it that holds only the
+ * previous one (a pit's nested rings), as the tree labeller did. */
+static void depression(hs *s, double x, double y)
+{
+    long prev = -1;
+    double last = 0;
+    for (;;) {
+        size_t i, k, c0, m;
+        long best = -1;
+        double ba = HUGE_VAL;
+        int in;
+        for (i = 0; i < s->N; i++) {
+            const td_line *l = &s->ls->v[i];
+            double a;
+            if (!td_faces_used(s->fx, i) || !l->closed || !inside(l, x, y))
+                continue;
+            a = ring_area(l);
+            if (a > last && a < ba)
+                ba = a, best = (long)i;
+        }
+        if (best < 0)
+            return;
+        in = inner_side(&s->ls->v[best]);
+        if (prev >= 0 && !holds_only(s, (size_t)best, in, prev))
+            return;
+        m = line_chunks(s, (size_t)best, &c0);
+        for (k = 0; k < m; k++) /* cost when the inner side is higher */
+            s->up_cost[2 * (c0 + k) + in] += W_DEPR / m;
+        prev = best;
+        last = ba;
+    }
+}
+
 /* Priors and hints on the direction of each line: rings rise, summits
  * (rings with nothing inside) rise more, --depressions. */
 static void setup_directions(hs *s, const unsigned char *touched)
@@ -283,14 +361,8 @@ static void setup_directions(hs *s, const unsigned char *touched)
             s->up_prior[2 * (c0 + k) + (1 - in)] +=
                 (W_RING + (empty ? W_SUMMIT : 0)) / m;
     }
-    for (k = 0; k < s->p->ndepressions; k++) {
-        long nodes[16];
-        int r, hits = td_faces_around(s->fx, s->p->depressions[2 * k],
-                                      s->p->depressions[2 * k + 1], nodes);
-        for (r = 0; r < 16; r++)
-            if (nodes[r] >= 0) /* the side facing the point is lower */
-                s->up_cost[nodes[r]] += W_DEPR / hits;
-    }
+    for (k = 0; k < s->p->ndepressions; k++)
+        depression(s, s->p->depressions[2 * k], s->p->depressions[2 * k + 1]);
 }
 
 /* Index contours by their ink width. */
