@@ -46,7 +46,7 @@ static void defects(td_gen_params *p, int scanned)
 
 int main(int argc, char **argv)
 {
-    const char *dir = "../shared/dems", *only = NULL, *png = NULL;
+    const char *dir = "tests/data/dems", *only = NULL, *png = NULL;
     int tree = 0, logit = 0, a;
     size_t c;
     for (a = 1; a < argc; a++) {
