@@ -117,3 +117,85 @@ int td_draw_overlay(const td_image *scan, const td_lines *ls, td_image **out,
     *out = im;
     return 0;
 }
+
+/* A hypsometric ramp: t in [0,1] from low (blue-green) to high (brown,
+ * then white). */
+static void ramp(double t, uint8_t rgb[3])
+{
+    static const double k[5][3] = {{20, 90, 190},  {30, 150, 70},
+                                   {200, 190, 40}, {150, 80, 20},
+                                   {120, 60, 120}};
+    double f;
+    int i;
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    i = t >= 1 ? 3 : (int)(t * 4);
+    f = t * 4 - i;
+    rgb[0] = (uint8_t)(k[i][0] + f * (k[i + 1][0] - k[i][0]));
+    rgb[1] = (uint8_t)(k[i][1] + f * (k[i + 1][1] - k[i][1]));
+    rgb[2] = (uint8_t)(k[i][2] + f * (k[i + 1][2] - k[i][2]));
+}
+
+/* Line l drawn with dashes (on, off px along the arc; off 0: solid) and
+ * `thick` (1 or 3 px wide). */
+static void dashed(td_image *im, const td_line *l, const uint8_t rgb[3],
+                   double on, double off, int thick)
+{
+    size_t i, n = l->closed && l->n > 2 ? l->n + 1 : l->n;
+    double s = 0;
+    for (i = 1; i < n; i++) {
+        const double *a = l->xy + 2 * (i - 1), *b = l->xy + 2 * (i % l->n);
+        double len = hypot(b[0] - a[0], b[1] - a[1]);
+        int dx, dy;
+        if (off <= 0 || fmod(s, on + off) < on)
+            for (dy = -(thick > 1); dy <= (thick > 1); dy++)
+                for (dx = -(thick > 1); dx <= (thick > 1); dx++)
+                    segment(im, a[0] + dx, a[1] + dy, b[0] + dx, b[1] + dy,
+                            rgb);
+        s += len;
+    }
+}
+
+int td_draw_heights(const td_image *scan, int w, int h, const td_lines *ls,
+                    td_image **out, td_ctx *cx)
+{
+    static const uint8_t grey[3] = {150, 150, 150};
+    td_image *im = td_image_new(scan ? scan->w : w, scan ? scan->h : h, 3, cx);
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    size_t i;
+    int x, y, c;
+    *out = NULL;
+    if (!im)
+        return cx ? cx->code : TD_ENOMEM;
+    for (y = 0; y < im->h; y++) {
+        uint8_t *d = im->data + (size_t)y * im->stride;
+        const uint8_t *s = scan ? scan->data + (size_t)y * scan->stride : NULL;
+        for (x = 0; x < im->w; x++)
+            for (c = 0; c < 3; c++)
+                d[3 * x + c] = s ? (uint8_t)(255 - (255 - s[scan->channels == 3
+                                                                ? 3 * x + c
+                                                                : x]) /
+                                                       5)
+                                 : 255;
+    }
+    for (i = 0; i < ls->n; i++)
+        if (ls->v[i].has_height) {
+            lo = fmin(lo, ls->v[i].height);
+            hi = fmax(hi, ls->v[i].height);
+        }
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        uint8_t rgb[3];
+        if (!l->has_height) {
+            dashed(im, l, grey, 2, 3, 1);
+            continue;
+        }
+        ramp(hi > lo ? (l->height - lo) / (hi - lo) : 0.5, rgb);
+        if (l->hsource == TD_HS_ASSUMED)
+            dashed(im, l, rgb, 6, 4, 1);
+        else
+            dashed(im, l, rgb, 1, 0, l->hsource == TD_HS_KNOWN ||
+                                          l->hsource == TD_HS_LABEL ? 3 : 1);
+    }
+    *out = im;
+    return 0;
+}

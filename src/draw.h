@@ -23,6 +23,14 @@ void td_draw_line(td_image *im, const td_line *l, const uint8_t rgb[3]);
 int td_draw_overlay(const td_image *scan, const td_lines *ls, td_image **out,
                     td_ctx *cx);
 
+/* The heights picture (label, run --debug-dir): the scan (NULL: white
+ * w x h) faded, every line coloured by its height (blue low .. brown
+ * high), 3 px wide when known or read from a label, solid when solved,
+ * dashed when assumed, grey dotted without a height.  *out is new (free
+ * with td_image_free).  Returns 0 or TD_ENOMEM. */
+int td_draw_heights(const td_image *scan, int w, int h, const td_lines *ls,
+                    td_image **out, td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

@@ -131,6 +131,35 @@ JSON
     n2=$(sed -n 's/.* \([0-9]*\) lines,.*/\1/p' "$T/err2")
     check "curved label gaps joined (fewer lines than with --no-curves)" \
       "[ -n '$n1' ] && [ -n '$n2' ] && [ $n1 -lt $n2 ]"
+
+    # The faces labeller (the default): heights with their source and
+    # confidence, honest about what one known point leaves open.
+    "$TD" label "$T/lines.geojson" -o "$T/f.geojson" --interval 20 \
+        --known 123.5,263.996,120 --known 267.5,244.206,200 \
+        --known 561.5,77.084,240 --depressions 205,336 --size 600x450 \
+        --debug-dir "$T/fdbg" --like samples/hills.png 2>"$T/err"
+    check "faces: exit 0, heights line counts 3 known" \
+      "[ $? = 0 ] && grep -q '^label: heights: 3 known, 0 from labels' '$T/err'"
+    check "faces: height_source and confidence written" \
+      "grep -q '\"height_source\":\"known\",\"confidence\":1.000' '$T/f.geojson' && grep -q '\"height_source\":\"solved\"' '$T/f.geojson'"
+    check "faces: --debug-dir heights.png" \
+      "[ \"\$(head -c 4 '$T/fdbg/heights.png' | tail -c 3)\" = PNG ]"
+    if command -v ogrinfo >/dev/null; then
+        check "faces: ogrinfo reads height_source" \
+          "ogrinfo -ro -al -so '$T/f.geojson' | grep -q 'height_source: String'"
+    fi
+    "$TD" label "$T/lines.geojson" -o "$T/f1.geojson" --interval 20 \
+        --known 123.5,263.996,120 --size 600x450 2>"$T/err"
+    check "faces, one known point: open lines without height, with a reason" \
+      "[ $? = 0 ] && grep -q '\"height\":null.*\"height_reason\":\"undecided' '$T/f1.geojson' && ! grep -q '\"height_source\":\"solved\"' '$T/f1.geojson'"
+    "$TD" label "$T/lines.geojson" -o "$T/f2.geojson" --interval 20 \
+        --known 123.5,263.996,120 --known 123.5,263.996,160 --size 600x450 \
+        2>"$T/err"
+    check "faces, contradicting points: exit 0, a warning naming the line" \
+      "[ $? = 0 ] && grep -q 'warning: line [0-9]*: two known points disagree (120 and 160)' '$T/err'"
+    "$TD" label "$T/lines.geojson" -o "$T/f3.geojson" --interval 20 \
+        --labeller magic 2>"$T/err"
+    check "--labeller magic: exit 1, one line" "[ $? = 1 ] && one_error '--labeller'"
 fi
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]

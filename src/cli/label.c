@@ -19,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static const char help[] =
@@ -69,6 +70,9 @@ static const char help[] =
     "                         nesting is a contradiction, not a missing\n"
     "                         contour\n"
     "      --labeller L       faces (default) | tree\n"
+    "      --debug-dir DIR    write heights.png: the lines coloured by height\n"
+    "                         (over --like SCAN when given; thick: known,\n"
+    "                         dashed: assumed, grey dots: no height)\n"
     "  -q, --quiet            no summary or warnings\n"
     "  -h, --help             this help\n"
     "\n"
@@ -83,6 +87,7 @@ typedef struct pts {
 } pts;
 
 typedef struct label_opts {
+    const char *debug_dir;
     const char *in, *out, *csv_out, *sheet, *like;
     int quiet, w, h, interactive, index_every, no_missing, tree;
     double base, interval, thick_ratio;
@@ -93,7 +98,7 @@ typedef struct label_opts {
 
 enum { O_INTERVAL = 256, O_BASE, O_KNOWN, O_KNOWNF, O_DEPR, O_HEIGHTS,
        O_EXPORT, O_SIZE, O_INTER, O_SHEET, O_LIKE, O_INDEX, O_THICK,
-       O_NOMISS, O_LABELLER };
+       O_NOMISS, O_LABELLER, O_DEBUG };
 
 static int push_pt(pts *a, double x, double y, double h, long id, td_ctx *cx)
 {
@@ -194,6 +199,7 @@ static int parse_opt(int c, const char *arg, label_opts *o, pts *heights,
     case O_INTER: o->interactive = 1; return 0;
     case O_SHEET: o->sheet = arg; return 0;
     case O_LIKE: o->like = arg; return 0;
+    case O_DEBUG: o->debug_dir = arg; return 0;
     case O_NOMISS: o->no_missing = 1; return 0;
     case O_LABELLER:
         if (strcmp(arg, "faces") && strcmp(arg, "tree"))
@@ -267,7 +273,7 @@ static int parse_args(int argc, char **argv, label_opts *o, pts *heights)
         {"interactive", 0, 0, O_INTER}, {"sheet", 1, 0, O_SHEET},
         {"like", 1, 0, O_LIKE}, {"index-every", 1, 0, O_INDEX},
         {"thick-ratio", 1, 0, O_THICK}, {"no-missing", 0, 0, O_NOMISS},
-        {"labeller", 1, 0, O_LABELLER},
+        {"labeller", 1, 0, O_LABELLER}, {"debug-dir", 1, 0, O_DEBUG},
         {0, 0, 0, 0}};
     td_ctx cx;
     int c;
@@ -426,6 +432,26 @@ static void summary(const td_lines *ls, td_label_report *rep,
                     ls->v[i].id);
     fputs(shown ? (shown < ls->n - lab ? ",...)\n" : ")\n") : "\n", stderr);
     td_cli_heights_summary("label", rep);
+}
+
+/* --debug-dir: heights.png over the --like scan (or white). */
+static int write_heights_png(const label_opts *o, const td_lines *ls,
+                             td_ctx *cx)
+{
+    td_image *scan = NULL, *pic = NULL;
+    char path[4096];
+    int rc;
+    if (mkdir(o->debug_dir, 0777) != 0 && errno != EEXIST)
+        return td_seterr(cx, TD_EIO, "%s: cannot make the folder: %s",
+                         o->debug_dir, strerror(errno));
+    snprintf(path, sizeof path, "%s/heights.png", o->debug_dir);
+    if (o->like && (rc = td_image_read(o->like, &scan, NULL, cx)) != 0)
+        return rc;
+    if ((rc = td_draw_heights(scan, o->w, o->h, ls, &pic, cx)) == 0)
+        rc = td_png_write(path, pic, cx);
+    td_image_free(pic);
+    td_image_free(scan);
+    return rc;
 }
 
 /* ---- --interactive: the paper's way (001 §2.3, one height per line) ---- */
@@ -777,7 +803,8 @@ int td_cmd_label(int argc, char **argv)
     more += (size_t)ncross;
     if ((rc = final_checks(&o, ls, &p, &checks, &cx)) != 0 ||
         (rc = td_geojson_write_lines(o.out, ls, NULL, &cx)) != 0 ||
-        (o.csv_out && (rc = export_csv(o.csv_out, ls, &cx)) != 0))
+        (o.csv_out && (rc = export_csv(o.csv_out, ls, &cx)) != 0) ||
+        (o.debug_dir && (rc = write_heights_png(&o, ls, &cx)) != 0))
         goto fail;
     if (!o.quiet)
         summary(ls, &rep, &checks, &heights, &seen, more);

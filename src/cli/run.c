@@ -4,6 +4,7 @@
 #include "cli.h"
 
 #include "../demio.h"
+#include "../draw.h"
 #include "../imageio.h"
 #include "../lines.h"
 #include "../../interp/homotopy.h"
@@ -11,7 +12,9 @@
 #include "../../scanner/label.h"
 #include "../../scanner/scan.h"
 
+#include <errno.h>
 #include <getopt.h>
+#include <sys/stat.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -47,6 +50,12 @@ static const char help[] =
     "      --fallback M      homotopy: scanline (default) | multidir for the\n"
     "                        cells the homotopy cannot reach\n"
     "      --step N          one DEM cell per N x N pixels (default 1)\n"
+    "      --save-lines F    also write the labelled lines the DEM was\n"
+    "                        interpolated from (GeoJSON, with height,\n"
+    "                        height_source, confidence)\n"
+    "      --debug-dir DIR   write heights.png: every line over the scan\n"
+    "                        coloured by its height (thick: known, dashed:\n"
+    "                        assumed, grey dots: no height)\n"
     "      --summit S        extrapolate (default) | flat\n"
     "      --peninsula P     scanline: diagonal (default) | flat\n"
     "      --weight W        multidir: span (default) | prod | span2\n"
@@ -63,7 +72,7 @@ static const char help[] =
     "from, cells determined, seconds per stage.\n";
 
 typedef struct run_opts {
-    const char *in, *out;
+    const char *in, *out, *save_lines, *debug_dir;
     int quiet;
     double interval, base;
     td_label_point *known;
@@ -76,7 +85,7 @@ typedef struct run_opts {
 } run_opts;
 
 enum { O_INTERVAL = 256, O_BASE, O_KNOWN, O_DEPR, O_INK, O_THR, O_PASS,
-       O_INDEX, O_LABELLER };
+       O_INDEX, O_LABELLER, O_SAVE, O_DEBUG };
 
 static int parse_nums(const char *s, double *v, int n)
 {
@@ -126,6 +135,8 @@ static int parse_opt(int c, const char *name, const char *arg, run_opts *o,
     switch (c) {
     case 'o': o->out = arg; return 0;
     case 'q': o->quiet = 1; return 0;
+    case O_SAVE: o->save_lines = arg; return 0;
+    case O_DEBUG: o->debug_dir = arg; return 0;
     case O_KNOWN: return add_point(o, arg, cx);
     case O_DEPR: return add_depression(o, arg, cx);
     case O_INK: return td_binarise_parse_ink(arg, &o->sp.bin, cx);
@@ -163,6 +174,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         {"base", 1, 0, O_BASE}, {"known", 1, 0, O_KNOWN},
         {"depressions", 1, 0, O_DEPR}, {"ink", 1, 0, O_INK},
         {"index-every", 1, 0, O_INDEX}, {"labeller", 1, 0, O_LABELLER},
+        {"save-lines", 1, 0, O_SAVE}, {"debug-dir", 1, 0, O_DEBUG},
         {"threshold", 1, 0, O_THR}, {"method", 1, 0, O_PASS},
         {"step", 1, 0, O_PASS}, {"summit", 1, 0, O_PASS},
         {"peninsula", 1, 0, O_PASS}, {"weight", 1, 0, O_PASS},
@@ -211,6 +223,7 @@ typedef struct run_state {
     int hfallback;
     td_homotopy_stats hs; /* --method homotopy */
     td_label_report rep;
+    td_image *scan; /* kept for --debug-dir only */
 } run_state;
 
 /* Scan; keeps only the lines (the image and the scanner's grids are freed
@@ -232,8 +245,36 @@ static int do_scan(const run_opts *o, run_state *s, td_ctx *cx)
         s->traced = s->ls->n;
     }
     td_scan_result_free(&res);
-    td_image_free(im);
+    if (o->debug_dir && rc == 0)
+        s->scan = im; /* for heights.png; freed after labelling */
+    else
+        td_image_free(im);
     s->secs[0] = td_now() - t0;
+    return rc;
+}
+
+/* --save-lines and --debug-dir (heights.png), before the lines without a
+ * height are dropped. */
+static int write_labelled(const run_opts *o, run_state *s, td_ctx *cx)
+{
+    int rc = 0;
+    if (o->save_lines &&
+        (rc = td_geojson_write_lines(o->save_lines, s->ls, &s->geo, cx)) != 0)
+        return rc;
+    if (o->debug_dir) {
+        td_image *pic = NULL;
+        char path[4096];
+        if (mkdir(o->debug_dir, 0777) != 0 && errno != EEXIST)
+            return td_seterr(cx, TD_EIO, "%s: cannot make the folder: %s",
+                             o->debug_dir, strerror(errno));
+        snprintf(path, sizeof path, "%s/heights.png", o->debug_dir);
+        if ((rc = td_draw_heights(s->scan, s->w, s->h, s->ls, &pic, cx)) ==
+            0)
+            rc = td_png_write(path, pic, cx);
+        td_image_free(pic);
+    }
+    td_image_free(s->scan);
+    s->scan = NULL;
     return rc;
 }
 
@@ -254,7 +295,8 @@ static int do_label(const run_opts *o, run_state *s, td_ctx *cx)
     p.depressions = o->dep;
     p.ndepressions = o->ndep;
     p.index_every = o->index_every;
-    if ((rc = td_label_auto(s->ls, &p, &s->rep, cx)) != 0)
+    if ((rc = td_label_auto(s->ls, &p, &s->rep, cx)) != 0 ||
+        (rc = write_labelled(o, s, cx)) != 0)
         return rc;
     s->traced = s->ls->n; /* lines cut where two contours ran as one */
     for (i = s->ls->n; i-- > 0;)
@@ -340,6 +382,7 @@ int td_cmd_run(int argc, char **argv)
     td_grid_f32_free(s.dem);
     td_lines_free(s.ls);
     td_label_report_free(&s.rep);
+    td_image_free(s.scan);
     td_georef_clear(&s.geo);
 done:
     free(o.known);
