@@ -31,6 +31,10 @@ static const char help[] =
     "      --spur MODE        length | paper | none        (default length)\n"
     "      --spur-max PX      longest spur, px along the skeleton (default 10)\n"
     "      --no-bridge        no 5x5 gap bridging while tracing\n"
+    "      --junctions MODE   cut (default, ours): lines stop where\n"
+    "                         contours touch and the joiner pairs the ends\n"
+    "                         there by direction, never crossing | paper:\n"
+    "                         the tracer runs on along the first branch\n"
     "      --no-join          do not join line ends across gaps\n"
     "      --small-gap PX     first join stage: longest small gap joined\n"
     "                         when both ends point across it (default 16)\n"
@@ -61,7 +65,7 @@ typedef struct scan_opts {
 } scan_opts;
 
 enum { O_INK = 256, O_THR, O_SPECK, O_HOLE, O_SPUR, O_SPURMAX, O_NOBRIDGE, O_NOJOIN,
-       O_MAXGAP, O_DEBUG, O_SMALLGAP, O_MINLEN, O_NOCURVES };
+       O_MAXGAP, O_DEBUG, O_SMALLGAP, O_MINLEN, O_NOCURVES, O_JUNC };
 
 static int parse_opt(int c, const char *arg, scan_opts *o, td_ctx *cx)
 {
@@ -76,6 +80,12 @@ static int parse_opt(int c, const char *arg, scan_opts *o, td_ctx *cx)
     case O_NOBRIDGE: o->p.trace.bridge = 0; return 0;
     case O_NOJOIN: o->p.do_join = 0; return 0;
     case O_NOCURVES: o->p.join.curves = 0; return 0;
+    case O_JUNC:
+        if (strcmp(arg, "cut") && strcmp(arg, "paper"))
+            return td_seterr(cx, TD_EINVAL, "--junctions: '%s' is not cut "
+                             "or paper", arg);
+        o->p.trace.cut = !strcmp(arg, "cut");
+        return 0;
     case O_DEBUG: o->debug_dir = arg; return 0;
     case O_SPECK:
     case O_HOLE:
@@ -121,6 +131,7 @@ static int parse_args(int argc, char **argv, scan_opts *o)
         {"no-join", 0, 0, O_NOJOIN}, {"max-gap", 1, 0, O_MAXGAP},
         {"debug-dir", 1, 0, O_DEBUG}, {"small-gap", 1, 0, O_SMALLGAP},
         {"min-length", 1, 0, O_MINLEN}, {"no-curves", 0, 0, O_NOCURVES},
+        {"junctions", 1, 0, O_JUNC},
         {0, 0, 0, 0}};
     td_ctx cx;
     int c;

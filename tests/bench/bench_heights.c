@@ -23,6 +23,7 @@ static const sheet_case cases[] = {
     {"elkhorn", "elkhorn_srtm3.tif", TD_GEN_DEM, 6, 0, 0},
     {"frontrange", "frontrange_srtm3.tif", TD_GEN_DEM, 10, 0, 0},
     {"orkhon", "orkhon_92m.tif", TD_GEN_DEM, 10, 0, 0},
+    {"frontrange20", "frontrange_srtm3.tif", TD_GEN_DEM, 10, 20, 0},
     {"cone", NULL, TD_GEN_CONE, 0, 0, 800},
     {"hills", NULL, TD_GEN_HILLS, 0, 0, 1500},
     {"ridges", NULL, TD_GEN_RIDGES, 0, 0, 2000},
@@ -47,7 +48,7 @@ static void defects(td_gen_params *p, int scanned)
 int main(int argc, char **argv)
 {
     const char *dir = "tests/data/dems", *only = NULL, *png = NULL;
-    int tree = 0, logit = 0, a;
+    int tree = 0, logit = 0, paperj = 0, a;
     size_t c;
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--dems") && a + 1 < argc)
@@ -56,6 +57,8 @@ int main(int argc, char **argv)
             only = argv[++a];
         else if (!strcmp(argv[a], "--tree"))
             tree = 1;
+        else if (!strcmp(argv[a], "--paper-junctions"))
+            paperj = 1;
         else if (!strcmp(argv[a], "--log"))
             logit = 1;
         else if (!strcmp(argv[a], "--png") && a + 1 < argc)
@@ -63,9 +66,10 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[a], "--topodig") || !strcmp(argv[a], "--dir"))
             a++; /* make bench's common options */
     }
-    printf("%-11s %-7s %-13s %6s %6s %6s  %5s %5s %5s %5s %5s  %5s %6s\n",
-           "sheet", "scan", "hints", "lines", "acc", "null", "known",
-           "solvd", "assum", "none", "sure!", "confl", "secs");
+    printf("%-11s %-7s %-13s %6s %6s %6s  %5s %5s %5s %5s %5s  %5s %6s "
+           "%5s\n", "sheet", "scan", "hints", "lines", "acc", "null",
+           "known", "solvd", "assum", "none", "sure!", "confl", "secs",
+           "own");
     for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         const sheet_case *k = &cases[c];
         td_grid_f32 *src = NULL;
@@ -101,6 +105,7 @@ int main(int argc, char **argv)
                 hs.nknown = 3;
                 hs.index_every = hint == 0 ? 0 : getenv("NOIDX") ? 0 : 5;
                 hs.method = tree ? TD_LABEL_TREE : TD_LABEL_FACES;
+                hs.paper_junctions = paperj;
                 if (png) {
                     snprintf(path, sizeof path, "%s/%s_%d_%d.png", png,
                              k->name, scanned, hint);
@@ -117,7 +122,7 @@ int main(int argc, char **argv)
                     continue;
                 }
                 printf("%-11s %-7s %-13s %6zu %6.3f %6.3f  %5zu %5zu %5zu "
-                       "%5zu %5ld  %5zu %6.2f\n",
+                       "%5zu %5ld  %5zu %6.2f %5.3f\n",
                        k->name,
                        scanned == 0 ? "truth" : scanned == 1 ? "clean"
                                                              : "scanned",
@@ -130,7 +135,9 @@ int main(int argc, char **argv)
                        hs.rep.by_source[TD_HS_SOLVED],
                        hs.rep.by_source[TD_HS_ASSUMED], hs.rep.undetermined,
                        hs.score.n_wrong_sure, hs.rep.conflicts,
-                       hs.label_secs);
+                       hs.label_secs,
+                       hs.score.own / (hs.score.right + hs.score.wrong +
+                                       hs.score.null_len + 1e-9));
                 fflush(stdout);
                 td_label_report_free(&hs.rep);
             }

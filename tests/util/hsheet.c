@@ -143,6 +143,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
         td_scan_params sp = td_scan_defaults();
         if (hs->gp.colour)
             sp.bin.ink = TD_INK_BROWN;
+        sp.trace.cut = !hs->paper_junctions;
         if ((rc = td_scan(im, &sp, &res, cx)) != 0)
             goto done;
         ls = res.lines;

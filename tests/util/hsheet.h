@@ -13,6 +13,7 @@ typedef struct td_hsheet {
     int nknown;           /* known points on index contours (0..8) */
     int index_every;      /* pass --index-every (0: no) */
     int use_truth_lines;  /* label the truth lines, not the traced ones */
+    int paper_junctions;  /* trace through junctions as the paper does */
     td_labeller method;
     const char *png;      /* when set: the verdicts drawn over the sheet
                              (green right, red wrong, blue assumed and

@@ -521,6 +521,8 @@ int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
     for (i = 0; i < traced->n; i++) {
         const td_line *l = &traced->v[i];
         double same = 0, other = 0, major_h = 0, major_len = 0, off = 0;
+        double tlen[16] = {0};
+        size_t tid[16], nt = 0, j;
         for (k = 0; k < nseg(l); k++) {
             const double *p, *q;
             size_t best;
@@ -535,6 +537,12 @@ int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
                 continue;
             }
             th = truth->v[best].height;
+            for (j = 0; j < nt && tid[j] != best; j++)
+                ;
+            if (j == nt && nt < 16)
+                tid[nt++] = best;
+            if (j < 16)
+                tlen[j] += len;
             if (!l->has_height)
                 r->null_len += len;
             else if (fabs(l->height - th) < 1e-6 * (1 + fabs(th)))
@@ -545,6 +553,12 @@ int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
                 major_h = th, major_len += len;
         }
         r->n_lines++;
+        {
+            double mx = 0;
+            for (j = 0; j < nt; j++)
+                mx = tlen[j] > mx ? tlen[j] : mx;
+            r->own += mx;
+        }
         if (verdict)
             verdict[i] = off > same + other ? 3 : !l->has_height ? 2
                          : same >= other    ? 0

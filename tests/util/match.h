@@ -86,6 +86,9 @@ typedef struct td_hscore {
     double right, wrong, null_len, off, accuracy;
     long n_lines, n_wrong_sure;
     double wrong_sure_len;
+    double own; /* traced length near the line's own (majority) truth line:
+                   own / (right + wrong + null) is the share of traced length
+                   that stays on its own contour (the scanner's merges) */
 } td_hscore;
 
 /* Fills *r; log (may be NULL) gets one line per wrong sure line.  Returns 0
