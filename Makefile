@@ -13,14 +13,16 @@ CXX     ?= c++
 OPT     ?= -O2 -g
 CFLAGS  += -std=c11 $(OPT) -fopenmp -Wall -Wextra -Wshadow -Wno-unused-parameter -MMD -MP
 CXXFLAGS+= -std=c++17 $(OPT) -fopenmp -Wall -Wextra -Wno-unused-parameter -MMD -MP
-CPPFLAGS+= -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -Isrc -I. -I/usr/include/geotiff
+CPPFLAGS+= -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -Isrc -I. -I/usr/include/geotiff \
+           -I/usr/include/freetype2 -I/usr/include/leptonica
 CV_CFLAGS = $(shell pkg-config --cflags opencv4 2>/dev/null || echo -I/usr/include/opencv4)
 CV_LIBS   = -lopencv_imgcodecs -lopencv_imgproc -lopencv_core
-LDLIBS  += $(CV_LIBS) -lgeotiff -ltiff -lpng -lz -lstdc++ -lgomp -lm
+LDLIBS  += $(CV_LIBS) -ltesseract -llept -lfreetype -lgeotiff -ltiff -lpng -lz -lstdc++ -lgomp -lm
 
 # Debian packages the build and tests use; the benchmarks' anchor tools.
 DEB_PKGS = gcc g++ make pkg-config libopencv-dev libopencv-contrib-dev \
-           libtiff-dev libpng-dev libgeotiff-dev zlib1g-dev gdal-bin
+           libtiff-dev libpng-dev libgeotiff-dev zlib1g-dev gdal-bin \
+           libtesseract-dev tesseract-ocr-eng libfreetype-dev fonts-dejavu-core
 BENCH_PKGS = grass-core
 
 LIB_C   := $(wildcard src/*.c scanner/*.c interp/*.c)

@@ -962,6 +962,22 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
 }
 
 /* Stage 2's joins as lines (their paths) in st->segments. */
+/* A copy of l in st->text (p->record): text the joiner removed. */
+static int keep_text(td_join_stats *st, const td_line *l, td_ctx *cx)
+{
+    td_line *c;
+    size_t k;
+    if (!st->text && !(st->text = td_lines_new(cx)))
+        return TD_ENOMEM;
+    if (!(c = td_lines_add(st->text, cx)))
+        return TD_ENOMEM;
+    for (k = 0; k < l->n; k++)
+        if (td_line_push(c, l->xy[2 * k], l->xy[2 * k + 1], cx) != 0)
+            return TD_ENOMEM;
+    c->closed = l->closed;
+    return 0;
+}
+
 static int record(td_join_stats *st, const td_lines *paths, td_ctx *cx)
 {
     size_t j, k;
@@ -1005,6 +1021,12 @@ static int join_pass(td_lines **lsp, const td_join_params *p, int stage,
         goto fail;
     if (stage == 2)
         mark_glyphs(ls, p, acc, nacc, drop, st);
+    if (stage == 2 && p->record) {
+        size_t i;
+        for (i = 0; i < ls->n; i++)
+            if (drop[i] && (rc = keep_text(st, &ls->v[i], cx)) != 0)
+                goto fail;
+    }
     if (stage == 2 && p->record && (rc = record(st, paths, cx)) != 0)
         goto fail;
     rc = TD_ENOMEM;
@@ -1062,6 +1084,8 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
     }
     for (i = ls->n; i-- > 0;)
         if (cand[i] && !(cont[eol[2 * i]] && cont[eol[2 * i + 1]])) {
+            if (p->record && keep_text(st, &ls->v[i], cx) != 0)
+                goto fail;
             td_lines_remove(ls, i);
             st->fragments++;
         }
@@ -1164,6 +1188,8 @@ void td_join_stats_free(td_join_stats *st)
         return;
     td_lines_free(st->segments);
     st->segments = NULL;
+    td_lines_free(st->text);
+    st->text = NULL;
 }
 
 int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,

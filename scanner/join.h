@@ -52,6 +52,9 @@ typedef struct td_join_stats {
     td_lines *segments; /* p->record only: each stage-2 join as a line
                            (its path: 2 points for a chord, more along a
                            curve); free with td_join_stats_free */
+    td_lines *text;     /* p->record only: the fragments (stage 0) and
+                           glyph rings (stage 2) removed: where text is,
+                           for reading the labels (scanner/ocr.h) */
 } td_join_stats;
 
 td_join_params td_join_defaults(int w, int h);

@@ -52,6 +52,10 @@ typedef struct td_gen_params {
     const td_grid_f32 *dem_in; /* TD_GEN_DEM: the source DEM (not owned;
                                   no nodata cells), stretched over the
                                   whole sheet */
+    int label_font;    /* 0: seven-segment stroke digits (the default);
+                          1: DejaVu Sans digits through FreeType, the top
+                          of the text towards higher ground (printed maps'
+                          convention), as td_gen_sheet draws them */
     double label_bend; /* labels only where the line stays within this many
                           px of the chord over the label and 25 px either
                           side; 0: 2.5 (straight stretches, the default);
@@ -167,6 +171,17 @@ int td_gen_sheet(const td_gen_params *p, td_image **sheet, td_lines **truth,
  * Returns 0 or TD_ENOMEM. */
 int td_gen_labels(const td_lines *truth, const td_gen_params *p,
                   double interval, td_image *im, size_t *nplaced, td_ctx *cx);
+
+/* As td_gen_labels; with dem (the truth surface, may be NULL) the text's
+ * top faces uphill (dem's gradient at the label), else it reads left to
+ * right.  With p->label_font 1 the digits are DejaVu Sans (FreeType,
+ * Debian fonts-dejavu-core; TD_EIO naming the font file when it is not
+ * there).  The labels drawn are reported in *out (may be NULL; free()):
+ * per label its centre x, y, the text's reading direction (unit dx, dy),
+ * digit height and value, 6 doubles each, *nout of them. */
+int td_gen_labels_dem(const td_lines *truth, const td_gen_params *p,
+                      double interval, const td_grid_f32 *dem, td_image *im,
+                      double **out, size_t *nout, td_ctx *cx);
 
 #ifdef __cplusplus
 }

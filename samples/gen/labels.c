@@ -14,6 +14,9 @@
  */
 #include "gen_int.h"
 
+#include <ft2build.h>
+#include FT_FREETYPE_H
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -88,8 +91,22 @@ static double seg_dist(double px, double py, double ax, double ay, double bx,
 typedef struct place {
     double s0, s1, x0, y0, x1, y1, H, stroke;
     size_t line;
+    int font; /* p->label_font */
     char text[24];
 } place;
+
+#define FONT_FILE "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf"
+#define DIGIT_EM 0.729 /* DejaVu Sans digit height, in em */
+#define ADVANCE 0.87   /* DejaVu Sans digit advance, in digit heights */
+
+/* The text's width in px. */
+static double text_width(const place *q)
+{
+    int nd = (int)strlen(q->text);
+    if (q->font)
+        return nd * ADVANCE * q->H;
+    return nd * 0.55 * q->H + (nd - 1) * 0.4 * q->H;
+}
 
 /* Straight within p->label_bend px (default 2.5) over [s0 - 25, s1 + 25]
  * (printed labels sit on smooth stretches; a joiner reads the direction of
@@ -120,8 +137,7 @@ static int in_text_box(const place *q, double x, double y, double g)
 {
     double dx = q->x1 - q->x0, dy = q->y1 - q->y0, L = hypot(dx, dy);
     double px = x - 0.5 * (q->x0 + q->x1), py = y - 0.5 * (q->y0 + q->y1);
-    int nd = (int)strlen(q->text);
-    double tw = nd * 0.55 * q->H + (nd - 1) * 0.4 * q->H;
+    double tw = text_width(q);
     double u = (px * dx + py * dy) / L, v = (-px * dy + py * dx) / L;
     return fabs(u) <= 0.5 * tw + g && fabs(v) <= 0.5 * q->H + g;
 }
@@ -159,14 +175,12 @@ static int clear_of(const td_lines *ls, size_t self, const arc *a,
 static int size_label(td_rng *r, double height, double W, double s,
                       place *q)
 {
-    int nd;
     double tw, gap;
     snprintf(q->text, sizeof q->text, "%.0f", height);
-    nd = (int)strlen(q->text);
     q->H = td_rng_range(r, 10.0, 16.0);
     q->stroke = td_rng_range(r, 1.5, 2.0);
     for (;;) {
-        tw = nd * 0.55 * q->H + (nd - 1) * 0.4 * q->H;
+        tw = text_width(q);
         gap = tw + 2.0 * (7.0 + W);
         if (gap <= 60.0 || q->H <= 10.0)
             break;
@@ -226,15 +240,105 @@ static int erase_gap(td_image *im, const td_line *l, const place *q,
     return 0;
 }
 
-/* Draw the text centred on the chord, reading left to right. */
-static void draw_text(uint8_t *lay, int w, int h, const place *q)
+/* The reading direction (ux, uy) of the text on the chord: with the real
+ * font, its top (the left of the reading direction on the screen) uphill
+ * on dem; else left to right. */
+static void reading_dir(const place *q, const td_grid_f32 *dem, double *ux,
+                        double *uy)
 {
     double dx = q->x1 - q->x0, dy = q->y1 - q->y0, L = hypot(dx, dy);
-    double ux = dx / L, uy = dy / L, cx = 0.5 * (q->x0 + q->x1),
+    *ux = dx / L, *uy = dy / L;
+    if (dem && q->font) {
+        int x = (int)(0.5 * (q->x0 + q->x1)), y = (int)(0.5 * (q->y0 + q->y1));
+        int xa = x > 3 ? x - 3 : 0, xb = x + 3 < dem->w ? x + 3 : dem->w - 1;
+        int ya = y > 3 ? y - 3 : 0, yb = y + 3 < dem->h ? y + 3 : dem->h - 1;
+        double gx, gy;
+        x = x < 0 ? 0 : x >= dem->w ? dem->w - 1 : x;
+        y = y < 0 ? 0 : y >= dem->h ? dem->h - 1 : y;
+        gx = (double)TD_AT(dem, xb, y) - TD_AT(dem, xa, y);
+        gy = (double)TD_AT(dem, x, yb) - TD_AT(dem, x, ya);
+        if (*uy * gx - *ux * gy < 0) /* up (uy, -ux) against the gradient */
+            *ux = -*ux, *uy = -*uy;
+        return;
+    }
+    if (*ux < 0)
+        *ux = -*ux, *uy = -*uy;
+}
+
+/* The text as a grey raster (0..255 coverage): rows from the top, the
+ * baseline at row *base, *tw px wide (the digits' advance). */
+static uint8_t *ft_raster(FT_Face face, const place *q, int *rw, int *rh,
+                          int *base, double *tw)
+{
+    int px = (int)lround(q->H / DIGIT_EM), pen = 1, i;
+    uint8_t *r;
+    if (FT_Set_Pixel_Sizes(face, 0, (FT_UInt)(px > 4 ? px : 4)))
+        return NULL;
+    *rh = (int)(1.3 * px) + 4;
+    *base = px + 2;
+    *rw = (int)(strlen(q->text) * 0.8 * px) + 8;
+    if (!(r = calloc((size_t)*rw * (size_t)*rh, 1)))
+        return NULL;
+    for (i = 0; q->text[i]; i++) {
+        FT_GlyphSlot g;
+        unsigned y, x;
+        if (FT_Load_Char(face, (FT_ULong)(unsigned char)q->text[i],
+                         FT_LOAD_RENDER))
+            continue;
+        g = face->glyph;
+        for (y = 0; y < g->bitmap.rows; y++)
+            for (x = 0; x < g->bitmap.width; x++) {
+                int X = pen + g->bitmap_left + (int)x;
+                int Y = *base - g->bitmap_top + (int)y;
+                if (X >= 0 && Y >= 0 && X < *rw && Y < *rh)
+                    r[(size_t)Y * *rw + X] =
+                        g->bitmap.buffer[y * (unsigned)g->bitmap.pitch + x];
+            }
+        pen += (int)(g->advance.x >> 6);
+    }
+    *tw = pen - 1;
+    return r;
+}
+
+/* Draw the text with a real font (DejaVu Sans), centred on the chord,
+ * reading along (ux, uy). */
+static int draw_text_ft(uint8_t *lay, int w, int h, const place *q,
+                        FT_Face face, double ux, double uy)
+{
+    double cx = 0.5 * (q->x0 + q->x1), cy = 0.5 * (q->y0 + q->y1), tw, R;
+    int rw, rh, base, x, y;
+    uint8_t *r = ft_raster(face, q, &rw, &rh, &base, &tw);
+    if (!r)
+        return TD_ENOMEM;
+    R = 0.5 * tw + q->H + 2;
+    for (y = (int)(cy - R); y <= (int)(cy + R); y++)
+        for (x = (int)(cx - R); x <= (int)(cx + R); x++) {
+            double px = x + 0.5 - cx, py = y + 0.5 - cy;
+            double u = px * ux + py * uy, v = px * uy - py * ux; /* v: up */
+            double tx = u + 0.5 * tw + 1 - 0.5, ty = base - (v + 0.5 * q->H) - 0.5;
+            int ix = (int)floor(tx), iy = (int)floor(ty);
+            double fx = tx - ix, fy = ty - iy, c;
+            if (x < 0 || y < 0 || x >= w || y >= h || ix < 0 || iy < 0 ||
+                ix + 1 >= rw || iy + 1 >= rh)
+                continue;
+            c = (1 - fy) * ((1 - fx) * r[(size_t)iy * rw + ix] +
+                            fx * r[(size_t)iy * rw + ix + 1]) +
+                fy * ((1 - fx) * r[(size_t)(iy + 1) * rw + ix] +
+                      fx * r[(size_t)(iy + 1) * rw + ix + 1]);
+            if (c > lay[(size_t)y * w + x])
+                lay[(size_t)y * w + x] = (uint8_t)(c + 0.5);
+        }
+    free(r);
+    return 0;
+}
+
+/* Draw the text centred on the chord, reading along (ux, uy). */
+static void draw_text(uint8_t *lay, int w, int h, const place *q, double ux,
+                      double uy)
+{
+    double cx = 0.5 * (q->x0 + q->x1),
            cy = 0.5 * (q->y0 + q->y1), gw = 0.55 * q->H, tw, r;
     int nd = (int)strlen(q->text), g, s;
-    if (ux < 0)
-        ux = -ux, uy = -uy;
     tw = nd * gw + (nd - 1) * 0.4 * q->H;
     r = 0.5 * q->stroke + 0.5;
     for (g = 0; g < nd; g++) {
@@ -282,6 +386,7 @@ static int place_on_line(const td_lines *ls, size_t i, const td_gen_params *p,
             double s = (j + td_rng_range(r, 0.15, 0.85)) * a.len / nl;
             place q;
             int far = 1;
+            q.font = p->label_font;
             if (!size_label(r, l->height, td_gen_width_of(l, p, interval), s,
                             &q) ||
                 (!l->closed && (q.s0 < 50 || q.s1 > a.len - 50)))
@@ -314,35 +419,87 @@ static int place_on_line(const td_lines *ls, size_t i, const td_gen_params *p,
 int td_gen_labels(const td_lines *truth, const td_gen_params *p,
                   double interval, td_image *im, size_t *nplaced, td_ctx *cx)
 {
+    return td_gen_labels_dem(truth, p, interval, NULL, im, NULL, nplaced, cx);
+}
+
+static int open_font(FT_Library *lib, FT_Face *face, td_ctx *cx)
+{
+    if (FT_Init_FreeType(lib))
+        return td_seterr(cx, TD_ENOMEM, "labels: FreeType did not start");
+    if (FT_New_Face(*lib, FONT_FILE, 0, face)) {
+        FT_Done_FreeType(*lib);
+        *lib = NULL;
+        return td_seterr(cx, TD_EIO, "labels: %s: cannot open the font "
+                         "(install fonts-dejavu-core)", FONT_FILE);
+    }
+    return 0;
+}
+
+/* Contract in gen.h. */
+int td_gen_labels_dem(const td_lines *truth, const td_gen_params *p,
+                      double interval, const td_grid_f32 *dem, td_image *im,
+                      double **out, size_t *nout, td_ctx *cx)
+{
     static const uint8_t brown[3] = {160, 90, 40}, black[3] = {0, 0, 0};
     td_rng r = td_rng_make(p->seed, 8);
     place *pl = NULL;
     size_t np = 0, cap = 0, i;
     uint8_t *lay = NULL;
+    FT_Library lib = NULL;
+    FT_Face face = NULL;
     int rc = TD_ENOMEM;
-    if (nplaced)
-        *nplaced = 0;
+    if (out)
+        *out = NULL;
+    if (nout)
+        *nout = 0;
     if (p->labels <= 0 || !(interval > 0))
         return 0;
+    if (p->label_font && (rc = open_font(&lib, &face, cx)) != 0)
+        return rc;
+    rc = TD_ENOMEM;
     for (i = 0; i < truth->n; i++)
         if (place_on_line(truth, i, p, interval, &r, &pl, &np, &cap) != 0)
             goto fail;
-    if (!(lay = td_calloc((size_t)im->w * (size_t)im->h, 1, cx)))
+    if (!(lay = td_calloc((size_t)im->w * (size_t)im->h, 1, cx)) ||
+        (out && !(*out = malloc((6 * np + 1) * sizeof **out))))
         goto fail;
     for (i = 0; i < np; i++) {
+        double ux, uy;
         if (erase_gap(im, &truth->v[pl[i].line], &pl[i],
                       fmax(p->line_width, p->index_width),
                       im->channels == 3) != 0)
             goto fail;
-        draw_text(lay, im->w, im->h, &pl[i]);
+        reading_dir(&pl[i], dem, &ux, &uy);
+        if (face) {
+            if (draw_text_ft(lay, im->w, im->h, &pl[i], face, ux, uy) != 0)
+                goto fail;
+        } else {
+            draw_text(lay, im->w, im->h, &pl[i], ux, uy);
+        }
+        if (out) {
+            double *o = *out + 6 * i;
+            o[0] = 0.5 * (pl[i].x0 + pl[i].x1);
+            o[1] = 0.5 * (pl[i].y0 + pl[i].y1);
+            o[2] = ux, o[3] = uy, o[4] = pl[i].H;
+            o[5] = truth->v[pl[i].line].height;
+        }
     }
     td_gen_composite(im, lay, im->channels == 3 ? brown : black);
-    if (nplaced)
-        *nplaced = np;
+    if (nout)
+        *nout = np;
     rc = 0;
 fail:
-    if (rc)
+    if (rc) {
         td_seterr(cx, TD_ENOMEM, "labels: out of memory");
+        if (out) {
+            free(*out);
+            *out = NULL;
+        }
+    }
+    if (face)
+        FT_Done_Face(face);
+    if (lib)
+        FT_Done_FreeType(lib);
     free(pl);
     free(lay);
     return rc;

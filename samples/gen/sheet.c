@@ -4,7 +4,8 @@
 /* With inline labels: render without blur and noise, cut the labels into
  * the clean sheet, then blur and add noise as td_gen_render would. */
 static int render_labelled(const td_lines *ls, const td_gen_params *p,
-                           double interval, td_image **im, td_ctx *cx)
+                           double interval, const td_grid_f32 *dem,
+                           td_image **im, td_ctx *cx)
 {
     td_gen_params q = *p;
     int rc;
@@ -12,7 +13,8 @@ static int render_labelled(const td_lines *ls, const td_gen_params *p,
     q.noise = 0.0;
     if ((rc = td_gen_render(ls, &q, im, cx)) != 0)
         return rc;
-    if ((rc = td_gen_labels(ls, p, interval, *im, NULL, cx)) != 0 ||
+    if ((rc = td_gen_labels_dem(ls, p, interval, dem, *im, NULL, NULL,
+                                cx)) != 0 ||
         (p->blur > 0.0 && (rc = td_gen_blur(*im, p->blur, cx)) != 0)) {
         td_image_free(*im);
         *im = NULL;
@@ -45,8 +47,8 @@ int td_gen_sheet(const td_gen_params *p, td_image **sheet, td_lines **truth,
         goto fail;
     if (sheet && p->labels <= 0 && (rc = td_gen_render(ls, p, &im, cx)) != 0)
         goto fail;
-    if (sheet && p->labels > 0 && (rc = render_labelled(ls, p, interval, &im,
-                                                        cx)) != 0)
+    if (sheet && p->labels > 0 && (rc = render_labelled(ls, p, interval, g,
+                                                        &im, cx)) != 0)
         goto fail;
     if (sheet)
         *sheet = im;

@@ -19,6 +19,7 @@ static const char usage[] =
     "             [--base B] [--interval I] [--width PX] [--blur SIGMA]\n"
     "             [--noise SD] [--specks N] [--breaks N] [--break-len A,B]\n"
     "             [--index-width PX] [--labels N] [--label-bend PX]\n"
+    "             [--label-font segments|dejavu]\n"
     "             [--colour] [--distractors]\n"
     "             [--dem-in REAL.tif [--scale S]] [--tiff] [-q|--quiet]\n"
     "\n"
@@ -30,7 +31,9 @@ static const char usage[] =
     "5th contour (base + 5k * interval) this wide.  --labels N: up to N\n"
     "inline height labels per index contour cutting the line (one per\n"
     "250 px) where the line stays within --label-bend px (default 2.5) of\n"
-    "the label's chord.  --colour: brown ink on cream (RGB, PNG only);\n"
+    "the label's chord; --label-font dejavu draws them in DejaVu Sans with\n"
+    "their tops uphill (as printed maps do), segments (the default) as\n"
+    "stroke digits reading left to right.  --colour: brown ink on cream (RGB, PNG only);\n"
     "--distractors adds a blue river and black lettering to a colour\n"
     "sheet.  --dem-in: draw the sheet from a real DEM (any single-band\n"
     "GeoTIFF or .asc without nodata cells), stretched smoothly (bicubic)\n"
@@ -150,7 +153,11 @@ static int value_opt(const char *o, const char *v, opts *op)
         op->truth = v;
     else if (!strcmp(o, "--dem"))
         op->dem = v;
-    else if (!strcmp(o, "--dem-in"))
+    else if (!strcmp(o, "--label-font")) {
+        if (strcmp(v, "segments") && strcmp(v, "dejavu"))
+            return 1;
+        p->label_font = !strcmp(v, "dejavu");
+    } else if (!strcmp(o, "--dem-in"))
         op->dem_in = v;
     else if (!strcmp(o, "--size"))
         return !(op->sized = parse_size(v, p));

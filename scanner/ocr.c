@@ -1,0 +1,480 @@
+/* Reading printed height labels (contract and picture in ocr.h). */
+#include "ocr.h"
+
+#include "contain.h"
+
+#include <tesseract/capi.h>
+
+#include <ctype.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_STRIP 96 /* px: the strip's longest side */
+
+td_ocr_params td_ocr_defaults(void)
+{
+    td_ocr_params p;
+    p.tessdata = NULL;
+    p.min_conf = 0.3;
+    p.digit_px = 32.0;
+    return p;
+}
+
+/* Luminance of im at (x, y), bilinear; paper outside. */
+static double lum_at(const td_image *im, double x, double y)
+{
+    double fx, fy, v[4];
+    long ix, iy;
+    int k;
+    x -= 0.5, y -= 0.5;
+    ix = (long)floor(x), iy = (long)floor(y);
+    fx = x - ix, fy = y - iy;
+    for (k = 0; k < 4; k++) {
+        long X = ix + (k & 1), Y = iy + (k >> 1);
+        const uint8_t *q;
+        if (X < 0 || Y < 0 || X >= im->w || Y >= im->h) {
+            v[k] = 255;
+            continue;
+        }
+        q = im->data + (size_t)Y * im->stride + (size_t)X * im->channels;
+        v[k] = im->channels >= 3 ? 0.299 * q[0] + 0.587 * q[1] + 0.114 * q[2]
+                                 : q[0];
+    }
+    return (1 - fy) * ((1 - fx) * v[0] + fx * v[1]) +
+           fy * ((1 - fx) * v[2] + fx * v[3]);
+}
+
+/* Otsu's threshold of n grey values (0..255). */
+static double otsu(const double *g, size_t n)
+{
+    size_t hist[256] = {0}, i, w0 = 0;
+    double sum = 0, s0 = 0, best = -1, t = 128;
+    for (i = 0; i < n; i++) {
+        int b = (int)g[i];
+        hist[b < 0 ? 0 : b > 255 ? 255 : b]++;
+        sum += g[i];
+    }
+    for (i = 0; i < 255; i++) {
+        double m0, m1, v;
+        w0 += hist[i];
+        s0 += (double)i * hist[i];
+        if (w0 == 0 || w0 == n)
+            continue;
+        m0 = s0 / w0;
+        m1 = (sum - s0) / (n - w0);
+        v = (double)w0 * (n - w0) * (m1 - m0) * (m1 - m0);
+        if (v > best)
+            best = v, t = i + 0.5;
+    }
+    return t;
+}
+
+/* One strip along a gap: grey g (w x h), the ink mask, kept components. */
+typedef struct strip {
+    double cx, cy, ux, uy; /* centre, chord direction */
+    int w, h;
+    double *g;
+    int *lab; /* component label per px, 0: paper */
+    unsigned char *keep;
+    double ink, paper;
+} strip;
+
+static void strip_free(strip *s)
+{
+    free(s->g);
+    free(s->lab);
+    free(s->keep);
+}
+
+/* Scan px of strip cell (i, j): along the chord i, across j (down). */
+static void strip_xy(const strip *s, double i, double j, double *x,
+                     double *y)
+{
+    double u = i + 0.5 - 0.5 * s->w, v = j + 0.5 - 0.5 * s->h;
+    *x = s->cx + u * s->ux - v * s->uy;
+    *y = s->cy + u * s->uy + v * s->ux;
+}
+
+/* Label 8-connected ink components; keep those touching no side of the
+ * strip, at least 4 px tall, near the middle row.  Returns how many were
+ * kept and their box in *b (x0, y0, x1, y1), or 0. */
+static int components(strip *s, double t, int *b)
+{
+    int n = s->w * s->h, next = 0, kept = 0, i;
+    int *stack = malloc((size_t)n * sizeof *stack);
+    if (!stack)
+        return -1;
+    for (i = 0; i < n; i++)
+        s->lab[i] = s->g[i] < t ? -1 : 0;
+    b[0] = s->w, b[1] = s->h, b[2] = -1, b[3] = -1;
+    for (i = 0; i < n; i++) {
+        int sp = 0, x0 = s->w, y0 = s->h, x1 = -1, y1 = -1, area = 0, edge = 0;
+        if (s->lab[i] != -1)
+            continue;
+        next++;
+        stack[sp++] = i;
+        s->lab[i] = next;
+        while (sp > 0) {
+            int p = stack[--sp], x = p % s->w, y = p / s->w, dx, dy;
+            area++;
+            x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
+            y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
+            edge |= x == 0 || y == 0 || x == s->w - 1 || y == s->h - 1;
+            for (dy = -1; dy <= 1; dy++)
+                for (dx = -1; dx <= 1; dx++) {
+                    int X = x + dx, Y = y + dy;
+                    if (X < 0 || Y < 0 || X >= s->w || Y >= s->h ||
+                        s->lab[Y * s->w + X] != -1)
+                        continue;
+                    s->lab[Y * s->w + X] = next;
+                    stack[sp++] = Y * s->w + X;
+                }
+        }
+        if (edge || y1 - y0 + 1 < 4 || area < 6 ||
+            fabs(0.5 * (y0 + y1) - 0.5 * s->h) > s->h / 4.0)
+            continue;
+        s->keep[next] = 1;
+        kept++;
+        b[0] = x0 < b[0] ? x0 : b[0], b[1] = y0 < b[1] ? y0 : b[1];
+        b[2] = x1 > b[2] ? x1 : b[2], b[3] = y1 > b[3] ? y1 : b[3];
+    }
+    free(stack);
+    return kept;
+}
+
+/* A text candidate: where the pieces of one cluster lie. */
+typedef struct cand {
+    double cx, cy, ux, uy, along, across; /* centre, axis, extents */
+} cand;
+
+static int sample_strip(const td_image *im, const cand *c, strip *s)
+{
+    int i, j;
+    memset(s, 0, sizeof *s);
+    if (c->along < 6)
+        return 1;
+    s->cx = c->cx, s->cy = c->cy, s->ux = c->ux, s->uy = c->uy;
+    s->w = (int)ceil(c->along + 16);
+    s->h = (int)ceil(fmin(fmax(fmax(0.9 * c->along, 3.0 * c->across), 24.0),
+                          80.0));
+    if (s->w > MAX_STRIP)
+        return 1;
+    s->g = malloc((size_t)s->w * s->h * sizeof *s->g);
+    s->lab = malloc((size_t)s->w * s->h * sizeof *s->lab);
+    s->keep = calloc((size_t)s->w * s->h + 1, 1);
+    if (!s->g || !s->lab || !s->keep)
+        return -1;
+    for (j = 0; j < s->h; j++)
+        for (i = 0; i < s->w; i++) {
+            double x, y;
+            strip_xy(s, i, j, &x, &y);
+            s->g[j * s->w + i] = lum_at(im, x, y);
+        }
+    return 0;
+}
+
+/* The kept digits, scaled to about digit_px tall, black on white, 8-bit
+ * rows (w x h, stride w) into *img (malloc'ed). */
+static int digits_image(const strip *s, const int *b, double digit_px,
+                        uint8_t **img, int *w, int *h)
+{
+    double hd = b[3] - b[1] + 1, f = digit_px / hd, m = 0.4 * hd;
+    int W = (int)ceil((b[2] - b[0] + 1 + 2 * m) * f);
+    int H = (int)ceil((hd + 2 * m) * f), x, y;
+    uint8_t *o;
+    if (W < 8 || H < 8 || W > 4000 || !(o = malloc((size_t)W * H)))
+        return -1;
+    for (y = 0; y < H; y++)
+        for (x = 0; x < W; x++) {
+            double i = b[0] - m + (x + 0.5) / f - 0.5;
+            double j = b[1] - m + (y + 0.5) / f - 0.5;
+            int ii = (int)floor(i + 0.5), jj = (int)floor(j + 0.5), dx, dy;
+            int near = 0;
+            double v = 255, fx, fy;
+            for (dy = -1; dy <= 1 && !near; dy++)
+                for (dx = -1; dx <= 1 && !near; dx++) {
+                    int X = ii + dx, Y = jj + dy;
+                    near = X >= 0 && Y >= 0 && X < s->w && Y < s->h &&
+                           s->lab[Y * s->w + X] > 0 &&
+                           s->keep[s->lab[Y * s->w + X]];
+                }
+            if (near) {
+                int i0 = (int)floor(i), j0 = (int)floor(j);
+                i0 = i0 < 0 ? 0 : i0 >= s->w - 1 ? s->w - 2 : i0;
+                j0 = j0 < 0 ? 0 : j0 >= s->h - 1 ? s->h - 2 : j0;
+                fx = i - i0, fy = j - j0;
+                fx = fx < 0 ? 0 : fx > 1 ? 1 : fx;
+                fy = fy < 0 ? 0 : fy > 1 ? 1 : fy;
+                v = (1 - fy) * ((1 - fx) * s->g[j0 * s->w + i0] +
+                                fx * s->g[j0 * s->w + i0 + 1]) +
+                    fy * ((1 - fx) * s->g[(j0 + 1) * s->w + i0] +
+                          fx * s->g[(j0 + 1) * s->w + i0 + 1]);
+                v = (v - s->ink) / (s->paper - s->ink) * 255.0;
+                v = v < 0 ? 0 : v > 255 ? 255 : v;
+            }
+            o[(size_t)y * W + x] = (uint8_t)v;
+        }
+    *img = o, *w = W, *h = H;
+    return 0;
+}
+
+/* Read one image: the number and the confidence, or -1 when the text is
+ * not a number. */
+static int read_number(TessBaseAPI *api, const uint8_t *img, int w, int h,
+                       char *text, size_t tlen, double *conf)
+{
+    char *t, *p, *q;
+    int ok = 1, digits = 0;
+    TessBaseAPISetImage(api, img, w, h, 1, w);
+    TessBaseAPISetSourceResolution(api, 300);
+    if (!(t = TessBaseAPIGetUTF8Text(api)))
+        return -1;
+    *conf = TessBaseAPIMeanTextConf(api) / 100.0;
+    for (p = t, q = text; *p && (size_t)(q - text) + 1 < tlen; p++)
+        if (!isspace((unsigned char)*p))
+            *q++ = *p;
+    *q = '\0';
+    TessDeleteText(t);
+    for (p = text; *p; p++) {
+        ok &= isdigit((unsigned char)*p) || (*p == '-' && p == text);
+        digits += isdigit((unsigned char)*p) != 0;
+    }
+    return ok && digits > 0 ? 0 : -1;
+}
+
+/* The lines of a read: the line through the label (within 6 px of its
+ * middle), else up to two lines with an open end at the label's ends
+ * (within 14 px beyond them along the text, a digit height across). */
+static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
+{
+    size_t i;
+    double bd = 6.0, e[2] = {HUGE_VAL, HUGE_VAL};
+    int k;
+    r->line[0] = r->line[1] = -1;
+    for (i = 0; ls && i < ls->n; i++) {
+        double d = td_contain_dist(&ls->v[i], r->x, r->y);
+        if (d < bd)
+            bd = d, r->line[0] = (long)i;
+    }
+    if (r->line[0] >= 0)
+        return;
+    for (i = 0; ls && i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        if (l->closed || l->n < 2)
+            continue;
+        for (k = 0; k < 2; k++) {
+            double x = l->xy[k ? 2 * l->n - 2 : 0] - r->x;
+            double y = l->xy[k ? 2 * l->n - 1 : 1] - r->y;
+            double u = fabs(x * r->ux + y * r->uy);
+            double v = fabs(-x * r->uy + y * r->ux);
+            if (u > 0.5 * along + 14 || v > r->digit_px)
+                continue;
+            if (u < e[0]) {
+                e[1] = e[0], r->line[1] = r->line[0];
+                e[0] = u, r->line[0] = (long)i;
+            } else if (u < e[1] && r->line[0] != (long)i) {
+                e[1] = u, r->line[1] = (long)i;
+            }
+        }
+    }
+}
+
+/* Read the label in one gap into *r; 1: nothing read, -1: no memory. */
+static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
+                    const td_ocr_params *p, td_ocr_read *r)
+{
+    strip s;
+    int b[4], rc = 1, w, h, turn, k = 0;
+    uint8_t *img = NULL;
+    double t, best = -1;
+    size_t i, n;
+    if ((rc = sample_strip(im, gap, &s)) != 0)
+        goto done;
+    n = (size_t)s.w * s.h;
+    t = otsu(s.g, n);
+    s.ink = 255, s.paper = 0;
+    for (i = 0; i < n; i++) { /* ink and paper levels: darkest, lightest */
+        s.ink = s.g[i] < s.ink ? s.g[i] : s.ink;
+        s.paper = s.g[i] > s.paper ? s.g[i] : s.paper;
+    }
+    rc = 1;
+    if (s.paper - s.ink < 40 || (k = components(&s, t, b)) <= 0) {
+        rc = k < 0 ? -1 : 1;
+        goto done;
+    }
+    if (digits_image(&s, b, p->digit_px, &img, &w, &h) != 0)
+        goto done;
+    for (turn = 0; turn < 2; turn++) {
+        char text[24];
+        double conf;
+        if (turn) /* half round: reverse the pixels */
+            for (i = 0; i < (size_t)w * h / 2; i++) {
+                uint8_t v = img[i];
+                img[i] = img[(size_t)w * h - 1 - i];
+                img[(size_t)w * h - 1 - i] = v;
+            }
+        if (read_number(api, img, w, h, text, sizeof text, &conf) != 0 ||
+            conf <= best)
+            continue;
+        best = conf;
+        memset(r, 0, sizeof *r);
+        r->x = s.cx, r->y = s.cy;
+        r->ux = turn ? -s.ux : s.ux, r->uy = turn ? -s.uy : s.uy;
+        r->digit_px = b[3] - b[1] + 1;
+        r->value = atof(text);
+        r->conf = conf;
+        snprintf(r->text, sizeof r->text, "%s", text);
+        rc = 0;
+    }
+done:
+    free(img);
+    strip_free(&s);
+    return rc;
+}
+
+static size_t ufind(size_t *uf, size_t a)
+{
+    while (uf[a] != a)
+        a = uf[a] = uf[uf[a]];
+    return a;
+}
+
+/* Pieces near each other (boxes within 6 px) form one candidate: its
+ * centre, main axis (of the points' scatter) and extents.  *out (free()),
+ * returns how many, or -1 (no memory). */
+static long clusters(const td_lines *pc, cand **out)
+{
+    size_t n = pc->n, i, j, k, m = 0;
+    size_t *uf = malloc((n + 1) * sizeof *uf);
+    double *box = malloc((4 * n + 1) * sizeof *box);
+    cand *c = calloc(n + 1, sizeof *c);
+    if (!uf || !box || !c) {
+        free(uf), free(box), free(c);
+        return -1;
+    }
+    for (i = 0; i < n; i++) {
+        const td_line *l = &pc->v[i];
+        uf[i] = i;
+        box[4 * i] = box[4 * i + 1] = HUGE_VAL;
+        box[4 * i + 2] = box[4 * i + 3] = -HUGE_VAL;
+        for (k = 0; k < l->n; k++) {
+            box[4 * i] = fmin(box[4 * i], l->xy[2 * k]);
+            box[4 * i + 1] = fmin(box[4 * i + 1], l->xy[2 * k + 1]);
+            box[4 * i + 2] = fmax(box[4 * i + 2], l->xy[2 * k]);
+            box[4 * i + 3] = fmax(box[4 * i + 3], l->xy[2 * k + 1]);
+        }
+    }
+    for (i = 0; i < n; i++)
+        for (j = i + 1; j < n; j++)
+            if (pc->v[i].n && pc->v[j].n &&
+                box[4 * i] - 6 <= box[4 * j + 2] &&
+                box[4 * j] - 6 <= box[4 * i + 2] &&
+                box[4 * i + 1] - 6 <= box[4 * j + 3] &&
+                box[4 * j + 1] - 6 <= box[4 * i + 3])
+                uf[ufind(uf, i)] = ufind(uf, j);
+    for (i = 0; i < n; i++) {
+        double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0, cnt = 0, a, b;
+        double lo = HUGE_VAL, hi = -HUGE_VAL, lo2 = HUGE_VAL, hi2 = -HUGE_VAL;
+        if (ufind(uf, i) != i)
+            continue;
+        for (j = 0; j < n; j++)
+            for (k = 0; ufind(uf, j) == i && k < pc->v[j].n; k++) {
+                double x = pc->v[j].xy[2 * k], y = pc->v[j].xy[2 * k + 1];
+                sx += x, sy += y, sxx += x * x, syy += y * y, sxy += x * y;
+                cnt++;
+            }
+        if (cnt < 2)
+            continue;
+        c[m].cx = sx / cnt, c[m].cy = sy / cnt;
+        a = sxx / cnt - c[m].cx * c[m].cx - (syy / cnt - c[m].cy * c[m].cy);
+        b = 2 * (sxy / cnt - c[m].cx * c[m].cy);
+        c[m].ux = cos(0.5 * atan2(b, a)), c[m].uy = sin(0.5 * atan2(b, a));
+        for (j = 0; j < n; j++)
+            for (k = 0; ufind(uf, j) == i && k < pc->v[j].n; k++) {
+                double x = pc->v[j].xy[2 * k] - c[m].cx;
+                double y = pc->v[j].xy[2 * k + 1] - c[m].cy;
+                double u = x * c[m].ux + y * c[m].uy;
+                double v = -x * c[m].uy + y * c[m].ux;
+                lo = fmin(lo, u), hi = fmax(hi, u);
+                lo2 = fmin(lo2, v), hi2 = fmax(hi2, v);
+            }
+        c[m].cx += 0.5 * (lo + hi) * c[m].ux - 0.5 * (lo2 + hi2) * c[m].uy;
+        c[m].cy += 0.5 * (lo + hi) * c[m].uy + 0.5 * (lo2 + hi2) * c[m].ux;
+        c[m].along = hi - lo;
+        c[m].across = hi2 - lo2;
+        m++;
+    }
+    free(uf);
+    free(box);
+    *out = c;
+    return (long)m;
+}
+
+/* Contract in ocr.h. */
+int td_ocr_labels(const td_image *im, const td_lines *ls,
+                  const td_lines *pieces, const td_ocr_params *p,
+                  td_ocr_read **out, size_t *n, td_ctx *cx)
+{
+    td_ocr_params d = td_ocr_defaults();
+    TessBaseAPI *api;
+    td_ocr_read *v = NULL;
+    cand *cs = NULL;
+    long nc;
+    size_t i, m = 0;
+    int rc = 0;
+    *out = NULL;
+    *n = 0;
+    if (!p)
+        p = &d;
+    if (!pieces || pieces->n == 0)
+        return 0;
+    if ((nc = clusters(pieces, &cs)) < 0 ||
+        !(v = td_calloc((size_t)nc + 1, sizeof *v, cx))) {
+        free(cs);
+        return td_seterr(cx, TD_ENOMEM, "labels: out of memory");
+    }
+    if (!(api = TessBaseAPICreate())) {
+        free(v);
+        free(cs);
+        return td_seterr(cx, TD_ENOMEM, "labels: Tesseract did not start");
+    }
+    TessBaseAPISetVariable(api, "debug_file", "/dev/null");
+    if (TessBaseAPIInit3(api, p->tessdata, "eng") != 0) {
+        TessBaseAPIDelete(api);
+        free(v);
+        free(cs);
+        return td_seterr(cx, TD_EIO, "labels: Tesseract's English model "
+                         "(eng.traineddata) not found%s%s: install "
+                         "tesseract-ocr-eng", p->tessdata ? " in " : "",
+                         p->tessdata ? p->tessdata : "");
+    }
+    TessBaseAPISetPageSegMode(api, PSM_SINGLE_LINE);
+    TessBaseAPISetVariable(api, "tessedit_char_whitelist", "0123456789-");
+    for (i = 0; i < (size_t)nc && rc >= 0; i++) {
+        rc = read_gap(api, im, &cs[i], p, &v[m]);
+        if (rc == 0 && v[m].conf >= p->min_conf) {
+            lines_of(ls, &v[m], cs[i].along);
+            m++;
+        }
+        if (rc >= 0 && (i & 15) == 0 &&
+            td_progress(cx, "labels", (double)i / (double)nc) != 0)
+            rc = -2;
+    }
+    free(cs);
+    TessBaseAPIEnd(api);
+    TessBaseAPIDelete(api);
+    if (rc == -1) {
+        free(v);
+        return td_seterr(cx, TD_ENOMEM, "labels: out of memory");
+    }
+    if (rc == -2) {
+        free(v);
+        return TD_ECANCEL;
+    }
+    *out = v;
+    *n = m;
+    return 0;
+}

@@ -1,0 +1,68 @@
+/* ocr.h: read the height labels printed in the gaps of index contours
+ * (ALGORITHMS.md A.5, "printed labels"; ours).
+ *
+ * Where a label cuts a contour the scanner joins the line across the gap
+ * (td_join's label-gap stage, whose joins it records).  Each such gap is a
+ * candidate: the scan is sampled in a strip along the gap's chord, the ink
+ * components that touch no side of the strip (the digits; the contour's
+ * own ends and other lines run out of it) are kept, boxed, scaled to
+ * digits about 32 px tall and read by Tesseract as one line of digits
+ * (whitelist 0-9 and '-'), once as sampled and once turned half round; the
+ * better read wins.
+ *
+ *     contour ====      2 3 5 0      ==== contour      strip along the
+ *                 |<---- gap ---->|                    chord, both ways
+ *
+ * Tesseract through its C API (Debian libtesseract-dev, the English model
+ * tesseract-ocr-eng). */
+#ifndef TD_OCR_H
+#define TD_OCR_H
+
+#include "../src/grid.h"
+#include "../src/lines.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct td_ocr_read {
+    double x, y;       /* the label's middle, scan px */
+    double ux, uy;     /* reading direction as read: the text's top is
+                          towards (uy, -ux) on the screen */
+    double digit_px;   /* height of the digits on the scan */
+    double value;      /* the number read */
+    double conf;       /* Tesseract's confidence, 0..1 */
+    long line[2];      /* indexes into the lines: the line through the
+                          label (a joined gap), or the one or two lines
+                          ending at it (a gap left open); -1: none */
+    char text[24];     /* the text read */
+    int used;          /* the labeller took it (set by td_label_auto) */
+    const char *why;   /* static: why it was not used, or NULL */
+} td_ocr_read;
+
+typedef struct td_ocr_params {
+    const char *tessdata; /* folder holding eng.traineddata; NULL: the
+                             library's default (Debian:
+                             /usr/share/tesseract-ocr/5/tessdata) */
+    double min_conf;      /* reads below this are dropped (default 0.3) */
+    double digit_px;      /* digits are scaled to this height (32) */
+} td_ocr_params;
+
+td_ocr_params td_ocr_defaults(void);
+
+/* Read the labels marked by pieces (lines: the label-gap joins and the
+ * text fragments that td_join records, small rings; pieces whose boxes
+ * come within 6 px of each other are one candidate, read along the main
+ * axis of their points) on the scan im (grey or RGB); ls are the joined
+ * lines (for td_ocr_read.line).  *out (free()) and *n get the reads that parse
+ * as numbers with conf >= min_conf.  Returns 0, TD_EIO (Tesseract or its
+ * English model missing: the message says what to install) or
+ * TD_ENOMEM. */
+int td_ocr_labels(const td_image *im, const td_lines *ls,
+                  const td_lines *gaps, const td_ocr_params *p,
+                  td_ocr_read **out, size_t *n, td_ctx *cx);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
