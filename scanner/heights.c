@@ -49,8 +49,12 @@
 #define W_SUMMIT 0.5
 #define W_RING 0.25
 #define W_DEPR 50.0
+#define W_LABEL 40.0   /* a printed label read with confidence 1 */
+#define W_UP 3.0       /* its top towards higher ground, confidence 1 */
 #define WFOLD 1.0
 #define GAP_EPS 1e-3
+#define CONF_SCALE 20.0 /* confidence 1 - exp(-gap / this): one label read
+                           for sure alone 0.85, two 0.98 */
 #define MAX_CELLS (96u << 20) /* state table entries (8 bytes each, x3) */
 
 enum { E_LINE, E_FACE, E_CONT };
@@ -74,6 +78,9 @@ typedef struct hs {
     size_t nfe, N, C, V; /* lines, chunks, side nodes (2C) */
     /* per chunk */
     double *lknown;   /* level a known point gives (NAN: none) */
+    double *llab, *wlab; /* level a printed label gives, its weight */
+    double *llab2, *clab, *clab2; /* the read turned round: level; the two
+                                     reads' confidences */
     int *nknown;      /* known points on the chunk */
     signed char *idx; /* +1 thick (index), -1 thin, 0 unknown */
     double *ilen;     /* weight of the index evidence */
@@ -263,6 +270,125 @@ static int inner_side(const td_line *l)
     return a > 0 ? 1 : 0;
 }
 
+/* The vertex of line l nearest (x, y). */
+static size_t nearest_vertex(const td_line *l, double x, double y)
+{
+    size_t k, bk = 0;
+    double bd = HUGE_VAL;
+    for (k = 0; k < l->n; k++) {
+        double d = hypot(l->xy[2 * k] - x, l->xy[2 * k + 1] - y);
+        if (d < bd)
+            bd = d, bk = k;
+    }
+    return bk;
+}
+
+/* One printed label on line l: its level on the chunk next to it, and
+ * (label_up) its top towards the higher side. */
+static void label_on(hs *s, const td_ocr_read *r, size_t l, long level,
+                     long level2)
+{
+    const td_line *L = &s->ls->v[l];
+    size_t k = nearest_vertex(L, r->x, r->y), a, b;
+    long c = td_faces_chunk_at(s->fx, l, k);
+    double tx, ty, top;
+    if (c < 0)
+        return;
+    if (s->wlab[c] > 0 && s->llab[c] != (double)level)
+        td_label_warn(s->rep, "labels %g and %g on line %ld (near %.0f,%.0f) "
+                      "disagree; the solve decides",
+                      s->p->base + s->llab[c] * s->p->interval, r->value,
+                      L->id, r->x, r->y);
+    if (r->conf > s->clab[c]) {
+        s->wlab[c] = W_LABEL;
+        s->llab[c] = (double)level;
+        s->clab[c] = r->conf;
+        s->llab2[c] = (double)level2;
+        s->clab2[c] = level2 == LONG_MIN ? 0.0 : r->alt_conf;
+    }
+    /* the top's side: only when the text cannot be read the other way */
+    if (!s->p->label_up || level2 != LONG_MIN)
+        return;
+    a = k >= 2 ? k - 2 : 0;
+    b = k + 2 < L->n ? k + 2 : L->n - 1;
+    tx = L->xy[2 * b] - L->xy[2 * a];
+    ty = L->xy[2 * b + 1] - L->xy[2 * a + 1];
+    /* side 0 (left on the screen) is towards (ty, -tx); the top (uy, -ux) */
+    top = r->uy * ty + -r->ux * -tx;
+    if (fabs(top) < 1e-9)
+        return;
+    s->up_cost[2 * c + (top > 0 ? 1 : 0)] += W_UP * r->conf;
+}
+
+/* Printed labels: reads off base + k * interval are refused. */
+static void setup_labels(hs *s)
+{
+    size_t i;
+    int j;
+    for (i = 0; i < s->p->nlabels; i++) {
+        td_ocr_read *r = &s->p->labels[i];
+        double f = (r->value - s->p->base) / s->p->interval, f2;
+        long lev2;
+        int any = 0;
+        r->used = 0;
+        r->why = NULL;
+        if (fabs(f - lround(f)) > 1e-6) {
+            r->why = "not base + a multiple of the interval";
+            continue;
+        }
+        f2 = (r->alt_value - s->p->base) / s->p->interval;
+        lev2 = r->alt_conf > 0 && fabs(f2 - lround(f2)) < 1e-6 ? lround(f2)
+                                                               : LONG_MIN;
+        for (j = 0; j < 2; j++)
+            if (r->line[j] >= 0 && (size_t)r->line[j] < s->N &&
+                td_faces_used(s->fx, (size_t)r->line[j])) {
+                label_on(s, r, (size_t)r->line[j], lround(f), lev2);
+                any = 1;
+            }
+        if (!any)
+            r->why = "no traced line at the label";
+    }
+}
+
+/* After the solve: which labels the heights agree with (lines' ids are
+ * still the chunks' until set_lines). */
+static void judge_labels(hs *s)
+{
+    size_t i;
+    int j;
+    for (i = 0; i < s->p->nlabels; i++) {
+        td_ocr_read *r = &s->p->labels[i];
+        double f = (r->value - s->p->base) / s->p->interval;
+        if (r->why)
+            continue;
+        for (j = 0; j < 2; j++) {
+            long l = r->line[j], c;
+            if (l < 0 || (size_t)l >= s->N || !td_faces_used(s->fx, (size_t)l))
+                continue;
+            c = td_faces_chunk_at(s->fx, (size_t)l,
+                                  nearest_vertex(&s->ls->v[l], r->x, r->y));
+            if (c >= 0 && s->band_prior[c] + s->kofs == lround(f))
+                r->used = 1;
+            else if (c >= 0 && r->alt_conf > 0 &&
+                     fabs((r->alt_value - s->p->base) / s->p->interval -
+                          (double)(s->band_prior[c] + s->kofs)) < 1e-6)
+                r->used = 2; /* read the other way round */
+        }
+        if (r->used == 2) { /* the topology chose the other reading */
+            double v = r->value, cf = r->conf;
+            r->value = r->alt_value, r->conf = r->alt_conf;
+            r->alt_value = v, r->alt_conf = cf;
+            r->ux = -r->ux, r->uy = -r->uy;
+            snprintf(r->text, sizeof r->text, "%.10g", r->value);
+            r->used = 1;
+        }
+        if (r->used)
+            s->rep->labels_used++;
+        else
+            r->why = "the other evidence disagrees";
+    }
+}
+
 static int inside(const td_line *l, double x, double y)
 {
     size_t k, j;
@@ -376,8 +502,9 @@ static int setup_index(hs *s, td_ctx *cx)
     if ((rc = td_label_thick_cut(s->ls, s->p, &cut, cx)) < 0)
         return rc;
     if (rc == 0) {
-        td_label_warn(s->rep, "--index-every: the line widths show no "
-                      "thicker index contours; not used");
+        if (!s->p->index_auto)
+            td_label_warn(s->rep, "--index-every: the line widths show no "
+                          "thicker index contours; not used");
         return 0;
     }
     for (i = 0; i < s->N; i++) {
@@ -513,11 +640,16 @@ static int set_domain(hs *s, td_ctx *cx)
 {
     long lo = LONG_MAX, hi = LONG_MIN, D = 0;
     size_t i;
-    for (i = 0; i < s->C; i++)
+    for (i = 0; i < s->C; i++) {
         if (s->nknown[i]) {
             lo = lo < s->lknown[i] - 1 ? lo : (long)s->lknown[i] - 1;
             hi = hi > s->lknown[i] ? hi : (long)s->lknown[i];
         }
+        if (s->wlab[i] > 0) {
+            lo = lo < s->llab[i] - 1 ? lo : (long)s->llab[i] - 1;
+            hi = hi > s->llab[i] ? hi : (long)s->llab[i];
+        }
+    }
     for (i = 0; i < s->nun; i++) {
         lo = lo < (long)s->un[4 * i + 1] ? lo : (long)s->un[4 * i + 1];
         hi = hi > (long)s->un[4 * i + 2] ? hi : (long)s->un[4 * i + 2];
@@ -565,6 +697,11 @@ static double line_cost(const hs *s, size_t l, long a0, long a1)
         c += a0 > a1 ? s->up_prior[2 * l] : s->up_prior[2 * l + 1];
     if (s->nknown[l] && (double)h != s->lknown[l])
         c += WKNOWN * s->nknown[l];
+    if (s->wlab[l] > 0) { /* W (1 - confidence of the read giving h) */
+        double cf = (double)h == s->llab[l] ? s->clab[l]
+                    : (double)h == s->llab2[l] ? s->clab2[l] : 0.0;
+        c += s->wlab[l] * (1.0 - cf);
+    }
     if (s->idx[l]) {
         long N = s->p->index_every, m = ((h % N) + N) % N;
         if ((s->idx[l] > 0) != (m == 0))
@@ -738,7 +875,7 @@ static void mark_abs(hs *s)
 {
     size_t i;
     for (i = 0; i < s->C; i++)
-        if (s->nknown[i])
+        if (s->nknown[i] || s->wlab[i] > 0)
             s->comp_abs[s->comp[2 * i]] = 1;
     for (i = 0; i < s->nun; i++) {
         uint32_t c = s->comp[(size_t)s->un[4 * i]];
@@ -756,8 +893,9 @@ static int chunk_verdict(const hs *s, size_t c, int *src, double *conf)
         return 0;
     if (gB > GAP_EPS && s->band[c] == s->band_prior[c]) {
         *src = s->nknown[c] && (double)h == s->lknown[c] ? TD_HS_KNOWN
-                                                          : TD_HS_SOLVED;
-        *conf = *src == TD_HS_KNOWN ? 1.0 : 1.0 - exp(-gB / 3.0);
+               : s->wlab[c] > 0 && (double)h == s->llab[c] ? TD_HS_LABEL
+                                                            : TD_HS_SOLVED;
+        *conf = *src == TD_HS_KNOWN ? 1.0 : 1.0 - exp(-gB / CONF_SCALE);
         return 1;
     }
     if (gA > GAP_EPS) {
@@ -842,8 +980,9 @@ static void apply_run(const hs *s, td_line *l, const run *r)
     }
     for (k = 0; k < 5; k++)
         tot += r->nsrc[k];
-    l->hsource = r->nsrc[TD_HS_KNOWN]                 ? TD_HS_KNOWN
-                 : 2 * r->nsrc[TD_HS_SOLVED] >= tot ? TD_HS_SOLVED
+    l->hsource = r->nsrc[TD_HS_KNOWN]   ? TD_HS_KNOWN
+                 : r->nsrc[TD_HS_LABEL] ? TD_HS_LABEL
+                 : 2 * (r->nsrc[TD_HS_SOLVED]) >= tot ? TD_HS_SOLVED
                                                       : TD_HS_ASSUMED;
     l->confidence = l->hsource == TD_HS_KNOWN ? 1.0 : r->conf;
     l->has_height = 1;
@@ -1023,6 +1162,18 @@ static void report_known(hs *s)
     }
 }
 
+/* The best total cost of the last pass: the smallest root belief summed
+ * over the components. */
+static double total_cost(const hs *s)
+{
+    size_t K2 = 2 * s->K, v;
+    double t = 0;
+    for (v = 0; v < s->V; v++)
+        if (s->par[v] == UINT32_MAX && s->comp[v] == v)
+            t += vmin(s->up + v * K2, K2, NULL);
+    return t;
+}
+
 /* One dynamic-programming pass; per chunk its gap and best height. */
 static void run_pass(hs *s, int priors, double *gap, long *band, double *H)
 {
@@ -1038,6 +1189,11 @@ static int alloc_all(hs *s, td_ctx *cx)
     size_t C = s->C, V = s->V;
     s->lknown = td_calloc(C + 1, sizeof *s->lknown, cx);
     s->nknown = td_calloc(C + 1, sizeof *s->nknown, cx);
+    s->llab = td_calloc(C + 1, sizeof *s->llab, cx);
+    s->wlab = td_calloc(C + 1, sizeof *s->wlab, cx);
+    s->llab2 = td_calloc(C + 1, sizeof *s->llab2, cx);
+    s->clab = td_calloc(C + 1, sizeof *s->clab, cx);
+    s->clab2 = td_calloc(C + 1, sizeof *s->clab2, cx);
     s->idx = td_calloc(C + 1, 1, cx);
     s->ilen = td_calloc(C + 1, sizeof *s->ilen, cx);
     s->up_cost = td_calloc(V + 1, sizeof *s->up_cost, cx);
@@ -1056,7 +1212,8 @@ static int alloc_all(hs *s, td_ctx *cx)
     s->band_prior = td_calloc(C + 1, sizeof *s->band_prior, cx);
     s->gap = td_calloc(C + 1, sizeof *s->gap, cx);
     s->gap_prior = td_calloc(C + 1, sizeof *s->gap_prior, cx);
-    if (!s->lknown || !s->nknown || !s->idx || !s->ilen || !s->up_cost ||
+    if (!s->lknown || !s->nknown || !s->llab || !s->wlab || !s->llab2 ||
+        !s->clab || !s->clab2 || !s->idx || !s->ilen || !s->up_cost ||
         !s->up_prior || !s->hole || !s->uf || !s->comp || !s->par || !s->order ||
         !s->pkind || !s->pid || !s->adj_start || !s->compdepth ||
         !s->comp_abs || !s->band || !s->band_prior || !s->gap ||
@@ -1068,6 +1225,8 @@ static int alloc_all(hs *s, td_ctx *cx)
 static void free_all(hs *s)
 {
     free(s->lknown), free(s->nknown), free(s->idx), free(s->ilen);
+    free(s->llab), free(s->wlab), free(s->llab2), free(s->clab);
+    free(s->clab2);
     free(s->up_cost), free(s->up_prior), free(s->hole), free(s->uf);
     free(s->comp);
     free(s->par), free(s->order), free(s->pkind), free(s->pid);
@@ -1132,8 +1291,10 @@ static int solve_all(hs *s, td_ctx *cx)
     run_pass(s, 0, s->gap, s->band, H);
     run_pass(s, 1, s->gap_prior, s->band_prior, H);
     decode(s, nb);
+    s->rep->cost = total_cost(s);
     if ((rc = report_conflicts(s, nb, cx)) == 0) {
         report_known(s);
+        judge_labels(s);
         rc = set_lines(s, cx);
     }
     free(H);
@@ -1156,6 +1317,135 @@ static void count(hs *s)
         if (l->hsource == TD_HS_ASSUMED)
             r->assumed_ids[r->assumed++] = l->id;
     }
+}
+
+static int copy_lines(const td_lines *in, td_lines **out, td_ctx *cx)
+{
+    size_t i, k;
+    if (!(*out = td_lines_new(cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < in->n; i++) {
+        td_line *l = td_lines_add(*out, cx);
+        if (!l)
+            return TD_ENOMEM;
+        *l = in->v[i];
+        l->xy = NULL, l->n = l->cap = 0;
+        for (k = 0; k < in->v[i].n; k++)
+            if (td_line_push(l, in->v[i].xy[2 * k], in->v[i].xy[2 * k + 1],
+                             cx) != 0)
+                return TD_ENOMEM;
+    }
+    return 0;
+}
+
+static int is_nice(double v)
+{
+    static const double nice[4] = {1.0, 2.0, 2.5, 5.0};
+    double dec;
+    int k;
+    for (dec = 0.001; dec <= 1e6; dec *= 10)
+        for (k = 0; k < 4; k++)
+            if (fabs(v - nice[k] * dec) < 1e-9 * dec)
+                return 1;
+    return 0;
+}
+
+/* The share of the labels whose values are base + a multiple of S. */
+static double share_on(const td_label_params *p, double S)
+{
+    size_t i, fit = 0;
+    for (i = 0; i < p->nlabels; i++) {
+        double f = (p->labels[i].value - p->base) / S;
+        fit += fabs(f - lround(f)) < 1e-6;
+    }
+    return p->nlabels ? (double)fit / (double)p->nlabels : 0.0;
+}
+
+/* With no interval given.  Labels sit on index contours, every Nth line
+ * (N = --index-every, else 5, 4, 10 or 2) at a nice interval I (1, 2,
+ * 2.5, 5 x 10^k): the label step S is the largest N x I that at least 80%
+ * of the values are multiples of, and the interval the nice S / N with
+ * the cheapest solve (labels off it counted at their weight, spacings of
+ * index lines rarer than every 5th a little). */
+static int infer_interval(const td_lines *ls, const td_label_params *p,
+                          double *best_i, int *best_n, td_ctx *cx)
+{
+    static const double nice[4] = {1.0, 2.0, 2.5, 5.0};
+    static const int every[4] = {5, 4, 10, 2};
+    /* how much rarer than every 5th each spacing of index lines is */
+    static const double rarer[4] = {0.0, 8.0, 15.0, 15.0};
+    double dec, S = 0, best = HUGE_VAL;
+    size_t i;
+    int k, rc;
+    *best_i = 0;
+    for (dec = 0.001; dec <= 1e6; dec *= 10) /* S = N x a nice interval */
+        for (k = 0; k < 4; k++) {
+            int j;
+            for (j = 0; j < 4; j++) {
+                double c = nice[k] * dec * every[j];
+                if (c > S && share_on(p, c) >= 0.8)
+                    S = c;
+            }
+        }
+    if (!(S > 0))
+        return 0;
+    for (k = 0; k < 4; k++) {
+        int N = p->index_every > 0 ? p->index_every : every[k];
+        double I = S / N;
+        double cost = p->index_every > 0 ? 0.0 : rarer[k];
+        td_label_params q = *p;
+        td_label_report r;
+        td_lines *c = NULL;
+        if ((p->index_every > 0 && k > 0) || !is_nice(I))
+            continue;
+        for (i = 0; i < p->nlabels; i++) {
+            double f = (p->labels[i].value - p->base) / I;
+            if (fabs(f - lround(f)) > 1e-6)
+                cost += W_LABEL * p->labels[i].conf;
+        }
+        q.interval = I;
+        q.index_every = N; /* the widths speak when index lines are thick */
+        q.index_auto = 1;
+        memset(&r, 0, sizeof r);
+        if ((rc = copy_lines(ls, &c, cx)) == 0)
+            rc = td_heights_solve(c, &q, &r, cx);
+        td_lines_free(c);
+        cost += r.cost;
+        td_label_report_free(&r);
+        if (rc)
+            return rc;
+        if (getenv("TD_DEBUG_HEIGHTS"))
+            fprintf(stderr, "interval %g (step %g): cost %g\n", I, S, cost);
+        if (cost < best - 1e-9)
+            best = cost, *best_i = I, *best_n = N;
+    }
+    return 0;
+}
+
+/* Contract in heights_int.h. */
+int td_heights_infer(td_lines *ls, const td_label_params *p,
+                     td_label_report *rep, td_ctx *cx)
+{
+    td_label_params q = *p;
+    double I;
+    int rc, N = 0;
+    if (p->nlabels == 0)
+        return td_seterr(cx, TD_EINVAL, "no interval: give --interval I "
+                         "(no printed labels were read to infer it from)");
+    if ((rc = infer_interval(ls, p, &I, &N, cx)) != 0)
+        return rc;
+    if (!(I > 0))
+        return td_seterr(cx, TD_EINVAL, "no interval: the %zu labels read "
+                         "share no interval; give --interval I", p->nlabels);
+    q.interval = I;
+    q.index_every = N;
+    q.index_auto = p->index_every <= 0;
+    if ((rc = td_heights_solve(ls, &q, rep, cx)) != 0)
+        return rc;
+    td_label_warn(rep, "interval %g inferred from %zu printed labels, index "
+                  "contours every %d (give --interval to set it)", I,
+                  p->nlabels, N);
+    return 0;
 }
 
 /* Contract in heights_int.h. */
@@ -1181,6 +1471,7 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
         (rc = setup_known(&s, cx)) != 0)
         goto fail;
     setup_directions(&s, touched);
+    setup_labels(&s);
     if ((rc = setup_index(&s, cx)) != 0 || (rc = solve_all(&s, cx)) != 0)
         goto fail;
     rc = TD_ENOMEM;
@@ -1188,6 +1479,7 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
         !(rep->assumed_ids = td_calloc(ls->n + 1, sizeof(long), cx)))
         goto fail;
     count(&s);
+    rep->interval = p->interval;
     rc = 0;
 fail:
     if (rc && !cx->code)

@@ -10,4 +10,10 @@
 int td_heights_solve(td_lines *ls, const td_label_params *p,
                      td_label_report *rep, td_ctx *cx);
 
+/* The same with p->interval <= 0: the interval inferred from the printed
+ * labels (p->labels) first (rep->interval; one warning says so).
+ * TD_EINVAL when there are no labels or they fit no interval. */
+int td_heights_infer(td_lines *ls, const td_label_params *p,
+                     td_label_report *rep, td_ctx *cx);
+
 #endif

@@ -53,6 +53,7 @@ td_label_params td_label_defaults(void)
     p.far = 150.0;
     p.thick_ratio = 1.3;
     p.missing = 1;
+    p.label_up = 1;
     return p;
 }
 
@@ -819,6 +820,8 @@ int td_label_auto(td_lines *ls, const td_label_params *p,
     int rc;
     memset(rep, 0, sizeof *rep);
     memset(&s, 0, sizeof s);
+    if (p->method == TD_LABEL_FACES && p->interval == 0 && isfinite(p->base))
+        return td_heights_infer(ls, p, rep, cx);
     if (!(p->interval > 0) || !isfinite(p->interval) || !isfinite(p->base))
         return td_seterr(cx, TD_EINVAL, "label: the interval must be > 0");
     if (p->method == TD_LABEL_FACES)

@@ -30,6 +30,7 @@
 #define TD_LABEL_H
 
 #include "../src/lines.h"
+#include "ocr.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -68,6 +69,14 @@ typedef struct td_label_params {
                               across a gap 1.5 times the usual: a missing
                               contour (warned), not a contradiction
                               (default 1) */
+    td_ocr_read *labels;   /* faces: printed labels read from the sheet
+                              (scanner/ocr.h); each gets used / why */
+    size_t nlabels;
+    int index_auto;        /* index_every was inferred: no warning when the
+                              widths show no thick lines */
+    int label_up;          /* faces: a label's top faces uphill, as printed
+                              maps draw them (default 1; 0: the reading
+                              direction says nothing) */
 } td_label_params;
 
 typedef struct td_label_report {
@@ -85,6 +94,10 @@ typedef struct td_label_report {
     size_t known_broken;    /* known points the solution overrode (faces) */
     size_t split;           /* lines cut where their height changes: two
                                contours traced as one (faces) */
+    size_t labels_used;     /* printed labels the solution agrees with */
+    double interval;        /* the interval used (inferred from the labels
+                               when the parameters gave none) */
+    double cost;            /* the solution's total cost (faces) */
 } td_label_report;
 
 /* Defaults: base 0, interval 0 (must be set), w = h = 0 (must be set),

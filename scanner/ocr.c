@@ -2,6 +2,10 @@
 #include "ocr.h"
 
 #include "contain.h"
+#include "join.h"
+
+#include "../src/draw.h"
+#include "../src/imageio.h"
 
 #include <tesseract/capi.h>
 
@@ -12,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_STRIP 96 /* px: the strip's longest side */
+#define MAX_STRIP 200 /* px: the strip's longest side */
 
 td_ocr_params td_ocr_defaults(void)
 {
@@ -80,6 +84,7 @@ typedef struct strip {
     int *lab; /* component label per px, 0: paper */
     unsigned char *keep;
     double ink, paper;
+    int ch[64]; /* kept components' heights */
 } strip;
 
 static void strip_free(strip *s)
@@ -137,6 +142,8 @@ static int components(strip *s, double t, int *b)
             fabs(0.5 * (y0 + y1) - 0.5 * s->h) > s->h / 4.0)
             continue;
         s->keep[next] = 1;
+        if (kept < 64)
+            s->ch[kept] = y1 - y0 + 1;
         kept++;
         b[0] = x0 < b[0] ? x0 : b[0], b[1] = y0 < b[1] ? y0 : b[1];
         b[2] = x1 > b[2] ? x1 : b[2], b[3] = y1 > b[3] ? y1 : b[3];
@@ -157,7 +164,7 @@ static int sample_strip(const td_image *im, const cand *c, strip *s)
     if (c->along < 6)
         return 1;
     s->cx = c->cx, s->cy = c->cy, s->ux = c->ux, s->uy = c->uy;
-    s->w = (int)ceil(c->along + 16);
+    s->w = (int)ceil(c->along + 40); /* room for digits not traced */
     s->h = (int)ceil(fmin(fmax(fmax(0.9 * c->along, 3.0 * c->across), 24.0),
                           80.0));
     if (s->w > MAX_STRIP)
@@ -174,6 +181,18 @@ static int sample_strip(const td_image *im, const cand *c, strip *s)
             s->g[j * s->w + i] = lum_at(im, x, y);
         }
     return 0;
+}
+
+/* Do the kept components look like a row of digits: 6-40 px tall, most
+ * of them about the row's height, the row at least as wide as tall? */
+static int text_like(const strip *s, int k, const int *b)
+{
+    int i, n = k < 64 ? k : 64, tall = 0, H = b[3] - b[1] + 1;
+    if (H < 6 || H > 40 || b[2] - b[0] + 1 < H)
+        return 0;
+    for (i = 0; i < n; i++)
+        tall += s->ch[i] >= 0.6 * H;
+    return tall >= 2 && tall * 2 >= n; /* labels have two digits or more */
 }
 
 /* The kept digits, scaled to about digit_px tall, black on white, 8-bit
@@ -223,16 +242,21 @@ static int digits_image(const strip *s, const int *b, double digit_px,
 
 /* Read one image: the number and the confidence, or -1 when the text is
  * not a number. */
+static int ncalls;
+static double tcalls;
+
 static int read_number(TessBaseAPI *api, const uint8_t *img, int w, int h,
                        char *text, size_t tlen, double *conf)
 {
     char *t, *p, *q;
     int ok = 1, digits = 0;
+    double t0 = td_now();
     TessBaseAPISetImage(api, img, w, h, 1, w);
     TessBaseAPISetSourceResolution(api, 300);
     if (!(t = TessBaseAPIGetUTF8Text(api)))
         return -1;
     *conf = TessBaseAPIMeanTextConf(api) / 100.0;
+    ncalls++, tcalls += td_now() - t0;
     for (p = t, q = text; *p && (size_t)(q - text) + 1 < tlen; p++)
         if (!isspace((unsigned char)*p))
             *q++ = *p;
@@ -245,13 +269,14 @@ static int read_number(TessBaseAPI *api, const uint8_t *img, int w, int h,
     return ok && digits > 0 ? 0 : -1;
 }
 
-/* The lines of a read: the line through the label (within 6 px of its
- * middle), else up to two lines with an open end at the label's ends
- * (within 14 px beyond them along the text, a digit height across). */
+/* The lines of a read: the line through the label (within 0.3 digit
+ * heights of its middle: a neighbour runs beside the text, not through
+ * it), else up to two lines with an open end at the label's ends (within
+ * 14 px beyond them along the text, a digit height across). */
 static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
 {
     size_t i;
-    double bd = 6.0, e[2] = {HUGE_VAL, HUGE_VAL};
+    double bd = fmax(2.0, 0.3 * r->digit_px), e[2] = {HUGE_VAL, HUGE_VAL};
     int k;
     r->line[0] = r->line[1] = -1;
     for (i = 0; ls && i < ls->n; i++) {
@@ -305,8 +330,18 @@ static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
         rc = k < 0 ? -1 : 1;
         goto done;
     }
+    if (!text_like(&s, k, b))
+        goto done;
     if (digits_image(&s, b, p->digit_px, &img, &w, &h) != 0)
         goto done;
+    if (getenv("TD_DEBUG_OCR_DIR")) { /* the images Tesseract reads */
+        static int seq;
+        char path[512];
+        td_grid_u8 g = {w, h, (size_t)w, img};
+        snprintf(path, sizeof path, "%s/ocr_%03d.png",
+                 getenv("TD_DEBUG_OCR_DIR"), seq++);
+        td_png_write_u8(path, &g, 0, NULL);
+    }
     for (turn = 0; turn < 2; turn++) {
         char text[24];
         double conf;
@@ -316,14 +351,25 @@ static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
                 img[i] = img[(size_t)w * h - 1 - i];
                 img[(size_t)w * h - 1 - i] = v;
             }
-        if (read_number(api, img, w, h, text, sizeof text, &conf) != 0 ||
-            conf <= best)
+        if (read_number(api, img, w, h, text, sizeof text, &conf) != 0)
             continue;
+        if (conf <= best) { /* the other way round read worse */
+            r->alt_value = atof(text);
+            r->alt_conf = conf;
+            continue;
+        }
+        if (best >= 0) { /* the first read becomes the alternative */
+            double v = r->value, c = r->conf;
+            memset(r, 0, sizeof *r);
+            r->alt_value = v, r->alt_conf = c;
+        } else {
+            memset(r, 0, sizeof *r);
+        }
         best = conf;
-        memset(r, 0, sizeof *r);
-        r->x = s.cx, r->y = s.cy;
+        strip_xy(&s, 0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3]), &r->x, &r->y);
         r->ux = turn ? -s.ux : s.ux, r->uy = turn ? -s.uy : s.uy;
         r->digit_px = b[3] - b[1] + 1;
+        r->len = b[2] - b[0] + 1;
         r->value = atof(text);
         r->conf = conf;
         snprintf(r->text, sizeof r->text, "%s", text);
@@ -452,6 +498,7 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
                          p->tessdata ? p->tessdata : "");
     }
     TessBaseAPISetPageSegMode(api, PSM_SINGLE_LINE);
+    TessBaseAPISetVariable(api, "tessedit_do_invert", "0");
     TessBaseAPISetVariable(api, "tessedit_char_whitelist", "0123456789-");
     for (i = 0; i < (size_t)nc && rc >= 0; i++) {
         rc = read_gap(api, im, &cs[i], p, &v[m]);
@@ -463,6 +510,9 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
             td_progress(cx, "labels", (double)i / (double)nc) != 0)
             rc = -2;
     }
+    if (getenv("TD_DEBUG_OCR"))
+        fprintf(stderr, "ocr: %zu pieces, %ld candidates, %zu reads, %d "
+                "Tesseract calls %.3f s\n", pieces->n, nc, m, ncalls, tcalls);
     free(cs);
     TessBaseAPIEnd(api);
     TessBaseAPIDelete(api);
@@ -477,4 +527,101 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
     *out = v;
     *n = m;
     return 0;
+}
+
+static int copy_into(td_lines *dst, const td_line *l, td_ctx *cx)
+{
+    td_line *c = td_lines_add(dst, cx);
+    size_t k;
+    if (!c)
+        return TD_ENOMEM;
+    for (k = 0; k < l->n; k++)
+        if (td_line_push(c, l->xy[2 * k], l->xy[2 * k + 1], cx) != 0)
+            return TD_ENOMEM;
+    c->closed = l->closed;
+    return 0;
+}
+
+static int compact_ring(const td_line *l, double side)
+{
+    double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
+    size_t k;
+    if (!l->closed)
+        return 0;
+    for (k = 0; k < l->n; k++) {
+        x0 = fmin(x0, l->xy[2 * k]), x1 = fmax(x1, l->xy[2 * k]);
+        y0 = fmin(y0, l->xy[2 * k + 1]), y1 = fmax(y1, l->xy[2 * k + 1]);
+    }
+    return x1 - x0 < side && y1 - y0 < side;
+}
+
+/* Contract in ocr.h. */
+int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
+                       const td_join_stats *join, const td_ocr_params *p,
+                       td_ocr_read **out, size_t *n, td_ctx *cx)
+{
+    td_lines *pc = td_lines_new(cx);
+    size_t i;
+    int rc = 0;
+    *out = NULL;
+    *n = 0;
+    if (!pc)
+        return TD_ENOMEM;
+    for (i = 0; join && join->segments && i < join->segments->n && !rc; i++)
+        rc = copy_into(pc, &join->segments->v[i], cx);
+    for (i = 0; join && join->text && i < join->text->n && !rc; i++)
+        rc = copy_into(pc, &join->text->v[i], cx);
+    for (i = 0; i < ls->n && !rc; i++)
+        if (compact_ring(&ls->v[i], 25.0))
+            rc = copy_into(pc, &ls->v[i], cx);
+    if (!rc)
+        rc = td_ocr_labels(im, ls, pc, p, out, n, cx);
+    td_lines_free(pc);
+    return rc;
+}
+
+/* Contract in ocr.h. */
+size_t td_ocr_drop_digits(td_lines *ls, const td_ocr_read *r, size_t n)
+{
+    size_t i, j, k, m = 0;
+    for (i = ls->n; i-- > 0;) {
+        const td_line *l = &ls->v[i];
+        int in = 0;
+        if (!compact_ring(l, 25.0))
+            continue;
+        for (j = 0; j < n && !in; j++) {
+            in = 1;
+            for (k = 0; k < l->n && in; k++) {
+                double x = l->xy[2 * k] - r[j].x, y = l->xy[2 * k + 1] - r[j].y;
+                in = fabs(x * r[j].ux + y * r[j].uy) <= 0.5 * r[j].len + 3 &&
+                     fabs(-x * r[j].uy + y * r[j].ux) <= 0.5 * r[j].digit_px + 3;
+            }
+        }
+        if (in) {
+            td_lines_remove(ls, i);
+            m++;
+        }
+    }
+    return m;
+}
+
+/* Contract in ocr.h. */
+void td_ocr_draw(td_image *im, const td_ocr_read *r, size_t n)
+{
+    static const uint8_t used[3] = {0, 40, 160}, refused[3] = {140, 140, 140};
+    double xy[8];
+    td_line box;
+    size_t i;
+    int k;
+    memset(&box, 0, sizeof box);
+    box.xy = xy, box.n = 4, box.closed = 1;
+    for (i = 0; i < n; i++) {
+        double hu = 0.5 * r[i].len + 3, hv = 0.5 * r[i].digit_px + 3;
+        for (k = 0; k < 4; k++) {
+            double u = (k == 1 || k == 2) ? hu : -hu, v = k >= 2 ? hv : -hv;
+            xy[2 * k] = r[i].x + u * r[i].ux - v * r[i].uy;
+            xy[2 * k + 1] = r[i].y + u * r[i].uy + v * r[i].ux;
+        }
+        td_draw_line(im, &box, r[i].used ? used : refused);
+    }
 }

@@ -30,8 +30,12 @@ typedef struct td_ocr_read {
     double ux, uy;     /* reading direction as read: the text's top is
                           towards (uy, -ux) on the screen */
     double digit_px;   /* height of the digits on the scan */
+    double len;        /* length of the text along (ux, uy), px */
     double value;      /* the number read */
     double conf;       /* Tesseract's confidence, 0..1 */
+    double alt_value;  /* the read of the text turned half round, when it
+                          is a number too (the labeller weighs both) */
+    double alt_conf;   /* its confidence, 0 when there is none */
     long line[2];      /* indexes into the lines: the line through the
                           label (a joined gap), or the one or two lines
                           ending at it (a gap left open); -1: none */
@@ -61,6 +65,23 @@ td_ocr_params td_ocr_defaults(void);
 int td_ocr_labels(const td_image *im, const td_lines *ls,
                   const td_lines *gaps, const td_ocr_params *p,
                   td_ocr_read **out, size_t *n, td_ctx *cx);
+
+/* The label pieces of a scan (td_scan with join.record: the label-gap
+ * joins and removed text in *join) and the small closed lines of ls
+ * (digits traced as rings: inside a 25 px box), read as above. */
+struct td_join_stats;
+int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
+                       const struct td_join_stats *join,
+                       const td_ocr_params *p, td_ocr_read **out, size_t *n,
+                       td_ctx *cx);
+
+/* Box every label read on the RGB picture im (src/draw.h): a box along
+ * the text, dark blue when the labeller used it, grey when not. */
+void td_ocr_draw(td_image *im, const td_ocr_read *r, size_t n);
+
+/* Remove the closed lines of ls that lie inside a read label's box (digits
+ * such as 0, 6, 8, 9 traced as rings).  Returns how many. */
+size_t td_ocr_drop_digits(td_lines *ls, const td_ocr_read *r, size_t n);
 
 #ifdef __cplusplus
 }

@@ -199,3 +199,4 @@ int td_draw_heights(const td_image *scan, int w, int h, const td_lines *ls,
     *out = im;
     return 0;
 }
+

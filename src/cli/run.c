@@ -10,6 +10,7 @@
 #include "../../interp/homotopy.h"
 #include "../../interp/rasterise.h"
 #include "../../scanner/label.h"
+#include "../../scanner/ocr.h"
 #include "../../scanner/scan.h"
 
 #include <errno.h>
@@ -21,22 +22,30 @@
 #include <string.h>
 
 static const char help[] =
-    "usage: topodig run SCAN -o DEM.tif --interval I [--base B]\n"
+    "usage: topodig run SCAN -o DEM.tif [--interval I] [--base B]\n"
     "                   [--known X,Y,H]... [--method multidir|scanline|homotopy]\n"
     "                   [--step N]\n"
     "\n"
-    "Scan the sheet (as topodig scan), give the traced lines heights from\n"
-    "the known points and the interval (as topodig label) and interpolate\n"
-    "the DEM (as topodig interp), all in memory.  The DEM has the scan's\n"
-    "size (or one cell per N x N pixels) and georeferencing; .tif float32\n"
-    "GeoTIFF with nodata, .asc ESRI ASCII grid, .png 16-bit grey.\n"
+    "Scan the sheet (as topodig scan), read the height labels printed in\n"
+    "the index contours' gaps (Tesseract), give every traced line its\n"
+    "height (as topodig label: the labels, known points and index widths\n"
+    "solved together) and interpolate the DEM (as topodig interp), all in\n"
+    "memory.  With printed labels no option is needed: the interval is\n"
+    "inferred from them; --interval, --known, --index-every, --depressions\n"
+    "add certainty.  The DEM has the scan's size (or one cell per N x N\n"
+    "pixels) and georeferencing; .tif float32 GeoTIFF with nodata, .asc\n"
+    "ESRI ASCII grid, .png 16-bit grey.\n"
     "\n"
     "options:\n"
     "  -o, --output FILE     DEM output (required)\n"
-    "      --interval I      contour interval (required, > 0)\n"
+    "      --interval I      contour interval (> 0; default: inferred from\n"
+    "                        the printed labels)\n"
     "      --base B          heights are B + k * I (default 0)\n"
     "      --known X,Y,H     height H at scan pixel X,Y: a point on a line\n"
-    "                        or a spot height (repeatable; at least one)\n"
+    "                        or a spot height (repeatable; needed when the\n"
+    "                        sheet has no readable labels)\n"
+    "      --labels MODE     read (default): read the printed labels |\n"
+    "                        none\n"
     "      --depressions X,Y the ring around X,Y is a depression\n"
     "      --index-every N   every Nth contour is drawn thicker: its width\n"
     "                        decides the slopes the known points leave open\n"
@@ -54,8 +63,11 @@ static const char help[] =
     "                        interpolated from (GeoJSON, with height,\n"
     "                        height_source, confidence)\n"
     "      --debug-dir DIR   write heights.png: every line over the scan\n"
-    "                        coloured by its height (thick: known, dashed:\n"
-    "                        assumed, grey dots: no height)\n"
+    "                        coloured by its height (thick: known or\n"
+    "                        labelled, dashed: assumed, grey dots: no\n"
+    "                        height; labels read boxed, refused in grey)\n"
+    "                        and labels.geojson (one point per label read:\n"
+    "                        text, value, angle, confidence, used, why)\n"
     "      --summit S        extrapolate (default) | flat\n"
     "      --peninsula P     scanline: diagonal (default) | flat\n"
     "      --weight W        multidir: span (default) | prod | span2\n"
@@ -79,13 +91,13 @@ typedef struct run_opts {
     size_t nknown;
     double *dep;
     size_t ndep;
-    int index_every, tree;
+    int index_every, tree, no_labels;
     td_scan_params sp;
     td_interp_params ip;
 } run_opts;
 
 enum { O_INTERVAL = 256, O_BASE, O_KNOWN, O_DEPR, O_INK, O_THR, O_PASS,
-       O_INDEX, O_LABELLER, O_SAVE, O_DEBUG };
+       O_INDEX, O_LABELLER, O_SAVE, O_DEBUG, O_LABELS };
 
 static int parse_nums(const char *s, double *v, int n)
 {
@@ -136,6 +148,12 @@ static int parse_opt(int c, const char *name, const char *arg, run_opts *o,
     case 'o': o->out = arg; return 0;
     case 'q': o->quiet = 1; return 0;
     case O_SAVE: o->save_lines = arg; return 0;
+    case O_LABELS:
+        if (strcmp(arg, "read") && strcmp(arg, "none"))
+            return td_seterr(cx, TD_EINVAL, "--labels: '%s' is not read or "
+                             "none", arg);
+        o->no_labels = !strcmp(arg, "none");
+        return 0;
     case O_DEBUG: o->debug_dir = arg; return 0;
     case O_KNOWN: return add_point(o, arg, cx);
     case O_DEPR: return add_depression(o, arg, cx);
@@ -175,6 +193,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
         {"depressions", 1, 0, O_DEPR}, {"ink", 1, 0, O_INK},
         {"index-every", 1, 0, O_INDEX}, {"labeller", 1, 0, O_LABELLER},
         {"save-lines", 1, 0, O_SAVE}, {"debug-dir", 1, 0, O_DEBUG},
+        {"labels", 1, 0, O_LABELS},
         {"threshold", 1, 0, O_THR}, {"method", 1, 0, O_PASS},
         {"step", 1, 0, O_PASS}, {"summit", 1, 0, O_PASS},
         {"peninsula", 1, 0, O_PASS}, {"weight", 1, 0, O_PASS},
@@ -204,11 +223,6 @@ static int parse_args(int argc, char **argv, run_opts *o)
     o->in = argv[optind];
     if (!o->out)
         return td_cli_failf("run", "no output: give -o DEM.tif");
-    if (!(o->interval > 0))
-        return td_cli_failf("run", "no interval: give --interval I");
-    if (o->nknown == 0)
-        return td_cli_failf("run", "no known height: give --known X,Y,H (a "
-                            "point on a contour, or a spot height)");
     return 0;
 }
 
@@ -224,6 +238,9 @@ typedef struct run_state {
     td_homotopy_stats hs; /* --method homotopy */
     td_label_report rep;
     td_image *scan; /* kept for --debug-dir only */
+    td_ocr_read *reads; /* printed labels read */
+    size_t nreads;
+    double ocr_secs;
 } run_state;
 
 /* Scan; keeps only the lines (the image and the scanner's grids are freed
@@ -235,11 +252,21 @@ static int do_scan(const run_opts *o, run_state *s, td_ctx *cx)
     double t0 = td_now();
     int rc;
     memset(&res, 0, sizeof res);
+    td_scan_params sp = o->sp;
     if ((rc = td_image_read(o->in, &im, &s->geo, cx)) != 0)
         return rc;
     s->w = im->w;
     s->h = im->h;
-    if ((rc = td_scan(im, &o->sp, &res, cx)) == 0) {
+    sp.join.record = !o->no_labels; /* where the labels are */
+    if ((rc = td_scan(im, &sp, &res, cx)) == 0 && !o->no_labels) {
+        double t1 = td_now();
+        rc = td_ocr_scan_labels(im, res.lines, &res.join, NULL, &s->reads,
+                                &s->nreads, cx);
+        if (rc == 0)
+            td_ocr_drop_digits(res.lines, s->reads, s->nreads);
+        s->ocr_secs = td_now() - t1;
+    }
+    if (rc == 0) {
         s->ls = res.lines;
         res.lines = NULL;
         s->traced = s->ls->n;
@@ -251,6 +278,35 @@ static int do_scan(const run_opts *o, run_state *s, td_ctx *cx)
         td_image_free(im);
     s->secs[0] = td_now() - t0;
     return rc;
+}
+
+/* --debug-dir labels.geojson: one point per label read. */
+static int write_labels_geojson(const char *path, const run_state *s,
+                                td_ctx *cx)
+{
+    char tmp[4200];
+    size_t i;
+    FILE *f = td_atomic_open(path, tmp, sizeof tmp, cx);
+    if (!f)
+        return cx->code;
+    fputs("{\"type\":\"FeatureCollection\",\"features\":[\n", f);
+    for (i = 0; i < s->nreads; i++) {
+        const td_ocr_read *r = &s->reads[i];
+        double x = r->x, y = r->y;
+        if (s->geo.valid)
+            td_georef_apply(&s->geo, x, y, &x, &y);
+        fprintf(f, "%s{\"type\":\"Feature\",\"properties\":{\"text\":\"%s\","
+                "\"value\":%.10g,\"angle\":%.1f,\"confidence\":%.3f,"
+                "\"digit_px\":%.1f,\"used\":%s,\"why\":%s%s%s},"
+                "\"geometry\":{\"type\":\"Point\",\"coordinates\":[%.3f,"
+                "%.3f]}}", i ? ",\n" : "", r->text, r->value,
+                atan2(-r->uy, r->ux) * 180.0 / 3.14159265358979323846,
+                r->conf, r->digit_px, r->used ? "true" : "false",
+                r->why ? "\"" : "", r->why ? r->why : "null",
+                r->why ? "\"" : "", x, y);
+    }
+    fputs("\n]}\n", f);
+    return td_atomic_commit(f, tmp, path, cx);
 }
 
 /* --save-lines and --debug-dir (heights.png), before the lines without a
@@ -269,9 +325,14 @@ static int write_labelled(const run_opts *o, run_state *s, td_ctx *cx)
                              o->debug_dir, strerror(errno));
         snprintf(path, sizeof path, "%s/heights.png", o->debug_dir);
         if ((rc = td_draw_heights(s->scan, s->w, s->h, s->ls, &pic, cx)) ==
-            0)
+            0) {
+            td_ocr_draw(pic, s->reads, s->nreads);
             rc = td_png_write(path, pic, cx);
+        }
         td_image_free(pic);
+        snprintf(path, sizeof path, "%s/labels.geojson", o->debug_dir);
+        if (rc == 0)
+            rc = write_labels_geojson(path, s, cx);
     }
     td_image_free(s->scan);
     s->scan = NULL;
@@ -286,8 +347,20 @@ static int do_label(const run_opts *o, run_state *s, td_ctx *cx)
     size_t i;
     int rc;
     p.method = o->tree ? TD_LABEL_TREE : TD_LABEL_FACES;
+    p.labels = s->reads;
+    p.nlabels = o->tree ? 0 : s->nreads;
+    if (o->nknown == 0 && p.nlabels == 0)
+        return td_seterr(cx, TD_EINVAL, "no heights to start from: %s; give "
+                         "--known X,Y,H (a point on a contour, or a spot "
+                         "height)%s", o->no_labels ? "--labels none"
+                         : "no printed height label could be read",
+                         o->interval > 0 ? "" : " and --interval I");
+    if (!(o->interval > 0) && (o->tree || p.nlabels == 0))
+        return td_seterr(cx, TD_EINVAL, "no interval: give --interval I%s",
+                         o->tree ? "" : " (no printed labels to infer it "
+                         "from)");
     p.base = o->base;
-    p.interval = o->interval;
+    p.interval = o->interval > 0 ? o->interval : 0;
     p.w = s->w;
     p.h = s->h;
     p.known = o->known;
@@ -316,7 +389,7 @@ static int do_interp(const run_opts *o, run_state *s, td_ctx *cx)
     td_interp_params p = o->ip;
     double t0 = td_now();
     int rc;
-    p.interval = o->interval;
+    p.interval = s->rep.interval > 0 ? s->rep.interval : o->interval;
     p.hstats = &s->hs;
     if ((rc = td_interp_lines(s->ls, s->w, s->h, &p, &s->dem, cx)) != 0)
         return rc;
@@ -342,6 +415,10 @@ static void summary(const run_state *s)
             s->traced - s->dropped, s->dropped, s->dem->w, s->dem->h,
             100.0 * ok / n, s->secs[0], s->secs[1], s->secs[2], s->secs[3]);
     td_cli_heights_summary("run", &s->rep);
+    if (s->nreads)
+        fprintf(stderr, "run: labels: %zu read, %zu used (%.2f s); "
+                "interval %g\n", s->nreads, s->rep.labels_used, s->ocr_secs,
+                s->rep.interval);
     if (s->method == TD_INTERP_HOMOTOPY)
         fprintf(stderr, "run: homotopy %zu cells in %zu of %zu bands, "
                 "%s fallback %zu cells\n", s->hs.cells_homotopy,
@@ -383,6 +460,7 @@ int td_cmd_run(int argc, char **argv)
     td_lines_free(s.ls);
     td_label_report_free(&s.rep);
     td_image_free(s.scan);
+    free(s.reads);
     td_georef_clear(&s.geo);
 done:
     free(o.known);

@@ -42,7 +42,8 @@ static void defects(td_gen_params *p, int scanned)
     p->break_min = 3;
     p->break_max = 10;
     p->labels = 3;
-    p->label_bend = 6;
+    p->label_bend = 40;
+    p->label_font = 1;
 }
 
 int main(int argc, char **argv)
@@ -67,9 +68,9 @@ int main(int argc, char **argv)
             a++; /* make bench's common options */
     }
     printf("%-11s %-7s %-13s %6s %6s %6s  %5s %5s %5s %5s %5s  %5s %6s "
-           "%5s\n", "sheet", "scan", "hints", "lines", "acc", "null",
+           "%5s %9s %5s\n", "sheet", "scan", "hints", "lines", "acc", "null",
            "known", "solvd", "assum", "none", "sure!", "confl", "secs",
-           "own");
+           "own", "labels", "intvl");
     for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         const sheet_case *k = &cases[c];
         td_grid_f32 *src = NULL;
@@ -87,7 +88,7 @@ int main(int argc, char **argv)
             }
         }
         for (scanned = 0; scanned < 3; scanned++)
-            for (hint = 0; hint < 2; hint++) {
+            for (hint = 0; hint < 3; hint++) {
                 td_hsheet hs;
                 memset(&hs, 0, sizeof hs);
                 hs.gp = td_gen_defaults();
@@ -102,8 +103,12 @@ int main(int argc, char **argv)
                 }
                 defects(&hs.gp, scanned == 2);
                 hs.use_truth_lines = scanned == 0;
-                hs.nknown = 3;
-                hs.index_every = hint == 0 ? 0 : getenv("NOIDX") ? 0 : 5;
+                if (hint == 2 && scanned < 2)
+                    continue; /* labels: on the scanned sheets */
+                hs.nknown = hint == 2 ? 0 : 3;
+                hs.index_every = hint == 1 ? 5 : 0;
+                hs.read_labels = hint == 2;
+                hs.no_interval = hint == 2;
                 hs.method = tree ? TD_LABEL_TREE : TD_LABEL_FACES;
                 hs.paper_junctions = paperj;
                 if (png) {
@@ -115,29 +120,31 @@ int main(int argc, char **argv)
                     printf("%-11s %-7s %-13s failed: %s\n", k->name,
                            scanned == 0 ? "truth" : scanned == 1 ? "clean"
                                                                  : "scanned",
-                           hint == 0 ? "3 known" : "3 known+index",
+                           hint == 0 ? "3 known" : hint == 1 ? "3 known+index" : "labels only",
                            td_errmsg(&cx));
                     td_ctx_clear(&cx);
                     td_label_report_free(&hs.rep);
                     continue;
                 }
                 printf("%-11s %-7s %-13s %6zu %6.3f %6.3f  %5zu %5zu %5zu "
-                       "%5zu %5ld  %5zu %6.2f %5.3f\n",
+                       "%5zu %5ld  %5zu %6.2f %5.3f %4zu/%-4zu %5g\n",
                        k->name,
                        scanned == 0 ? "truth" : scanned == 1 ? "clean"
                                                              : "scanned",
-                       hint == 0 ? "3 known" : "3 known+index", hs.traced,
+                       hint == 0 ? "3 known" : hint == 1 ? "3 known+index" : "labels only", hs.traced,
                        hs.score.accuracy,
                        hs.score.null_len /
                            (hs.score.right + hs.score.wrong +
                             hs.score.null_len + 1e-9),
-                       hs.rep.by_source[TD_HS_KNOWN],
+                       hs.rep.by_source[TD_HS_KNOWN] +
+                           hs.rep.by_source[TD_HS_LABEL],
                        hs.rep.by_source[TD_HS_SOLVED],
                        hs.rep.by_source[TD_HS_ASSUMED], hs.rep.undetermined,
                        hs.score.n_wrong_sure, hs.rep.conflicts,
                        hs.label_secs,
                        hs.score.own / (hs.score.right + hs.score.wrong +
-                                       hs.score.null_len + 1e-9));
+                                       hs.score.null_len + 1e-9),
+                       hs.reads_right, hs.nreads, hs.interval);
                 fflush(stdout);
                 td_label_report_free(&hs.rep);
             }

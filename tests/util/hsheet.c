@@ -1,6 +1,8 @@
 /* hsheet.c: see hsheet.h. */
 #include "hsheet.h"
 
+#include "../../scanner/contain.h"
+#include "../../scanner/ocr.h"
 #include "../../scanner/scan.h"
 #include "../../src/demio.h"
 #include "../../src/draw.h"
@@ -118,6 +120,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
     td_scan_result res;
     td_label_params lp = td_label_defaults();
     td_label_point kp[8];
+    td_ocr_read *reads = NULL;
     double t0;
     int rc;
     memset(&res, 0, sizeof res);
@@ -144,14 +147,34 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
         if (hs->gp.colour)
             sp.bin.ink = TD_INK_BROWN;
         sp.trace.cut = !hs->paper_junctions;
+        sp.join.record = hs->read_labels;
         if ((rc = td_scan(im, &sp, &res, cx)) != 0)
             goto done;
+        if (hs->read_labels) {
+            size_t i, j;
+            if ((rc = td_ocr_scan_labels(im, res.lines, &res.join, NULL,
+                                         &reads, &hs->nreads, cx)) != 0)
+                goto done;
+            td_ocr_drop_digits(res.lines, reads, hs->nreads);
+            for (i = 0; i < hs->nreads; i++) { /* right: the true line under */
+                double bd = HUGE_VAL, th = 0;
+                for (j = 0; j < tl->n; j++) {
+                    double d = td_contain_dist(&tl->v[j], reads[i].x,
+                                               reads[i].y);
+                    if (d < bd)
+                        bd = d, th = tl->v[j].height;
+                }
+                hs->reads_right += fabs(th - reads[i].value) < 1e-6;
+            }
+        }
         ls = res.lines;
         res.lines = NULL;
     }
     hs->traced = ls->n;
     lp.method = hs->method;
-    lp.interval = hs->interval;
+    lp.interval = hs->no_interval ? 0 : hs->interval;
+    lp.labels = reads;
+    lp.nlabels = hs->nreads;
     lp.base = hs->gp.base;
     lp.w = im->w;
     lp.h = im->h;
@@ -162,6 +185,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
     t0 = td_now();
     rc = td_label_auto(ls, &lp, &hs->rep, cx);
     hs->label_secs = td_now() - t0;
+    hs->interval = hs->rep.interval > 0 ? hs->rep.interval : hs->interval;
     if (rc == 0) {
         int *verdict = calloc(ls->n + 1, sizeof *verdict);
         if (!verdict)
@@ -174,6 +198,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
         free(verdict);
     }
 done:
+    free(reads);
     td_scan_result_free(&res);
     td_image_free(im);
     td_lines_free(tl);

@@ -14,6 +14,11 @@ typedef struct td_hsheet {
     int index_every;      /* pass --index-every (0: no) */
     int use_truth_lines;  /* label the truth lines, not the traced ones */
     int paper_junctions;  /* trace through junctions as the paper does */
+    int read_labels;      /* read the printed labels (scanner/ocr.h) and
+                             give them to the labeller */
+    int no_interval;      /* infer the interval from the labels */
+    size_t nreads, reads_right; /* labels read; read right (the value of
+                                   the true line under them) */
     td_labeller method;
     const char *png;      /* when set: the verdicts drawn over the sheet
                              (green right, red wrong, blue assumed and
