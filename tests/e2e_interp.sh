@@ -92,7 +92,27 @@ if have_gdal; then
 fi
 rm -f "$T/x.tif"
 "$TD" run samples/hills.png -o "$T/x.tif" --interval 20 2>"$T/err"
-check "run without --known: exit 1, one line, no output" "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && [ ! -e '$T/x.tif' ]"
+check "run without --known on a sheet without labels: exit 1, one line naming --known, no output" \
+  "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'no printed height label could be read; give --known' '$T/err' && [ ! -e '$T/x.tif' ]"
+
+# A sheet drawn from a real DEM (the Front Range, SRTM) with printed labels
+# (DejaVu digits, tops uphill), scanned: run with no option at all reads
+# the labels, infers the interval and gives a DEM near the truth.
+"$BUILD/tdgen" --dem-in tests/data/dems/frontrange_srtm3.tif --scale 10 \
+    --width 1.8 --index-width 3.2 --labels 3 --label-bend 40 \
+    --label-font dejavu --blur 0.8 --noise 8 --specks 200 --breaks 30 \
+    --break-len 3,10 -o "$T/fr.png" --dem "$T/fr_dem.tif" -q
+"$TD" run "$T/fr.png" -o "$T/fr.tif" --debug-dir "$T/frdbg" 2>"$T/err"
+check "run with no option on a labelled sheet: exit 0, interval 50 from the labels" \
+  "[ \$? = 0 ] && grep -q '^run: labels: [0-9]* read, [0-9]* used .*; interval 50' '$T/err'"
+"$TD" compare "$T/fr.tif" "$T/fr_dem.tif" --json >"$T/fr.json"
+r=$(json "$T/fr.json" rmse)
+check "run with no option: RMSE $r m < 0.5 interval (25 m)" "lt '$r' 25"
+check "run --debug-dir: labels.geojson with values and used flags" \
+  "grep -q '\"value\":2500' '$T/frdbg/labels.geojson' && grep -q '\"used\":true' '$T/frdbg/labels.geojson'"
+if command -v ogrinfo >/dev/null; then
+  check "labels.geojson opens in ogrinfo" "ogrinfo -ro -al -so '$T/frdbg/labels.geojson' | grep -q 'Feature Count'"
+fi
 "$TD" run "$T/nothere.png" -o "$T/x.tif" --interval 20 --known 1,1,1 2>"$T/err"
 check "run on a missing scan: exit 1, one line" "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && [ ! -e '$T/x.tif' ]"
 

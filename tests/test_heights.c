@@ -145,6 +145,53 @@ static void real_sheet(const char *dem, double scale, int scanned,
     td_grid_f32_free(src);
 }
 
+/* A scanned sheet with printed labels (DejaVu digits, tops uphill) and no
+ * hint at all: the labels are read, the interval inferred, the lines
+ * labelled. */
+static void labelled_sheet(const char *dem, double scale, double want_i,
+                           double min_acc)
+{
+    char path[256];
+    td_grid_f32 *src = NULL;
+    td_hsheet hs;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    memset(&hs, 0, sizeof hs);
+    snprintf(path, sizeof path, "tests/data/dems/%s", dem);
+    TT_CHECK(td_hsheet_load_dem(path, &src, &cx) == 0);
+    if (!src)
+        return;
+    hs.gp = td_gen_defaults();
+    hs.gp.terrain = TD_GEN_DEM;
+    hs.gp.dem_in = src;
+    hs.gp.w = (int)(src->w * scale);
+    hs.gp.h = (int)(src->h * scale);
+    hs.gp.line_width = 1.8, hs.gp.index_width = 3.2;
+    hs.gp.blur = 0.8, hs.gp.noise = 8, hs.gp.specks = 200;
+    hs.gp.breaks = 30, hs.gp.break_min = 3, hs.gp.break_max = 10;
+    hs.gp.labels = 3, hs.gp.label_bend = 40, hs.gp.label_font = 1;
+    hs.read_labels = 1;
+    hs.no_interval = 1;
+    TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
+    TT_CHECKF(hs.nreads >= 5 && hs.reads_right >= 0.8 * hs.nreads,
+              "%s: %zu of %zu labels read right", dem, hs.reads_right,
+              hs.nreads);
+    TT_CHECKF(hs.interval == want_i, "%s: interval %g inferred, not %g", dem,
+              hs.interval, want_i);
+    TT_CHECKF(hs.score.accuracy >= min_acc, "%s labels only: accuracy %.3f < "
+              "%.2f", dem, hs.score.accuracy, min_acc);
+    TT_CHECK(hs.score.n_wrong_sure == 0);
+    TT_CHECK(hs.rep.by_source[TD_HS_LABEL] > 0);
+    td_label_report_free(&hs.rep);
+    td_grid_f32_free(src);
+}
+
+static void test_labels_only(void)
+{
+    labelled_sheet("frontrange_srtm3.tif", 10, 50, 0.98);
+    labelled_sheet("orkhon_92m.tif", 10, 25, 0.95);
+}
+
 /* Real terrain: a valley with dissected hills and steep mountains. */
 static void test_real_orkhon(void)
 {
@@ -216,6 +263,7 @@ int main(void)
     TT_RUN(test_real_orkhon);
     TT_RUN(test_real_frontrange);
     TT_RUN(test_real_elkhorn);
+    TT_RUN(test_labels_only);
     TT_RUN(test_ambiguous);
     TT_RUN(test_contradiction);
     TT_RUN(test_many_rings);
