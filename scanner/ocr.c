@@ -557,8 +557,9 @@ static int compact_ring(const td_line *l, double side)
 
 /* Contract in ocr.h. */
 int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
-                       const td_join_stats *join, const td_ocr_params *p,
-                       td_ocr_read **out, size_t *n, td_ctx *cx)
+                       const td_join_stats *join, const td_lines *assoc,
+                       const td_ocr_params *p, td_ocr_read **out, size_t *n,
+                       td_ctx *cx)
 {
     td_lines *pc = td_lines_new(cx);
     size_t i;
@@ -575,7 +576,7 @@ int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
         if (compact_ring(&ls->v[i], 25.0))
             rc = copy_into(pc, &ls->v[i], cx);
     if (!rc)
-        rc = td_ocr_labels(im, ls, pc, p, out, n, cx);
+        rc = td_ocr_labels(im, assoc ? assoc : ls, pc, p, out, n, cx);
     td_lines_free(pc);
     return rc;
 }

@@ -67,13 +67,15 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
                   td_ocr_read **out, size_t *n, td_ctx *cx);
 
 /* The label pieces of a scan (td_scan with join.record: the label-gap
- * joins and removed text in *join) and the small closed lines of ls
- * (digits traced as rings: inside a 25 px box), read as above. */
+ * joins and removed text in *join) and the small closed lines of its
+ * lines ls (digits traced as rings: inside a 25 px box), read as above;
+ * the reads are tied to the lines of assoc (ls itself, or lines traced
+ * before and edited). */
 struct td_join_stats;
 int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
                        const struct td_join_stats *join,
-                       const td_ocr_params *p, td_ocr_read **out, size_t *n,
-                       td_ctx *cx);
+                       const td_lines *assoc, const td_ocr_params *p,
+                       td_ocr_read **out, size_t *n, td_ctx *cx);
 
 /* Box every label read on the RGB picture im (src/draw.h): a box along
  * the text, dark blue when the labeller used it, grey when not. */

@@ -59,11 +59,11 @@ else
     check "interactive: same heights as two known points" \
       "cmp -s '$T/h.csv' '$T/int.csv'"
     printf 'abc\n\nq\n' | "$TD" label --labeller tree "$T/lines.geojson" -o "$T/q.geojson" \
-        --interval 20 --interactive --sheet "$T/q.png" 2>"$T/err"
+        --interval 20 --interactive --label-sheet "$T/q.png" 2>"$T/err"
     check "interactive: q stops, bad answer asked again" \
       "[ $? = 0 ] && [ \$(grep -c 'height \\[' '$T/err') = 3 ] && grep -q 'Enter to accept' '$T/err' && [ -s '$T/q.png' ]"
     printf '185\n' | "$TD" label --labeller tree "$T/lines.geojson" -o "$T/w.geojson" \
-        --interval 20 --interactive --sheet "$T/w.png" 2>"$T/err"
+        --interval 20 --interactive --label-sheet "$T/w.png" 2>"$T/err"
     check "interactive: off-interval height warned" \
       "grep -q 'warning: height 185 for line 0' '$T/err'"
 
@@ -90,7 +90,7 @@ JSON
     check "--heights off the interval: warned with the place, counted" \
       "[ $? = 0 ] && grep -q '^label: warning: --heights: height 245 of line 3 (near [0-9]*,[0-9]*)' '$T/err' && grep -q ', 1 warnings' '$T/err'"
     printf '180\n\n\n\n300\n' | "$TD" label --labeller tree "$T/lines.geojson" \
-        -o "$T/c.geojson" --interval 20 --interactive --sheet "$T/c.png" \
+        -o "$T/c.geojson" --interval 20 --interactive --label-sheet "$T/c.png" \
         2>"$T/err"
     check "interactive: contradicting typed heights counted" \
       "grep -q 'heights not re-suggested' '$T/err' && grep -q ', 1 warnings' '$T/err'"
@@ -157,6 +157,17 @@ JSON
         2>"$T/err"
     check "faces, contradicting points: exit 0, a warning naming the line" \
       "[ $? = 0 ] && grep -q 'warning: line [0-9]*: two known points disagree (120 and 160)' '$T/err'"
+    # --sheet SCAN: the printed labels read, the interval inferred
+    "$BUILD/tdgen" --dem-in tests/data/dems/frontrange_srtm3.tif --scale 10 \
+        --width 1.8 --index-width 3.2 --labels 3 --label-bend 40 \
+        --label-font dejavu --noise 6 -o "$T/fr.png" -q
+    "$TD" scan "$T/fr.png" -o "$T/fr.geojson" -q
+    "$TD" label "$T/fr.geojson" -o "$T/frl.geojson" --sheet "$T/fr.png" 2>"$T/err"
+    check "label --sheet: labels read, interval 50 inferred, heights from labels" \
+      "[ $? = 0 ] && grep -q 'interval 50 inferred from [0-9]* printed labels' '$T/err' && grep -q '\"height_source\":\"label\"' '$T/frl.geojson'"
+    "$TD" label "$T/fr.geojson" -o "$T/frx.geojson" 2>"$T/err"
+    check "label without --interval or --sheet: exit 1 naming both" \
+      "[ $? = 1 ] && one_error 'no interval: give --interval I (or --sheet SCAN'"
     "$TD" label "$T/lines.geojson" -o "$T/f3.geojson" --interval 20 \
         --labeller magic 2>"$T/err"
     check "--labeller magic: exit 1, one line" "[ $? = 1 ] && one_error '--labeller'"

@@ -11,6 +11,8 @@
 #include "../../scanner/binarise.h"
 #include "../../scanner/contain.h"
 #include "../../scanner/label.h"
+#include "../../scanner/ocr.h"
+#include "../../scanner/scan.h"
 #include "../../scanner/width.h"
 
 #include <errno.h>
@@ -23,8 +25,9 @@
 #include <unistd.h>
 
 static const char help[] =
-    "usage: topodig label LINES.geojson -o LABELLED.geojson --interval I\n"
-    "                     [--base B] [--known X,Y,H]... [options]\n"
+    "usage: topodig label LINES.geojson -o LABELLED.geojson\n"
+    "                     [--sheet SCAN] [--interval I] [--base B]\n"
+    "                     [--known X,Y,H]... [options]\n"
     "\n"
     "Give every traced line its height from a few known points and the\n"
     "interval.  The default labeller (--labeller faces) finds which lines\n"
@@ -39,7 +42,11 @@ static const char help[] =
     "\n"
     "options:\n"
     "  -o, --output FILE      labelled GeoJSON (required)\n"
-    "      --interval I       contour interval (required, > 0)\n"
+    "      --sheet SCAN       read the height labels printed on the scan the\n"
+    "                         lines were traced from (Tesseract); with them\n"
+    "                         --interval may be left out (inferred)\n"
+    "      --interval I       contour interval (> 0; required without\n"
+    "                         --sheet)\n"
     "      --base B           heights are B + k * I (default 0)\n"
     "      --known X,Y,H      a point on (within 3 px of) a line: its height;\n"
     "                         elsewhere: a spot height (repeatable)\n"
@@ -56,7 +63,7 @@ static const char help[] =
     "                         suggestion, a number sets the height (the\n"
     "                         others are re-suggested from it), q keeps the\n"
     "                         rest automatic; end of input accepts the rest\n"
-    "      --sheet PNG        the label sheet (default LABELLED.geojson.png)\n"
+    "      --label-sheet PNG  the label sheet (default LABELLED.geojson.png)\n"
     "      --like SCAN        draw the label sheet over the scan; with\n"
     "                         --index-every, measure the line widths on it\n"
     "                         when the lines carry none\n"
@@ -87,7 +94,7 @@ typedef struct pts {
 } pts;
 
 typedef struct label_opts {
-    const char *debug_dir;
+    const char *debug_dir, *scan;
     const char *in, *out, *csv_out, *sheet, *like;
     int quiet, w, h, interactive, index_every, no_missing, tree;
     double base, interval, thick_ratio;
@@ -98,7 +105,7 @@ typedef struct label_opts {
 
 enum { O_INTERVAL = 256, O_BASE, O_KNOWN, O_KNOWNF, O_DEPR, O_HEIGHTS,
        O_EXPORT, O_SIZE, O_INTER, O_SHEET, O_LIKE, O_INDEX, O_THICK,
-       O_NOMISS, O_LABELLER, O_DEBUG };
+       O_NOMISS, O_LABELLER, O_DEBUG, O_SCAN };
 
 static int push_pt(pts *a, double x, double y, double h, long id, td_ctx *cx)
 {
@@ -198,6 +205,7 @@ static int parse_opt(int c, const char *arg, label_opts *o, pts *heights,
     case O_EXPORT: o->csv_out = arg; return 0;
     case O_INTER: o->interactive = 1; return 0;
     case O_SHEET: o->sheet = arg; return 0;
+    case O_SCAN: o->scan = arg; return 0;
     case O_LIKE: o->like = arg; return 0;
     case O_DEBUG: o->debug_dir = arg; return 0;
     case O_NOMISS: o->no_missing = 1; return 0;
@@ -270,7 +278,8 @@ static int parse_args(int argc, char **argv, label_opts *o, pts *heights)
         {"known", 1, 0, O_KNOWN}, {"known-file", 1, 0, O_KNOWNF},
         {"depressions", 1, 0, O_DEPR}, {"heights", 1, 0, O_HEIGHTS},
         {"export-csv", 1, 0, O_EXPORT}, {"size", 1, 0, O_SIZE},
-        {"interactive", 0, 0, O_INTER}, {"sheet", 1, 0, O_SHEET},
+        {"interactive", 0, 0, O_INTER}, {"label-sheet", 1, 0, O_SHEET},
+        {"sheet", 1, 0, O_SCAN},
         {"like", 1, 0, O_LIKE}, {"index-every", 1, 0, O_INDEX},
         {"thick-ratio", 1, 0, O_THICK}, {"no-missing", 0, 0, O_NOMISS},
         {"labeller", 1, 0, O_LABELLER}, {"debug-dir", 1, 0, O_DEBUG},
@@ -296,8 +305,10 @@ static int parse_args(int argc, char **argv, label_opts *o, pts *heights)
     o->in = argv[optind];
     if (!o->out)
         return td_cli_failf("label", "no output: give -o LABELLED.geojson");
-    if (!(o->interval > 0))
-        return td_cli_failf("label", "no interval: give --interval I");
+    if (!(o->interval > 0) && (!o->scan || o->tree))
+        return td_cli_failf("label", "no interval: give --interval I%s",
+                            o->scan ? "" : " (or --sheet SCAN to read the "
+                            "printed labels)");
     return 0;
 }
 
@@ -432,6 +443,28 @@ static void summary(const td_lines *ls, td_label_report *rep,
                     ls->v[i].id);
     fputs(shown ? (shown < ls->n - lab ? ",...)\n" : ")\n") : "\n", stderr);
     td_cli_heights_summary("label", rep);
+}
+
+/* --sheet SCAN: scan it again for where the labels are, read them, tie
+ * them to the given lines. */
+static int read_sheet_labels(const label_opts *o, const td_lines *ls,
+                             td_ocr_read **reads, size_t *n, td_ctx *cx)
+{
+    td_image *im = NULL;
+    td_scan_params sp = td_scan_defaults();
+    td_scan_result res;
+    int rc;
+    memset(&res, 0, sizeof res);
+    if ((rc = td_image_read(o->scan, &im, NULL, cx)) != 0)
+        return rc;
+    sp.join.record = 1;
+    sp.measure_width = 0;
+    if ((rc = td_scan(im, &sp, &res, cx)) == 0)
+        rc = td_ocr_scan_labels(im, res.lines, &res.join, ls, NULL, reads, n,
+                                cx);
+    td_scan_result_free(&res);
+    td_image_free(im);
+    return rc;
 }
 
 /* --debug-dir: heights.png over the --like scan (or white). */
@@ -760,6 +793,8 @@ int td_cmd_label(int argc, char **argv)
     td_lines *ls = NULL;
     td_label_report rep, checks;
     td_label_params p = td_label_defaults();
+    td_ocr_read *reads = NULL;
+    size_t nreads = 0;
     double *idxy = NULL;
     size_t more = 0;
     long ncross = 0;
@@ -773,6 +808,11 @@ int td_cmd_label(int argc, char **argv)
         goto done;
     if ((rc = td_geojson_read_lines(o.in, NULL, &ls, NULL, &cx)) != 0)
         goto fail;
+    if (o.scan && !o.tree &&
+        (rc = read_sheet_labels(&o, ls, &reads, &nreads, &cx)) != 0)
+        goto fail;
+    if (o.scan && !o.like)
+        o.like = o.scan; /* widths and pictures from the same scan */
     if (o.w == 0)
         extent(ls, &o.w, &o.h);
     p.base = o.base, p.interval = o.interval, p.w = o.w, p.h = o.h;
@@ -780,6 +820,8 @@ int td_cmd_label(int argc, char **argv)
     p.depressions = o.dep, p.ndepressions = o.ndep;
     p.index_every = o.index_every, p.missing = !o.no_missing;
     p.method = o.tree ? TD_LABEL_TREE : TD_LABEL_FACES;
+    p.labels = reads;
+    p.nlabels = nreads;
     if (o.thick_ratio > 0)
         p.thick_ratio = o.thick_ratio;
     if ((ncross = warn_crossings(ls, o.quiet, &cx)) < 0) {
@@ -787,6 +829,7 @@ int td_cmd_label(int argc, char **argv)
         goto fail;
     }
     if ((rc = td_label_auto(ls, &p, &rep, &cx)) != 0 ||
+        (!(p.interval > 0) && (p.interval = rep.interval, 0)) ||
         (rc = apply_heights(ls, &heights, &checks, &p, &cx)) != 0 ||
         (o.interactive && (rc = id_places(ls, &idxy, &cx)) != 0) ||
         (o.interactive && (rc = write_sheet(&o, ls, idxy, &cx)) != 0))
@@ -816,6 +859,7 @@ done:
     td_label_report_free(&checks);
     td_lines_free(ls);
     free(idxy);
+    free(reads);
     free(o.known.v);
     free(o.dep);
     free(heights.v);

@@ -260,7 +260,7 @@ static int do_scan(const run_opts *o, run_state *s, td_ctx *cx)
     sp.join.record = !o->no_labels; /* where the labels are */
     if ((rc = td_scan(im, &sp, &res, cx)) == 0 && !o->no_labels) {
         double t1 = td_now();
-        rc = td_ocr_scan_labels(im, res.lines, &res.join, NULL, &s->reads,
+        rc = td_ocr_scan_labels(im, res.lines, &res.join, NULL, NULL, &s->reads,
                                 &s->nreads, cx);
         if (rc == 0)
             td_ocr_drop_digits(res.lines, s->reads, s->nreads);
