@@ -11,16 +11,29 @@ echo "== topodig scan samples/hills.png (grey sheet, 2-px lines, breaks)"
 "$TD" scan samples/hills.png -o "$OUT/hills.geojson" --debug-dir "$OUT/hills-debug"
 echo "== topodig scan samples/brown.png --ink brown (colour sheet, blue water, black text)"
 "$TD" scan samples/brown.png -o "$OUT/brown.geojson" --ink brown --debug-dir "$OUT/brown-debug"
-# Three known heights: two lines leaving the sheet (their slope direction
-# cannot be told from the topology alone) and one ring of the depression.
-echo "== topodig run samples/hills.png -> DEM (interval 20 m, 3 known points)"
+# Three known heights on the lines that leave the sheet (which way the tilt
+# rises cannot be told from the topology alone) and the depression marked.
+echo "== topodig run samples/hills.png -> DEM (interval 20 m, 3 known points, a depression)"
 "$TD" run samples/hills.png -o "$OUT/hills-dem.tif" --interval 20 \
-    --known 123.5,264,120 --known 267.5,244.2,200 --known 199.5,318.1,40
+    --known 123.5,264,120 --known 267.5,244.2,200 --known 561.5,77.1,240 \
+    --depressions 205,336 --debug-dir "$OUT/hills-run"
 echo "== topodig compare with the true surface (samples/hills.tif)"
 "$TD" compare "$OUT/hills-dem.tif" samples/hills.tif
 echo "== topodig render"
 "$TD" render "$OUT/hills-dem.tif" -o "$OUT/hills-relief.png" --style hillshade --contours 20
+# A sheet drawn from a real DEM (Colorado Front Range, SRTM) with printed
+# height labels, scanned: no option needed, the labels are read.
+echo "== tdgen: a labelled, scanned sheet from a real DEM (tests/data/dems/frontrange_srtm3.tif)"
+"$BUILD/tdgen" --dem-in tests/data/dems/frontrange_srtm3.tif --scale 10 \
+    --width 1.8 --index-width 3.2 --labels 3 --label-bend 40 --label-font dejavu \
+    --blur 0.8 --noise 8 --specks 200 --breaks 30 --break-len 3,10 \
+    -o "$OUT/frontrange.png" --dem "$OUT/frontrange-truth.tif" -q
+echo "== topodig run $OUT/frontrange.png -> DEM (no options: labels read, interval inferred)"
+"$TD" run "$OUT/frontrange.png" -o "$OUT/frontrange-dem.tif" --debug-dir "$OUT/frontrange-run"
+"$TD" compare "$OUT/frontrange-dem.tif" "$OUT/frontrange-truth.tif"
 echo
 echo "wrote $OUT/: hills.geojson, brown.geojson (one LineString per contour),"
 echo "  *-debug/overlay.png (traced lines in their own colours, red boxes at open ends),"
-echo "  hills-dem.tif (float32 GeoTIFF DEM) and hills-relief.png (shaded relief)."
+echo "  hills-dem.tif (float32 GeoTIFF DEM) and hills-relief.png (shaded relief),"
+echo "  frontrange-dem.tif from the labelled sheet frontrange.png, and in *-run/"
+echo "  heights.png (lines coloured by height, labels boxed) and labels.geojson."
