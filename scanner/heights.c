@@ -354,7 +354,7 @@ static void setup_labels(hs *s)
  * still the chunks' until set_lines). */
 static void judge_labels(hs *s)
 {
-    size_t i;
+    size_t i, overruled = 0;
     int j;
     for (i = 0; i < s->p->nlabels; i++) {
         td_ocr_read *r = &s->p->labels[i];
@@ -382,10 +382,24 @@ static void judge_labels(hs *s)
             snprintf(r->text, sizeof r->text, "%.10g", r->value);
             r->used = 1;
         }
-        if (r->used)
+        if (r->used) {
             s->rep->labels_used++;
-        else
+        } else {
+            long l = r->line[0] >= 0 ? r->line[0] : r->line[1], c = -1;
             r->why = "the other evidence disagrees";
+            if (l >= 0 && (size_t)l < s->N)
+                c = td_faces_chunk_at(s->fx, (size_t)l,
+                                      nearest_vertex(&s->ls->v[l], r->x,
+                                                     r->y));
+            if (c >= 0 && ++overruled <= 5)
+                td_label_warn(s->rep, "label %s (near %.0f,%.0f) on line %ld "
+                              "disagrees with the other evidence; the solve "
+                              "gives %g", r->text, r->x, r->y,
+                              s->ls->v[l].id,
+                              s->p->base + (double)(s->band_prior[c] +
+                                                    s->kofs) *
+                                               s->p->interval);
+        }
     }
 }
 

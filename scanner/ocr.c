@@ -269,18 +269,36 @@ static int read_number(TessBaseAPI *api, const uint8_t *img, int w, int h,
     return ok && digits > 0 ? 0 : -1;
 }
 
+static int compact_ring(const td_line *l, double side)
+{
+    double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
+    size_t k;
+    if (!l->closed)
+        return 0;
+    for (k = 0; k < l->n; k++) {
+        x0 = fmin(x0, l->xy[2 * k]), x1 = fmax(x1, l->xy[2 * k]);
+        y0 = fmin(y0, l->xy[2 * k + 1]), y1 = fmax(y1, l->xy[2 * k + 1]);
+    }
+    return x1 - x0 < side && y1 - y0 < side;
+}
+
 /* The lines of a read: the line through the label (within 0.3 digit
  * heights of its middle: a neighbour runs beside the text, not through
- * it), else up to two lines with an open end at the label's ends (within
- * 14 px beyond them along the text, a digit height across). */
+ * it), else the lines with an open end at either end of the text (within
+ * 24 px beyond it along the text, 0.6 digit heights across, the line's
+ * end heading along the text towards it): the nearest on each side. */
 static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
 {
     size_t i;
     double bd = fmax(2.0, 0.3 * r->digit_px), e[2] = {HUGE_VAL, HUGE_VAL};
+    long end[2] = {-1, -1};
     int k;
     r->line[0] = r->line[1] = -1;
     for (i = 0; ls && i < ls->n; i++) {
-        double d = td_contain_dist(&ls->v[i], r->x, r->y);
+        double d;
+        if (compact_ring(&ls->v[i], 25.0)) /* a digit traced as a ring */
+            continue;
+        d = td_contain_dist(&ls->v[i], r->x, r->y);
         if (d < bd)
             bd = d, r->line[0] = (long)i;
     }
@@ -291,20 +309,26 @@ static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
         if (l->closed || l->n < 2)
             continue;
         for (k = 0; k < 2; k++) {
-            double x = l->xy[k ? 2 * l->n - 2 : 0] - r->x;
-            double y = l->xy[k ? 2 * l->n - 1 : 1] - r->y;
-            double u = fabs(x * r->ux + y * r->uy);
+            size_t e0 = k ? l->n - 1 : 0, e1 = k ? (l->n > 6 ? l->n - 7 : 0)
+                                                 : (l->n > 6 ? 6 : l->n - 1);
+            double x = l->xy[2 * e0] - r->x, y = l->xy[2 * e0 + 1] - r->y;
+            double tx = l->xy[2 * e0] - l->xy[2 * e1];
+            double ty = l->xy[2 * e0 + 1] - l->xy[2 * e1 + 1];
+            double tl = hypot(tx, ty), u = x * r->ux + y * r->uy;
             double v = fabs(-x * r->uy + y * r->ux);
-            if (u > 0.5 * along + 14 || v > r->digit_px)
+            int side = u < 0;
+            /* at one of the text's ends, on its axis, the line's end
+             * heading along the axis towards the text */
+            if (fabs(u) > 0.5 * along + 24 || v > 0.6 * r->digit_px ||
+                !(tl > 0) || tx * -x + ty * -y <= 0 ||
+                fabs(tx * r->ux + ty * r->uy) < 0.7 * tl)
                 continue;
-            if (u < e[0]) {
-                e[1] = e[0], r->line[1] = r->line[0];
-                e[0] = u, r->line[0] = (long)i;
-            } else if (u < e[1] && r->line[0] != (long)i) {
-                e[1] = u, r->line[1] = (long)i;
-            }
+            if (fabs(u) < e[side])
+                e[side] = fabs(u), end[side] = (long)i;
         }
     }
+    r->line[0] = end[0] >= 0 ? end[0] : end[1];
+    r->line[1] = end[0] >= 0 && end[1] != end[0] ? end[1] : -1;
 }
 
 /* Read the label in one gap into *r; 1: nothing read, -1: no memory. */
@@ -503,7 +527,7 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
     for (i = 0; i < (size_t)nc && rc >= 0; i++) {
         rc = read_gap(api, im, &cs[i], p, &v[m]);
         if (rc == 0 && v[m].conf >= p->min_conf) {
-            lines_of(ls, &v[m], cs[i].along);
+            lines_of(ls, &v[m], fmax(cs[i].along, v[m].len));
             m++;
         }
         if (rc >= 0 && (i & 15) == 0 &&
@@ -542,19 +566,6 @@ static int copy_into(td_lines *dst, const td_line *l, td_ctx *cx)
     return 0;
 }
 
-static int compact_ring(const td_line *l, double side)
-{
-    double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
-    size_t k;
-    if (!l->closed)
-        return 0;
-    for (k = 0; k < l->n; k++) {
-        x0 = fmin(x0, l->xy[2 * k]), x1 = fmax(x1, l->xy[2 * k]);
-        y0 = fmin(y0, l->xy[2 * k + 1]), y1 = fmax(y1, l->xy[2 * k + 1]);
-    }
-    return x1 - x0 < side && y1 - y0 < side;
-}
-
 /* Contract in ocr.h. */
 int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
                        const td_join_stats *join, const td_lines *assoc,
@@ -582,7 +593,7 @@ int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
 }
 
 /* Contract in ocr.h. */
-size_t td_ocr_drop_digits(td_lines *ls, const td_ocr_read *r, size_t n)
+size_t td_ocr_drop_digits(td_lines *ls, td_ocr_read *r, size_t n)
 {
     size_t i, j, k, m = 0;
     for (i = ls->n; i-- > 0;) {
@@ -598,8 +609,16 @@ size_t td_ocr_drop_digits(td_lines *ls, const td_ocr_read *r, size_t n)
                      fabs(-x * r[j].uy + y * r[j].ux) <= 0.5 * r[j].digit_px + 3;
             }
         }
-        if (in) {
+        if (in) { /* the reads' line indexes follow the removal */
             td_lines_remove(ls, i);
+            for (j = 0; j < n; j++) {
+                int e;
+                for (e = 0; e < 2; e++)
+                    if (r[j].line[e] == (long)i)
+                        r[j].line[e] = -1;
+                    else if (r[j].line[e] > (long)i)
+                        r[j].line[e]--;
+            }
             m++;
         }
     }

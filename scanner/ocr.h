@@ -82,8 +82,9 @@ int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
 void td_ocr_draw(td_image *im, const td_ocr_read *r, size_t n);
 
 /* Remove the closed lines of ls that lie inside a read label's box (digits
- * such as 0, 6, 8, 9 traced as rings).  Returns how many. */
-size_t td_ocr_drop_digits(td_lines *ls, const td_ocr_read *r, size_t n);
+ * such as 0, 6, 8, 9 traced as rings); the reads' line indexes are kept
+ * pointing at the same lines.  Returns how many. */
+size_t td_ocr_drop_digits(td_lines *ls, td_ocr_read *r, size_t n);
 
 #ifdef __cplusplus
 }

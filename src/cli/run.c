@@ -295,13 +295,16 @@ static int write_labels_geojson(const char *path, const run_state *s,
         double x = r->x, y = r->y;
         if (s->geo.valid)
             td_georef_apply(&s->geo, x, y, &x, &y);
+        char ids[64] = "null";
+        if (r->line[0] >= 0 && (size_t)r->line[0] < s->ls->n)
+            snprintf(ids, sizeof ids, "%ld", s->ls->v[r->line[0]].id);
         fprintf(f, "%s{\"type\":\"Feature\",\"properties\":{\"text\":\"%s\","
                 "\"value\":%.10g,\"angle\":%.1f,\"confidence\":%.3f,"
-                "\"digit_px\":%.1f,\"used\":%s,\"why\":%s%s%s},"
+                "\"digit_px\":%.1f,\"line\":%s,\"used\":%s,\"why\":%s%s%s},"
                 "\"geometry\":{\"type\":\"Point\",\"coordinates\":[%.3f,"
                 "%.3f]}}", i ? ",\n" : "", r->text, r->value,
                 atan2(-r->uy, r->ux) * 180.0 / 3.14159265358979323846,
-                r->conf, r->digit_px, r->used ? "true" : "false",
+                r->conf, r->digit_px, ids, r->used ? "true" : "false",
                 r->why ? "\"" : "", r->why ? r->why : "null",
                 r->why ? "\"" : "", x, y);
     }
@@ -404,6 +407,20 @@ static int do_interp(const run_opts *o, run_state *s, td_ctx *cx)
     return rc;
 }
 
+/* The labeller's warnings but the face conflicts (counted in the summary):
+ * contradicting known points and labels, the interval inferred. */
+static void put_warnings(const td_label_report *rep)
+{
+    const char *t = rep->text;
+    while (t && *t) {
+        const char *e = strchr(t, '\n');
+        int len = (int)(e ? e - t : (long)strlen(t));
+        if (strncmp(t, "lines ", 6) != 0)
+            fprintf(stderr, "run: warning: %.*s\n", len, t);
+        t = e ? e + 1 : NULL;
+    }
+}
+
 static void summary(const run_state *s)
 {
     size_t n = (size_t)s->dem->w * s->dem->h, i, ok = 0;
@@ -448,8 +465,10 @@ int td_cmd_run(int argc, char **argv)
         (rc = do_label(&o, &s, &cx)) == 0)
         rc = do_interp(&o, &s, &cx);
     td_cli_progress_done(&pr);
-    if (rc == 0 && !o.quiet)
+    if (rc == 0 && !o.quiet) {
+        put_warnings(&s.rep);
         summary(&s);
+    }
     if (rc != 0 && !strstr(cx.msg, o.in)) {
         char m[sizeof cx.msg];
         snprintf(m, sizeof m, "%.200s: %.300s", o.in, cx.msg);
