@@ -18,6 +18,7 @@ struct td_faces {
     uint32_t *start; /* gw * gh + 1 offsets into seg */
     uint32_t *seg;   /* pairs: line index, first vertex index */
     unsigned char *used;
+    double *len;      /* per line: its length */
     size_t *voff;     /* per line: offset of its vertices in vchunk */
     uint32_t *vchunk; /* per vertex: its chunk (segment k: vertex k's) */
     uint32_t *cline;  /* per chunk: its line */
@@ -69,10 +70,10 @@ static void bin_segments(td_faces *f, int pass, uint32_t *fill)
             double a[2], b[2];
             int x0, x1, y0, y1, cx, cy;
             seg_ends(l, k, a, b);
-            x0 = cell_of(fmin(a[0], b[0]), f->gw);
-            x1 = cell_of(fmax(a[0], b[0]), f->gw);
-            y0 = cell_of(fmin(a[1], b[1]), f->gh);
-            y1 = cell_of(fmax(a[1], b[1]), f->gh);
+            x0 = cell_of(a[0] < b[0] ? a[0] : b[0], f->gw);
+            x1 = cell_of(a[0] < b[0] ? b[0] : a[0], f->gw);
+            y0 = cell_of(a[1] < b[1] ? a[1] : b[1], f->gh);
+            y1 = cell_of(a[1] < b[1] ? b[1] : a[1], f->gh);
             for (cy = y0; cy <= y1; cy++)
                 for (cx = x0; cx <= x1; cx++) {
                     size_t c = (size_t)cy * f->gw + cx;
@@ -97,7 +98,7 @@ static int make_chunks(td_faces *f, td_ctx *cx)
         f->voff[i] = nv;
         nv += f->ls->v[i].n;
         if (f->used[i]) {
-            double len = td_line_length(&f->ls->v[i]);
+            double len = f->len[i];
             size_t m = f->p.chunk_len > 0
                            ? (size_t)floor(len / f->p.chunk_len + 0.5) : 1;
             nc += m ? m : 1;
@@ -117,7 +118,7 @@ static int make_chunks(td_faces *f, td_ctx *cx)
         size_t m, c0 = nc;
         if (!f->used[i])
             continue;
-        len = td_line_length(l);
+        len = f->len[i];
         m = f->p.chunk_len > 0 ? (size_t)floor(len / f->p.chunk_len + 0.5)
                                : 1;
         m = m ? m : 1;
@@ -128,8 +129,10 @@ static int make_chunks(td_faces *f, td_ctx *cx)
         for (k = 0; k < l->n; k++) {
             size_t c;
             if (k > 0)
-                s += hypot(l->xy[2 * k] - l->xy[2 * k - 2],
-                           l->xy[2 * k + 1] - l->xy[2 * k - 1]);
+                s += sqrt((l->xy[2 * k] - l->xy[2 * k - 2]) *
+                              (l->xy[2 * k] - l->xy[2 * k - 2]) +
+                          (l->xy[2 * k + 1] - l->xy[2 * k - 1]) *
+                              (l->xy[2 * k + 1] - l->xy[2 * k - 1]));
             c = (size_t)(s / len * m);
             c = c < m ? c : m - 1;
             f->vchunk[f->voff[i] + k] = (uint32_t)(c0 + c);
@@ -166,12 +169,14 @@ td_faces *td_faces_new(const td_lines *ls, int w, int h,
     f->gh = (h + CELL - 1) / CELL;
     nc = (size_t)f->gw * f->gh;
     if (!(f->used = td_calloc(ls->n + 1, 1, cx)) ||
+        !(f->len = td_calloc(ls->n + 1, sizeof *f->len, cx)) ||
         !(f->voff = td_calloc(ls->n + 1, sizeof *f->voff, cx)) ||
         !(f->start = td_calloc(nc + 1, sizeof *f->start, cx)))
         goto fail;
-    for (i = 0; i < ls->n; i++)
-        f->used[i] = ls->v[i].n >= 2 &&
-                     td_line_length(&ls->v[i]) >= f->p.min_len;
+    for (i = 0; i < ls->n; i++) {
+        f->len[i] = td_line_length(&ls->v[i]);
+        f->used[i] = ls->v[i].n >= 2 && f->len[i] >= f->p.min_len;
+    }
     if (make_chunks(f, cx) != 0)
         goto fail;
     bin_segments(f, 0, NULL);
@@ -203,6 +208,7 @@ void td_faces_free(td_faces *f)
     free(f->start);
     free(f->seg);
     free(f->used);
+    free(f->len);
     free(f->voff);
     free(f->vchunk);
     free(f->cline);
@@ -272,7 +278,7 @@ static void test_cell(const td_faces *f, size_t c, const double *o,
 long td_faces_ray(const td_faces *f, double x, double y, double dx, double dy,
                   long skip, double skip_t, double *t)
 {
-    double o[2] = {x, y}, d[2], len = hypot(dx, dy), best = INFINITY;
+    double o[2] = {x, y}, d[2], len = sqrt(dx * dx + dy * dy), best = INFINITY;
     double tmx, tmy, tdx, tdy;
     long node = -1;
     int cx, cy, sx, sy;
@@ -323,16 +329,24 @@ int td_faces_around(const td_faces *f, double x, double y, long nodes[16])
 
 typedef struct hit {
     uint32_t a, b;
-    float x, y, hx, hy;
+    float x, y, hx, hy, w;
 } hit;
 
+/* By node pair, then place (so the merged order is the same for any
+ * number of threads). */
 static int cmp_hit(const void *pa, const void *pb)
 {
     const hit *a = pa, *b = pb;
     if (a->a != b->a)
         return a->a < b->a ? -1 : 1;
-    return (a->b > b->b) - (a->b < b->b);
+    if (a->b != b->b)
+        return a->b < b->b ? -1 : 1;
+    if (a->y != b->y)
+        return a->y < b->y ? -1 : 1;
+    return (a->x > b->x) - (a->x < b->x);
 }
+
+#define MAX_PROBES 256 /* per side of a line: longer lines probe sparser */
 
 /* The unit normal (left on screen) of line l at vertex k, from the chord
  * over two vertices either side. */
@@ -349,7 +363,7 @@ static int normal_at(const td_line *l, size_t k, double *n)
     }
     tx = l->xy[2 * b] - l->xy[2 * a];
     ty = l->xy[2 * b + 1] - l->xy[2 * a + 1];
-    len = hypot(tx, ty);
+    len = sqrt(tx * tx + ty * ty);
     if (!(len > 0))
         return -1;
     n[0] = ty / len;
@@ -359,19 +373,21 @@ static int normal_at(const td_line *l, size_t k, double *n)
 
 /* Probes of line i into hits (grown as needed). */
 static int probe_line(const td_faces *f, size_t i, hit **hv, size_t *nh,
-                      size_t *cap, td_ctx *cx)
+                      size_t *cap)
 {
     const td_line *l = &f->ls->v[i];
-    double next = 0.5 * f->p.spacing, s = 0;
+    double sp = fmax(f->p.spacing, f->len[i] / MAX_PROBES);
+    double next = 0.5 * sp, s = 0;
+    float w = (float)(sp / f->p.spacing); /* weight: px shared / spacing */
     size_t k;
     for (k = 0; k < l->n; k++) {
         double n[2], x = l->xy[2 * k], y = l->xy[2 * k + 1];
         int side;
         if (k > 0)
-            s += hypot(x - l->xy[2 * k - 2], y - l->xy[2 * k - 1]);
+            s += sqrt((x - l->xy[2 * k - 2]) * (x - l->xy[2 * k - 2]) + (y - l->xy[2 * k - 1]) * (y - l->xy[2 * k - 1]));
         if (s < next || normal_at(l, k, n) != 0)
             continue;
-        next = s + f->p.spacing;
+        next = s + sp;
         for (side = 0; side < 2; side++) {
             double sg = side ? -1.0 : 1.0;
             double t = 0;
@@ -384,7 +400,7 @@ static int probe_line(const td_faces *f, size_t i, hit **hv, size_t *nh,
                 size_t nc = *cap ? 2 * *cap : 4096;
                 hit *v = realloc(*hv, nc * sizeof *v);
                 if (!v)
-                    return td_seterr(cx, TD_ENOMEM, "faces: out of memory");
+                    return TD_ENOMEM;
                 *hv = v;
                 *cap = nc;
             }
@@ -393,6 +409,7 @@ static int probe_line(const td_faces *f, size_t i, hit **hv, size_t *nh,
             (*hv)[*nh].x = (float)x;
             (*hv)[*nh].y = (float)y;
             (*hv)[*nh].hx = (float)(x + sg * n[0] * t);
+            (*hv)[*nh].w = w;
             (*hv)[(*nh)++].hy = (float)(y + sg * n[1] * t);
         }
     }
@@ -405,14 +422,37 @@ int td_faces_edges(const td_faces *f, td_face_edge **out, size_t *n,
 {
     hit *hv = NULL;
     td_face_edge *e = NULL;
-    size_t nh = 0, cap = 0, i, m = 0;
+    size_t nh = 0, i, m = 0;
+    int fail = 0;
     *out = NULL;
     *n = 0;
-    for (i = 0; i < f->ls->n; i++)
-        if (f->used[i] && probe_line(f, i, &hv, &nh, &cap, cx) != 0) {
-            free(hv);
-            return TD_ENOMEM;
+    /* probes on threads, each into its own list, then put together */
+#pragma omp parallel reduction(| : fail)
+    {
+        hit *mine = NULL;
+        size_t nm = 0, cm = 0;
+        long j;
+#pragma omp for schedule(dynamic, 16) nowait
+        for (j = 0; j < (long)f->ls->n; j++)
+            if (!fail && f->used[j])
+                fail |= probe_line(f, (size_t)j, &mine, &nm, &cm) != 0;
+#pragma omp critical
+        {
+            hit *t = nm ? realloc(hv, (nh + nm) * sizeof *t) : hv;
+            if (nm && !t) {
+                fail = 1;
+            } else if (nm) {
+                memcpy(t + nh, mine, nm * sizeof *t);
+                hv = t;
+                nh += nm;
+            }
         }
+        free(mine);
+    }
+    if (fail) {
+        free(hv);
+        return td_seterr(cx, TD_ENOMEM, "faces: out of memory");
+    }
     qsort(hv, nh, sizeof *hv, cmp_hit);
     if (nh && !(e = td_malloc(nh * sizeof *e, cx))) {
         free(hv);
@@ -420,12 +460,12 @@ int td_faces_edges(const td_faces *f, td_face_edge **out, size_t *n,
     }
     for (i = 0; i < nh; i++) {
         if (m > 0 && e[m - 1].a == hv[i].a && e[m - 1].b == hv[i].b) {
-            e[m - 1].w += 1;
+            e[m - 1].w += hv[i].w;
             continue;
         }
         e[m].a = hv[i].a;
         e[m].b = hv[i].b;
-        e[m].w = 1;
+        e[m].w = hv[i].w;
         e[m].x = hv[i].x;
         e[m].y = hv[i].y;
         e[m].hx = hv[i].hx;

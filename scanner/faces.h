@@ -35,7 +35,9 @@ extern "C" {
 
 typedef struct td_face_edge {
     uint32_t a, b; /* side nodes, a < b (a == b never stored) */
-    float w;       /* probes that say so */
+    float w;       /* probes that say so, each weighted by its spacing
+                      over p->spacing (a line probes at most 256 times a
+                      side: longer lines further apart) */
     float x, y;    /* where one of them started (for messages) */
     float hx, hy;  /* and where it met the other line */
 } td_face_edge;

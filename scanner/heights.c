@@ -1469,25 +1469,36 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
     hs s;
     td_faces_params fp = td_faces_defaults();
     unsigned char *touched = NULL;
+    double t0;
     int rc = TD_ENOMEM;
     memset(&s, 0, sizeof s);
     s.ls = ls, s.p = p, s.rep = rep, s.N = ls->n;
     fp.chunk_len = 0; /* chunks (CHUNK px): see docs/label.md */
     if (ls->n > UINT32_MAX / 4)
         return td_seterr(cx, TD_EINVAL, "label: too many lines (%zu)", ls->n);
+    t0 = td_now();
     if (!(s.fx = td_faces_new(ls, p->w, p->h, &fp, cx)))
         goto fail;
     s.C = td_faces_nchunks(s.fx);
     s.V = 2 * s.C;
-    if ((rc = td_faces_edges(s.fx, &s.fe, &s.nfe, cx)) != 0 ||
+    if (getenv("TD_DEBUG_HEIGHTS"))
+        fprintf(stderr, "heights: index %.3f s\n", td_now() - t0);
+    rc = td_faces_edges(s.fx, &s.fe, &s.nfe, cx);
+    if (getenv("TD_DEBUG_HEIGHTS"))
+        fprintf(stderr, "heights: faces %.3f s\n", td_now() - t0);
+    if (rc != 0 ||
         (rc = alloc_all(&s, cx)) != 0 ||
         (rc = touched_nodes(&s, &touched, cx)) != 0 ||
         (rc = setup_known(&s, cx)) != 0)
         goto fail;
     setup_directions(&s, touched);
     setup_labels(&s);
+    t0 = td_now();
     if ((rc = setup_index(&s, cx)) != 0 || (rc = solve_all(&s, cx)) != 0)
         goto fail;
+    if (getenv("TD_DEBUG_HEIGHTS"))
+        fprintf(stderr, "heights: solve %.3f s (K %zu, %zu nodes)\n",
+                td_now() - t0, s.K, s.V);
     rc = TD_ENOMEM;
     if (!(rep->undetermined_ids = td_calloc(ls->n + 1, sizeof(long), cx)) ||
         !(rep->assumed_ids = td_calloc(ls->n + 1, sizeof(long), cx)))

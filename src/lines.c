@@ -100,11 +100,17 @@ double td_line_length(const td_line *l)
 {
     double len = 0.0;
     size_t i;
-    for (i = 1; i < l->n; i++)
-        len += hypot(l->xy[2 * i] - l->xy[2 * i - 2],
-                     l->xy[2 * i + 1] - l->xy[2 * i - 1]);
-    if (l->closed && l->n >= 2)
-        len += hypot(l->xy[0] - l->xy[2 * l->n - 2],
-                     l->xy[1] - l->xy[2 * l->n - 1]);
+    /* sqrt, not hypot: pixel coordinates cannot overflow, and glibc's
+     * hypot is several times slower (a tenth of labelling a big sheet) */
+    for (i = 1; i < l->n; i++) {
+        double dx = l->xy[2 * i] - l->xy[2 * i - 2];
+        double dy = l->xy[2 * i + 1] - l->xy[2 * i - 1];
+        len += sqrt(dx * dx + dy * dy);
+    }
+    if (l->closed && l->n >= 2) {
+        double dx = l->xy[0] - l->xy[2 * l->n - 2];
+        double dy = l->xy[1] - l->xy[2 * l->n - 1];
+        len += sqrt(dx * dx + dy * dy);
+    }
     return len;
 }
