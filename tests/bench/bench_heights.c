@@ -35,6 +35,10 @@ static void defects(td_gen_params *p, int scanned)
     p->index_width = 3.2;
     if (!scanned)
         return;
+    if (scanned == 2) { /* brown ink on cream, blue water, black text */
+        p->colour = 1;
+        p->distractors = 1;
+    }
     p->blur = 0.8;
     p->noise = 8;
     p->specks = 300;
@@ -87,7 +91,7 @@ int main(int argc, char **argv)
                 continue;
             }
         }
-        for (scanned = 0; scanned < 3; scanned++)
+        for (scanned = 0; scanned < 4; scanned++)
             for (hint = 0; hint < 3; hint++) {
                 td_hsheet hs;
                 memset(&hs, 0, sizeof hs);
@@ -101,10 +105,12 @@ int main(int argc, char **argv)
                 } else {
                     hs.gp.w = hs.gp.h = k->size;
                 }
-                defects(&hs.gp, scanned == 2);
+                defects(&hs.gp, scanned >= 2 ? (scanned == 3 ? 2 : 1) : 0);
                 hs.use_truth_lines = scanned == 0;
                 if (hint == 2 && scanned < 2)
                     continue; /* labels: on the scanned sheets */
+                if (scanned == 3 && hint == 0)
+                    continue; /* colour: with index widths and labels */
                 hs.nknown = hint == 2 ? 0 : 3;
                 hs.index_every = hint == 1 ? 5 : 0;
                 hs.read_labels = hint == 2;
@@ -118,8 +124,10 @@ int main(int argc, char **argv)
                 }
                 if (td_hsheet_run(&hs, logit ? stdout : NULL, &cx) != 0) {
                     printf("%-11s %-7s %-13s failed: %s\n", k->name,
-                           scanned == 0 ? "truth" : scanned == 1 ? "clean"
-                                                                 : "scanned",
+                           scanned == 0   ? "truth"
+                           : scanned == 1 ? "clean"
+                           : scanned == 2 ? "scanned"
+                                          : "colour",
                            hint == 0 ? "3 known" : hint == 1 ? "3 known+index" : "labels only",
                            td_errmsg(&cx));
                     td_ctx_clear(&cx);
@@ -129,8 +137,10 @@ int main(int argc, char **argv)
                 printf("%-11s %-7s %-13s %6zu %6.3f %6.3f  %5zu %5zu %5zu "
                        "%5zu %5ld  %5zu %6.2f %5.3f %4zu/%-4zu %5g\n",
                        k->name,
-                       scanned == 0 ? "truth" : scanned == 1 ? "clean"
-                                                             : "scanned",
+                       scanned == 0   ? "truth"
+                       : scanned == 1 ? "clean"
+                       : scanned == 2 ? "scanned"
+                                      : "colour",
                        hint == 0 ? "3 known" : hint == 1 ? "3 known+index" : "labels only", hs.traced,
                        hs.score.accuracy,
                        hs.score.null_len /
