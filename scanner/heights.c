@@ -1124,8 +1124,9 @@ static int cmp_w_desc(const void *pa, const void *pb)
     return (a[0] < b[0]) - (a[0] > b[0]);
 }
 
-/* Face edges the solution breaks: leaks or merged lines; the five
- * strongest are named. */
+/* Face edges the solution breaks: leaks or merged lines; all counted, the
+ * five strongest named when they are (probe weight 8 and up: a stray
+ * probe through a gap is not worth a warning). */
 static int report_conflicts(hs *s, const long *node_band, td_ctx *cx)
 {
     size_t i, n = 0, k;
@@ -1142,7 +1143,7 @@ static int report_conflicts(hs *s, const long *node_band, td_ctx *cx)
     }
     qsort(v, n, 2 * sizeof *v, cmp_w_desc);
     s->rep->conflicts = n;
-    for (k = 0; k < n && k < 5; k++) {
+    for (k = 0; k < n && k < 5 && v[2 * k] >= 8.0; k++) { /* 16 px and up */
         const td_face_edge *e = &s->fe[(size_t)v[2 * k + 1]];
         td_label_warn(s->rep, "lines %ld and %ld border one face (%g probes, "
                       "near %.0f,%.0f) but differ by %ld intervals: a gap or "
