@@ -100,7 +100,8 @@ static int make_chunks(td_faces *f, td_ctx *cx)
         if (f->used[i]) {
             double len = f->len[i];
             size_t m = f->p.chunk_len > 0
-                           ? (size_t)floor(len / f->p.chunk_len + 0.5) : 1;
+                           ? (size_t)floor(len / f->p.chunk_len + 0.5)
+                           : 1;
             nc += m ? m : 1;
         }
     }
@@ -119,8 +120,7 @@ static int make_chunks(td_faces *f, td_ctx *cx)
         if (!f->used[i])
             continue;
         len = f->len[i];
-        m = f->p.chunk_len > 0 ? (size_t)floor(len / f->p.chunk_len + 0.5)
-                               : 1;
+        m = f->p.chunk_len > 0 ? (size_t)floor(len / f->p.chunk_len + 0.5) : 1;
         m = m ? m : 1;
         for (k = 0; k < m; k++) {
             f->cline[nc + k] = (uint32_t)i;
@@ -187,8 +187,8 @@ td_faces *td_faces_new(const td_lines *ls, int w, int h,
         }
         f->start[i + 1] += f->start[i];
     }
-    if (!(f->seg = td_malloc(2 * (size_t)f->start[nc] * sizeof *f->seg + 8,
-                             cx)) ||
+    if (!(f->seg =
+              td_malloc(2 * (size_t)f->start[nc] * sizeof *f->seg + 8, cx)) ||
         !(fill = td_malloc(nc * sizeof *fill, cx)))
         goto fail;
     memcpy(fill, f->start, nc * sizeof *fill);
@@ -296,8 +296,7 @@ long td_faces_ray(const td_faces *f, double x, double y, double dx, double dy,
     tmy = d[1] != 0 ? ((cy + (sy > 0)) * (double)CELL - y) / d[1] : INFINITY;
     for (;;) {
         double texit = fmin(tmx, tmy);
-        test_cell(f, (size_t)cy * f->gw + cx, o, d, skip, skip_t, &best,
-                  &node);
+        test_cell(f, (size_t)cy * f->gw + cx, o, d, skip, skip_t, &best, &node);
         if (best <= texit)
             break;
         if (tmx < tmy) {
@@ -384,15 +383,16 @@ static int probe_line(const td_faces *f, size_t i, hit **hv, size_t *nh,
         double n[2], x = l->xy[2 * k], y = l->xy[2 * k + 1];
         int side;
         if (k > 0)
-            s += sqrt((x - l->xy[2 * k - 2]) * (x - l->xy[2 * k - 2]) + (y - l->xy[2 * k - 1]) * (y - l->xy[2 * k - 1]));
+            s += sqrt((x - l->xy[2 * k - 2]) * (x - l->xy[2 * k - 2]) +
+                      (y - l->xy[2 * k - 1]) * (y - l->xy[2 * k - 1]));
         if (s < next || normal_at(l, k, n) != 0)
             continue;
         next = s + sp;
         for (side = 0; side < 2; side++) {
             double sg = side ? -1.0 : 1.0;
             double t = 0;
-            long m = td_faces_ray(f, x, y, sg * n[0], sg * n[1], (long)i,
-                                  1.5, &t);
+            long m =
+                td_faces_ray(f, x, y, sg * n[0], sg * n[1], (long)i, 1.5, &t);
             uint32_t me = 2 * f->vchunk[f->voff[i] + k] + (uint32_t)side;
             if (m < 0 || (uint32_t)m / 2 == me / 2)
                 continue; /* the border, or this chunk again */
@@ -417,8 +417,7 @@ static int probe_line(const td_faces *f, size_t i, hit **hv, size_t *nh,
 }
 
 /* Contract in faces.h. */
-int td_faces_edges(const td_faces *f, td_face_edge **out, size_t *n,
-                   td_ctx *cx)
+int td_faces_edges(const td_faces *f, td_face_edge **out, size_t *n, td_ctx *cx)
 {
     hit *hv = NULL;
     td_face_edge *e = NULL;

@@ -5,9 +5,9 @@
  * as seen on the screen (y down), side 1 on the right.  Lines are cut into
  * chunks along their arc (p->chunk_len; one chunk per line by default), and
  * side node 2c + s is side s of chunk c (chunks are numbered line by line,
- * in order along each line).  A probe leaves line i perpendicular to it, from one
- * side, and runs straight until it meets the first other line (or the
- * sheet border):
+ * in order along each line).  A probe leaves line i perpendicular to it, from
+ * one side, and runs straight until it meets the first other line (or the sheet
+ * border):
  *
  *        line m  ------------<------------      the probe meets m's side
  *                            ^                  that faces where it came
@@ -43,8 +43,8 @@ typedef struct td_face_edge {
 } td_face_edge;
 
 typedef struct td_faces_params {
-    double spacing; /* px between probes along a line (default 4) */
-    double min_len; /* lines shorter than this take no part (default 12) */
+    double spacing;   /* px between probes along a line (default 4) */
+    double min_len;   /* lines shorter than this take no part (default 12) */
     double chunk_len; /* cut lines into chunks of about this many px of
                          arc, each with its own two side nodes; <= 0: one
                          chunk per line (the default) */

@@ -43,18 +43,19 @@
 #define PLINE 1000.0
 #define WKNOWN 1000.0
 #define WFACE 2.0
-#define WCONT 24.0     /* a chunk continues its line: same state */
-#define CHUNK 48.0     /* px of arc per chunk */
+#define WCONT 24.0 /* a chunk continues its line: same state */
+#define CHUNK 48.0 /* px of arc per chunk */
 #define W_INDEX 3.0
 #define W_SUMMIT 0.5
 #define W_RING 0.25
 #define W_DEPR 50.0
-#define W_LABEL 40.0   /* a printed label read with confidence 1 */
-#define W_UP 3.0       /* its top towards higher ground, confidence 1 */
+#define W_LABEL 40.0 /* a printed label read with confidence 1 */
+#define W_UP 3.0     /* its top towards higher ground, confidence 1 */
 #define WFOLD 1.0
 #define GAP_EPS 1e-3
-#define CONF_SCALE 20.0 /* confidence 1 - exp(-gap / this): one label read
-                           for sure alone 0.85, two 0.98 */
+#define CONF_SCALE                                                             \
+    20.0 /* confidence 1 - exp(-gap / this): one label read                    \
+            for sure alone 0.85, two 0.98 */
 #define MAX_CELLS (96u << 20) /* state table entries (8 bytes each, x3) */
 
 enum { E_LINE, E_FACE, E_CONT };
@@ -77,15 +78,15 @@ typedef struct hs {
     td_face_edge *fe;
     size_t nfe, N, C, V; /* lines, chunks, side nodes (2C) */
     /* per chunk */
-    double *lknown;   /* level a known point gives (NAN: none) */
-    double *llab, *wlab; /* level a printed label gives, its weight */
+    double *lknown;               /* level a known point gives (NAN: none) */
+    double *llab, *wlab;          /* level a printed label gives, its weight */
     double *llab2, *clab, *clab2; /* the read turned round: level; the two
                                      reads' confidences */
-    int *nknown;      /* known points on the chunk */
-    signed char *idx; /* +1 thick (index), -1 thin, 0 unknown */
-    double *ilen;     /* weight of the index evidence */
-    double *up_cost;  /* 2 per chunk: cost when side s is the higher */
-    double *up_prior; /* the same, priors only (rings, summits) */
+    int *nknown;                  /* known points on the chunk */
+    signed char *idx;             /* +1 thick (index), -1 thin, 0 unknown */
+    double *ilen;                 /* weight of the index evidence */
+    double *up_cost;     /* 2 per chunk: cost when side s is the higher */
+    double *up_prior;    /* the same, priors only (rings, summits) */
     unsigned char *hole; /* per node: the outside of a closed line */
     /* per node */
     uint32_t *uf, *comp, *par, *order, *pkind, *pid, *adj_start;
@@ -103,7 +104,7 @@ typedef struct hs {
     double *up, *msg, *down; /* per node and state: the DP's tables */
     long *band, *band_prior; /* per chunk: best height (band index) */
     double *gap, *gap_prior; /* per chunk */
-    int priors; /* this pass uses the priors */
+    int priors;              /* this pass uses the priors */
 } hs;
 
 static uint32_t uf_find(uint32_t *uf, uint32_t a)
@@ -117,8 +118,7 @@ static uint32_t uf_find(uint32_t *uf, uint32_t a)
 
 /* ---- evidence ---- */
 
-static int add_unary(hs *s, long node, long lo, long hi, double w,
-                     td_ctx *cx)
+static int add_unary(hs *s, long node, long lo, long hi, double w, td_ctx *cx)
 {
     if (s->nun == s->capun) {
         size_t nc = s->capun ? 2 * s->capun : 64;
@@ -190,8 +190,10 @@ static int known_in_face(hs *s, const td_label_point *q, td_ctx *cx)
     double f = (q->height - s->p->base) / s->p->interval;
     int k, hits = td_faces_around(s->fx, q->x, q->y, nodes);
     if (hits == 0) {
-        td_label_warn(s->rep, "known point (%g,%g)=%g: no line around it, "
-                      "not used", q->x, q->y, q->height);
+        td_label_warn(s->rep,
+                      "known point (%g,%g)=%g: no line around it, "
+                      "not used",
+                      q->x, q->y, q->height);
         return 0;
     }
     lo = (long)floor(f + 1e-9);
@@ -210,8 +212,10 @@ static int known_in_face(hs *s, const td_label_point *q, td_ctx *cx)
 static void put_known(hs *s, size_t c, long level, long line)
 {
     if (s->nknown[c] && s->lknown[c] != (double)level)
-        td_label_warn(s->rep, "line %ld: two known points disagree (%g "
-                      "and %g); the solve decides", s->ls->v[line].id,
+        td_label_warn(s->rep,
+                      "line %ld: two known points disagree (%g "
+                      "and %g); the solve decides",
+                      s->ls->v[line].id,
                       s->p->base + s->lknown[c] * s->p->interval,
                       s->p->base + (double)level * s->p->interval);
     s->lknown[c] = (double)level;
@@ -227,8 +231,10 @@ static int setup_known(hs *s, td_ctx *cx)
         double f = (q->height - s->p->base) / s->p->interval;
         if (q->id >= 0) {
             if ((l = line_by_id(s, q->id)) < 0) {
-                td_label_warn(s->rep, "height %g for line %ld: no such line "
-                              "(or too short), not used", q->height, q->id);
+                td_label_warn(s->rep,
+                              "height %g for line %ld: no such line "
+                              "(or too short), not used",
+                              q->height, q->id);
                 continue;
             }
             m = line_chunks(s, (size_t)l, &c0);
@@ -237,20 +243,21 @@ static int setup_known(hs *s, td_ctx *cx)
         } else if ((c = chunk_near(s, q->x, q->y, &l)) >= 0) {
             put_known(s, (size_t)c, lround(f), l);
         } else {
-            if (!(q->x >= 0 && q->y >= 0 && q->x <= s->p->w &&
-                  q->y <= s->p->h))
-                return td_seterr(cx, TD_EINVAL, "known point (%g,%g) is off "
-                                 "the %d x %d sheet", q->x, q->y, s->p->w,
-                                 s->p->h);
+            if (!(q->x >= 0 && q->y >= 0 && q->x <= s->p->w && q->y <= s->p->h))
+                return td_seterr(cx, TD_EINVAL,
+                                 "known point (%g,%g) is off "
+                                 "the %d x %d sheet",
+                                 q->x, q->y, s->p->w, s->p->h);
             if (known_in_face(s, q, cx) != 0)
                 return TD_ENOMEM;
             continue;
         }
         if (fabs(f - lround(f)) > 1e-6)
-            td_label_warn(s->rep, "known point (%g,%g)=%g lies on line %ld "
+            td_label_warn(s->rep,
+                          "known point (%g,%g)=%g lies on line %ld "
                           "but is not base + a multiple of the interval; "
-                          "taken as %g", q->x, q->y, q->height,
-                          s->ls->v[l].id,
+                          "taken as %g",
+                          q->x, q->y, q->height, s->ls->v[l].id,
                           s->p->base + lround(f) * s->p->interval);
     }
     return 0;
@@ -263,8 +270,8 @@ static int inner_side(const td_line *l)
     size_t k;
     for (k = 0; k < l->n; k++) {
         size_t k1 = (k + 1) % l->n;
-        a += l->xy[2 * k] * l->xy[2 * k1 + 1] -
-             l->xy[2 * k1] * l->xy[2 * k + 1];
+        a +=
+            l->xy[2 * k] * l->xy[2 * k1 + 1] - l->xy[2 * k1] * l->xy[2 * k + 1];
     }
     /* y down: a > 0 is clockwise on the screen, inside on the right */
     return a > 0 ? 1 : 0;
@@ -295,10 +302,11 @@ static void label_on(hs *s, const td_ocr_read *r, size_t l, long level,
     if (c < 0)
         return;
     if (s->wlab[c] > 0 && s->llab[c] != (double)level)
-        td_label_warn(s->rep, "labels %g and %g on line %ld (near %.0f,%.0f) "
+        td_label_warn(s->rep,
+                      "labels %g and %g on line %ld (near %.0f,%.0f) "
                       "disagree; the solve decides",
-                      s->p->base + s->llab[c] * s->p->interval, r->value,
-                      L->id, r->x, r->y);
+                      s->p->base + s->llab[c] * s->p->interval, r->value, L->id,
+                      r->x, r->y);
     if (r->conf > s->clab[c]) {
         s->wlab[c] = W_LABEL;
         s->llab[c] = (double)level;
@@ -389,16 +397,16 @@ static void judge_labels(hs *s)
             r->why = "the other evidence disagrees";
             if (l >= 0 && (size_t)l < s->N)
                 c = td_faces_chunk_at(s->fx, (size_t)l,
-                                      nearest_vertex(&s->ls->v[l], r->x,
-                                                     r->y));
+                                      nearest_vertex(&s->ls->v[l], r->x, r->y));
             if (c >= 0 && ++overruled <= 5)
-                td_label_warn(s->rep, "label %s (near %.0f,%.0f) on line %ld "
+                td_label_warn(s->rep,
+                              "label %s (near %.0f,%.0f) on line %ld "
                               "disagrees with the other evidence; the solve "
-                              "gives %g", r->text, r->x, r->y,
-                              s->ls->v[l].id,
-                              s->p->base + (double)(s->band_prior[c] +
-                                                    s->kofs) *
-                                               s->p->interval);
+                              "gives %g",
+                              r->text, r->x, r->y, s->ls->v[l].id,
+                              s->p->base +
+                                  (double)(s->band_prior[c] + s->kofs) *
+                                      s->p->interval);
         }
     }
 }
@@ -422,8 +430,8 @@ static double ring_area(const td_line *l)
     size_t k;
     for (k = 0; k < l->n; k++) {
         size_t k1 = (k + 1) % l->n;
-        a += l->xy[2 * k] * l->xy[2 * k1 + 1] -
-             l->xy[2 * k1] * l->xy[2 * k + 1];
+        a +=
+            l->xy[2 * k] * l->xy[2 * k1 + 1] - l->xy[2 * k1] * l->xy[2 * k + 1];
     }
     return fabs(0.5 * a);
 }
@@ -518,7 +526,7 @@ static int setup_index(hs *s, td_ctx *cx)
     if (rc == 0) {
         if (!s->p->index_auto)
             td_label_warn(s->rep, "--index-every: the line widths show no "
-                          "thicker index contours; not used");
+                                  "thicker index contours; not used");
         return 0;
     }
     for (i = 0; i < s->N; i++) {
@@ -600,10 +608,10 @@ static int build_forest(hs *s, td_ctx *cx)
         const cedge *e = &s->ce[i];
         if (!s->intree[i])
             continue;
-        s->adj[s->adj_start[e->a] + deg[e->a]++] = (tedge){e->b, e->kind,
-                                                           e->id};
-        s->adj[s->adj_start[e->b] + deg[e->b]++] = (tedge){e->a, e->kind,
-                                                           e->id};
+        s->adj[s->adj_start[e->a] + deg[e->a]++] =
+            (tedge){e->b, e->kind, e->id};
+        s->adj[s->adj_start[e->b] + deg[e->b]++] =
+            (tedge){e->a, e->kind, e->id};
     }
     free(deg);
     return 0;
@@ -676,8 +684,10 @@ static int set_domain(hs *s, td_ctx *cx)
     s->kofs = lo - 2 * D - 2;
     s->K = (size_t)(hi - lo) + 4 * (size_t)D + 5;
     if (2 * s->K > MAX_CELLS / (s->V + 1))
-        return td_seterr(cx, TD_ENOMEM, "label: %zu lines over %zu levels "
-                         "are too many to solve at once", s->N, s->K);
+        return td_seterr(cx, TD_ENOMEM,
+                         "label: %zu lines over %zu levels "
+                         "are too many to solve at once",
+                         s->N, s->K);
     return 0;
 }
 
@@ -712,8 +722,9 @@ static double line_cost(const hs *s, size_t l, long a0, long a1)
     if (s->nknown[l] && (double)h != s->lknown[l])
         c += WKNOWN * s->nknown[l];
     if (s->wlab[l] > 0) { /* W (1 - confidence of the read giving h) */
-        double cf = (double)h == s->llab[l] ? s->clab[l]
-                    : (double)h == s->llab2[l] ? s->clab2[l] : 0.0;
+        double cf = (double)h == s->llab[l]    ? s->clab[l]
+                    : (double)h == s->llab2[l] ? s->clab2[l]
+                                               : 0.0;
         c += s->wlab[l] * (1.0 - cf);
     }
     if (s->idx[l]) {
@@ -817,8 +828,8 @@ static void solve_pass(hs *s)
         for (k = 0; k < K2; k++) {
             double a = s->up[(size_t)u * K2 + k];
             /* infinities: the parent state is impossible either way */
-            pre[k] = isinf(a) ? INFINITY
-                              : s->down[(size_t)u * K2 + k] + a - pre[k];
+            pre[k] =
+                isinf(a) ? INFINITY : s->down[(size_t)u * K2 + k] + a - pre[k];
         }
         pass_edge(s, c, pre, s->down + (size_t)c * K2, 1);
     }
@@ -830,8 +841,7 @@ static void decode(hs *s, long *band)
     size_t K2 = 2 * s->K, i;
     for (i = 0; s->order[i] != UINT32_MAX; i++) {
         uint32_t c = s->order[i];
-        const double *u = s->up + (size_t)c * K2,
-                     *d = s->down + (size_t)c * K2;
+        const double *u = s->up + (size_t)c * K2, *d = s->down + (size_t)c * K2;
         double best = INFINITY;
         size_t k, am = 0;
         for (k = 0; k < K2; k++)
@@ -847,8 +857,8 @@ static void decode(hs *s, long *band)
 static double line_gap(const hs *s, size_t l, double *H, long *hbest)
 {
     size_t K2 = 2 * s->K;
-    uint32_t c = s->par[2 * l] == 2 * l + 1 ? (uint32_t)(2 * l)
-                                             : (uint32_t)(2 * l + 1);
+    uint32_t c =
+        s->par[2 * l] == 2 * l + 1 ? (uint32_t)(2 * l) : (uint32_t)(2 * l + 1);
     const double *uc = s->up + (size_t)c * K2, *pre = s->msg + (size_t)c * K2;
     double b1 = INFINITY, b2 = INFINITY;
     long x, h1 = 0;
@@ -906,9 +916,9 @@ static int chunk_verdict(const hs *s, size_t c, int *src, double *conf)
     if (!s->comp_abs[s->comp[2 * c]])
         return 0;
     if (gB > GAP_EPS && s->band[c] == s->band_prior[c]) {
-        *src = s->nknown[c] && (double)h == s->lknown[c] ? TD_HS_KNOWN
+        *src = s->nknown[c] && (double)h == s->lknown[c]   ? TD_HS_KNOWN
                : s->wlab[c] > 0 && (double)h == s->llab[c] ? TD_HS_LABEL
-                                                            : TD_HS_SOLVED;
+                                                           : TD_HS_SOLVED;
         *conf = *src == TD_HS_KNOWN ? 1.0 : 1.0 - exp(-gB / CONF_SCALE);
         return 1;
     }
@@ -922,8 +932,8 @@ static int chunk_verdict(const hs *s, size_t c, int *src, double *conf)
 
 /* A run of chunks of one line with one height. */
 typedef struct run {
-    size_t c0, m;   /* first chunk, count (wrapping on closed lines) */
-    long h;         /* band index */
+    size_t c0, m; /* first chunk, count (wrapping on closed lines) */
+    long h;       /* band index */
     int decided;
     size_t nsrc[5]; /* chunks per source */
     double conf;    /* mean over its chunks (undecided: 0) */
@@ -994,8 +1004,8 @@ static void apply_run(const hs *s, td_line *l, const run *r)
     }
     for (k = 0; k < 5; k++)
         tot += r->nsrc[k];
-    l->hsource = r->nsrc[TD_HS_KNOWN]   ? TD_HS_KNOWN
-                 : r->nsrc[TD_HS_LABEL] ? TD_HS_LABEL
+    l->hsource = r->nsrc[TD_HS_KNOWN]                 ? TD_HS_KNOWN
+                 : r->nsrc[TD_HS_LABEL]               ? TD_HS_LABEL
                  : 2 * (r->nsrc[TD_HS_SOLVED]) >= tot ? TD_HS_SOLVED
                                                       : TD_HS_ASSUMED;
     l->confidence = l->hsource == TD_HS_KNOWN ? 1.0 : r->conf;
@@ -1145,7 +1155,8 @@ static int report_conflicts(hs *s, const long *node_band, td_ctx *cx)
     s->rep->conflicts = n;
     for (k = 0; k < n && k < 5 && v[2 * k] >= 8.0; k++) { /* 16 px and up */
         const td_face_edge *e = &s->fe[(size_t)v[2 * k + 1]];
-        td_label_warn(s->rep, "lines %ld and %ld border one face (%g probes, "
+        td_label_warn(s->rep,
+                      "lines %ld and %ld border one face (%g probes, "
                       "near %.0f,%.0f) but differ by %ld intervals: a gap or "
                       "two contours traced as one there",
                       s->ls->v[td_faces_chunk_line(s->fx, e->a / 2)].id,
@@ -1169,7 +1180,8 @@ static void report_known(hs *s)
         if (!s->nknown[c] || (double)h == s->lknown[c])
             continue;
         td_label_where(l, &x, &y);
-        td_label_warn(s->rep, "known height %g of line %ld (near %.0f,%.0f) "
+        td_label_warn(s->rep,
+                      "known height %g of line %ld (near %.0f,%.0f) "
                       "contradicts the other evidence; the solve gives %g",
                       s->p->base + s->lknown[c] * s->p->interval, l->id, x, y,
                       s->p->base + (double)h * s->p->interval);
@@ -1229,10 +1241,9 @@ static int alloc_all(hs *s, td_ctx *cx)
     s->gap_prior = td_calloc(C + 1, sizeof *s->gap_prior, cx);
     if (!s->lknown || !s->nknown || !s->llab || !s->wlab || !s->llab2 ||
         !s->clab || !s->clab2 || !s->idx || !s->ilen || !s->up_cost ||
-        !s->up_prior || !s->hole || !s->uf || !s->comp || !s->par || !s->order ||
-        !s->pkind || !s->pid || !s->adj_start || !s->compdepth ||
-        !s->comp_abs || !s->band || !s->band_prior || !s->gap ||
-        !s->gap_prior)
+        !s->up_prior || !s->hole || !s->uf || !s->comp || !s->par ||
+        !s->order || !s->pkind || !s->pid || !s->adj_start || !s->compdepth ||
+        !s->comp_abs || !s->band || !s->band_prior || !s->gap || !s->gap_prior)
         return TD_ENOMEM;
     return 0;
 }
@@ -1278,9 +1289,11 @@ static void debug_print(const hs *s)
         }
     for (j = 0; j < s->nce; j++)
         nt += s->intree[j] && s->ce[j].kind != E_LINE;
-    fprintf(stderr, "heights: %zu lines, %zu chunks, %zu face edges, %zu "
+    fprintf(stderr,
+            "heights: %zu lines, %zu chunks, %zu face edges, %zu "
             "edges besides lines in the forest, %zu components (%zu with "
-            "evidence), K %zu\n", s->N, s->C, s->nfe, nt, nc, na, s->K);
+            "evidence), K %zu\n",
+            s->N, s->C, s->nfe, nt, nc, na, s->K);
 }
 
 static int solve_all(hs *s, td_ctx *cx)
@@ -1445,21 +1458,25 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
     double I;
     int rc, N = 0;
     if (p->nlabels == 0)
-        return td_seterr(cx, TD_EINVAL, "no interval: give --interval I "
+        return td_seterr(cx, TD_EINVAL,
+                         "no interval: give --interval I "
                          "(no printed labels were read to infer it from)");
     if ((rc = infer_interval(ls, p, &I, &N, cx)) != 0)
         return rc;
     if (!(I > 0))
-        return td_seterr(cx, TD_EINVAL, "no interval: the %zu labels read "
-                         "share no interval; give --interval I", p->nlabels);
+        return td_seterr(cx, TD_EINVAL,
+                         "no interval: the %zu labels read "
+                         "share no interval; give --interval I",
+                         p->nlabels);
     q.interval = I;
     q.index_every = N;
     q.index_auto = p->index_every <= 0;
     if ((rc = td_heights_solve(ls, &q, rep, cx)) != 0)
         return rc;
-    td_label_warn(rep, "interval %g inferred from %zu printed labels, index "
-                  "contours every %d (give --interval to set it)", I,
-                  p->nlabels, N);
+    td_label_warn(rep,
+                  "interval %g inferred from %zu printed labels, index "
+                  "contours every %d (give --interval to set it)",
+                  I, p->nlabels, N);
     return 0;
 }
 
@@ -1487,8 +1504,7 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
     rc = td_faces_edges(s.fx, &s.fe, &s.nfe, cx);
     if (getenv("TD_DEBUG_HEIGHTS"))
         fprintf(stderr, "heights: faces %.3f s\n", td_now() - t0);
-    if (rc != 0 ||
-        (rc = alloc_all(&s, cx)) != 0 ||
+    if (rc != 0 || (rc = alloc_all(&s, cx)) != 0 ||
         (rc = touched_nodes(&s, &touched, cx)) != 0 ||
         (rc = setup_known(&s, cx)) != 0)
         goto fail;

@@ -95,8 +95,7 @@ static void strip_free(strip *s)
 }
 
 /* Scan px of strip cell (i, j): along the chord i, across j (down). */
-static void strip_xy(const strip *s, double i, double j, double *x,
-                     double *y)
+static void strip_xy(const strip *s, double i, double j, double *x, double *y)
 {
     double u = i + 0.5 - 0.5 * s->w, v = j + 0.5 - 0.5 * s->h;
     *x = s->cx + u * s->ux - v * s->uy;
@@ -165,8 +164,8 @@ static int sample_strip(const td_image *im, const cand *c, strip *s)
         return 1;
     s->cx = c->cx, s->cy = c->cy, s->ux = c->ux, s->uy = c->uy;
     s->w = (int)ceil(c->along + 40); /* room for digits not traced */
-    s->h = (int)ceil(fmin(fmax(fmax(0.9 * c->along, 3.0 * c->across), 24.0),
-                          80.0));
+    s->h = (int)ceil(
+        fmin(fmax(fmax(0.9 * c->along, 3.0 * c->across), 24.0), 80.0));
     if (s->w > MAX_STRIP)
         return 1;
     s->g = malloc((size_t)s->w * s->h * sizeof *s->g);
@@ -439,8 +438,7 @@ static long clusters(const td_lines *pc, cand **out)
     }
     for (i = 0; i < n; i++)
         for (j = i + 1; j < n; j++)
-            if (pc->v[i].n && pc->v[j].n &&
-                box[4 * i] - 6 <= box[4 * j + 2] &&
+            if (pc->v[i].n && pc->v[j].n && box[4 * i] - 6 <= box[4 * j + 2] &&
                 box[4 * j] - 6 <= box[4 * i + 2] &&
                 box[4 * i + 1] - 6 <= box[4 * j + 3] &&
                 box[4 * j + 1] - 6 <= box[4 * i + 3])
@@ -516,9 +514,11 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
         TessBaseAPIDelete(api);
         free(v);
         free(cs);
-        return td_seterr(cx, TD_EIO, "labels: Tesseract's English model "
+        return td_seterr(cx, TD_EIO,
+                         "labels: Tesseract's English model "
                          "(eng.traineddata) not found%s%s: install "
-                         "tesseract-ocr-eng", p->tessdata ? " in " : "",
+                         "tesseract-ocr-eng",
+                         p->tessdata ? " in " : "",
                          p->tessdata ? p->tessdata : "");
     }
     TessBaseAPISetPageSegMode(api, PSM_SINGLE_LINE);
@@ -535,8 +535,10 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
             rc = -2;
     }
     if (getenv("TD_DEBUG_OCR"))
-        fprintf(stderr, "ocr: %zu pieces, %ld candidates, %zu reads, %d "
-                "Tesseract calls %.3f s\n", pieces->n, nc, m, ncalls, tcalls);
+        fprintf(stderr,
+                "ocr: %zu pieces, %ld candidates, %zu reads, %d "
+                "Tesseract calls %.3f s\n",
+                pieces->n, nc, m, ncalls, tcalls);
     free(cs);
     TessBaseAPIEnd(api);
     TessBaseAPIDelete(api);
@@ -605,8 +607,9 @@ size_t td_ocr_drop_digits(td_lines *ls, td_ocr_read *r, size_t n)
             in = 1;
             for (k = 0; k < l->n && in; k++) {
                 double x = l->xy[2 * k] - r[j].x, y = l->xy[2 * k + 1] - r[j].y;
-                in = fabs(x * r[j].ux + y * r[j].uy) <= 0.5 * r[j].len + 3 &&
-                     fabs(-x * r[j].uy + y * r[j].ux) <= 0.5 * r[j].digit_px + 3;
+                in =
+                    fabs(x * r[j].ux + y * r[j].uy) <= 0.5 * r[j].len + 3 &&
+                    fabs(-x * r[j].uy + y * r[j].ux) <= 0.5 * r[j].digit_px + 3;
             }
         }
         if (in) { /* the reads' line indexes follow the removal */

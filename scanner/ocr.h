@@ -26,22 +26,22 @@ extern "C" {
 #endif
 
 typedef struct td_ocr_read {
-    double x, y;       /* the label's middle, scan px */
-    double ux, uy;     /* reading direction as read: the text's top is
-                          towards (uy, -ux) on the screen */
-    double digit_px;   /* height of the digits on the scan */
-    double len;        /* length of the text along (ux, uy), px */
-    double value;      /* the number read */
-    double conf;       /* Tesseract's confidence, 0..1 */
-    double alt_value;  /* the read of the text turned half round, when it
-                          is a number too (the labeller weighs both) */
-    double alt_conf;   /* its confidence, 0 when there is none */
-    long line[2];      /* indexes into the lines: the line through the
-                          label (a joined gap), or the one or two lines
-                          ending at it (a gap left open); -1: none */
-    char text[24];     /* the text read */
-    int used;          /* the labeller took it (set by td_label_auto) */
-    const char *why;   /* static: why it was not used, or NULL */
+    double x, y;      /* the label's middle, scan px */
+    double ux, uy;    /* reading direction as read: the text's top is
+                         towards (uy, -ux) on the screen */
+    double digit_px;  /* height of the digits on the scan */
+    double len;       /* length of the text along (ux, uy), px */
+    double value;     /* the number read */
+    double conf;      /* Tesseract's confidence, 0..1 */
+    double alt_value; /* the read of the text turned half round, when it
+                         is a number too (the labeller weighs both) */
+    double alt_conf;  /* its confidence, 0 when there is none */
+    long line[2];     /* indexes into the lines: the line through the
+                         label (a joined gap), or the one or two lines
+                         ending at it (a gap left open); -1: none */
+    char text[24];    /* the text read */
+    int used;         /* the labeller took it (set by td_label_auto) */
+    const char *why;  /* static: why it was not used, or NULL */
 } td_ocr_read;
 
 typedef struct td_ocr_params {
@@ -62,9 +62,9 @@ td_ocr_params td_ocr_defaults(void);
  * as numbers with conf >= min_conf.  Returns 0, TD_EIO (Tesseract or its
  * English model missing: the message says what to install) or
  * TD_ENOMEM. */
-int td_ocr_labels(const td_image *im, const td_lines *ls,
-                  const td_lines *gaps, const td_ocr_params *p,
-                  td_ocr_read **out, size_t *n, td_ctx *cx);
+int td_ocr_labels(const td_image *im, const td_lines *ls, const td_lines *gaps,
+                  const td_ocr_params *p, td_ocr_read **out, size_t *n,
+                  td_ctx *cx);
 
 /* The label pieces of a scan (td_scan with join.record: the label-gap
  * joins and removed text in *join) and the small closed lines of its
@@ -73,9 +73,9 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
  * before and edited). */
 struct td_join_stats;
 int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
-                       const struct td_join_stats *join,
-                       const td_lines *assoc, const td_ocr_params *p,
-                       td_ocr_read **out, size_t *n, td_ctx *cx);
+                       const struct td_join_stats *join, const td_lines *assoc,
+                       const td_ocr_params *p, td_ocr_read **out, size_t *n,
+                       td_ctx *cx);
 
 /* Box every label read on the RGB picture im (src/draw.h): a box along
  * the text, dark blue when the labeller used it, grey when not. */

@@ -99,8 +99,9 @@ static void test_probes_parallel(void)
     f = td_faces_new(ls, 200, 100, NULL, NULL);
     TT_CHECK(f && td_faces_edges(f, &e, &n, NULL) == 0);
     TT_CHECKF(n == 1 && e[0].a == 1 && e[0].b == 2 && e[0].w >= 45 &&
-              e[0].w <= 55, "%zu edges, first %u-%u w %g", n,
-              n ? e[0].a : 0, n ? e[0].b : 0, n ? e[0].w : 0);
+                  e[0].w <= 55,
+              "%zu edges, first %u-%u w %g", n, n ? e[0].a : 0, n ? e[0].b : 0,
+              n ? e[0].w : 0);
     free(e);
     td_faces_free(f);
     td_lines_free(ls);
@@ -108,8 +109,8 @@ static void test_probes_parallel(void)
 
 /* A sheet drawn from a real DEM, scanned and labelled with three known
  * points on index contours (and the index widths when asked). */
-static void real_sheet(const char *dem, double scale, int scanned,
-                       int index, double min_acc)
+static void real_sheet(const char *dem, double scale, int scanned, int index,
+                       double min_acc)
 {
     char path[256];
     td_grid_f32 *src = NULL;
@@ -136,11 +137,15 @@ static void real_sheet(const char *dem, double scale, int scanned,
     hs.nknown = 3;
     hs.index_every = index ? 5 : 0;
     TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
-    TT_CHECKF(hs.score.accuracy >= min_acc, "%s x%g %s%s: accuracy %.3f < "
-              "%.2f", dem, scale, scanned ? "scanned" : "clean",
-              index ? " +index" : "", hs.score.accuracy, min_acc);
-    TT_CHECKF(hs.score.n_wrong_sure == 0, "%s: %ld lines wrong with "
-              "confidence >= 0.9", dem, hs.score.n_wrong_sure);
+    TT_CHECKF(hs.score.accuracy >= min_acc,
+              "%s x%g %s%s: accuracy %.3f < "
+              "%.2f",
+              dem, scale, scanned ? "scanned" : "clean", index ? " +index" : "",
+              hs.score.accuracy, min_acc);
+    TT_CHECKF(hs.score.n_wrong_sure == 0,
+              "%s: %ld lines wrong with "
+              "confidence >= 0.9",
+              dem, hs.score.n_wrong_sure);
     td_label_report_free(&hs.rep);
     td_grid_f32_free(src);
 }
@@ -178,8 +183,10 @@ static void labelled_sheet(const char *dem, double scale, double want_i,
               hs.nreads);
     TT_CHECKF(hs.interval == want_i, "%s: interval %g inferred, not %g", dem,
               hs.interval, want_i);
-    TT_CHECKF(hs.score.accuracy >= min_acc, "%s labels only: accuracy %.3f < "
-              "%.2f", dem, hs.score.accuracy, min_acc);
+    TT_CHECKF(hs.score.accuracy >= min_acc,
+              "%s labels only: accuracy %.3f < "
+              "%.2f",
+              dem, hs.score.accuracy, min_acc);
     TT_CHECK(hs.score.n_wrong_sure == 0);
     TT_CHECK(hs.rep.by_source[TD_HS_LABEL] > 0);
     td_label_report_free(&hs.rep);

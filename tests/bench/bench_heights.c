@@ -72,9 +72,9 @@ int main(int argc, char **argv)
             a++; /* make bench's common options */
     }
     printf("%-11s %-7s %-13s %6s %6s %6s  %5s %5s %5s %5s %5s  %5s %6s "
-           "%5s %9s %5s\n", "sheet", "scan", "hints", "lines", "acc", "null",
-           "known", "solvd", "assum", "none", "sure!", "confl", "secs",
-           "own", "labels", "intvl");
+           "%5s %9s %5s\n",
+           "sheet", "scan", "hints", "lines", "acc", "null", "known", "solvd",
+           "assum", "none", "sure!", "confl", "secs", "own", "labels", "intvl");
     for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         const sheet_case *k = &cases[c];
         td_grid_f32 *src = NULL;
@@ -118,8 +118,8 @@ int main(int argc, char **argv)
                 hs.method = tree ? TD_LABEL_TREE : TD_LABEL_FACES;
                 hs.paper_junctions = paperj;
                 if (png) {
-                    snprintf(path, sizeof path, "%s/%s_%d_%d.png", png,
-                             k->name, scanned, hint);
+                    snprintf(path, sizeof path, "%s/%s_%d_%d.png", png, k->name,
+                             scanned, hint);
                     hs.png = path;
                 }
                 if (td_hsheet_run(&hs, logit ? stdout : NULL, &cx) != 0) {
@@ -128,7 +128,9 @@ int main(int argc, char **argv)
                            : scanned == 1 ? "clean"
                            : scanned == 2 ? "scanned"
                                           : "colour",
-                           hint == 0 ? "3 known" : hint == 1 ? "3 known+index" : "labels only",
+                           hint == 0   ? "3 known"
+                           : hint == 1 ? "3 known+index"
+                                       : "labels only",
                            td_errmsg(&cx));
                     td_ctx_clear(&cx);
                     td_label_report_free(&hs.rep);
@@ -141,17 +143,17 @@ int main(int argc, char **argv)
                        : scanned == 1 ? "clean"
                        : scanned == 2 ? "scanned"
                                       : "colour",
-                       hint == 0 ? "3 known" : hint == 1 ? "3 known+index" : "labels only", hs.traced,
-                       hs.score.accuracy,
-                       hs.score.null_len /
-                           (hs.score.right + hs.score.wrong +
-                            hs.score.null_len + 1e-9),
+                       hint == 0   ? "3 known"
+                       : hint == 1 ? "3 known+index"
+                                   : "labels only",
+                       hs.traced, hs.score.accuracy,
+                       hs.score.null_len / (hs.score.right + hs.score.wrong +
+                                            hs.score.null_len + 1e-9),
                        hs.rep.by_source[TD_HS_KNOWN] +
                            hs.rep.by_source[TD_HS_LABEL],
                        hs.rep.by_source[TD_HS_SOLVED],
                        hs.rep.by_source[TD_HS_ASSUMED], hs.rep.undetermined,
-                       hs.score.n_wrong_sure, hs.rep.conflicts,
-                       hs.label_secs,
+                       hs.score.n_wrong_sure, hs.rep.conflicts, hs.label_secs,
                        hs.score.own / (hs.score.right + hs.score.wrong +
                                        hs.score.null_len + 1e-9),
                        hs.reads_right, hs.nreads, hs.interval);

@@ -64,9 +64,9 @@ static int pick_known(const td_lines *tl, double interval, int n,
 static int draw_verdicts(const td_hsheet *hs, const td_image *im,
                          const td_lines *ls, const int *verdict, td_ctx *cx)
 {
-    static const uint8_t col[6][3] = {{0, 160, 0},   {230, 0, 0},
+    static const uint8_t col[6][3] = {{0, 160, 0},     {230, 0, 0},
                                       {150, 150, 150}, {200, 200, 255},
-                                      {0, 90, 255},  {255, 140, 0}};
+                                      {0, 90, 255},    {255, 140, 0}};
     td_image *out = td_image_new(im->w, im->h, 3, cx);
     size_t i;
     int x, y, rc;
@@ -74,8 +74,8 @@ static int draw_verdicts(const td_hsheet *hs, const td_image *im,
         return TD_ENOMEM;
     for (y = 0; y < im->h; y++)
         for (x = 0; x < im->w; x++) {
-            const uint8_t *s = im->data + (size_t)y * im->stride +
-                               (size_t)x * im->channels;
+            const uint8_t *s =
+                im->data + (size_t)y * im->stride + (size_t)x * im->channels;
             uint8_t *d = out->data + (size_t)y * out->stride + 3 * (size_t)x;
             int c;
             for (c = 0; c < 3; c++)
@@ -105,8 +105,7 @@ static int copy_lines(const td_lines *in, td_lines **out, td_ctx *cx)
         l->width = in->v[i].width;
         l->edge = in->v[i].edge;
         for (k = 0; k < in->v[i].n; k++)
-            if (td_line_push(l, in->v[i].xy[2 * k], in->v[i].xy[2 * k + 1],
-                             cx))
+            if (td_line_push(l, in->v[i].xy[2 * k], in->v[i].xy[2 * k + 1], cx))
                 return TD_ENOMEM;
     }
     return 0;
@@ -133,10 +132,10 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
         size_t i;
         for (i = 0; i < tl->n; i++) { /* the ink widths as drawn */
             double k = (tl->v[i].height - hs->gp.base) / hs->interval / 5;
-            tl->v[i].width = hs->gp.index_width > 0 &&
-                                     fabs(k - floor(k + 0.5)) < 1e-6
-                                 ? hs->gp.index_width
-                                 : hs->gp.line_width;
+            tl->v[i].width =
+                hs->gp.index_width > 0 && fabs(k - floor(k + 0.5)) < 1e-6
+                    ? hs->gp.index_width
+                    : hs->gp.line_width;
         }
     }
     if (hs->use_truth_lines) {
@@ -159,8 +158,8 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
             for (i = 0; i < hs->nreads; i++) { /* right: the true line under */
                 double bd = HUGE_VAL, th = 0;
                 for (j = 0; j < tl->n; j++) {
-                    double d = td_contain_dist(&tl->v[j], reads[i].x,
-                                               reads[i].y);
+                    double d =
+                        td_contain_dist(&tl->v[j], reads[i].x, reads[i].y);
                     if (d < bd)
                         bd = d, th = tl->v[j].height;
                 }
@@ -191,8 +190,8 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
         if (!verdict)
             rc = TD_ENOMEM;
         if (rc == 0)
-            rc = td_match_heights_v(tl, ls, im->w, im->h, 2.0, &hs->score,
-                                    log, verdict);
+            rc = td_match_heights_v(tl, ls, im->w, im->h, 2.0, &hs->score, log,
+                                    verdict);
         if (rc == 0 && hs->png)
             rc = draw_verdicts(hs, im, ls, verdict, cx);
         free(verdict);

@@ -9,23 +9,23 @@
 #include "match.h"
 
 typedef struct td_hsheet {
-    td_gen_params gp;     /* the sheet (terrain, dem_in, size, defects) */
-    int nknown;           /* known points on index contours (0..8) */
-    int index_every;      /* pass --index-every (0: no) */
-    int use_truth_lines;  /* label the truth lines, not the traced ones */
-    int paper_junctions;  /* trace through junctions as the paper does */
-    int read_labels;      /* read the printed labels (scanner/ocr.h) and
-                             give them to the labeller */
-    int no_interval;      /* infer the interval from the labels */
+    td_gen_params gp;           /* the sheet (terrain, dem_in, size, defects) */
+    int nknown;                 /* known points on index contours (0..8) */
+    int index_every;            /* pass --index-every (0: no) */
+    int use_truth_lines;        /* label the truth lines, not the traced ones */
+    int paper_junctions;        /* trace through junctions as the paper does */
+    int read_labels;            /* read the printed labels (scanner/ocr.h) and
+                                   give them to the labeller */
+    int no_interval;            /* infer the interval from the labels */
     size_t nreads, reads_right; /* labels read; read right (the value of
                                    the true line under them) */
     td_labeller method;
-    const char *png;      /* when set: the verdicts drawn over the sheet
-                             (green right, red wrong, blue assumed and
-                             right, orange assumed and wrong, grey none) */
+    const char *png; /* when set: the verdicts drawn over the sheet
+                        (green right, red wrong, blue assumed and
+                        right, orange assumed and wrong, grey none) */
     /* results */
     td_hscore score;
-    td_label_report rep;  /* the labeller's report (free it) */
+    td_label_report rep; /* the labeller's report (free it) */
     size_t traced, truth;
     double interval, label_secs;
 } td_hsheet;
