@@ -43,6 +43,9 @@
 #define PLINE 1000.0
 #define WKNOWN 1000.0
 #define WFACE 2.0
+#define MIN_BREAK 60.0 /* the least a face edge costs to break: more than
+                          one label read wrong (40), so a misread cannot
+                          tear a small line out of the topology */
 #define WCONT 24.0 /* a chunk continues its line: same state */
 #define CHUNK 48.0 /* px of arc per chunk */
 #define W_INDEX 3.0
@@ -781,7 +784,8 @@ static void pass_edge(const hs *s, uint32_t c, const double *in, double *out,
         for (x = 0; x < K2; x++)
             out[x] = in[x] < m ? in[x] : m;
     } else {
-        double m[2] = {INFINITY, INFINITY}, wf = WFACE * s->fe[s->pid[c]].w,
+        double m[2] = {INFINITY, INFINITY},
+               wf = fmax(WFACE * s->fe[s->pid[c]].w, MIN_BREAK),
                fo = fold_w(s, c);
         for (x = 0; x < K2; x++)
             m[x & 1] = in[x] < m[x & 1] ? in[x] : m[x & 1];
@@ -1392,9 +1396,10 @@ static double share_on(const td_label_params *p, double S)
 /* With no interval given.  Labels sit on index contours, every Nth line
  * (N = --index-every, else 5, 4, 10 or 2) at a nice interval I (1, 2,
  * 2.5, 5 x 10^k): the label step S is the largest N x I that at least 80%
- * of the values are multiples of, and the interval the nice S / N with
- * the cheapest solve (labels off it counted at their weight, spacings of
- * index lines rarer than every 5th a little). */
+ * of the values are multiples of (or one of the two largest that half of
+ * them are: misreads), and the interval the nice S / N with the cheapest
+ * solve (labels off it counted at their weight, spacings of index lines
+ * rarer than every 5th a little). */
 static int infer_interval(const td_lines *ls, const td_label_params *p,
                           double *best_i, int *best_n, td_ctx *cx)
 {
@@ -1402,51 +1407,61 @@ static int infer_interval(const td_lines *ls, const td_label_params *p,
     static const int every[4] = {5, 4, 10, 2};
     /* how much rarer than every 5th each spacing of index lines is */
     static const double rarer[4] = {0.0, 8.0, 15.0, 15.0};
-    double dec, S = 0, best = HUGE_VAL;
+    double dec, Ss[3] = {0, 0, 0}, best = HUGE_VAL;
     size_t i;
-    int k, rc;
+    int k, rc, si;
     *best_i = 0;
-    for (dec = 0.001; dec <= 1e6; dec *= 10) /* S = N x a nice interval */
+    /* the steps S = N x a nice interval: the largest that 80% of the
+     * values fit, and the two largest that half of them fit (a few
+     * misreads) */
+    for (dec = 0.001; dec <= 1e6; dec *= 10)
         for (k = 0; k < 4; k++) {
             int j;
             for (j = 0; j < 4; j++) {
-                double c = nice[k] * dec * every[j];
-                if (c > S && share_on(p, c) >= 0.8)
-                    S = c;
+                double c = nice[k] * dec * every[j], sh = share_on(p, c);
+                if (sh >= 0.8 && c > Ss[0])
+                    Ss[0] = c;
+                if (sh >= 0.5 && c > Ss[1])
+                    Ss[2] = Ss[1], Ss[1] = c;
+                else if (sh >= 0.5 && c > Ss[2] && c != Ss[1])
+                    Ss[2] = c;
             }
         }
-    if (!(S > 0))
-        return 0;
-    for (k = 0; k < 4; k++) {
-        int N = p->index_every > 0 ? p->index_every : every[k];
-        double I = S / N;
-        double cost = p->index_every > 0 ? 0.0 : rarer[k];
-        td_label_params q = *p;
-        td_label_report r;
-        td_lines *c = NULL;
-        if ((p->index_every > 0 && k > 0) || !is_nice(I))
-            continue;
-        for (i = 0; i < p->nlabels; i++) {
-            double f = (p->labels[i].value - p->base) / I;
-            if (fabs(f - lround(f)) > 1e-6)
-                cost += W_LABEL * p->labels[i].conf;
+    for (si = 0; si < 3; si++)
+        for (k = 0; k < 4; k++) {
+            int N = p->index_every > 0 ? p->index_every : every[k];
+            double S = Ss[si], I = S / N;
+            double cost = p->index_every > 0 ? 0.0 : rarer[k];
+            td_label_params q = *p;
+            td_label_report r;
+            td_lines *c = NULL;
+            if (!(S > 0) || (si > 0 && (S == Ss[0] || (si == 2 &&
+                                                       S == Ss[1]))) ||
+                (p->index_every > 0 && k > 0) || !is_nice(I))
+                continue;
+            for (i = 0; i < p->nlabels; i++) {
+                double f = (p->labels[i].value - p->base) / I;
+                if (fabs(f - lround(f)) > 1e-6)
+                    cost += W_LABEL * p->labels[i].conf;
+            }
+            q.interval = I;
+            q.index_every = N; /* the widths speak when index lines are
+                                  thick */
+            q.index_auto = 1;
+            memset(&r, 0, sizeof r);
+            if ((rc = copy_lines(ls, &c, cx)) == 0)
+                rc = td_heights_solve(c, &q, &r, cx);
+            td_lines_free(c);
+            cost += r.cost;
+            td_label_report_free(&r);
+            if (rc)
+                return rc;
+            if (getenv("TD_DEBUG_HEIGHTS"))
+                fprintf(stderr, "interval %g (step %g): cost %g\n", I, S,
+                        cost);
+            if (cost < best - 1e-9)
+                best = cost, *best_i = I, *best_n = N;
         }
-        q.interval = I;
-        q.index_every = N; /* the widths speak when index lines are thick */
-        q.index_auto = 1;
-        memset(&r, 0, sizeof r);
-        if ((rc = copy_lines(ls, &c, cx)) == 0)
-            rc = td_heights_solve(c, &q, &r, cx);
-        td_lines_free(c);
-        cost += r.cost;
-        td_label_report_free(&r);
-        if (rc)
-            return rc;
-        if (getenv("TD_DEBUG_HEIGHTS"))
-            fprintf(stderr, "interval %g (step %g): cost %g\n", I, S, cost);
-        if (cost < best - 1e-9)
-            best = cost, *best_i = I, *best_n = N;
-    }
     return 0;
 }
 

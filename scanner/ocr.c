@@ -349,11 +349,21 @@ static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
         s.paper = s.g[i] > s.paper ? s.g[i] : s.paper;
     }
     rc = 1;
-    if (s.paper - s.ink < 40 || (k = components(&s, t, b)) <= 0) {
+    if (s.paper - s.ink < 40 || (k = components(&s, t, b)) < 0) {
         rc = k < 0 ? -1 : 1;
         goto done;
     }
-    if (!text_like(&s, k, b))
+    if ((k == 0 || !text_like(&s, k, b)) && t > 0.5 * (s.ink + s.paper)) {
+        /* Otsu's rule, pulled towards the paper by the few ink pixels,
+         * can merge blurred brown digits on cream into one blob: again
+         * halfway between ink and paper */
+        memset(s.keep, 0, (size_t)s.w * s.h + 1);
+        if ((k = components(&s, 0.5 * (s.ink + s.paper), b)) < 0) {
+            rc = -1;
+            goto done;
+        }
+    }
+    if (k == 0 || !text_like(&s, k, b))
         goto done;
     if (digits_image(&s, b, p->digit_px, &img, &w, &h) != 0)
         goto done;
