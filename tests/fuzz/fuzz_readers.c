@@ -5,7 +5,9 @@
  * then as a DEM (td_dem_read) and as GeoJSON lines (td_geojson_read_lines);
  * lines that read, with every point within a 512 x 512 sheet (a margin
  * outside allowed), go on through the homotopy stage (td_ridges_find,
- * td_ridges_paths, td_interp_lines --method homotopy).
+ * td_ridges_paths, td_interp_lines --method homotopy) and the faces
+ * labeller (td_label_auto: a known point, and a printed label with the
+ * interval left to infer).
  * Run with ASAN_OPTIONS=allocator_may_return_null=1 so a DEM header of
  * 2^31 cells is an allocation failure, not a report. */
 #define _POSIX_C_SOURCE 200809L
@@ -14,6 +16,7 @@
 #include "lines.h"
 #include "interp/homotopy.h"
 #include "interp/rasterise.h"
+#include "scanner/label.h"
 
 #include <math.h>
 
@@ -92,6 +95,51 @@ static void fuzz_homotopy(const td_lines *ls)
     td_grid_f32_free(dem);
 }
 
+/* The faces labeller on copies of the lines: a known point on the first
+ * line, and a label on the last with the interval to infer. */
+static void fuzz_heights(const td_lines *ls)
+{
+    int pass;
+    for (pass = 0; pass < 2; pass++) {
+        td_label_params p = td_label_defaults();
+        td_label_report rep;
+        td_label_point kp;
+        td_ocr_read rd;
+        td_lines *c = td_lines_new(NULL);
+        const td_line *a = &ls->v[0], *b = &ls->v[ls->n - 1];
+        size_t i, k;
+        td_ctx cx;
+        td_ctx_init(&cx);
+        for (i = 0; c && i < ls->n; i++) {
+            td_line *l = td_lines_add(c, NULL);
+            for (k = 0; l && k < ls->v[i].n; k++)
+                td_line_push(l, ls->v[i].xy[2 * k], ls->v[i].xy[2 * k + 1],
+                             NULL);
+            if (l)
+                l->closed = ls->v[i].closed, l->width = ls->v[i].width;
+        }
+        if (!c || a->n == 0 || b->n == 0) {
+            td_lines_free(c);
+            return;
+        }
+        p.w = p.h = FUZZ_SHEET;
+        memset(&rd, 0, sizeof rd);
+        if (pass == 0) {
+            kp.x = a->xy[0], kp.y = a->xy[1], kp.height = 100, kp.id = -1;
+            p.interval = 10, p.known = &kp, p.nknown = 1, p.index_every = 5;
+        } else {
+            rd.x = b->xy[2 * (b->n / 2)], rd.y = b->xy[2 * (b->n / 2) + 1];
+            rd.ux = 1, rd.digit_px = 12, rd.len = 30, rd.value = 250;
+            rd.conf = 0.9, rd.line[0] = (long)ls->n - 1, rd.line[1] = -1;
+            p.labels = &rd, p.nlabels = 1;
+        }
+        if (td_label_auto(c, &p, &rep, &cx) != 0 && !cx.msg[0])
+            abort(); /* a failure always says why */
+        td_label_report_free(&rep);
+        td_lines_free(c);
+    }
+}
+
 /* The same file as a DEM and as GeoJSON lines: either reads it or fails
  * with a message. */
 static void fuzz_dem_and_lines(void)
@@ -109,8 +157,10 @@ static void fuzz_dem_and_lines(void)
     if (td_geojson_read_lines(fuzz_path, NULL, &ls, NULL, &cx) != 0) {
         if (!cx.msg[0])
             abort();
-    } else if (ls->n > 0 && on_sheet(ls))
+    } else if (ls->n > 0 && on_sheet(ls)) {
         fuzz_homotopy(ls);
+        fuzz_heights(ls);
+    }
     td_lines_free(ls);
 }
 
