@@ -11,6 +11,7 @@
 #include <string.h>
 
 #define CELL 8
+#define SIMPLIFY 0.6 /* px: traced staircases simplified before indexing */
 
 struct td_faces {
     const td_lines *ls;
@@ -19,6 +20,10 @@ struct td_faces {
     uint32_t *seg;   /* pairs: line index, first vertex index */
     unsigned char *used;
     double *len;      /* per line: its length */
+    td_lines *sl;     /* per used line: simplified (Douglas-Peucker,
+                         SIMPLIFY px) for the index and the probes */
+    size_t *soff;     /* per line: offset of its simplified vertices */
+    uint32_t *sorig;  /* per simplified vertex: its vertex in the line */
     size_t *voff;     /* per line: offset of its vertices in vchunk */
     uint32_t *vchunk; /* per vertex: its chunk (segment k: vertex k's) */
     uint32_t *cline;  /* per chunk: its line */
@@ -63,7 +68,7 @@ static void bin_segments(td_faces *f, int pass, uint32_t *fill)
 {
     size_t i, k;
     for (i = 0; i < f->ls->n; i++) {
-        const td_line *l = &f->ls->v[i];
+        const td_line *l = &f->sl->v[i];
         if (!f->used[i])
             continue;
         for (k = 0; k < nsegs(l); k++) {
@@ -87,6 +92,77 @@ static void bin_segments(td_faces *f, int pass, uint32_t *fill)
                 }
         }
     }
+}
+
+/* Douglas-Peucker keep flags for the vertices of l (first and last kept);
+ * stack of size n. */
+static void dp_keep(const td_line *l, unsigned char *keep, size_t *stack)
+{
+    size_t sp = 0;
+    keep[0] = keep[l->n - 1] = 1;
+    stack[sp++] = 0;
+    stack[sp++] = l->n - 1;
+    while (sp >= 2) {
+        size_t b = stack[--sp], a = stack[--sp], k, far = a;
+        double ax = l->xy[2 * a], ay = l->xy[2 * a + 1];
+        double dx = l->xy[2 * b] - ax, dy = l->xy[2 * b + 1] - ay;
+        double L = sqrt(dx * dx + dy * dy), best = SIMPLIFY;
+        for (k = a + 1; k < b; k++) {
+            double px = l->xy[2 * k] - ax, py = l->xy[2 * k + 1] - ay;
+            double d =
+                L > 0 ? fabs(px * dy - py * dx) / L : sqrt(px * px + py * py);
+            if (d > best)
+                best = d, far = k;
+        }
+        if (far != a) {
+            keep[far] = 1;
+            stack[sp++] = a, stack[sp++] = far;
+            stack[sp++] = far, stack[sp++] = b;
+        }
+    }
+}
+
+/* The simplified lines and their vertices' places in the lines. */
+static int simplify_all(td_faces *f, td_ctx *cx)
+{
+    size_t i, k, nmax = 2, tot = 0;
+    unsigned char *keep;
+    size_t *stack;
+    for (i = 0; i < f->ls->n; i++)
+        nmax = f->ls->v[i].n > nmax ? f->ls->v[i].n : nmax;
+    if (!(f->sl = td_lines_new(cx)) ||
+        !(f->soff = td_calloc(f->ls->n + 1, sizeof *f->soff, cx)) ||
+        !(f->sorig = td_malloc((f->voff[f->ls->n] + 1) * sizeof *f->sorig, cx)))
+        return TD_ENOMEM;
+    keep = td_malloc(nmax, cx);
+    stack = td_malloc(2 * nmax * sizeof *stack, cx);
+    if (!keep || !stack) {
+        free(keep);
+        free(stack);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < f->ls->n; i++) {
+        const td_line *l = &f->ls->v[i];
+        td_line *o = td_lines_add(f->sl, cx);
+        f->soff[i] = tot;
+        if (!o)
+            break;
+        o->closed = l->closed;
+        if (!f->used[i])
+            continue;
+        memset(keep, 0, l->n);
+        dp_keep(l, keep, stack);
+        for (k = 0; k < l->n; k++)
+            if (keep[k]) {
+                if (td_line_push(o, l->xy[2 * k], l->xy[2 * k + 1], cx) != 0)
+                    break;
+                f->sorig[tot++] = (uint32_t)k;
+            }
+    }
+    f->soff[f->ls->n] = tot;
+    free(keep);
+    free(stack);
+    return i < f->ls->n ? TD_ENOMEM : 0;
 }
 
 /* Cut every used line into chunks of about p.chunk_len px of arc (one
@@ -177,7 +253,7 @@ td_faces *td_faces_new(const td_lines *ls, int w, int h,
         f->len[i] = td_line_length(&ls->v[i]);
         f->used[i] = ls->v[i].n >= 2 && f->len[i] >= f->p.min_len;
     }
-    if (make_chunks(f, cx) != 0)
+    if (make_chunks(f, cx) != 0 || simplify_all(f, cx) != 0)
         goto fail;
     bin_segments(f, 0, NULL);
     for (i = 0; i < nc; i++) {
@@ -209,6 +285,9 @@ void td_faces_free(td_faces *f)
     free(f->seg);
     free(f->used);
     free(f->len);
+    td_lines_free(f->sl);
+    free(f->soff);
+    free(f->sorig);
     free(f->voff);
     free(f->vchunk);
     free(f->cline);
@@ -253,7 +332,7 @@ static void test_cell(const td_faces *f, size_t c, const double *o,
     for (s = f->start[c]; s < f->start[c + 1]; s++) {
         uint32_t li = f->seg[2 * s], k = f->seg[2 * s + 1];
         double a[2], b[2], S[2], q[2], den, t, u;
-        seg_ends(&f->ls->v[li], k, a, b);
+        seg_ends(&f->sl->v[li], k, a, b);
         S[0] = b[0] - a[0];
         S[1] = b[1] - a[1];
         den = d[0] * S[1] - d[1] * S[0];
@@ -269,7 +348,7 @@ static void test_cell(const td_faces *f, size_t c, const double *o,
             continue;
         *best = t;
         /* side 0 (left on screen) when the start is left of the segment */
-        *node = 2 * (long)f->vchunk[f->voff[li] + k] +
+        *node = 2 * (long)f->vchunk[f->voff[li] + f->sorig[f->soff[li] + k]] +
                 ((S[0] * -q[1] - S[1] * -q[0]) < 0 ? 0 : 1);
     }
 }
@@ -347,72 +426,85 @@ static int cmp_hit(const void *pa, const void *pb)
 
 #define MAX_PROBES 256 /* per side of a line: longer lines probe sparser */
 
-/* The unit normal (left on screen) of line l at vertex k, from the chord
- * over two vertices either side. */
-static int normal_at(const td_line *l, size_t k, double *n)
+static int push_hit(hit **hv, size_t *nh, size_t *cap, uint32_t me, uint32_t m,
+                    double x, double y, double hx, double hy, float w)
 {
-    size_t a, b;
-    double tx, ty, len;
-    if (l->closed) {
-        a = (k + 2 * l->n - 2) % l->n;
-        b = (k + 2) % l->n;
-    } else {
-        a = k >= 2 ? k - 2 : 0;
-        b = k + 2 < l->n ? k + 2 : l->n - 1;
+    if (*nh == *cap) {
+        size_t nc = *cap ? 2 * *cap : 4096;
+        hit *v = realloc(*hv, nc * sizeof *v);
+        if (!v)
+            return TD_ENOMEM;
+        *hv = v;
+        *cap = nc;
     }
-    tx = l->xy[2 * b] - l->xy[2 * a];
-    ty = l->xy[2 * b + 1] - l->xy[2 * a + 1];
-    len = sqrt(tx * tx + ty * ty);
-    if (!(len > 0))
-        return -1;
-    n[0] = ty / len;
-    n[1] = -tx / len;
+    (*hv)[*nh].a = me < m ? me : m;
+    (*hv)[*nh].b = me < m ? m : me;
+    (*hv)[*nh].x = (float)x;
+    (*hv)[*nh].y = (float)y;
+    (*hv)[*nh].hx = (float)hx;
+    (*hv)[*nh].hy = (float)hy;
+    (*hv)[(*nh)++].w = w;
     return 0;
 }
 
-/* Probes of line i into hits (grown as needed). */
+/* Merge the hits from `from` on in hv that share a node pair (sorted
+ * first), summing their weights; *nh shrinks. */
+static void merge_hits(hit *hv, size_t from, size_t *nh)
+{
+    size_t k, m = from;
+    if (*nh - from < 2)
+        return;
+    qsort(hv + from, *nh - from, sizeof *hv, cmp_hit);
+    for (k = from; k < *nh; k++) {
+        if (m > from && hv[m - 1].a == hv[k].a && hv[m - 1].b == hv[k].b) {
+            hv[m - 1].w += hv[k].w;
+            continue;
+        }
+        hv[m++] = hv[k];
+    }
+    *nh = m;
+}
+
+/* Probes of line i into hits (grown as needed): every sp px along its
+ * simplified shape, square to the segment they start on; the line's hits
+ * are merged per node pair before the next line's. */
 static int probe_line(const td_faces *f, size_t i, hit **hv, size_t *nh,
                       size_t *cap)
 {
-    const td_line *l = &f->ls->v[i];
+    size_t from = *nh;
+    const td_line *l = &f->sl->v[i];
     double sp = fmax(f->p.spacing, f->len[i] / MAX_PROBES);
     double next = 0.5 * sp, s = 0;
     float w = (float)(sp / f->p.spacing); /* weight: px shared / spacing */
     size_t k;
-    for (k = 0; k < l->n; k++) {
-        double n[2], x = l->xy[2 * k], y = l->xy[2 * k + 1];
-        int side;
-        if (k > 0)
-            s += sqrt((x - l->xy[2 * k - 2]) * (x - l->xy[2 * k - 2]) +
-                      (y - l->xy[2 * k - 1]) * (y - l->xy[2 * k - 1]));
-        if (s < next || normal_at(l, k, n) != 0)
+    for (k = 0; k < nsegs(l); k++) {
+        double a[2], b[2], tx, ty, L, n[2];
+        uint32_t cme = f->vchunk[f->voff[i] + f->sorig[f->soff[i] + k]];
+        seg_ends(l, k, a, b);
+        tx = b[0] - a[0], ty = b[1] - a[1];
+        L = sqrt(tx * tx + ty * ty);
+        if (!(L > 0))
             continue;
-        next = s + sp;
-        for (side = 0; side < 2; side++) {
-            double sg = side ? -1.0 : 1.0;
-            double t = 0;
-            long m =
-                td_faces_ray(f, x, y, sg * n[0], sg * n[1], (long)i, 1.5, &t);
-            uint32_t me = 2 * f->vchunk[f->voff[i] + k] + (uint32_t)side;
-            if (m < 0 || (uint32_t)m / 2 == me / 2)
-                continue; /* the border, or this chunk again */
-            if (*nh == *cap) {
-                size_t nc = *cap ? 2 * *cap : 4096;
-                hit *v = realloc(*hv, nc * sizeof *v);
-                if (!v)
+        n[0] = ty / L, n[1] = -tx / L; /* side 0: left on the screen */
+        for (; next <= s + L; next += sp) {
+            double x = a[0] + (next - s) / L * tx,
+                   y = a[1] + (next - s) / L * ty;
+            int side;
+            for (side = 0; side < 2; side++) {
+                double sg = side ? -1.0 : 1.0, t = 0;
+                long m = td_faces_ray(f, x, y, sg * n[0], sg * n[1], (long)i,
+                                      1.5, &t);
+                uint32_t me = 2 * cme + (uint32_t)side;
+                if (m < 0 || (uint32_t)m / 2 == me / 2)
+                    continue; /* the border, or this chunk again */
+                if (push_hit(hv, nh, cap, me, (uint32_t)m, x, y,
+                             x + sg * n[0] * t, y + sg * n[1] * t, w) != 0)
                     return TD_ENOMEM;
-                *hv = v;
-                *cap = nc;
             }
-            (*hv)[*nh].a = me < (uint32_t)m ? me : (uint32_t)m;
-            (*hv)[*nh].b = me < (uint32_t)m ? (uint32_t)m : me;
-            (*hv)[*nh].x = (float)x;
-            (*hv)[*nh].y = (float)y;
-            (*hv)[*nh].hx = (float)(x + sg * n[0] * t);
-            (*hv)[*nh].w = w;
-            (*hv)[(*nh)++].hy = (float)(y + sg * n[1] * t);
         }
+        s += L;
     }
+    merge_hits(*hv, from, nh);
     return 0;
 }
 
