@@ -544,7 +544,8 @@ int td_faces_edges(const td_faces *f, td_face_edge **out, size_t *n, td_ctx *cx)
         free(hv);
         return td_seterr(cx, TD_ENOMEM, "faces: out of memory");
     }
-    qsort(hv, nh, sizeof *hv, cmp_hit);
+    if (nh > 1)
+        qsort(hv, nh, sizeof *hv, cmp_hit);
     if (nh && !(e = td_malloc(nh * sizeof *e, cx))) {
         free(hv);
         return TD_ENOMEM;
