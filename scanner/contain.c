@@ -95,31 +95,6 @@ static int make_ring(const td_line *l, int w, int h, td_line *r, td_ctx *cx)
     return td_line_push(r, xs, ys, cx) != 0 ? TD_ENOMEM : 0;
 }
 
-static double ring_area(const td_line *r)
-{
-    double a = 0;
-    size_t i;
-    for (i = 0; i < r->n; i++) {
-        size_t j = (i + 1) % r->n;
-        a += r->xy[2 * i] * r->xy[2 * j + 1] - r->xy[2 * j] * r->xy[2 * i + 1];
-    }
-    return fabs(a) / 2;
-}
-
-/* Even-odd ray test of (x,y) against the closed outline r. */
-static int inside(const td_line *r, double x, double y)
-{
-    size_t i, j;
-    int in = 0;
-    for (i = 0, j = r->n - 1; i < r->n; j = i++) {
-        double xi = r->xy[2 * i], yi = r->xy[2 * i + 1];
-        double xj = r->xy[2 * j], yj = r->xy[2 * j + 1];
-        if ((yi > y) != (yj > y) && x < (xj - xi) * (y - yi) / (yj - yi) + xi)
-            in = !in;
-    }
-    return in;
-}
-
 static void bbox(const td_line *l, double b[4])
 {
     size_t i;
@@ -149,7 +124,7 @@ static long smallest_holding(const td_contain *ct, const double *boxes,
             continue;
         if (best >= 0 && ct->area[j] >= ct->area[best])
             continue;
-        if (inside(&ct->rings->v[j], x, y))
+        if (td_line_encloses(&ct->rings->v[j], x, y))
             best = (long)j;
     }
     return best;
@@ -177,7 +152,7 @@ int td_contain_build(const td_lines *ls, int w, int h, td_contain *ct,
         if (k < 0)
             goto fail;
         ct->parent[i] = k ? -2 : -1;
-        ct->area[i] = k ? 0 : ring_area(r);
+        ct->area[i] = k ? 0 : fabs(td_line_signed_area(r));
         bbox(r, &boxes[4 * i]);
     }
     for (i = 0; i < ls->n; i++) {
@@ -214,7 +189,7 @@ long td_contain_locate(const td_contain *ct, double x, double y)
             continue;
         if (best >= 0 && ct->area[j] >= ct->area[best])
             continue;
-        if (inside(&ct->rings->v[j], x, y))
+        if (td_line_encloses(&ct->rings->v[j], x, y))
             best = (long)j;
     }
     return best;

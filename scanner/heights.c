@@ -43,9 +43,10 @@
 #define PLINE 1000.0
 #define WKNOWN 1000.0
 #define WFACE 2.0
-#define MIN_BREAK 60.0 /* the least a face edge costs to break: more than
-                          one label read wrong (40), so a misread cannot
-                          tear a small line out of the topology */
+#define MIN_BREAK                                                              \
+    60.0           /* the least a face edge costs to break: more than          \
+                      one label read wrong (40), so a misread cannot           \
+                      tear a small line out of the topology */
 #define WCONT 24.0 /* a chunk continues its line: same state */
 #define CHUNK 48.0 /* px of arc per chunk */
 #define W_INDEX 3.0
@@ -266,18 +267,11 @@ static int setup_known(hs *s, td_ctx *cx)
     return 0;
 }
 
-/* Which side of closed line l is its inside: 0 or 1. */
+/* Which side of closed line l is its inside: 0 or 1 (clockwise on the
+ * screen, y down: inside on the right, side 1). */
 static int inner_side(const td_line *l)
 {
-    double a = 0;
-    size_t k;
-    for (k = 0; k < l->n; k++) {
-        size_t k1 = (k + 1) % l->n;
-        a +=
-            l->xy[2 * k] * l->xy[2 * k1 + 1] - l->xy[2 * k1] * l->xy[2 * k + 1];
-    }
-    /* y down: a > 0 is clockwise on the screen, inside on the right */
-    return a > 0 ? 1 : 0;
+    return td_line_signed_area(l) > 0 ? 1 : 0;
 }
 
 /* The vertex of line l nearest (x, y). */
@@ -414,31 +408,6 @@ static void judge_labels(hs *s)
     }
 }
 
-static int inside(const td_line *l, double x, double y)
-{
-    size_t k, j;
-    int in = 0;
-    for (k = 0, j = l->n - 1; k < l->n; j = k++) {
-        double xk = l->xy[2 * k], yk = l->xy[2 * k + 1];
-        double xj = l->xy[2 * j], yj = l->xy[2 * j + 1];
-        if ((yk > y) != (yj > y) && x < (xj - xk) * (y - yk) / (yj - yk) + xk)
-            in = !in;
-    }
-    return in;
-}
-
-static double ring_area(const td_line *l)
-{
-    double a = 0;
-    size_t k;
-    for (k = 0; k < l->n; k++) {
-        size_t k1 = (k + 1) % l->n;
-        a +=
-            l->xy[2 * k] * l->xy[2 * k1 + 1] - l->xy[2 * k1] * l->xy[2 * k + 1];
-    }
-    return fabs(0.5 * a);
-}
-
 /* Do the face edges of line l's inner side reach only line `prev`? */
 static int holds_only(const hs *s, size_t l, int in, long prev)
 {
@@ -473,9 +442,10 @@ static void depression(hs *s, double x, double y)
         for (i = 0; i < s->N; i++) {
             const td_line *l = &s->ls->v[i];
             double a;
-            if (!td_faces_used(s->fx, i) || !l->closed || !inside(l, x, y))
+            if (!td_faces_used(s->fx, i) || !l->closed ||
+                !td_line_encloses(l, x, y))
                 continue;
-            a = ring_area(l);
+            a = fabs(td_line_signed_area(l));
             if (a > last && a < ba)
                 ba = a, best = (long)i;
         }
@@ -756,12 +726,9 @@ static long across(const hs *s, size_t l, int xs, long st, double *cost)
  * prior speaks for them) and anything else. */
 static double fold_w(const hs *s, uint32_t c)
 {
-    static double wf = -1;
-    if (wf < 0)
-        wf = getenv("TD_WFOLD") ? atof(getenv("TD_WFOLD")) : WFOLD;
     if (!s->priors || s->hole[c] || s->hole[s->par[c]])
         return 0.0;
-    return wf;
+    return WFOLD;
 }
 
 /* Messages over the edge from node c to its parent (up) or back (down):
@@ -887,13 +854,6 @@ static double line_gap(const hs *s, size_t l, double *H, long *hbest)
         if (x != h1 && H[x] < b2)
             b2 = H[x];
     *hbest = h1;
-    if (getenv("TD_DEBUG_HEIGHTS") && l == 0) {
-        fprintf(stderr, "line 0 c %u priors %d:", c, s->priors);
-        for (x = 0; x <= (long)s->K; x++)
-            if (isfinite(H[x]))
-                fprintf(stderr, " H[%ld]=%g", x, H[x]);
-        fprintf(stderr, "\n");
-    }
     return b2 - b1;
 }
 
@@ -1281,25 +1241,6 @@ static int touched_nodes(const hs *s, unsigned char **out, td_ctx *cx)
     return 0;
 }
 
-static void debug_print(const hs *s)
-{
-    size_t nc = 0, na = 0, j, nt = 0;
-    if (!getenv("TD_DEBUG_HEIGHTS"))
-        return;
-    for (j = 0; j < s->V; j++)
-        if (s->comp[j] == j) {
-            nc++;
-            na += s->comp_abs[j];
-        }
-    for (j = 0; j < s->nce; j++)
-        nt += s->intree[j] && s->ce[j].kind != E_LINE;
-    fprintf(stderr,
-            "heights: %zu lines, %zu chunks, %zu face edges, %zu "
-            "edges besides lines in the forest, %zu components (%zu with "
-            "evidence), K %zu\n",
-            s->N, s->C, s->nfe, nt, nc, na, s->K);
-}
-
 static int solve_all(hs *s, td_ctx *cx)
 {
     size_t KV;
@@ -1310,7 +1251,6 @@ static int solve_all(hs *s, td_ctx *cx)
         (rc = set_domain(s, cx)) != 0)
         return rc;
     mark_abs(s);
-    debug_print(s);
     KV = 2 * s->K * s->V;
     if (!(s->up = td_malloc(KV * sizeof *s->up + 8, cx)) ||
         !(s->msg = td_malloc(KV * sizeof *s->msg + 8, cx)) ||
@@ -1349,25 +1289,6 @@ static void count(hs *s)
         if (l->hsource == TD_HS_ASSUMED)
             r->assumed_ids[r->assumed++] = l->id;
     }
-}
-
-static int copy_lines(const td_lines *in, td_lines **out, td_ctx *cx)
-{
-    size_t i, k;
-    if (!(*out = td_lines_new(cx)))
-        return TD_ENOMEM;
-    for (i = 0; i < in->n; i++) {
-        td_line *l = td_lines_add(*out, cx);
-        if (!l)
-            return TD_ENOMEM;
-        *l = in->v[i];
-        l->xy = NULL, l->n = l->cap = 0;
-        for (k = 0; k < in->v[i].n; k++)
-            if (td_line_push(l, in->v[i].xy[2 * k], in->v[i].xy[2 * k + 1],
-                             cx) != 0)
-                return TD_ENOMEM;
-    }
-    return 0;
 }
 
 static int is_nice(double v)
@@ -1435,8 +1356,8 @@ static int infer_interval(const td_lines *ls, const td_label_params *p,
             td_label_params q = *p;
             td_label_report r;
             td_lines *c = NULL;
-            if (!(S > 0) || (si > 0 && (S == Ss[0] || (si == 2 &&
-                                                       S == Ss[1]))) ||
+            if (!(S > 0) ||
+                (si > 0 && (S == Ss[0] || (si == 2 && S == Ss[1]))) ||
                 (p->index_every > 0 && k > 0) || !is_nice(I))
                 continue;
             for (i = 0; i < p->nlabels; i++) {
@@ -1449,16 +1370,14 @@ static int infer_interval(const td_lines *ls, const td_label_params *p,
                                   thick */
             q.index_auto = 1;
             memset(&r, 0, sizeof r);
-            if ((rc = copy_lines(ls, &c, cx)) == 0)
-                rc = td_heights_solve(c, &q, &r, cx);
+            if (!(c = td_lines_copy(ls, cx)))
+                return TD_ENOMEM;
+            rc = td_heights_solve(c, &q, &r, cx);
             td_lines_free(c);
             cost += r.cost;
             td_label_report_free(&r);
             if (rc)
                 return rc;
-            if (getenv("TD_DEBUG_HEIGHTS"))
-                fprintf(stderr, "interval %g (step %g): cost %g\n", I, S,
-                        cost);
             if (cost < best - 1e-9)
                 best = cost, *best_i = I, *best_n = N;
         }
@@ -1502,35 +1421,25 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
     hs s;
     td_faces_params fp = td_faces_defaults();
     unsigned char *touched = NULL;
-    double t0;
     int rc = TD_ENOMEM;
     memset(&s, 0, sizeof s);
     s.ls = ls, s.p = p, s.rep = rep, s.N = ls->n;
     fp.chunk_len = 0; /* chunks (CHUNK px): see docs/label.md */
     if (ls->n > UINT32_MAX / 4)
         return td_seterr(cx, TD_EINVAL, "label: too many lines (%zu)", ls->n);
-    t0 = td_now();
     if (!(s.fx = td_faces_new(ls, p->w, p->h, &fp, cx)))
         goto fail;
     s.C = td_faces_nchunks(s.fx);
     s.V = 2 * s.C;
-    if (getenv("TD_DEBUG_HEIGHTS"))
-        fprintf(stderr, "heights: index %.3f s\n", td_now() - t0);
     rc = td_faces_edges(s.fx, &s.fe, &s.nfe, cx);
-    if (getenv("TD_DEBUG_HEIGHTS"))
-        fprintf(stderr, "heights: faces %.3f s\n", td_now() - t0);
     if (rc != 0 || (rc = alloc_all(&s, cx)) != 0 ||
         (rc = touched_nodes(&s, &touched, cx)) != 0 ||
         (rc = setup_known(&s, cx)) != 0)
         goto fail;
     setup_directions(&s, touched);
     setup_labels(&s);
-    t0 = td_now();
     if ((rc = setup_index(&s, cx)) != 0 || (rc = solve_all(&s, cx)) != 0)
         goto fail;
-    if (getenv("TD_DEBUG_HEIGHTS"))
-        fprintf(stderr, "heights: solve %.3f s (K %zu, %zu nodes)\n",
-                td_now() - t0, s.K, s.V);
     rc = TD_ENOMEM;
     if (!(rep->undetermined_ids = td_calloc(ls->n + 1, sizeof(long), cx)) ||
         !(rep->assumed_ids = td_calloc(ls->n + 1, sizeof(long), cx)))

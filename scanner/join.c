@@ -965,17 +965,9 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
 /* A copy of l in st->text (p->record): text the joiner removed. */
 static int keep_text(td_join_stats *st, const td_line *l, td_ctx *cx)
 {
-    td_line *c;
-    size_t k;
     if (!st->text && !(st->text = td_lines_new(cx)))
         return TD_ENOMEM;
-    if (!(c = td_lines_add(st->text, cx)))
-        return TD_ENOMEM;
-    for (k = 0; k < l->n; k++)
-        if (td_line_push(c, l->xy[2 * k], l->xy[2 * k + 1], cx) != 0)
-            return TD_ENOMEM;
-    c->closed = l->closed;
-    return 0;
+    return td_lines_append_copy(st->text, l, cx);
 }
 
 static int record(td_join_stats *st, const td_lines *paths, td_ctx *cx)

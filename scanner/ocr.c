@@ -5,7 +5,6 @@
 #include "join.h"
 
 #include "../src/draw.h"
-#include "../src/imageio.h"
 
 #include <tesseract/capi.h>
 
@@ -241,21 +240,16 @@ static int digits_image(const strip *s, const int *b, double digit_px,
 
 /* Read one image: the number and the confidence, or -1 when the text is
  * not a number. */
-static int ncalls;
-static double tcalls;
-
 static int read_number(TessBaseAPI *api, const uint8_t *img, int w, int h,
                        char *text, size_t tlen, double *conf)
 {
     char *t, *p, *q;
     int ok = 1, digits = 0;
-    double t0 = td_now();
     TessBaseAPISetImage(api, img, w, h, 1, w);
     TessBaseAPISetSourceResolution(api, 300);
     if (!(t = TessBaseAPIGetUTF8Text(api)))
         return -1;
     *conf = TessBaseAPIMeanTextConf(api) / 100.0;
-    ncalls++, tcalls += td_now() - t0;
     for (p = t, q = text; *p && (size_t)(q - text) + 1 < tlen; p++)
         if (!isspace((unsigned char)*p))
             *q++ = *p;
@@ -367,14 +361,6 @@ static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
         goto done;
     if (digits_image(&s, b, p->digit_px, &img, &w, &h) != 0)
         goto done;
-    if (getenv("TD_DEBUG_OCR_DIR")) { /* the images Tesseract reads */
-        static int seq;
-        char path[512];
-        td_grid_u8 g = {w, h, (size_t)w, img};
-        snprintf(path, sizeof path, "%s/ocr_%03d.png",
-                 getenv("TD_DEBUG_OCR_DIR"), seq++);
-        td_png_write_u8(path, &g, 0, NULL);
-    }
     for (turn = 0; turn < 2; turn++) {
         char text[24];
         double conf;
@@ -544,11 +530,6 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
             td_progress(cx, "labels", (double)i / (double)nc) != 0)
             rc = -2;
     }
-    if (getenv("TD_DEBUG_OCR"))
-        fprintf(stderr,
-                "ocr: %zu pieces, %ld candidates, %zu reads, %d "
-                "Tesseract calls %.3f s\n",
-                pieces->n, nc, m, ncalls, tcalls);
     free(cs);
     TessBaseAPIEnd(api);
     TessBaseAPIDelete(api);
@@ -562,19 +543,6 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
     }
     *out = v;
     *n = m;
-    return 0;
-}
-
-static int copy_into(td_lines *dst, const td_line *l, td_ctx *cx)
-{
-    td_line *c = td_lines_add(dst, cx);
-    size_t k;
-    if (!c)
-        return TD_ENOMEM;
-    for (k = 0; k < l->n; k++)
-        if (td_line_push(c, l->xy[2 * k], l->xy[2 * k + 1], cx) != 0)
-            return TD_ENOMEM;
-    c->closed = l->closed;
     return 0;
 }
 
@@ -592,12 +560,12 @@ int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
     if (!pc)
         return TD_ENOMEM;
     for (i = 0; join && join->segments && i < join->segments->n && !rc; i++)
-        rc = copy_into(pc, &join->segments->v[i], cx);
+        rc = td_lines_append_copy(pc, &join->segments->v[i], cx);
     for (i = 0; join && join->text && i < join->text->n && !rc; i++)
-        rc = copy_into(pc, &join->text->v[i], cx);
+        rc = td_lines_append_copy(pc, &join->text->v[i], cx);
     for (i = 0; i < ls->n && !rc; i++)
         if (compact_ring(&ls->v[i], 25.0))
-            rc = copy_into(pc, &ls->v[i], cx);
+            rc = td_lines_append_copy(pc, &ls->v[i], cx);
     if (!rc)
         rc = td_ocr_labels(im, assoc ? assoc : ls, pc, p, out, n, cx);
     td_lines_free(pc);

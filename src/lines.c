@@ -114,3 +114,59 @@ double td_line_length(const td_line *l)
     }
     return len;
 }
+
+/* See lines.h. */
+int td_lines_append_copy(td_lines *ls, const td_line *l, td_ctx *cx)
+{
+    td_line *c = td_lines_add(ls, cx);
+    size_t k;
+    if (!c)
+        return TD_ENOMEM;
+    *c = *l;
+    c->xy = NULL, c->n = c->cap = 0;
+    for (k = 0; k < l->n; k++)
+        if (td_line_push(c, l->xy[2 * k], l->xy[2 * k + 1], cx) != 0)
+            return TD_ENOMEM;
+    return 0;
+}
+
+/* See lines.h. */
+td_lines *td_lines_copy(const td_lines *ls, td_ctx *cx)
+{
+    td_lines *c = td_lines_new(cx);
+    size_t i;
+    for (i = 0; c && i < ls->n; i++)
+        if (td_lines_append_copy(c, &ls->v[i], cx) != 0) {
+            td_lines_free(c);
+            return NULL;
+        }
+    return c;
+}
+
+/* See lines.h. */
+double td_line_signed_area(const td_line *l)
+{
+    double a = 0;
+    size_t k;
+    for (k = 0; k < l->n; k++) {
+        size_t k1 = (k + 1) % l->n;
+        a += l->xy[2 * k] * l->xy[2 * k1 + 1] - l->xy[2 * k1] * l->xy[2 * k + 1];
+    }
+    return 0.5 * a;
+}
+
+/* See lines.h. */
+int td_line_encloses(const td_line *l, double x, double y)
+{
+    size_t i, j;
+    int in = 0;
+    if (l->n == 0)
+        return 0;
+    for (i = 0, j = l->n - 1; i < l->n; j = i++) {
+        double xi = l->xy[2 * i], yi = l->xy[2 * i + 1];
+        double xj = l->xy[2 * j], yj = l->xy[2 * j + 1];
+        if ((yi > y) != (yj > y) && x < (xj - xi) * (y - yi) / (yj - yi) + xi)
+            in = !in;
+    }
+    return in;
+}

@@ -63,6 +63,21 @@ void td_lines_remove(td_lines *ls, size_t i);
 /* Length of the polyline (closing segment included when closed). */
 double td_line_length(const td_line *l);
 
+/* Append a copy of l to ls: its points and every property (id
+ * included; td_lines_add's own id is overwritten).  0 or TD_ENOMEM. */
+int td_lines_append_copy(td_lines *ls, const td_line *l, td_ctx *cx);
+
+/* A new set with copies of every line of ls (free with td_lines_free);
+ * NULL with the error in cx. */
+td_lines *td_lines_copy(const td_lines *ls, td_ctx *cx);
+
+/* Signed area of l taken as a closed polygon (shoelace, pixel units): > 0
+ * when its points run clockwise on the screen (y down). */
+double td_line_signed_area(const td_line *l);
+
+/* Even-odd test of (x,y) against l taken as a closed polygon. */
+int td_line_encloses(const td_line *l, double x, double y);
+
 /* Write lines as a GeoJSON FeatureCollection of LineStrings, atomically.
  * Properties: id, height (null unless has_height), closed, edge, parent
  * (null when -1), bridged, width (px, only when measured, > 0), and when the

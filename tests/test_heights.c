@@ -107,33 +107,50 @@ static void test_probes_parallel(void)
     td_lines_free(ls);
 }
 
+/* A sheet drawn from tests/data/dems/<dem> at scale x its size, lines
+ * 1.8 px, index lines 3.2 px; scanned: blur, noise, specks, breaks and
+ * inline labels (font 1: DejaVu, tops uphill; 0: stroke digits).  *src is
+ * the caller's to free; NULL when the DEM did not load. */
+static td_grid_f32 *dem_sheet(td_hsheet *hs, const char *dem, double scale,
+                              int scanned, int font)
+{
+    char path[256];
+    td_grid_f32 *src = NULL;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    memset(hs, 0, sizeof *hs);
+    snprintf(path, sizeof path, "tests/data/dems/%s", dem);
+    TT_CHECKF(td_hsheet_load_dem(path, &src, &cx) == 0, "%s", td_errmsg(&cx));
+    if (!src)
+        return NULL;
+    hs->gp = td_gen_defaults();
+    hs->gp.terrain = TD_GEN_DEM;
+    hs->gp.dem_in = src;
+    hs->gp.w = (int)(src->w * scale);
+    hs->gp.h = (int)(src->h * scale);
+    hs->gp.line_width = 1.8;
+    hs->gp.index_width = 3.2;
+    if (scanned) {
+        hs->gp.blur = 0.8, hs->gp.noise = 8, hs->gp.specks = 200;
+        hs->gp.breaks = 30, hs->gp.break_min = 3, hs->gp.break_max = 10;
+        hs->gp.labels = 3;
+        hs->gp.label_bend = font ? 40 : 6;
+        hs->gp.label_font = font;
+    }
+    return src;
+}
+
 /* A sheet drawn from a real DEM, scanned and labelled with three known
  * points on index contours (and the index widths when asked). */
 static void real_sheet(const char *dem, double scale, int scanned, int index,
                        double min_acc)
 {
-    char path[256];
-    td_grid_f32 *src = NULL;
     td_hsheet hs;
+    td_grid_f32 *src = dem_sheet(&hs, dem, scale, scanned, 0);
     td_ctx cx;
     td_ctx_init(&cx);
-    memset(&hs, 0, sizeof hs);
-    snprintf(path, sizeof path, "tests/data/dems/%s", dem);
-    TT_CHECKF(td_hsheet_load_dem(path, &src, &cx) == 0, "%s", td_errmsg(&cx));
     if (!src)
         return;
-    hs.gp = td_gen_defaults();
-    hs.gp.terrain = TD_GEN_DEM;
-    hs.gp.dem_in = src;
-    hs.gp.w = (int)(src->w * scale);
-    hs.gp.h = (int)(src->h * scale);
-    hs.gp.line_width = 1.8;
-    hs.gp.index_width = 3.2;
-    if (scanned) {
-        hs.gp.blur = 0.8, hs.gp.noise = 8, hs.gp.specks = 200;
-        hs.gp.breaks = 30, hs.gp.break_min = 3, hs.gp.break_max = 10;
-        hs.gp.labels = 3, hs.gp.label_bend = 6;
-    }
     hs.nknown = 3;
     hs.index_every = index ? 5 : 0;
     TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
@@ -156,25 +173,12 @@ static void real_sheet(const char *dem, double scale, int scanned, int index,
 static void labelled_sheet(const char *dem, double scale, double want_i,
                            double min_acc)
 {
-    char path[256];
-    td_grid_f32 *src = NULL;
     td_hsheet hs;
+    td_grid_f32 *src = dem_sheet(&hs, dem, scale, 1, 1);
     td_ctx cx;
     td_ctx_init(&cx);
-    memset(&hs, 0, sizeof hs);
-    snprintf(path, sizeof path, "tests/data/dems/%s", dem);
-    TT_CHECK(td_hsheet_load_dem(path, &src, &cx) == 0);
     if (!src)
         return;
-    hs.gp = td_gen_defaults();
-    hs.gp.terrain = TD_GEN_DEM;
-    hs.gp.dem_in = src;
-    hs.gp.w = (int)(src->w * scale);
-    hs.gp.h = (int)(src->h * scale);
-    hs.gp.line_width = 1.8, hs.gp.index_width = 3.2;
-    hs.gp.blur = 0.8, hs.gp.noise = 8, hs.gp.specks = 200;
-    hs.gp.breaks = 30, hs.gp.break_min = 3, hs.gp.break_max = 10;
-    hs.gp.labels = 3, hs.gp.label_bend = 40, hs.gp.label_font = 1;
     hs.read_labels = 1;
     hs.no_interval = 1;
     TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));

@@ -210,12 +210,7 @@ static int parse_opt(int c, const char *arg, label_opts *o, pts *heights,
     case O_LIKE: o->like = arg; return 0;
     case O_DEBUG: o->debug_dir = arg; return 0;
     case O_NOMISS: o->no_missing = 1; return 0;
-    case O_LABELLER:
-        if (strcmp(arg, "faces") && strcmp(arg, "tree"))
-            return td_seterr(cx, TD_EINVAL, "--labeller: '%s' is not faces "
-                             "or tree", arg);
-        o->tree = !strcmp(arg, "tree");
-        return 0;
+    case O_LABELLER: return td_cli_parse_labeller(arg, &o->tree, cx);
     case O_INDEX: {
         long n;
         if (td_cli_parse_int(arg, 2, 1000, &n) != 0)

@@ -160,12 +160,7 @@ static int parse_opt(int c, const char *name, const char *arg, run_opts *o,
     case O_INK: return td_binarise_parse_ink(arg, &o->sp.bin, cx);
     case O_THR: return td_binarise_parse_threshold(arg, &o->sp.bin, cx);
     case O_PASS: return td_interp_set(&o->ip, name, arg, cx);
-    case O_LABELLER:
-        if (strcmp(arg, "faces") && strcmp(arg, "tree"))
-            return td_seterr(cx, TD_EINVAL, "--labeller: '%s' is not faces "
-                             "or tree", arg);
-        o->tree = !strcmp(arg, "tree");
-        return 0;
+    case O_LABELLER: return td_cli_parse_labeller(arg, &o->tree, cx);
     case O_INDEX: {
         double v;
         if (td_cli_parse_double(arg, 2, 1000, &v) != 0 || v != floor(v))

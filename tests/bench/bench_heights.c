@@ -50,6 +50,10 @@ static void defects(td_gen_params *p, int scanned)
     p->label_font = 1;
 }
 
+static const char *const scan_name[4] = {"truth", "clean", "scanned", "colour"};
+static const char *const hint_name[3] = {"3 known", "3 known+index",
+                                         "labels only"};
+
 int main(int argc, char **argv)
 {
     const char *dir = "tests/data/dems", *only = NULL, *png = NULL;
@@ -124,29 +128,15 @@ int main(int argc, char **argv)
                 }
                 if (td_hsheet_run(&hs, logit ? stdout : NULL, &cx) != 0) {
                     printf("%-11s %-7s %-13s failed: %s\n", k->name,
-                           scanned == 0   ? "truth"
-                           : scanned == 1 ? "clean"
-                           : scanned == 2 ? "scanned"
-                                          : "colour",
-                           hint == 0   ? "3 known"
-                           : hint == 1 ? "3 known+index"
-                                       : "labels only",
-                           td_errmsg(&cx));
+                           scan_name[scanned], hint_name[hint], td_errmsg(&cx));
                     td_ctx_clear(&cx);
                     td_label_report_free(&hs.rep);
                     continue;
                 }
                 printf("%-11s %-7s %-13s %6zu %6.3f %6.3f  %5zu %5zu %5zu "
                        "%5zu %5ld  %5zu %6.2f %5.3f %4zu/%-4zu %5g\n",
-                       k->name,
-                       scanned == 0   ? "truth"
-                       : scanned == 1 ? "clean"
-                       : scanned == 2 ? "scanned"
-                                      : "colour",
-                       hint == 0   ? "3 known"
-                       : hint == 1 ? "3 known+index"
-                                   : "labels only",
-                       hs.traced, hs.score.accuracy,
+                       k->name, scan_name[scanned], hint_name[hint], hs.traced,
+                       hs.score.accuracy,
                        hs.score.null_len / (hs.score.right + hs.score.wrong +
                                             hs.score.null_len + 1e-9),
                        hs.rep.by_source[TD_HS_KNOWN] +

@@ -105,19 +105,10 @@ static void fuzz_heights(const td_lines *ls)
         td_label_report rep;
         td_label_point kp;
         td_ocr_read rd;
-        td_lines *c = td_lines_new(NULL);
+        td_lines *c = td_lines_copy(ls, NULL);
         const td_line *a = &ls->v[0], *b = &ls->v[ls->n - 1];
-        size_t i, k;
         td_ctx cx;
         td_ctx_init(&cx);
-        for (i = 0; c && i < ls->n; i++) {
-            td_line *l = td_lines_add(c, NULL);
-            for (k = 0; l && k < ls->v[i].n; k++)
-                td_line_push(l, ls->v[i].xy[2 * k], ls->v[i].xy[2 * k + 1],
-                             NULL);
-            if (l)
-                l->closed = ls->v[i].closed, l->width = ls->v[i].width;
-        }
         if (!c || a->n == 0 || b->n == 0) {
             td_lines_free(c);
             return;

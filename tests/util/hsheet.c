@@ -92,25 +92,6 @@ static int draw_verdicts(const td_hsheet *hs, const td_image *im,
     return rc;
 }
 
-static int copy_lines(const td_lines *in, td_lines **out, td_ctx *cx)
-{
-    size_t i, k;
-    if (!(*out = td_lines_new(cx)))
-        return TD_ENOMEM;
-    for (i = 0; i < in->n; i++) {
-        td_line *l = td_lines_add(*out, cx);
-        if (!l)
-            return TD_ENOMEM;
-        l->closed = in->v[i].closed;
-        l->width = in->v[i].width;
-        l->edge = in->v[i].edge;
-        for (k = 0; k < in->v[i].n; k++)
-            if (td_line_push(l, in->v[i].xy[2 * k], in->v[i].xy[2 * k + 1], cx))
-                return TD_ENOMEM;
-    }
-    return 0;
-}
-
 int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
 {
     td_image *im = NULL;
@@ -139,8 +120,13 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
         }
     }
     if (hs->use_truth_lines) {
-        if ((rc = copy_lines(tl, &ls, cx)) != 0)
+        size_t i;
+        if (!(ls = td_lines_copy(tl, cx))) {
+            rc = TD_ENOMEM;
             goto done;
+        }
+        for (i = 0; i < ls->n; i++) /* the labeller starts from nothing */
+            ls->v[i].has_height = 0, ls->v[i].height = 0;
     } else {
         td_scan_params sp = td_scan_defaults();
         if (hs->gp.colour)
