@@ -109,6 +109,7 @@ typedef struct hs {
     long *band, *band_prior; /* per chunk: best height (band index) */
     double *gap, *gap_prior; /* per chunk */
     int priors;              /* this pass uses the priors */
+    int cost_only;           /* only the total cost (the interval's trials) */
 } hs;
 
 static uint32_t uf_find(uint32_t *uf, uint32_t a)
@@ -1223,8 +1224,7 @@ static void free_all(hs *s)
     free(s->adj_start), free(s->adj), free(s->intree), free(s->compdepth);
     free(s->comp_abs), free(s->band), free(s->band_prior), free(s->gap);
     free(s->gap_prior), free(s->un), free(s->up), free(s->msg);
-    free(s->down), free(s->fe), free(s->ce);
-    td_faces_free(s->fx);
+    free(s->down), free(s->ce); /* fx and fe belong to the caller */
 }
 
 /* Which side nodes any face edge touches (a ring's inside with none holds
@@ -1264,7 +1264,7 @@ static int solve_all(hs *s, td_ctx *cx)
     run_pass(s, 1, s->gap_prior, s->band_prior, H);
     decode(s, nb);
     s->rep->cost = total_cost(s);
-    if ((rc = report_conflicts(s, nb, cx)) == 0) {
+    if (!s->cost_only && (rc = report_conflicts(s, nb, cx)) == 0) {
         report_known(s);
         judge_labels(s);
         rc = set_lines(s, cx);
@@ -1321,16 +1321,25 @@ static double share_on(const td_label_params *p, double S)
  * them are: misreads), and the interval the nice S / N with the cheapest
  * solve (labels off it counted at their weight, spacings of index lines
  * rarer than every 5th a little). */
-static int infer_interval(const td_lines *ls, const td_label_params *p,
+static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
+                    td_face_edge *fe, size_t nfe, int cost_only,
+                    td_label_report *rep, td_ctx *cx);
+static int faces_of(const td_lines *ls, const td_label_params *p, td_faces **fx,
+                    td_face_edge **fe, size_t *nfe, td_ctx *cx);
+
+static int infer_interval(td_lines *ls, const td_label_params *p,
                           double *best_i, int *best_n, td_ctx *cx)
 {
+    td_faces *fx = NULL;
+    td_face_edge *fe = NULL;
+    size_t nfe = 0;
     static const double nice[4] = {1.0, 2.0, 2.5, 5.0};
     static const int every[4] = {5, 4, 10, 2};
     /* how much rarer than every 5th each spacing of index lines is */
     static const double rarer[4] = {0.0, 8.0, 15.0, 15.0};
     double dec, Ss[3] = {0, 0, 0}, best = HUGE_VAL;
     size_t i;
-    int k, rc, si;
+    int k, rc = 0, si;
     *best_i = 0;
     /* the steps S = N x a nice interval: the largest that 80% of the
      * values fit, and the two largest that half of them fit (a few
@@ -1355,7 +1364,6 @@ static int infer_interval(const td_lines *ls, const td_label_params *p,
             double cost = p->index_every > 0 ? 0.0 : rarer[k];
             td_label_params q = *p;
             td_label_report r;
-            td_lines *c = NULL;
             if (!(S > 0) ||
                 (si > 0 && (S == Ss[0] || (si == 2 && S == Ss[1]))) ||
                 (p->index_every > 0 && k > 0) || !is_nice(I))
@@ -1370,18 +1378,21 @@ static int infer_interval(const td_lines *ls, const td_label_params *p,
                                   thick */
             q.index_auto = 1;
             memset(&r, 0, sizeof r);
-            if (!(c = td_lines_copy(ls, cx)))
-                return TD_ENOMEM;
-            rc = td_heights_solve(c, &q, &r, cx);
-            td_lines_free(c);
+            if (!fx && (rc = faces_of(ls, p, &fx, &fe, &nfe, cx)) != 0)
+                goto done;
+            rc = solve_on(ls, &q, fx, fe, nfe, 1, &r, cx);
             cost += r.cost;
             td_label_report_free(&r);
             if (rc)
-                return rc;
+                goto done;
             if (cost < best - 1e-9)
                 best = cost, *best_i = I, *best_n = N;
         }
-    return 0;
+    rc = 0;
+done:
+    free(fe);
+    td_faces_free(fx);
+    return rc;
 }
 
 /* Contract in heights_int.h. */
@@ -1414,31 +1425,29 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
     return 0;
 }
 
-/* Contract in heights_int.h. */
-int td_heights_solve(td_lines *ls, const td_label_params *p,
-                     td_label_report *rep, td_ctx *cx)
+/* The solve on lines ls with their faces index fx and its edges fe (the
+ * caller's: the interval's trials share them); with cost_only the lines
+ * are left as they are and only rep->cost is set. */
+static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
+                    td_face_edge *fe, size_t nfe, int cost_only,
+                    td_label_report *rep, td_ctx *cx)
 {
     hs s;
-    td_faces_params fp = td_faces_defaults();
     unsigned char *touched = NULL;
-    int rc = TD_ENOMEM;
+    int rc;
     memset(&s, 0, sizeof s);
-    s.ls = ls, s.p = p, s.rep = rep, s.N = ls->n;
-    fp.chunk_len = 0; /* chunks (CHUNK px): see docs/label.md */
-    if (ls->n > UINT32_MAX / 4)
-        return td_seterr(cx, TD_EINVAL, "label: too many lines (%zu)", ls->n);
-    if (!(s.fx = td_faces_new(ls, p->w, p->h, &fp, cx)))
-        goto fail;
-    s.C = td_faces_nchunks(s.fx);
+    s.ls = ls, s.p = p, s.rep = rep, s.N = ls->n, s.cost_only = cost_only;
+    s.fx = fx, s.fe = fe, s.nfe = nfe;
+    s.C = td_faces_nchunks(fx);
     s.V = 2 * s.C;
-    rc = td_faces_edges(s.fx, &s.fe, &s.nfe, cx);
-    if (rc != 0 || (rc = alloc_all(&s, cx)) != 0 ||
+    if ((rc = alloc_all(&s, cx)) != 0 ||
         (rc = touched_nodes(&s, &touched, cx)) != 0 ||
         (rc = setup_known(&s, cx)) != 0)
         goto fail;
     setup_directions(&s, touched);
     setup_labels(&s);
-    if ((rc = setup_index(&s, cx)) != 0 || (rc = solve_all(&s, cx)) != 0)
+    if ((rc = setup_index(&s, cx)) != 0 || (rc = solve_all(&s, cx)) != 0 ||
+        cost_only)
         goto fail;
     rc = TD_ENOMEM;
     if (!(rep->undetermined_ids = td_calloc(ls->n + 1, sizeof(long), cx)) ||
@@ -1452,5 +1461,35 @@ fail:
         td_seterr(cx, rc, "label: out of memory");
     free(touched);
     free_all(&s);
+    return rc;
+}
+
+/* The faces of ls: the index and its edges (one chunk per line; chunks
+ * of CHUNK px: see docs/label.md). */
+static int faces_of(const td_lines *ls, const td_label_params *p, td_faces **fx,
+                    td_face_edge **fe, size_t *nfe, td_ctx *cx)
+{
+    td_faces_params fp = td_faces_defaults();
+    fp.chunk_len = 0;
+    *fe = NULL;
+    if (ls->n > UINT32_MAX / 4)
+        return td_seterr(cx, TD_EINVAL, "label: too many lines (%zu)", ls->n);
+    if (!(*fx = td_faces_new(ls, p->w, p->h, &fp, cx)))
+        return cx && cx->code ? cx->code : TD_ENOMEM;
+    return td_faces_edges(*fx, fe, nfe, cx);
+}
+
+/* Contract in heights_int.h. */
+int td_heights_solve(td_lines *ls, const td_label_params *p,
+                     td_label_report *rep, td_ctx *cx)
+{
+    td_faces *fx = NULL;
+    td_face_edge *fe = NULL;
+    size_t nfe = 0;
+    int rc = faces_of(ls, p, &fx, &fe, &nfe, cx);
+    if (rc == 0)
+        rc = solve_on(ls, p, fx, fe, nfe, 0, rep, cx);
+    free(fe);
+    td_faces_free(fx);
     return rc;
 }
