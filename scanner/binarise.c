@@ -34,6 +34,7 @@ td_binarise_params td_binarise_defaults(void)
     p.sauvola_k = 0.2;
     p.min_speck = 8;
     p.min_hole = 8;
+    p.split = 24;
     return p;
 }
 
@@ -400,6 +401,115 @@ static void apply_level(td_grid_u8 *m, int t)
     }
 }
 
+/* ---- split touching lines (ours) ---------------------------------------- */
+
+#define SPLIT_R 2 /* rows kept above and below the row being thresholded */
+
+/* Is the strength at c (over ink level t, under the ink's core level hi) a
+ * seam of the ink between two lines: along one of four directions d, each
+ * side within 2 px is at least margin stronger, and d lies within 45
+ * degrees of the ink's normal there (the structure tensor of the strength
+ * gradients over 3 x 3 px: lines run across a seam, while a dip of noise
+ * or aliasing inside one thin line has the line's ink on both sides along
+ * the line).  rows[k] is row y + k - SPLIT_R of the strength (NULL off the
+ * sheet). */
+static int is_valley(const uint8_t *const *rows, int w, int x, int t, int hi,
+                     int margin)
+{
+    static const int dir[4][3] = {/* dx, dy, and cos 2a, sin 2a of d */
+                                  {1, 0, 1},
+                                  {0, 1, -1},
+                                  {1, 1, 2},
+                                  {1, -1, -2}};
+    int c = rows[SPLIT_R][x], need = c + margin, k;
+    long jxx = 0, jxy = 0, jyy = 0;
+    if (c <= t || c >= hi || x < 2 || x + 2 >= w || !rows[0] ||
+        !rows[2 * SPLIT_R])
+        return 0;
+    for (k = 0; k < 4; k++) {
+        int dx = dir[k][0], dy = dir[k][1], side, ok = 1;
+        for (side = -1; side <= 1 && ok; side += 2) {
+            int a = rows[SPLIT_R + side * dy][x + side * dx];
+            int b = rows[SPLIT_R + 2 * side * dy][x + 2 * side * dx];
+            ok = (a > b ? a : b) >= need;
+        }
+        if (!ok)
+            continue;
+        if (jxx == 0 && jyy == 0) {
+            int i, j;
+            for (j = -1; j <= 1; j++)
+                for (i = -1; i <= 1; i++) {
+                    long gx = rows[SPLIT_R + j][x + i + 1] -
+                              rows[SPLIT_R + j][x + i - 1];
+                    long gy = rows[SPLIT_R + j + 1][x + i] -
+                              rows[SPLIT_R + j - 1][x + i];
+                    jxx += gx * gx;
+                    jxy += gx * gy;
+                    jyy += gy * gy;
+                }
+        }
+        /* cos 2(angle(d) - angle(normal)) >= 0, times the tensor's size */
+        if (dir[k][2] == 1 ? jxx - jyy >= 0
+            : dir[k][2] == -1 ? jyy - jxx >= 0
+            : dir[k][2] == 2  ? jxy >= 0
+                              : jxy <= 0)
+            return 1;
+    }
+    return 0;
+}
+
+/* Threshold at t as apply_level, but ink pixels in a valley (is_valley)
+ * become 2, and then (the mask is 8-connected ink) every diagonal contact
+ * across a valley is cut too, so two lines whose blurred ink runs together
+ * with a lighter seam between them stay apart.  Leaves 0/1. */
+static int apply_level_split(td_grid_u8 *m, int t, int hi, int margin,
+                             td_ctx *cx)
+{
+    uint8_t *ring = td_malloc((size_t)(2 * SPLIT_R + 1) * (size_t)m->w, cx);
+    const uint8_t *rows[2 * SPLIT_R + 1];
+    int x, y, k;
+    if (!ring)
+        return TD_ENOMEM;
+    for (y = 0; y < SPLIT_R && y < m->h; y++)
+        memcpy(ring + (size_t)(y % (2 * SPLIT_R + 1)) * m->w,
+               m->data + (size_t)y * m->stride, (size_t)m->w);
+    for (y = 0; y < m->h; y++) {
+        uint8_t *row = m->data + (size_t)y * m->stride;
+        if (y + SPLIT_R < m->h)
+            memcpy(ring + (size_t)((y + SPLIT_R) % (2 * SPLIT_R + 1)) * m->w,
+                   m->data + (size_t)(y + SPLIT_R) * m->stride,
+                   (size_t)m->w);
+        for (k = 0; k < 2 * SPLIT_R + 1; k++) {
+            int yy = y + k - SPLIT_R;
+            rows[k] = yy < 0 || yy >= m->h
+                          ? NULL
+                          : ring + (size_t)(yy % (2 * SPLIT_R + 1)) * m->w;
+        }
+        for (x = 0; x < m->w; x++)
+            row[x] = is_valley(rows, m->w, x, t, hi, margin)
+                         ? 2
+                         : rows[SPLIT_R][x] > t;
+    }
+    free(ring);
+    for (y = 0; y + 1 < m->h; y++) {
+        uint8_t *a = m->data + (size_t)y * m->stride, *b = a + m->stride;
+        for (x = 0; x + 1 < m->w; x++) {
+            if (a[x] == 1 && b[x + 1] == 1 && a[x + 1] != 1 && b[x] != 1 &&
+                (a[x + 1] == 2 || b[x] == 2))
+                a[x] = 2;
+            else if (a[x + 1] == 1 && b[x] == 1 && a[x] != 1 &&
+                     b[x + 1] != 1 && (a[x] == 2 || b[x + 1] == 2))
+                a[x + 1] = 2;
+        }
+    }
+    for (y = 0; y < m->h; y++) {
+        uint8_t *row = m->data + (size_t)y * m->stride;
+        for (x = 0; x < m->w; x++)
+            row[x] = row[x] == 1;
+    }
+    return 0;
+}
+
 static int any_ink(const td_grid_u8 *m)
 {
     int y;
@@ -444,6 +554,27 @@ static void remap_end(td_ctx *cx, const remap *r)
     }
 }
 
+/* The seam margin: at least min, and at least 3 noise deviations of the
+ * sheet, so noise alone makes no seam.  The noise is measured on the paper
+ * (pairs of horizontal neighbours both under t, every 4th row): the median
+ * of |difference| is 0.954 sigma for Gaussian noise. */
+static int split_margin(const td_grid_u8 *m, int t, int min)
+{
+    uint64_t h[256] = {0}, n = 0, acc = 0;
+    int x, y, med;
+    for (y = 0; y < m->h; y += 4) {
+        const uint8_t *row = m->data + (size_t)y * m->stride;
+        for (x = 0; x + 1 < m->w; x++)
+            if (row[x] <= t && row[x + 1] <= t) {
+                h[abs(row[x] - row[x + 1])]++;
+                n++;
+            }
+    }
+    for (med = 0; med < 255 && (acc += h[med]) * 2 < n; med++)
+        ;
+    return (int)fmax(min, 3.0 * med / 0.954);
+}
+
 /* Threshold the strength image held in m, in place. */
 static int threshold(td_grid_u8 *m, const td_binarise_params *p,
                      const uint64_t *hist, td_ctx *cx)
@@ -459,6 +590,15 @@ static int threshold(td_grid_u8 *m, const td_binarise_params *p,
     t = p->thr_value;
     if (p->thr == TD_THR_OTSU && (rc = otsu_level(hist, &t, cx)) != 0)
         return rc;
+    if (p->split > 0) {
+        /* the ink's core level: its mean */
+        double n = 0, sum = 0;
+        int i;
+        for (i = t + 1; i < 256; i++)
+            n += (double)hist[i], sum += (double)hist[i] * i;
+        return apply_level_split(m, t, n > 0 ? (int)(sum / n) : 256,
+                                 split_margin(m, t, p->split), cx);
+    }
     apply_level(m, t);
     return 0;
 }
@@ -472,8 +612,7 @@ int td_binarise(const td_image *im, const td_binarise_params *p,
     if ((rc = check_image(im, p, mask, cx)) != 0 ||
         (rc = check_params(p, cx)) != 0)
         goto fail;
-    rc = strength_pass(im, p, mask, p->thr == TD_THR_OTSU ? hist : NULL, 0.4,
-                       cx);
+    rc = strength_pass(im, p, mask, hist, 0.4, cx);
     if (rc != 0 || (rc = threshold(mask, p, hist, cx)) != 0)
         goto fail;
     if (p->min_speck > 1) {

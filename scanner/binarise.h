@@ -35,6 +35,17 @@ typedef struct td_binarise_params {
                            than this are filled; default 8, 0 = keep.  Not
                            the paper's: noisy scans leave pinholes that
                            thinning would keep as tiny loops */
+    int split;          /* split touching lines (not the paper's): an ink
+                           pixel under the ink's mean level with ink at
+                           least this many levels stronger within 2 px on
+                           both sides, along a row, column or diagonal
+                           within 45 degrees of the ink's normal (the
+                           structure tensor over 3 x 3 px), is the lighter
+                           seam between two blurred lines and becomes
+                           paper; diagonal contacts across a seam are cut.
+                           The margin used is at least 3 noise deviations
+                           (measured on the paper).  Default 24, 0 = off.
+                           Otsu and fixed thresholds only */
 } td_binarise_params;
 
 /* Otsu splits whose class means differ by fewer levels than this are

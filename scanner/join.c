@@ -35,6 +35,7 @@
  * together there; a contour does not turn onto its neighbour). */
 #define JUNC_TURN 75.0
 #define JUNC_LEAVE 25.0 /* cost of leaving a junction end open */
+#define JUNC_SELF_TURN 135.0 /* a line's two ends closing it at a junction */
 #define JUNC_MAX 8      /* ends in one junction zone searched exhaustively */
 
 typedef struct jend {
@@ -264,7 +265,10 @@ static double pair_cost(const td_lines *ls, const jend *a, const jend *b,
         return -1.0;
     if (a->junc && b->junc) { /* across a junction: go on straight */
         double turn = angle_to(a->tx, a->ty, -b->tx, -b->ty);
-        if (turn > JUNC_TURN || (d > 3.0 && (!faces(a->tx, a->ty, gx, gy,
+        /* a small ring cut open where it touches a line: its two ends
+           both head into the contact */
+        int self = a->line == b->line;
+        if (turn > (self ? JUNC_SELF_TURN : JUNC_TURN) || (!self && d > 3.0 && (!faces(a->tx, a->ty, gx, gy,
                                                     angle_to(a->tx, a->ty,
                                                              gx, gy),
                                                     p->max_angle) ||
@@ -1045,7 +1049,9 @@ fail:
  * side: a bent digit such as 2 or 5) with both ends inside the sheet are
  * label or text fragments unless both ends continue longer lines (a stage-1 pair with an
  * end of a line that is not itself such a candidate): a short piece of a
- * contour between two breaks is kept. */
+ * contour between two breaks is kept; so is a compact piece at least twice
+ * min_length long with both ends at skeleton junctions (a small ring cut
+ * open where it touches a line). */
 static int remove_fragments(td_lines *ls, const td_join_params *p,
                             td_join_stats *st, td_ctx *cx)
 {
@@ -1062,11 +1068,17 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
     if (!(cand = td_calloc(ls->n + 1, 1, cx)) ||
         !(cont = td_calloc(ne + 1, 1, cx)))
         goto fail;
-    for (i = 0; i < ls->n; i++)
+    for (i = 0; i < ls->n; i++) {
+        double len = td_line_length(&ls->v[i]);
         cand[i] = !ls->v[i].closed && !ls->v[i].edge && eol[2 * i] >= 0 &&
                   eol[2 * i + 1] >= 0 &&
-                  (td_line_length(&ls->v[i]) < p->min_length ||
-                   compact(&ls->v[i], p->min_length));
+                  (len < p->min_length || compact(&ls->v[i], p->min_length));
+        /* a small ring of a contour that touches another line (or itself)
+           is cut open at the junction: both ends there, and longer than a
+           digit's outline */
+        if (cand[i] && ls->v[i].junc == 3 && len >= 2 * p->min_length)
+            cand[i] = 0;
+    }
     for (i = 0; i < np; i++) {
         size_t a = pairs[i].a, b = pairs[i].b;
         if (e[a].line == e[b].line)

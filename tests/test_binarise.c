@@ -1016,6 +1016,100 @@ static void test_rgb_ink(void)
     sheet_free(&s);
 }
 
+
+/* 8-connected ink components of a mask (a plain flood fill). */
+static long components(const td_grid_u8 *m)
+{
+    int w = m->w, h = m->h, x, y;
+    unsigned char *seen = calloc((size_t)w * h, 1);
+    int *stack = malloc(sizeof *stack * 2 * (size_t)w * h);
+    long n = 0;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            size_t top = 0;
+            if (!TD_AT(m, x, y) || seen[(size_t)y * w + x])
+                continue;
+            n++;
+            seen[(size_t)y * w + x] = 1;
+            stack[top++] = x, stack[top++] = y;
+            while (top) {
+                int cy = stack[--top], cx = stack[--top], dx, dy;
+                for (dy = -1; dy <= 1; dy++)
+                    for (dx = -1; dx <= 1; dx++) {
+                        int nx = cx + dx, ny = cy + dy;
+                        if (nx < 0 || ny < 0 || nx >= w || ny >= h ||
+                            !TD_AT(m, nx, ny) || seen[(size_t)ny * w + nx])
+                            continue;
+                        seen[(size_t)ny * w + nx] = 1;
+                        stack[top++] = nx, stack[top++] = ny;
+                    }
+            }
+        }
+    free(seen);
+    free(stack);
+    return n;
+}
+
+/* Two contours 1.8 px wide drawn 3.2 px apart (centre to centre) run into
+ * one blob of ink under Otsu, a lighter seam between them; the seam split
+ * keeps them apart at every angle, clean and with noise, and leaves
+ * single thin lines with noise in one piece. */
+static void test_seam_split(void)
+{
+    static const double ang[] = {0, 17, 30, 45, 62, 90, 118, 135};
+    static const uint8_t white[1] = {250}, black[1] = {10};
+    size_t a;
+    int noisy, hard = 0;
+    for (noisy = 0; noisy <= 1; noisy++)
+        for (a = 0; a < sizeof ang / sizeof ang[0]; a++) {
+            double t = ang[a] * 3.141592653589793 / 180, c = cos(t),
+                   sn = sin(t), off;
+            sheet s = sheet_new(80, 80, 1, white), one = sheet_new(80, 80, 1,
+                                                                   white);
+            td_binarise_params p = td_binarise_defaults();
+            td_grid_u8 *m;
+            long n_on, n_off, n_one;
+            int rc;
+            for (off = -1.6; off <= 1.6; off += 3.2) {
+                shape sh = {40 - 30 * c - off * sn, 40 - 30 * sn + off * c,
+                            40 + 30 * c - off * sn, 40 + 30 * sn + off * c,
+                            1.8, 0};
+                paint(&s, &sh, black, 1);
+            }
+            {
+                shape sh = {40 - 30 * c, 40 - 30 * sn, 40 + 30 * c,
+                            40 + 30 * sn, 1.6, 0};
+                paint(&one, &sh, black, 1);
+            }
+            if (noisy) {
+                add_noise(s.im, 8);
+                add_noise(one.im, 8);
+            }
+            p.min_speck = 0; /* count every piece */
+            m = run(s.im, &p, &rc);
+            n_on = components(m);
+            td_grid_u8_free(m);
+            m = run(one.im, &p, &rc);
+            n_one = components(m);
+            td_grid_u8_free(m);
+            p.split = 0;
+            m = run(s.im, &p, &rc);
+            n_off = components(m);
+            td_grid_u8_free(m);
+            if (n_on != 2 || n_one != 1)
+                fprintf(stderr, "  angle %g noise %d: %ld pieces split, %ld "
+                        "not split, thin line %ld\n", ang[a], noisy, n_on,
+                        n_off, n_one);
+            TT_CHECK(n_on == 2);
+            TT_CHECK(n_one == 1);
+            hard += n_off == 1;
+            sheet_free(&s);
+            sheet_free(&one);
+        }
+    /* off the axes the two lines are one blob without the split */
+    TT_CHECK(hard >= 10);
+}
+
 int main(void)
 {
     TT_RUN(test_dark_lines);
@@ -1038,5 +1132,6 @@ int main(void)
     TT_RUN(test_progress_cancel);
     TT_RUN(test_rgb_ink);
     TT_RUN(test_thin_zhangsuen);
+    TT_RUN(test_seam_split);
     return tt_summary();
 }

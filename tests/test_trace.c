@@ -242,6 +242,37 @@ static void test_join(void)
     td_grid_u8_free(g);
 }
 
+
+/* A small ring (23 px across) touching a line is cut open at the junction;
+ * the joiner keeps it (it is no digit: both ends at the junction, longer
+ * than a digit's outline) and closes it. */
+static void test_small_ring_touching(void)
+{
+    td_grid_u8 *g = td_grid_u8_new(100, 60, NULL);
+    td_trace_params p = td_trace_defaults();
+    td_join_params jp = td_join_defaults(100, 60);
+    td_lines *ls = NULL;
+    size_t i, k, rings = 0;
+    tg_ring(g, 50, 25, 10, 11.6);
+    tg_thick_segment(g, 5, 36.5, 95, 36.5, 2.2);
+    td_thin_hilditch(g, NULL, NULL);
+    p.edge_dist = 0;
+    TT_CHECK(td_trace(g, &p, &ls, NULL, NULL) == 0);
+    TT_CHECK(ls && td_join(&ls, &jp, NULL, NULL) == 0);
+    for (i = 0; ls && i < ls->n; i++) {
+        int on = 1;
+        for (k = 0; k < ls->v[i].n; k++) {
+            double d = hypot(ls->v[i].xy[2 * k] - 50, ls->v[i].xy[2 * k + 1] -
+                             25);
+            on &= fabs(d - 10.8) < 2.0;
+        }
+        rings += on && ls->v[i].closed && ls->v[i].n > 20;
+    }
+    TT_CHECKF(rings == 1, "%zu lines, %zu rings", ls ? ls->n : 0, rings);
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+}
+
 int main(void)
 {
     TT_RUN(test_ring_order);
@@ -253,5 +284,6 @@ int main(void)
     TT_RUN(test_touching_rings);
     TT_RUN(test_touching_rings_cut);
     TT_RUN(test_join);
+    TT_RUN(test_small_ring_touching);
     return tt_summary();
 }

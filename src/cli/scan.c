@@ -28,6 +28,11 @@ static const char help[] =
     "      --threshold T      otsu | sauvola | N (0-255)   (default otsu)\n"
     "      --min-speck N      remove ink specks under N px (default 8)\n"
     "      --min-hole N       fill pinholes in the ink under N px (default 8)\n"
+    "      --seams N          split touching lines (ours): an ink pixel at\n"
+    "                         least N levels lighter than the ink on both\n"
+    "                         sides across the lines is the seam between\n"
+    "                         two lines and becomes paper (default 24; 0:\n"
+    "                         off; otsu and fixed thresholds)\n"
     "      --spur MODE        length | paper | none        (default length)\n"
     "      --spur-max PX      longest spur, px along the skeleton (default 10)\n"
     "      --no-bridge        no 5x5 gap bridging while tracing\n"
@@ -65,7 +70,7 @@ typedef struct scan_opts {
 } scan_opts;
 
 enum { O_INK = 256, O_THR, O_SPECK, O_HOLE, O_SPUR, O_SPURMAX, O_NOBRIDGE, O_NOJOIN,
-       O_MAXGAP, O_DEBUG, O_SMALLGAP, O_MINLEN, O_NOCURVES, O_JUNC };
+       O_MAXGAP, O_DEBUG, O_SMALLGAP, O_MINLEN, O_NOCURVES, O_JUNC, O_SEAMS };
 
 static int parse_opt(int c, const char *arg, scan_opts *o, td_ctx *cx)
 {
@@ -87,6 +92,12 @@ static int parse_opt(int c, const char *arg, scan_opts *o, td_ctx *cx)
         o->p.trace.cut = !strcmp(arg, "cut");
         return 0;
     case O_DEBUG: o->debug_dir = arg; return 0;
+    case O_SEAMS:
+        if (td_cli_parse_int(arg, 0, 255, &v) != 0)
+            return td_seterr(cx, TD_EINVAL, "--seams: '%s' is not a whole "
+                             "number 0..255", arg);
+        o->p.bin.split = (int)v;
+        return 0;
     case O_SPECK:
     case O_HOLE:
         if (td_cli_parse_int(arg, 0, 1000000, &v) != 0)
@@ -131,7 +142,7 @@ static int parse_args(int argc, char **argv, scan_opts *o)
         {"no-join", 0, 0, O_NOJOIN}, {"max-gap", 1, 0, O_MAXGAP},
         {"debug-dir", 1, 0, O_DEBUG}, {"small-gap", 1, 0, O_SMALLGAP},
         {"min-length", 1, 0, O_MINLEN}, {"no-curves", 0, 0, O_NOCURVES},
-        {"junctions", 1, 0, O_JUNC},
+        {"junctions", 1, 0, O_JUNC}, {"seams", 1, 0, O_SEAMS},
         {0, 0, 0, 0}};
     td_ctx cx;
     int c;

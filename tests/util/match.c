@@ -580,3 +580,164 @@ int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
     }
     return 0;
 }
+
+/* Walk line l in steps of 0.5 px; for each sample call back with its
+ * position.  Returns the number of samples. */
+typedef void (*sample_fn)(void *u, double x, double y);
+
+static void walk(const td_line *l, sample_fn fn, void *u)
+{
+    size_t s;
+    for (s = 0; s < nseg(l); s++) {
+        const double *p, *q;
+        double len;
+        int k, n;
+        seg_pts(l, s, &p, &q);
+        len = hypot(q[0] - p[0], q[1] - p[1]);
+        n = (int)ceil(len / 0.5);
+        n = n < 1 ? 1 : n;
+        for (k = 0; k < n; k++) {
+            double t = (double)k / n;
+            fn(u, p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]));
+        }
+    }
+}
+
+typedef struct near_walk {
+    const segidx *ix;
+    double tol;
+    size_t n, hit;
+    /* per traced line: the nearest truth line of each sample */
+    size_t *who, nwho, capwho;
+    double *wx, *wy;
+    int fail;
+} near_walk;
+
+static void count_near(void *u, double x, double y)
+{
+    near_walk *nw = u;
+    size_t near[MAX_NEAR], best;
+    double dist[MAX_NEAR];
+    idx_query(nw->ix, x, y, nw->tol, near, dist, &best);
+    nw->n++;
+    nw->hit += best != SIZE_MAX;
+}
+
+static void record_near(void *u, double x, double y)
+{
+    near_walk *nw = u;
+    size_t near[MAX_NEAR], best;
+    double dist[MAX_NEAR];
+    idx_query(nw->ix, x, y, nw->tol, near, dist, &best);
+    if (nw->nwho == nw->capwho) {
+        size_t c = nw->capwho ? 2 * nw->capwho : 1024;
+        size_t *w2 = realloc(nw->who, c * sizeof *w2);
+        double *x2, *y2;
+        if (!w2) {
+            nw->fail = 1;
+            return;
+        }
+        nw->who = w2;
+        x2 = realloc(nw->wx, c * sizeof *x2);
+        if (!x2) {
+            nw->fail = 1;
+            return;
+        }
+        nw->wx = x2;
+        y2 = realloc(nw->wy, c * sizeof *y2);
+        if (!y2) {
+            nw->fail = 1;
+            return;
+        }
+        nw->wy = y2;
+        nw->capwho = c;
+    }
+    nw->wx[nw->nwho] = x;
+    nw->wy[nw->nwho] = y;
+    nw->who[nw->nwho++] = best;
+}
+
+/* Contract in match.h. */
+int td_match_scan(const td_lines *truth, const td_lines *traced, int w, int h,
+                  double tol, double jump_len, td_scanscore *r, FILE *log)
+{
+    segidx tix, rix;
+    near_walk nw;
+    size_t i, tot_near = 0, tot_own = 0;
+    memset(r, 0, sizeof *r);
+    memset(&nw, 0, sizeof nw);
+    memset(&tix, 0, sizeof tix);
+    memset(&rix, 0, sizeof rix);
+    if (idx_build(&tix, truth, w, h) != 0 || idx_build(&rix, traced, w, h)) {
+        idx_free(&tix);
+        idx_free(&rix);
+        return TD_ENOMEM;
+    }
+    nw.tol = tol;
+    nw.ix = &rix;
+    for (i = 0; i < truth->n; i++)
+        walk(&truth->v[i], count_near, &nw);
+    r->recall = nw.n ? (double)nw.hit / (double)nw.n : 0.0;
+    nw.n = nw.hit = 0;
+    nw.ix = &tix;
+    for (i = 0; i < traced->n; i++)
+        walk(&traced->v[i], count_near, &nw);
+    r->precision = nw.n ? (double)nw.hit / (double)nw.n : 0.0;
+    r->n_traced = (long)traced->n;
+    r->n_truth = (long)truth->n;
+    for (i = 0; i < traced->n && !nw.fail; i++) {
+        size_t k, nmaj = 0, run = 0, near = 0, cnt[64], nc = 0, c;
+        double cnt_h[64], major = 0, rh = 0, rx = 0, ry = 0;
+        int jumped = 0;
+        nw.nwho = 0;
+        walk(&traced->v[i], record_near, &nw);
+        for (k = 0; k < nw.nwho; k++) {
+            double th;
+            if (nw.who[k] == SIZE_MAX)
+                continue;
+            th = truth->v[nw.who[k]].height;
+            near++;
+            for (c = 0; c < nc && cnt_h[c] != th; c++)
+                ;
+            if (c == nc && nc < 64)
+                cnt_h[nc] = th, cnt[nc++] = 0;
+            if (c < nc)
+                cnt[c]++;
+        }
+        for (c = 0; c < nc; c++)
+            if (cnt[c] > nmaj)
+                nmaj = cnt[c], major = cnt_h[c];
+        tot_near += near;
+        tot_own += nmaj;
+        /* contiguous runs at another height (samples with no truth line
+           near do not break a run) */
+        for (k = 0; k < nw.nwho && !jumped; k++) {
+            double th;
+            if (nw.who[k] == SIZE_MAX)
+                continue;
+            th = truth->v[nw.who[k]].height;
+            if (th == major) {
+                run = 0;
+                continue;
+            }
+            if (run == 0 || th != rh)
+                rh = th, rx = nw.wx[k], ry = nw.wy[k], run = 0;
+            if (++run * 0.5 > jump_len) {
+                jumped = 1;
+                if (log)
+                    fprintf(log,
+                            "jump: traced line %ld (%.0f,%.0f) runs from "
+                            "contour %g onto %g\n",
+                            traced->v[i].id, rx, ry, major, rh);
+            }
+        }
+        r->n_jump += jumped;
+    }
+    r->own = tot_near ? (double)tot_own / (double)tot_near : 0.0;
+    free(nw.who);
+    free(nw.wx);
+    free(nw.wy);
+    idx_free(&tix);
+    idx_free(&rix);
+    return nw.fail ? TD_ENOMEM : 0;
+}

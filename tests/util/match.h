@@ -73,7 +73,6 @@ int td_match_ok(const td_match_report *r);
 /* One summary line of r. */
 void td_match_print(const td_match_report *r, FILE *f);
 
-#endif
 
 /* Height accuracy of labelled traced lines against the truth: each traced
  * segment (its middle) goes to the nearest truth line within tol px; its
@@ -102,3 +101,26 @@ int td_match_heights(const td_lines *truth, const td_lines *traced, int w,
 int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
                        int h, double tol, td_hscore *r, FILE *log,
                        int *verdict);
+
+/* Scanner quality against the truth (issue 14's measures), all within tol
+ * px, both sets sampled every 0.5 px of arc length:
+ *  - recall: share of the truth length near some traced line;
+ *  - precision: share of the traced length near some truth line;
+ *  - own: share of the traced length near truth that lies near its own
+ *    line's majority contour (each sample goes to the nearest truth line;
+ *    a contour is a level: two truth lines of one height meeting at a
+ *    saddle or cut apart by the border are one contour);
+ *  - n_jump: traced lines with a run of more than jump_len px (contiguous)
+ *    at a height other than their majority one. */
+typedef struct td_scanscore {
+    double recall, precision, own;
+    long n_traced, n_truth, n_jump;
+} td_scanscore;
+
+/* Fills *r; log (may be NULL) gets one line per jumping traced line (its
+ * id, where the run starts, the two truth heights).  Returns 0 or
+ * TD_ENOMEM. */
+int td_match_scan(const td_lines *truth, const td_lines *traced, int w, int h,
+                  double tol, double jump_len, td_scanscore *r, FILE *log);
+
+#endif

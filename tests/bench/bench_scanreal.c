@@ -1,0 +1,157 @@
+/* bench_scanreal: the scanner on sheets drawn from real DEMs (issue 14's
+ * measures): recall and precision within 2 px of the true contours, the
+ * share of traced length on its own contour, and the traced lines that run
+ * onto another contour for more than 20 px, for clean, scanned and colour
+ * sheets, with the paper's junctions and ours.  Numbers for
+ * docs/scanner.md.
+ *
+ *   bench_scanreal [--dems DIR] [--only NAME] [--log] [--out DIR] */
+#include "../../samples/gen/gen.h"
+#include "../../scanner/scan.h"
+#include "../util/hsheet.h"
+#include "../util/match.h"
+#include "../../src/imageio.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+typedef struct sheet_case {
+    const char *name, *dem;
+    double scale, interval;
+} sheet_case;
+
+static const sheet_case cases[] = {
+    {"elkhorn", "elkhorn_srtm3.tif", 6, 0},
+    {"frontrange", "frontrange_srtm3.tif", 10, 0},
+    {"orkhon", "orkhon_92m.tif", 10, 0},
+    {"frontrange20", "frontrange_srtm3.tif", 10, 20},
+};
+
+static const char *const scan_name[3] = {"clean", "scanned", "colour"};
+
+/* The defects of bench_heights' sheets (printed labels included). */
+static void defects(td_gen_params *p, int kind)
+{
+    p->line_width = 1.8;
+    p->index_width = 3.2;
+    if (!kind)
+        return;
+    if (kind == 2) {
+        p->colour = 1;
+        p->distractors = 1;
+    }
+    p->blur = 0.8;
+    p->noise = 8;
+    p->specks = 300;
+    p->breaks = 40;
+    p->break_min = 3;
+    p->break_max = 10;
+    p->labels = 3;
+    p->label_bend = 40;
+    p->label_font = 1;
+}
+
+int main(int argc, char **argv)
+{
+    const char *dir = "tests/data/dems", *only = NULL, *out = NULL;
+    int logit = 0, a;
+    size_t c;
+    for (a = 1; a < argc; a++) {
+        if (!strcmp(argv[a], "--dems") && a + 1 < argc)
+            dir = argv[++a];
+        else if (!strcmp(argv[a], "--only") && a + 1 < argc)
+            only = argv[++a];
+        else if (!strcmp(argv[a], "--out") && a + 1 < argc)
+            out = argv[++a];
+        else if (!strcmp(argv[a], "--log"))
+            logit = 1;
+        else if (!strcmp(argv[a], "--topodig") || !strcmp(argv[a], "--dir"))
+            a++; /* make bench's common options */
+    }
+    printf("%-12s %-7s %-9s %6s %6s %6s %6s %6s %6s %6s\n", "sheet", "scan",
+           "junctions", "truth", "traced", "recall", "prec", "own", "jumps",
+           "secs");
+    for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        const sheet_case *k = &cases[c];
+        td_grid_f32 *src = NULL;
+        td_ctx cx;
+        int kind, paper;
+        char path[512];
+        if (only && strcmp(only, k->name))
+            continue;
+        td_ctx_init(&cx);
+        snprintf(path, sizeof path, "%s/%s", dir, k->dem);
+        if (td_hsheet_load_dem(path, &src, &cx) != 0) {
+            printf("%-12s (skipped: %s)\n", k->name, td_errmsg(&cx));
+            continue;
+        }
+        for (kind = 0; kind < 3; kind++) {
+            td_gen_params gp = td_gen_defaults();
+            td_image *im = NULL;
+            td_lines *truth = NULL;
+            gp.terrain = TD_GEN_DEM;
+            gp.dem_in = src;
+            gp.interval = k->interval;
+            gp.w = (int)(src->w * k->scale);
+            gp.h = (int)(src->h * k->scale);
+            defects(&gp, kind);
+            if (td_gen_sheet(&gp, &im, &truth, NULL, &cx) != 0) {
+                printf("%-12s %-7s generate failed: %s\n", k->name,
+                       scan_name[kind], td_errmsg(&cx));
+                td_ctx_clear(&cx);
+                continue;
+            }
+            for (paper = 1; paper >= 0; paper--) {
+                td_scan_params sp = td_scan_defaults();
+                td_scan_result res;
+                td_scanscore sc;
+                struct timespec t0, t1;
+                if (kind == 2)
+                    sp.bin.ink = TD_INK_BROWN;
+                sp.trace.cut = !paper;
+                clock_gettime(CLOCK_MONOTONIC, &t0);
+                if (td_scan(im, &sp, &res, &cx) != 0) {
+                    printf("%-12s %-7s scan failed: %s\n", k->name,
+                           scan_name[kind], td_errmsg(&cx));
+                    td_ctx_clear(&cx);
+                    continue;
+                }
+                clock_gettime(CLOCK_MONOTONIC, &t1);
+                if (logit)
+                    printf("-- %s %s %s\n", k->name, scan_name[kind],
+                           paper ? "paper" : "cut");
+                td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
+                              logit ? stdout : NULL);
+                printf("%-12s %-7s %-9s %6ld %6ld %6.3f %6.3f %6.3f %6.3f "
+                       "%6.2f\n",
+                       k->name, scan_name[kind], paper ? "paper" : "cut",
+                       sc.n_truth, sc.n_traced, sc.recall, sc.precision,
+                       sc.own, (double)sc.n_jump / (double)(sc.n_traced + !sc.n_traced),
+                       (double)(t1.tv_sec - t0.tv_sec) +
+                           1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
+                fflush(stdout);
+                if (out && !paper) {
+                    snprintf(path, sizeof path, "%s/%s_%s.png", out, k->name,
+                             scan_name[kind]);
+                    if (td_png_write(path, im, &cx) != 0)
+                        td_ctx_clear(&cx);
+                    snprintf(path, sizeof path, "%s/%s_%s_truth.geojson", out,
+                             k->name, scan_name[kind]);
+                    if (td_geojson_write_lines(path, truth, NULL, &cx) != 0)
+                        td_ctx_clear(&cx);
+                    snprintf(path, sizeof path, "%s/%s_%s_lines.geojson", out,
+                             k->name, scan_name[kind]);
+                    if (td_geojson_write_lines(path, res.lines, NULL, &cx) != 0)
+                        td_ctx_clear(&cx);
+                }
+                td_scan_result_free(&res);
+            }
+            td_image_free(im);
+            td_lines_free(truth);
+        }
+        td_grid_f32_free(src);
+    }
+    return 0;
+}
