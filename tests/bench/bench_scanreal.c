@@ -2,7 +2,8 @@
  * measures): recall and precision within 2 px of the true contours, the
  * share of traced length on its own contour, and the traced lines that run
  * onto another contour for more than 20 px, for clean, scanned and colour
- * sheets, with the paper's junctions and ours.  Numbers for
+ * sheets: the paper's junctions, ours without the seam split, and the
+ * default (ours with it).  Numbers for
  * docs/scanner.md.
  *
  *   bench_scanreal [--dems DIR] [--only NAME] [--log] [--out DIR] */
@@ -70,14 +71,14 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[a], "--topodig") || !strcmp(argv[a], "--dir"))
             a++; /* make bench's common options */
     }
-    printf("%-12s %-7s %-9s %6s %6s %6s %6s %6s %6s %6s\n", "sheet", "scan",
+    printf("%-12s %-7s %-10s %6s %6s %6s %6s %6s %6s %6s\n", "sheet", "scan",
            "junctions", "truth", "traced", "recall", "prec", "own", "jumps",
            "secs");
     for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         const sheet_case *k = &cases[c];
         td_grid_f32 *src = NULL;
         td_ctx cx;
-        int kind, paper;
+        int kind, v;
         char path[512];
         if (only && strcmp(only, k->name))
             continue;
@@ -103,7 +104,10 @@ int main(int argc, char **argv)
                 td_ctx_clear(&cx);
                 continue;
             }
-            for (paper = 1; paper >= 0; paper--) {
+            for (v = 0; v < 3; v++) { /* paper, cut without seams, default */
+                static const char *const vname[3] = {"paper", "cut,noseam",
+                                                     "default"};
+                int paper = v == 0;
                 td_scan_params sp = td_scan_defaults();
                 td_scan_result res;
                 td_scanscore sc;
@@ -111,6 +115,8 @@ int main(int argc, char **argv)
                 if (kind == 2)
                     sp.bin.ink = TD_INK_BROWN;
                 sp.trace.cut = !paper;
+                if (v == 1)
+                    sp.bin.split = 0;
                 clock_gettime(CLOCK_MONOTONIC, &t0);
                 if (td_scan(im, &sp, &res, &cx) != 0) {
                     printf("%-12s %-7s scan failed: %s\n", k->name,
@@ -121,18 +127,18 @@ int main(int argc, char **argv)
                 clock_gettime(CLOCK_MONOTONIC, &t1);
                 if (logit)
                     printf("-- %s %s %s\n", k->name, scan_name[kind],
-                           paper ? "paper" : "cut");
+                           vname[v]);
                 td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
                               logit ? stdout : NULL);
-                printf("%-12s %-7s %-9s %6ld %6ld %6.3f %6.3f %6.3f %6.3f "
+                printf("%-12s %-7s %-10s %6ld %6ld %6.3f %6.3f %6.3f %6.3f "
                        "%6.2f\n",
-                       k->name, scan_name[kind], paper ? "paper" : "cut",
+                       k->name, scan_name[kind], vname[v],
                        sc.n_truth, sc.n_traced, sc.recall, sc.precision,
                        sc.own, (double)sc.n_jump / (double)(sc.n_traced + !sc.n_traced),
                        (double)(t1.tv_sec - t0.tv_sec) +
                            1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
                 fflush(stdout);
-                if (out && !paper) {
+                if (out && v == 2) {
                     snprintf(path, sizeof path, "%s/%s_%s.png", out, k->name,
                              scan_name[kind]);
                     if (td_png_write(path, im, &cx) != 0)
