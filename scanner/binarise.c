@@ -26,7 +26,7 @@ td_binarise_params td_binarise_defaults(void)
 {
     td_binarise_params p;
     memset(&p, 0, sizeof p);
-    p.ink = TD_INK_DARK;
+    p.ink = TD_INK_AUTO;
     p.rgb_tol = 60;
     p.thr = TD_THR_OTSU;
     p.thr_value = 128;
@@ -62,10 +62,18 @@ int td_binarise_parse_ink(const char *s, td_binarise_params *p, td_ctx *cx)
     int c[3], tol = p->rgb_tol, i;
     if (!s)
         return td_seterr(cx, TD_EINVAL, "--ink: missing value");
-    if (strcmp(s, "dark") == 0 || strcmp(s, "brown") == 0) {
-        p->ink = s[0] == 'd' ? TD_INK_DARK : TD_INK_BROWN;
-        return 0;
-    }
+    static const struct {
+        const char *name;
+        td_ink_kind kind;
+    } named[] = {{"auto", TD_INK_AUTO},
+                 {"dark", TD_INK_DARK},
+                 {"brown", TD_INK_BROWN},
+                 {"brown-hue", TD_INK_BROWN_HUE}};
+    for (i = 0; i < (int)(sizeof named / sizeof named[0]); i++)
+        if (strcmp(s, named[i].name) == 0) {
+            p->ink = named[i].kind;
+            return 0;
+        }
     for (i = 0; i < 3; i++) {
         if (i > 0 && *q++ != ',')
             goto bad;
@@ -86,7 +94,8 @@ int td_binarise_parse_ink(const char *s, td_binarise_params *p, td_ctx *cx)
     return 0;
 bad:
     return td_seterr(cx, TD_EINVAL,
-                     "--ink '%s': expected dark, brown or R,G,B[:tol] "
+                     "--ink '%s': expected auto, dark, brown, brown-hue or "
+                     "R,G,B[:tol] "
                      "(R, G, B 0..255, tol 1..442)",
                      s);
 }
@@ -258,7 +267,7 @@ static int strength_rows(const strength_ctx *sc, td_grid_u8 *s, int y0, int n,
         uint8_t *row = s->data + (size_t)y * s->stride;
         if (im->channels == 1)
             row_grey(px, im->w, row);
-        else if (sc->p->ink == TD_INK_BROWN)
+        else if (sc->lut)
             row_brown(sc->lut, px, im->w, row);
         else
             row_rgb(sc->p, px, im->w, row);
@@ -283,26 +292,79 @@ static void hist_row(const uint8_t *s, int w, uint64_t (*h)[256])
 
 /* Fill s band by band; hist (may be NULL) gets its 256-bin histogram.
  * Progress "binarise" runs from 0 to frac_end. */
+#define VETO_R 1
+
+/* Where another ink is printed (pixels the veto table marks), the contour
+ * ink's strength is cleared within VETO_R px: a red road's edges over a green
+ * tint look like brown over it, and would join the contours it crosses. */
+static void veto_row(const td_image *im, const uint8_t *veto, td_grid_u8 *s,
+                     int y, int ylo)
+{
+    const uint8_t *px = im->data + (size_t)y * im->stride;
+    int x, yy, xx;
+    for (x = 0; x < im->w; x++, px += 3) {
+        if (brown_lookup(veto, px[0], px[1], px[2]) < 128)
+            continue;
+        for (yy = y - VETO_R; yy <= y + VETO_R; yy++) {
+            uint8_t *row;
+            if (yy < ylo || yy >= im->h)
+                continue;
+            row = s->data + (size_t)yy * s->stride;
+            for (xx = x - VETO_R; xx <= x + VETO_R; xx++)
+                if (xx >= 0 && xx < im->w)
+                    row[xx] = 0;
+        }
+    }
+}
+
 static int strength_pass(const td_image *im, const td_binarise_params *p,
                          td_grid_u8 *s, uint64_t *hist, double frac_end,
-                         td_ctx *cx)
+                         td_palette *pal, td_ctx *cx)
 {
     uint64_t h4[4][256];
     strength_ctx sc = {p, im, NULL};
-    int y0, y, i, rc = 0;
+    uint8_t *veto = NULL;
+    int y0, y, i, rc = 0, done = 0; /* rows [0, done) are in the histogram */
     memset(h4, 0, sizeof h4);
-    if (im->channels == 3 && p->ink == TD_INK_BROWN) {
+    if (im->channels == 3 &&
+        (p->ink == TD_INK_BROWN_HUE || p->ink == TD_INK_BROWN ||
+         p->ink == TD_INK_AUTO)) {
         sc.lut = td_malloc(LUT_SIZE, cx);
         if (!sc.lut)
             return TD_ENOMEM;
-        brown_lut_build(sc.lut);
+        if (p->ink == TD_INK_BROWN_HUE) {
+            brown_lut_build(sc.lut);
+        } else {
+            if ((rc = td_palette_find(im, pal, cx)) != 0)
+                goto fail;
+            if (td_palette_choose(pal, p->ink == TD_INK_BROWN) < 0) {
+                rc = td_seterr(cx, TD_EFORMAT,
+                               "no ink found: the colour scan is paper "
+                               "and tints only (try --ink dark)");
+                goto fail;
+            }
+            td_palette_lut(pal, sc.lut);
+            if (!(veto = td_malloc(LUT_SIZE, cx))) {
+                rc = TD_ENOMEM;
+                goto fail;
+            }
+            td_palette_veto_lut(pal, veto);
+        }
     }
     for (y0 = 0; y0 < im->h; y0 += BAND_ROWS) {
         int n = im->h - y0 < BAND_ROWS ? im->h - y0 : BAND_ROWS;
         if ((rc = strength_rows(&sc, s, y0, n, cx)) != 0)
             goto fail;
-        for (y = y0; hist && y < y0 + n; y++)
-            hist_row(s->data + (size_t)y * s->stride, im->w, h4);
+        /* the veto of row y reaches rows y-VETO_R..y+VETO_R: a row goes
+           into the histogram once the rows below it are computed */
+        for (y = y0 - VETO_R > 0 ? y0 - VETO_R : 0; veto && y < y0 + n; y++)
+            veto_row(im, veto, s, y, done);
+        {
+            int upto = y0 + n - (veto && y0 + n < im->h ? VETO_R : 0);
+            for (y = done; hist && y < upto; y++)
+                hist_row(s->data + (size_t)y * s->stride, im->w, h4);
+            done = upto;
+        }
         if ((rc = td_progress(cx, "binarise", frac_end * (y0 + n) / im->h)) !=
             0)
             goto fail;
@@ -312,6 +374,7 @@ static int strength_pass(const td_image *im, const td_binarise_params *p,
             hist[i] = h4[0][i] + h4[1][i] + h4[2][i] + h4[3][i];
 fail:
     free(sc.lut);
+    free(veto);
     return rc;
 }
 
@@ -328,7 +391,8 @@ static int check_image(const td_image *im, const td_binarise_params *p,
         out->stride < (size_t)out->w)
         return td_seterr(cx, TD_EINVAL, "binarise: mask must be a %d x %d grid",
                          im->w, im->h);
-    if (im->channels == 1 && p->ink == TD_INK_BROWN)
+    if (im->channels == 1 &&
+        (p->ink == TD_INK_BROWN || p->ink == TD_INK_BROWN_HUE))
         return td_seterr(cx, TD_EINVAL, "--ink brown needs a colour scan");
     if (im->channels == 1 && p->ink == TD_INK_RGB)
         return td_seterr(cx, TD_EINVAL, "--ink R,G,B needs a colour scan");
@@ -358,8 +422,9 @@ static int check_params(const td_binarise_params *p, td_ctx *cx)
 int td_binarise_strength(const td_image *im, const td_binarise_params *p,
                          td_grid_u8 *s, td_ctx *cx)
 {
+    td_palette pal;
     int rc = check_image(im, p, s, cx);
-    return rc != 0 ? rc : strength_pass(im, p, s, NULL, 1.0, cx);
+    return rc != 0 ? rc : strength_pass(im, p, s, NULL, 1.0, &pal, cx);
 }
 
 /* ---- thresholds ---------------------------------------------------------- */
@@ -606,13 +671,25 @@ static int threshold(td_grid_u8 *m, const td_binarise_params *p,
 int td_binarise(const td_image *im, const td_binarise_params *p,
                 td_grid_u8 *mask, td_ctx *cx)
 {
+    return td_binarise_pal(im, p, mask, NULL, cx);
+}
+
+int td_binarise_pal(const td_image *im, const td_binarise_params *p,
+                    td_grid_u8 *mask, td_palette *pal_out, td_ctx *cx)
+{
     uint64_t hist[256];
+    td_palette pal;
     remap r;
     int rc;
+    memset(&pal, 0, sizeof pal);
+    if (pal_out)
+        memset(pal_out, 0, sizeof *pal_out);
     if ((rc = check_image(im, p, mask, cx)) != 0 ||
         (rc = check_params(p, cx)) != 0)
         goto fail;
-    rc = strength_pass(im, p, mask, hist, 0.4, cx);
+    rc = strength_pass(im, p, mask, hist, 0.4, &pal, cx);
+    if (pal_out)
+        *pal_out = pal;
     if (rc != 0 || (rc = threshold(mask, p, hist, cx)) != 0)
         goto fail;
     if (p->min_speck > 1) {

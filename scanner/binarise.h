@@ -11,12 +11,20 @@
 #define TD_BINARISE_H
 
 #include "../src/grid.h"
+#include "palette.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-typedef enum { TD_INK_DARK, TD_INK_BROWN, TD_INK_RGB } td_ink_kind;
+typedef enum {
+    TD_INK_AUTO,      /* grey: dark; colour: the palette's contour ink */
+    TD_INK_DARK,      /* 255 - luma */
+    TD_INK_BROWN,     /* colour: the palette's ink nearest contour brown */
+    TD_INK_BROWN_HUE, /* colour: the fixed brown hue window (the first
+                         brown selection; see docs/binarise.md) */
+    TD_INK_RGB
+} td_ink_kind;
 typedef enum { TD_THR_OTSU, TD_THR_SAUVOLA, TD_THR_FIXED } td_thr_kind;
 
 typedef struct td_binarise_params {
@@ -86,6 +94,11 @@ int td_binarise_strength(const td_image *im, const td_binarise_params *p,
  * removal. */
 int td_binarise(const td_image *im, const td_binarise_params *p,
                 td_grid_u8 *mask, td_ctx *cx);
+
+/* td_binarise, and *pal (may be NULL) gets the palette found for
+ * TD_INK_AUTO and TD_INK_BROWN on a colour scan (pal->n = 0 otherwise). */
+int td_binarise_pal(const td_image *im, const td_binarise_params *p,
+                    td_grid_u8 *mask, td_palette *pal, td_ctx *cx);
 
 #ifdef __cplusplus
 }

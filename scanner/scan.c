@@ -40,7 +40,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     if (!(g = td_grid_u8_new(im->w, im->h, cx)))
         return cx ? cx->code : TD_ENOMEM;
     t0 = td_now();
-    if ((rc = td_binarise(im, &p->bin, g, cx)) != 0)
+    if ((rc = td_binarise_pal(im, &p->bin, g, &res->palette, cx)) != 0)
         goto fail;
     res->seconds[0] = td_now() - t0;
     rc = TD_ENOMEM;

@@ -41,6 +41,8 @@ typedef struct td_scan_result {
     td_despur_stats spur;
     td_trace_stats trace;
     td_join_stats join;
+    td_palette palette;    /* the inks found on a colour scan (--ink auto
+                              or brown; n = 0 otherwise) */
     double seconds[5];     /* binarise, thin, despur, trace, join */
 } td_scan_result;
 

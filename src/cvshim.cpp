@@ -7,6 +7,7 @@
 // their own memory wherever OpenCV allows, so nothing is copied needlessly.
 #include "cvshim.h"
 
+#include <climits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -607,6 +608,78 @@ int td_cv_write_jpeg(const char *path, const td_image *im, int quality,
         if (!cv::imencode(".jpg", bgr, bytes, opt))
             return td_seterr(cx, TD_EFORMAT, "%s: cannot encode JPEG", path);
         return write_file_atomic(path, bytes, cx);
+    });
+}
+
+int td_cv_jpeg_roundtrip(td_image *im, int quality, td_ctx *cx)
+{
+    return guarded("jpeg", cx, [&] {
+        if (!im || !im->data || (im->channels != 1 && im->channels != 3) ||
+            quality < 1 || quality > 100)
+            return td_seterr(cx, TD_EINVAL, "jpeg: bad image or quality");
+        int ch = im->channels;
+        cv::Mat src(im->h, im->w, CV_8UC(ch), im->data, im->stride), bgr;
+        if (ch == 3)
+            cv::cvtColor(src, bgr, cv::COLOR_RGB2BGR);
+        else
+            bgr = src;
+        std::vector<uchar> bytes;
+        std::vector<int> opt = {cv::IMWRITE_JPEG_QUALITY, quality};
+        if (!cv::imencode(".jpg", bgr, bytes, opt))
+            return td_seterr(cx, TD_EFORMAT, "jpeg: cannot encode");
+        cv::Mat dec = cv::imdecode(bytes, ch == 1 ? cv::IMREAD_GRAYSCALE
+                                                  : cv::IMREAD_COLOR);
+        if (dec.rows != im->h || dec.cols != im->w || dec.type() != CV_8UC(ch))
+            return td_seterr(cx, TD_EFORMAT, "jpeg: cannot decode");
+        if (ch == 3)
+            cv::cvtColor(dec, src, cv::COLOR_BGR2RGB);
+        else
+            dec.copyTo(src);
+        return 0;
+    });
+}
+
+int td_cv_rgb_to_lab(const uint8_t *rgb, size_t n, float *lab, td_ctx *cx)
+{
+    return guarded("lab", cx, [&] {
+        if (n == 0)
+            return 0;
+        if (n > (size_t)INT_MAX)
+            return td_seterr(cx, TD_EINVAL, "lab: too many colours");
+        cv::Mat in(1, (int)n, CV_8UC3, const_cast<uint8_t *>(rgb)), f;
+        cv::Mat out(1, (int)n, CV_32FC3, lab);
+        in.convertTo(f, CV_32FC3, 1.0 / 255.0);
+        cv::cvtColor(f, out, cv::COLOR_RGB2Lab);
+        if (out.data != (uchar *)lab)
+            return td_seterr(cx, TD_EINTERNAL, "lab: OpenCV moved the output");
+        return 0;
+    });
+}
+
+int td_cv_kmeans(const float *pts, int n, int dim, int k, int attempts,
+                 int *label, float *centre, td_ctx *cx)
+{
+    return guarded("kmeans", cx, [&] {
+        if (n < k || k < 1 || dim < 1)
+            return td_seterr(cx, TD_EINVAL, "kmeans: %d points for %d "
+                             "clusters", n, k);
+        cv::Mat data(n, dim, CV_32F, const_cast<float *>(pts));
+        cv::Mat lab, cen;
+        cv::RNG &rng = cv::theRNG();
+        uint64 saved = rng.state;
+        rng.state = 0x5eed5eedULL;
+        cv::kmeans(data, k, lab,
+                   cv::TermCriteria(cv::TermCriteria::EPS +
+                                        cv::TermCriteria::COUNT,
+                                    30, 0.05),
+                   attempts, cv::KMEANS_PP_CENTERS, cen);
+        rng.state = saved;
+        for (int i = 0; i < n; i++)
+            label[i] = lab.at<int>(i);
+        for (int i = 0; i < k; i++)
+            for (int d = 0; d < dim; d++)
+                centre[i * dim + d] = cen.at<float>(i, d);
+        return 0;
     });
 }
 

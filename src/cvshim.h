@@ -32,6 +32,23 @@ int td_cv_read_jpeg(const char *path, td_image **out, td_ctx *cx);
 int td_cv_write_jpeg(const char *path, const td_image *im, int quality,
                      td_ctx *cx);
 
+/* Encode im (grey or RGB) as JPEG of the given quality (1..100) in memory
+ * and decode it back into im: the losses of a scanner's JPEG output (the
+ * generator's scans).  Returns 0 or an error. */
+int td_cv_jpeg_roundtrip(td_image *im, int quality, td_ctx *cx);
+
+/* n packed 8-bit sRGB colours (rgb[3n]) to CIELAB (D65; lab[3n]: L 0..100,
+ * a, b) as cv::cvtColor(COLOR_RGB2Lab) on float input computes it. */
+int td_cv_rgb_to_lab(const uint8_t *rgb, size_t n, float *lab, td_ctx *cx);
+
+/* k-means of n points of dim floats (pts[n * dim]) into k clusters
+ * (cv::kmeans, k-means++ seeding from a fixed seed, so the same input gives
+ * the same clusters; `attempts` restarts, the most compact kept).  label[n]
+ * gets each point's cluster, centre[k * dim] the centres.  Returns 0 or an
+ * error (TD_EINVAL when n < k). */
+int td_cv_kmeans(const float *pts, int n, int dim, int k, int attempts,
+                 int *label, float *centre, td_ctx *cx);
+
 /* RGB (3-channel td_image) to 8-bit grey: BT.601 luma 0.299 R + 0.587 G +
  * 0.114 B as cv::cvtColor(COLOR_RGB2GRAY) computes it (its own fixed-point
  * rounding); grey has im's size.  A 1-channel image is copied.  Works row

@@ -388,7 +388,7 @@ static void test_brown_table(void)
             px[1] = (uint8_t)(3 * (x / 86));
             px[2] = (uint8_t)(3 * (x % 86));
         }
-    p.ink = TD_INK_BROWN;
+    p.ink = TD_INK_BROWN_HUE;
     TT_CHECK(td_binarise_strength(im, &p, g, NULL) == 0);
     for (y = 0; y < im->h; y++)
         for (x = 0; x < im->w; x++) {
@@ -413,7 +413,7 @@ static void test_brown_table_mask(void)
     td_grid_u8 *a, *b = td_grid_u8_new(s.im->w, s.im->h, NULL);
     int rc, x, y, t;
     long diff = 0, ink = 0;
-    p.ink = TD_INK_BROWN;
+    p.ink = TD_INK_BROWN_HUE;
     a = run(s.im, &p, &rc);
     for (y = 0; y < s.im->h; y++)
         for (x = 0; x < s.im->w; x++) {
@@ -729,6 +729,7 @@ static void test_grey_matches(void)
     long bad = 0;
     int x, y;
     d->w = s.im->w; /* stride w + 7 */
+    p.ink = TD_INK_DARK;
     TT_CHECK(td_cv_rgb_to_grey(s.im, d, NULL) == 0);
     TT_CHECK(td_binarise_strength(s.im, &p, g, NULL) == 0);
     for (y = 0; y < g->h; y++)

@@ -46,6 +46,10 @@ typedef struct td_gen_params {
                    cream paper RGB, with blue and black distractors
                    if distractors != 0 */
     int distractors;
+    int print; /* with colour: the plates of a printed map (green tint,
+                  faded brown contours, red roads, blue water, black text
+                  and grid) over ageing paper, scanned (colour fringing,
+                  then blur and noise, then JPEG); see samples/gen/print.c */
     int labels; /* inline elevation labels per index contour (every 5th
                    level, base + 5k * interval), 0 = none (the default):
                    see td_gen_labels */

@@ -79,6 +79,21 @@ void td_gen_distractors(td_image *im, const uint8_t *contours, uint8_t *scratch,
                         const td_gen_params *p, const td_gen_break *br,
                         size_t nbr);
 
+/* The printed map's plates (samples/gen/print.c) into im (RGB, w x h),
+ * contours the contour plate's coverage. */
+int td_gen_print_plates(td_image *im, const uint8_t *contours,
+                        const td_gen_params *p, const td_gen_break *br,
+                        size_t nbr, td_ctx *cx);
+
+/* What the scanner does to a rendered sheet, in place: with p->print the
+ * paper's ageing and colour fringing; blur (p->blur) and noise (p->noise);
+ * with p->print JPEG at quality 75. */
+int td_gen_scan_effects(td_image *im, const td_gen_params *p, td_ctx *cx);
+
+/* td_gen_render without td_gen_scan_effects (labels are cut in first). */
+int td_gen_render_clean(const td_lines *lines, const td_gen_params *p,
+                        td_image **sheet, td_ctx *cx);
+
 /* Paint colour col (channels of im) over im with coverage lay. */
 void td_gen_composite(td_image *im, const uint8_t *lay, const uint8_t *col);
 

@@ -295,6 +295,8 @@ static int paint_colour(td_image *im, const uint8_t *lay,
     static const uint8_t brown[3] = {160, 90, 40};
     size_t i, n = (size_t)p->w * (size_t)p->h;
     uint8_t *scratch;
+    if (p->print)
+        return td_gen_print_plates(im, lay, p, br, nbr, cx);
     for (i = 0; i < n; i++) {
         im->data[3 * i] = 245;
         im->data[3 * i + 1] = 235;
@@ -310,8 +312,7 @@ static int paint_colour(td_image *im, const uint8_t *lay,
     return 0;
 }
 
-/* Contract in gen.h. */
-int td_gen_render(const td_lines *lines, const td_gen_params *p,
+static int render(const td_lines *lines, const td_gen_params *p, int scan,
                   td_image **sheet, td_ctx *cx)
 {
     td_gen_break *br = NULL;
@@ -341,10 +342,8 @@ int td_gen_render(const td_lines *lines, const td_gen_params *p,
         for (i = 0; i < n; i++)
             im->data[i] = (uint8_t)(255 - im->data[i]);
     }
-    if (p->blur > 0.0 && (rc = td_gen_blur(im, p->blur, cx)) != 0)
+    if (scan && (rc = td_gen_scan_effects(im, p, cx)) != 0)
         goto fail;
-    if (p->noise > 0.0)
-        td_gen_noise(im, p->noise, p->seed);
     *sheet = im;
     im = NULL;
     rc = 0;
@@ -354,6 +353,20 @@ fail:
     td_image_free(im);
     free(br);
     return rc;
+}
+
+/* Contract in gen.h. */
+int td_gen_render(const td_lines *lines, const td_gen_params *p,
+                  td_image **sheet, td_ctx *cx)
+{
+    return render(lines, p, 1, sheet, cx);
+}
+
+/* Contract in gen_int.h. */
+int td_gen_render_clean(const td_lines *lines, const td_gen_params *p,
+                        td_image **sheet, td_ctx *cx)
+{
+    return render(lines, p, 0, sheet, cx);
 }
 
 /* Contract in gen.h. */

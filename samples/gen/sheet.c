@@ -1,27 +1,22 @@
 /* sheet.c: terrain -> truth contours -> rendered sheet in one call. */
 #include "gen_int.h"
 
-/* With inline labels: render without blur and noise, cut the labels into
- * the clean sheet, then blur and add noise as td_gen_render would. */
+/* With inline labels: render without the scanner's effects, cut the
+ * labels into the clean sheet, then scan it as td_gen_render would. */
 static int render_labelled(const td_lines *ls, const td_gen_params *p,
                            double interval, const td_grid_f32 *dem,
                            td_image **im, td_ctx *cx)
 {
-    td_gen_params q = *p;
     int rc;
-    q.blur = 0.0;
-    q.noise = 0.0;
-    if ((rc = td_gen_render(ls, &q, im, cx)) != 0)
+    if ((rc = td_gen_render_clean(ls, p, im, cx)) != 0)
         return rc;
     if ((rc = td_gen_labels_dem(ls, p, interval, dem, *im, NULL, NULL,
                                 cx)) != 0 ||
-        (p->blur > 0.0 && (rc = td_gen_blur(*im, p->blur, cx)) != 0)) {
+        (rc = td_gen_scan_effects(*im, p, cx)) != 0) {
         td_image_free(*im);
         *im = NULL;
         return rc;
     }
-    if (p->noise > 0.0)
-        td_gen_noise(*im, p->noise, p->seed);
     return 0;
 }
 

@@ -20,7 +20,7 @@ static const char usage[] =
     "             [--noise SD] [--specks N] [--breaks N] [--break-len A,B]\n"
     "             [--index-width PX] [--labels N] [--label-bend PX]\n"
     "             [--label-font segments|dejavu]\n"
-    "             [--colour] [--distractors]\n"
+    "             [--colour] [--distractors] [--print]\n"
     "             [--dem-in REAL.tif [--scale S]] [--tiff] [-q|--quiet]\n"
     "\n"
     "Writes a synthetic scanned contour sheet (PNG, or grey GeoTIFF with\n"
@@ -35,7 +35,11 @@ static const char usage[] =
     "their tops uphill (as printed maps do), segments (the default) as\n"
     "stroke digits reading left to right.  --colour: brown ink on cream (RGB, PNG only);\n"
     "--distractors adds a blue river and black lettering to a colour\n"
-    "sheet.  --dem-in: draw the sheet from a real DEM (any single-band\n"
+    "sheet.  --print (implies --colour): a printed map as a flatbed scanner\n"
+    "gives it: green woodland tint, faded brown contours, red roads (one\n"
+    "dashed), blue water, black text and grid over yellowing paper, colour\n"
+    "fringing, then --blur/--noise, then JPEG losses.\n"
+    "--dem-in: draw the sheet from a real DEM (any single-band\n"
     "GeoTIFF or .asc without nodata cells), stretched smoothly (bicubic)\n"
     "to --size, or to S times its size with --scale S (default 8); the\n"
     "interval then keeps contours 6.5 px apart on all but the steepest 2%.\n";
@@ -177,6 +181,8 @@ static int flag_opt(const char *o, opts *op)
         op->p.colour = 1;
     else if (!strcmp(o, "--distractors"))
         op->p.distractors = 1;
+    else if (!strcmp(o, "--print"))
+        op->p.colour = op->p.distractors = op->p.print = 1;
     else if (!strcmp(o, "--tiff"))
         op->tiff = 1;
     else if (!strcmp(o, "--quiet") || !strcmp(o, "-q"))

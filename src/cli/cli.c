@@ -1,6 +1,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
 
+#include "../../scanner/palette.h"
+
 #include "../../scanner/label.h"
 
 #include <errno.h>
@@ -119,4 +121,23 @@ int td_cli_parse_labeller(const char *arg, int *tree, td_ctx *cx)
                          "tree", arg);
     *tree = !strcmp(arg, "tree");
     return 0;
+}
+
+/* Contract in cli.h. */
+void td_cli_print_palette(const char *prog, const td_palette *pal)
+{
+    static const char *const role[3] = {"paper", "tint", "ink"};
+    int i;
+    fprintf(stderr, "%s: inks:", prog);
+    for (i = 0; i < pal->n; i++) {
+        const td_ink *k = &pal->ink[i];
+        fprintf(stderr, "%s %s #%02x%02x%02x %.1f %%", i ? "," : "",
+                role[k->role], k->rgb[0], k->rgb[1], k->rgb[2],
+                100.0 * k->share);
+        if (k->role == TD_INKROLE_INK)
+            fprintf(stderr, " %.1f px", k->width);
+        if (i == pal->chosen)
+            fprintf(stderr, " (taken)");
+    }
+    fputc('\n', stderr);
 }

@@ -51,4 +51,10 @@ int td_cmd_label(int argc, char **argv);
 int td_cmd_erode(int argc, char **argv);
 int td_cmd_generate(int argc, char **argv);
 
+/* One line on stderr naming the colours of a colour scan's palette
+ * ("PROG: inks: paper #rrggbb 80.1 %, ink #rrggbb 5.2 % 1.8 px (taken),
+ * tint #rrggbb ..."). */
+struct td_palette;
+void td_cli_print_palette(const char *prog, const struct td_palette *pal);
+
 #endif

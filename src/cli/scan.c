@@ -232,6 +232,8 @@ static void summary(const td_scan_result *r, double secs)
             "gaps, %zu remaining junctions, %.2f s\n",
             n, closed, n - closed, edge, t->bridged + r->join.joins,
             t->junctions, secs);
+    if (r->palette.n > 0)
+        td_cli_print_palette("scan", &r->palette);
 }
 
 int td_cmd_scan(int argc, char **argv)

@@ -30,7 +30,8 @@ static const sheet_case cases[] = {
     {"frontrange20", "frontrange_srtm3.tif", 10, 20},
 };
 
-static const char *const scan_name[3] = {"clean", "scanned", "colour"};
+static const char *const scan_name[4] = {"clean", "scanned", "colour",
+                                         "printed"};
 
 /* The defects of bench_heights' sheets (printed labels included). */
 static void defects(td_gen_params *p, int kind)
@@ -39,9 +40,10 @@ static void defects(td_gen_params *p, int kind)
     p->index_width = 3.2;
     if (!kind)
         return;
-    if (kind == 2) {
+    if (kind >= 2) {
         p->colour = 1;
         p->distractors = 1;
+        p->print = kind == 3;
     }
     p->blur = 0.8;
     p->noise = 8;
@@ -88,7 +90,7 @@ int main(int argc, char **argv)
             printf("%-12s (skipped: %s)\n", k->name, td_errmsg(&cx));
             continue;
         }
-        for (kind = 0; kind < 3; kind++) {
+        for (kind = 0; kind < 4; kind++) {
             td_gen_params gp = td_gen_defaults();
             td_image *im = NULL;
             td_lines *truth = NULL;
@@ -104,16 +106,23 @@ int main(int argc, char **argv)
                 td_ctx_clear(&cx);
                 continue;
             }
-            for (v = 0; v < 3; v++) { /* paper, cut without seams, default */
-                static const char *const vname[3] = {"paper", "cut,noseam",
-                                                     "default"};
+            for (v = 0; v < 5; v++) {
+                /* paper junctions, cut without seams, the default; colour:
+                   --ink brown, and the first brown selection (hue window) */
+                static const char *const vname[5] = {
+                    "paper", "cut,noseam", "default", "ink brown",
+                    "brown-hue"};
                 int paper = v == 0;
                 td_scan_params sp = td_scan_defaults();
                 td_scan_result res;
                 td_scanscore sc;
                 struct timespec t0, t1;
-                if (kind == 2)
+                if (v >= 3 && kind < 2)
+                    continue;
+                if (v == 3)
                     sp.bin.ink = TD_INK_BROWN;
+                if (v == 4)
+                    sp.bin.ink = TD_INK_BROWN_HUE;
                 sp.trace.cut = !paper;
                 if (v == 1)
                     sp.bin.split = 0;
@@ -132,7 +141,7 @@ int main(int argc, char **argv)
                               logit ? stdout : NULL);
                 printf("%-12s %-7s %-10s %6ld %6ld %6.3f %6.3f %6.3f %6.3f "
                        "%6.2f\n",
-                       k->name, scan_name[kind], vname[v],
+                          k->name, scan_name[kind], vname[v],
                        sc.n_truth, sc.n_traced, sc.recall, sc.precision,
                        sc.own, (double)sc.n_jump / (double)(sc.n_traced + !sc.n_traced),
                        (double)(t1.tv_sec - t0.tv_sec) +

@@ -1,0 +1,89 @@
+/* palette.h: the inks of a colour scan (ours; issue 14, not in the
+ * papers, whose scans were binary).
+ *
+ * A printed topographic sheet is paper with a few inks over it (contour
+ * brown, road red, water blue, black text, a green woodland tint).  Every
+ * scanned pixel is paper, or a background (paper or a tint) with some
+ * coverage a of one ink printed over it:
+ *
+ *     colour = bg * (1 - a * (1 - ink / paper))    (per RGB channel)
+ *
+ * (inks are filters; anti-aliased, blurred and faded line pixels are the
+ * same ink at a lower a).  td_palette_find clusters a sample of the sheet
+ * in CIELAB (k-means), keeps the clusters that are not such mixtures of
+ * another cluster with paper or with a tint, and measures each colour's
+ * strokes on a crop of the sheet: its share, its stroke width (2 area /
+ * perimeter) and the length of its long thin strokes.  A colour whose
+ * strokes are wider than TD_PALETTE_TINT_WIDTH px is a tint (a
+ * background); the others are inks.  The contour ink is the ink with the
+ * most length in long thin strokes (--ink auto), or the ink nearest to
+ * contour brown (--ink brown). */
+#ifndef TD_PALETTE_H
+#define TD_PALETTE_H
+
+#include "../src/grid.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define TD_PALETTE_MAX 12
+#define TD_PALETTE_TINT_WIDTH 6.0
+
+typedef enum {
+    TD_INKROLE_PAPER,
+    TD_INKROLE_TINT, /* a background printed in areas */
+    TD_INKROLE_INK
+} td_ink_role;
+
+typedef struct td_ink {
+    uint8_t rgb[3];
+    float lab[3];
+    double share;    /* of the sheet (sampled; its mixtures included) */
+    double width;    /* mean stroke width, px (0 for the paper) */
+    double line_len; /* px of long (>= 40 px) thin strokes per Mpx */
+    td_ink_role role;
+} td_ink;
+
+typedef struct td_palette {
+    int n;
+    td_ink ink[TD_PALETTE_MAX];
+    int paper;     /* index of the paper */
+    int chosen;    /* the contour ink, or -1 */
+    unsigned also; /* bit k: ink k is contour ink too (a darker or lighter
+                      print of the chosen ink: same hue within 15 deg) */
+} td_palette;
+
+/* Find the palette of an RGB scan (see above).  Deterministic.  Returns 0,
+ * or TD_EINVAL (not RGB), TD_ENOMEM.  Memory: ~250k samples (4 KB per 1k)
+ * and a crop of at most 2048 x 2048 px (5 bytes/px). */
+int td_palette_find(const td_image *im, td_palette *pal, td_ctx *cx);
+
+/* Choose the contour ink: brown = 0: the ink with the most long thin
+ * stroke length; brown = 1: the ink nearest to contour brown (160,90,40)
+ * along its mixtures with the paper.  Sets pal->chosen; returns it, or -1
+ * when the sheet has no ink. */
+int td_palette_choose(td_palette *pal, int brown);
+
+/* The contour ink's strength table (33^3 nodes at 0, 8, ..., 248, 255 of
+ * each channel, as the brown table): 255 a for colours explained as the
+ * chosen ink (or one of pal->also) over a background, within SOFT0 RGB
+ * levels of the best model, falling to 0 at SOFT1 (palette.c); 0 for the
+ * others. */
+void td_palette_lut(const td_palette *pal, uint8_t *lut);
+
+/* The veto table (same nodes): 255 where an ink that is no contour ink
+ * explains the colour clearly better (coverage >= 0.5, residual at least
+ * 10 RGB levels under the chosen ink's), 0 elsewhere. */
+void td_palette_veto_lut(const td_palette *pal, uint8_t *lut);
+
+/* Which colour best explains (r,g,b): the ink index (its coverage in *a)
+ * or the background's (a = 0). */
+int td_palette_classify(const td_palette *pal, int r, int g, int b,
+                        double *a);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
