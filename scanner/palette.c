@@ -679,3 +679,46 @@ void td_palette_veto_lut(const td_palette *pal, uint8_t *lut)
                                : 0;
             }
 }
+
+int td_palette_label(const td_palette *pal, const td_image *im,
+                     td_grid_u8 *lbl, td_ctx *cx)
+{
+    uint8_t *node;
+    int i, j, k, x, y, nn = 0;
+    if (!im || im->channels != 3 || !lbl || lbl->w != im->w ||
+        lbl->h != im->h || pal->n < 1)
+        return td_seterr(cx, TD_EINVAL, "palette: bad image or labels");
+    if (!(node = td_malloc(LUT_N * LUT_N * LUT_N, cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < LUT_N; i++)
+        for (j = 0; j < LUT_N; j++)
+            for (k = 0; k < LUT_N; k++) {
+                double v[3] = {i * 8 > 255 ? 255 : i * 8,
+                               j * 8 > 255 ? 255 : j * 8,
+                               k * 8 > 255 ? 255 : k * 8},
+                       a, bg = HUGE_VAL;
+                int who = explain(pal, v, 0, &a), b, wb = pal->paper;
+                if (pal->ink[who].role == TD_INKROLE_INK && a < 0.4) {
+                    for (b = 0; b < pal->n; b++) { /* the nearest background */
+                        double bv[3];
+                        if (pal->ink[b].role == TD_INKROLE_INK)
+                            continue;
+                        rgb_of(&pal->ink[b], bv);
+                        if (dist3(v, bv) < bg)
+                            bg = dist3(v, bv), wb = b;
+                    }
+                    who = wb;
+                }
+                node[nn++] = (uint8_t)who;
+            }
+    for (y = 0; y < im->h; y++) {
+        const uint8_t *px = im->data + (size_t)y * im->stride;
+        uint8_t *out = lbl->data + (size_t)y * lbl->stride;
+        for (x = 0; x < im->w; x++, px += 3)
+            out[x] = node[(((px[0] + 4) >> 3) * LUT_N + ((px[1] + 4) >> 3)) *
+                              LUT_N +
+                          ((px[2] + 4) >> 3)];
+    }
+    free(node);
+    return 0;
+}

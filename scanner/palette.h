@@ -77,6 +77,12 @@ void td_palette_lut(const td_palette *pal, uint8_t *lut);
  * 10 RGB levels under the chosen ink's), 0 elsewhere. */
 void td_palette_veto_lut(const td_palette *pal, uint8_t *lut);
 
+/* Every pixel of im labelled with the colour that explains it (an ink
+ * when its coverage is >= 0.4, else the background): lbl (im's size) gets
+ * the colour's index.  For --debug-dir pictures. */
+int td_palette_label(const td_palette *pal, const td_image *im,
+                     td_grid_u8 *lbl, td_ctx *cx);
+
 /* Which colour best explains (r,g,b): the ink index (its coverage in *a)
  * or the background's (a = 0). */
 int td_palette_classify(const td_palette *pal, int r, int g, int b,

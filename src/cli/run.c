@@ -51,7 +51,8 @@ static const char help[] =
     "                        decides the slopes the known points leave open\n"
     "      --labeller L      faces (default: one solve over the faces) |\n"
     "                        tree (the containment tree); see topodig label\n"
-    "      --ink KIND        dark | brown | R,G,B[:tol] (default dark)\n"
+    "      --ink KIND        auto | dark | brown | brown-hue | R,G,B[:tol]\n"
+    "                        (default auto; see topodig scan --help)\n"
     "      --threshold T     otsu | sauvola | N (default otsu)\n"
     "      --method M        multidir (default) | scanline (the paper) |\n"
     "                        homotopy (along ridge/valley lines, 003)\n"
@@ -236,6 +237,7 @@ typedef struct run_state {
     td_ocr_read *reads; /* printed labels read */
     size_t nreads;
     double ocr_secs;
+    td_palette pal; /* the inks of a colour scan (n = 0: none) */
 } run_state;
 
 /* Scan; keeps only the lines (the image and the scanner's grids are freed
@@ -265,6 +267,7 @@ static int do_scan(const run_opts *o, run_state *s, td_ctx *cx)
         s->ls = res.lines;
         res.lines = NULL;
         s->traced = s->ls->n;
+        s->pal = res.palette;
     }
     td_scan_result_free(&res);
     if (o->debug_dir && rc == 0)
@@ -426,6 +429,8 @@ static void summary(const run_state *s)
             "interp %.2f s, write %.2f s\n", s->traced,
             s->traced - s->dropped, s->dropped, s->dem->w, s->dem->h,
             100.0 * ok / n, s->secs[0], s->secs[1], s->secs[2], s->secs[3]);
+    if (s->pal.n > 0)
+        td_cli_print_palette("run", &s->pal);
     td_cli_heights_summary("run", &s->rep);
     if (s->nreads)
         fprintf(stderr, "run: labels: %zu read, %zu used (%.2f s); "

@@ -24,7 +24,12 @@ static const char help[] =
     "\n"
     "options:\n"
     "  -o, --output FILE      GeoJSON output (required)\n"
-    "      --ink KIND         dark | brown | R,G,B[:tol]   (default dark)\n"
+    "      --ink KIND         auto | dark | brown | brown-hue | R,G,B[:tol]\n"
+    "                         (default auto: dark on a grey scan; on a\n"
+    "                         colour scan the sheet's inks are found and\n"
+    "                         the one drawing long thin lines is taken;\n"
+    "                         brown: the ink found nearest contour brown;\n"
+    "                         brown-hue: a fixed brown hue window)\n"
     "      --threshold T      otsu | sauvola | N (0-255)   (default otsu)\n"
     "      --min-speck N      remove ink specks under N px (default 8)\n"
     "      --min-hole N       fill pinholes in the ink under N px (default 8)\n"
@@ -54,7 +59,9 @@ static const char help[] =
     "                         unless both ends continue lines (default 25;\n"
     "                         0: off)\n"
     "      --debug-dir DIR    write mask.png, skeleton.png, despurred.png,\n"
-    "                         overlay.png (label-gap joins in magenta) into DIR\n"
+    "                         overlay.png (label-gap joins in magenta) into DIR;\n"
+    "                         colour scans: palette.png (the inks found, the\n"
+    "                         one taken framed), ink-K.png, inks.txt\n"
     "  -q, --quiet            no progress and no summary\n"
     "  -h, --help             this help\n"
     "\n"
@@ -189,6 +196,96 @@ static int write_join_report(const char *path, const td_join_stats *j,
     return 0;
 }
 
+static void fill(td_image *im, int x0, int y0, int w, int h,
+                 const uint8_t *rgb)
+{
+    int x, y;
+    for (y = y0; y < y0 + h && y < im->h; y++)
+        for (x = x0; x < x0 + w && x < im->w; x++)
+            memcpy(im->data + (size_t)y * im->stride + 3 * (size_t)x, rgb, 3);
+}
+
+/* palette.png: one row per colour found: its swatch (framed black when it
+ * is the contour ink, grey when it is contour ink too, hatched when it is
+ * a tint) and a bar as long as its share of the sheet (500 px = 100 %);
+ * ink-K.png: the pixels each colour K explains; inks.txt: the numbers. */
+static int write_palette(const char *dir, const td_image *im,
+                         const td_palette *pal, td_ctx *cx)
+{
+    static const uint8_t white[3] = {255, 255, 255}, black[3] = {0, 0, 0},
+                         grey[3] = {150, 150, 150};
+    static const char *const role[3] = {"paper", "tint", "ink"};
+    char path[4096];
+    td_image *pic = td_image_new(580, 50 * pal->n + 10, 3, cx);
+    td_grid_u8 *lbl = NULL;
+    FILE *f;
+    int i, rc = 0, x, y;
+    if (!pic)
+        return TD_ENOMEM;
+    fill(pic, 0, 0, pic->w, pic->h, white);
+    for (i = 0; i < pal->n; i++) {
+        const td_ink *k = &pal->ink[i];
+        int y0 = 10 + 50 * i;
+        if (i == pal->chosen || (pal->also >> i & 1u))
+            fill(pic, 7, y0 - 3, 46, 46, i == pal->chosen ? black : grey);
+        fill(pic, 10, y0, 40, 40, k->rgb);
+        if (k->role == TD_INKROLE_TINT)
+            for (y = 0; y < 40; y++)
+                for (x = 0; x < 40; x++)
+                    if ((x + y) % 8 == 0)
+                        fill(pic, 10 + x, y0 + y, 1, 1, white);
+        fill(pic, 70, y0 + 12, 2 + (int)(500.0 * k->share), 16, k->rgb);
+    }
+    snprintf(path, sizeof path, "%s/palette.png", dir);
+    rc = td_png_write(path, pic, cx);
+    td_image_free(pic);
+    if (rc != 0)
+        return rc;
+    if (!(lbl = td_grid_u8_new(im->w, im->h, cx)))
+        return TD_ENOMEM;
+    if ((rc = td_palette_label(pal, im, lbl, cx)) != 0)
+        goto done;
+    for (i = 0; i < pal->n && rc == 0; i++) {
+        td_grid_u8 *m;
+        if (i == pal->paper)
+            continue;
+        if (!(m = td_grid_u8_new(im->w, im->h, cx))) {
+            rc = TD_ENOMEM;
+            break;
+        }
+        for (y = 0; y < im->h; y++)
+            for (x = 0; x < im->w; x++)
+                TD_AT(m, x, y) = TD_AT(lbl, x, y) == i;
+        snprintf(path, sizeof path, "%s/ink-%d.png", dir, i);
+        rc = td_png_write_u8(path, m, 1, cx);
+        td_grid_u8_free(m);
+    }
+    snprintf(path, sizeof path, "%s/inks.txt", dir);
+    if (rc == 0 && !(f = fopen(path, "w")))
+        rc = td_seterr(cx, TD_EIO, "%s: cannot write (%s)", path,
+                       strerror(errno));
+    if (rc == 0) {
+        int bad;
+        fprintf(f, "# index role rgb share width_px long_stroke_px_per_Mpx "
+                   "contour\n");
+        for (i = 0; i < pal->n; i++)
+            fprintf(f, "%d %s #%02x%02x%02x %.4f %.2f %.0f %s\n", i,
+                    role[pal->ink[i].role], pal->ink[i].rgb[0],
+                    pal->ink[i].rgb[1], pal->ink[i].rgb[2],
+                    pal->ink[i].share, pal->ink[i].width,
+                    pal->ink[i].line_len,
+                    i == pal->chosen             ? "taken"
+                    : (pal->also >> i & 1u) ? "also"
+                                                 : "-");
+        bad = ferror(f);
+        if (fclose(f) != 0 || bad)
+            rc = td_seterr(cx, TD_EIO, "%s: cannot write", path);
+    }
+done:
+    td_grid_u8_free(lbl);
+    return rc;
+}
+
 static int write_debug(const scan_opts *o, const td_image *im,
                        const td_scan_result *r, td_ctx *cx)
 {
@@ -213,6 +310,8 @@ static int write_debug(const scan_opts *o, const td_image *im,
     rc = td_png_write(DPATH("overlay.png"), ov, cx);
     if (rc == 0)
         rc = write_join_report(DPATH("join.txt"), &r->join, cx);
+    if (rc == 0 && r->palette.n > 0)
+        rc = write_palette(o->debug_dir, im, &r->palette, cx);
 #undef DPATH
     td_image_free(ov);
     return rc;
