@@ -246,6 +246,33 @@ done:
     return rc;
 }
 
+/* Drop the clusters that are one cluster's ink printed over another's
+ * (where a road crosses a contour: darker than either, and rarer than
+ * both; a brown is no red over a green tint, being lighter than the red);
+ * returns the new count. */
+static int drop_crossings(clus *cl, int ncl, const double *paper)
+{
+    int k, i, j, m = 0;
+    for (k = 0; k < ncl; k++) {
+        int drop = 0;
+        for (i = 0; i < ncl && !drop; i++)
+            for (j = 0; j < ncl && !drop; j++) {
+                double a;
+                if (i == k || j == k || i == j || cl[i].n <= cl[k].n ||
+                    cl[j].n <= cl[k].n ||
+                    dist3(cl[k].rgb, paper) <=
+                        fmax(dist3(cl[i].rgb, paper), dist3(cl[j].rgb, paper)))
+                    continue;
+                drop = sqrt(fit(cl[k].rgb, cl[i].rgb, cl[j].rgb, paper, &a)) <
+                           20.0 &&
+                       a > 0.3;
+            }
+        if (!drop)
+            cl[m++] = cl[k];
+    }
+    return m;
+}
+
 /* Keep the clusters that are no mixture of a stronger kept one with the
  * paper (strongest first); the mixtures add to it. */
 static void keep_bases(td_palette *pal, const double *paper, clus *cl,
@@ -490,7 +517,7 @@ static void merge_overprints(td_palette *pal, const double *in_tint)
                 rgb_of(&pal->ink[b], bg);
                 if (sqrt(fit(kv, bg, iv, p, &a)) <
                         fmax(12.0, 0.15 * dist3(kv, p)) &&
-                    a > 0.5)
+                    a > 0.3)
                     break;
             }
             if (b < pal->n)
@@ -520,6 +547,7 @@ int td_palette_find(const td_image *im, td_palette *pal, td_ctx *cx)
         return td_seterr(cx, TD_EINVAL, "palette: not an RGB scan");
     if ((rc = sample_clusters(im, paper, cl, &ncl, &nsamp, cx)) != 0)
         return rc;
+    ncl = drop_crossings(cl, ncl, paper);
     keep_bases(pal, paper, cl, ncl, nsamp);
     cw = im->w < CROP ? im->w : CROP;
     ch = im->h < CROP ? im->h : CROP;

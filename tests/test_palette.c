@@ -1,0 +1,208 @@
+/* Tests of the colour palette (scanner/palette.c) and --ink auto: a
+ * hand-made sheet with one right answer, and a printed map drawn from a
+ * real DEM (tdgen --print: tint, faded contours, red roads, water, text,
+ * grid, fringing, JPEG) scored against its true contours. */
+#include "tt.h"
+#include "util/hsheet.h"
+#include "util/match.h"
+
+#include "../scanner/palette.h"
+#include "../scanner/scan.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Printed over cream (a filter), the inks look like cream x ink / 255:
+ * brown (154,83,33), red (196,46,33). */
+static const uint8_t CREAM[3] = {245, 235, 210}, BROWN[3] = {160, 90, 40},
+                     RED[3] = {205, 50, 40};
+
+/* Ink col printed over im (a filter) with coverage a at (x,y). */
+static void print_px(td_image *im, int x, int y, const uint8_t *col, double a)
+{
+    uint8_t *p = im->data + (size_t)y * im->stride + 3 * (size_t)x;
+    int c;
+    for (c = 0; c < 3; c++)
+        p[c] = (uint8_t)lrint(p[c] * (1.0 - a * (1.0 - col[c] / 255.0)));
+}
+
+/* A line y = y0 + slope x, width wd, anti-aliased (coverage from the
+ * distance to its centre). */
+static void line(td_image *im, double y0, double slope, double wd,
+                 const uint8_t *col)
+{
+    int x, y;
+    double n = sqrt(1 + slope * slope);
+    for (y = 0; y < im->h; y++)
+        for (x = 0; x < im->w; x++) {
+            double d = fabs(y + 0.5 - y0 - slope * (x + 0.5)) / n;
+            double a = wd / 2 + 0.5 - d;
+            if (a > 0)
+                print_px(im, x, y, col, a > 1 ? 1 : a);
+        }
+}
+
+/* Brown contours (thin, thick and faded) and two red roads on cream: the
+ * palette has the paper and exactly two inks (the anti-aliased and faded
+ * brown pixels are mixtures, no ink of their own); auto takes the brown
+ * (more line length), brown takes the brown; the strength table gives
+ * full brown 255 and full red 0. */
+static void test_two_inks(void)
+{
+    td_image *im = td_image_new(400, 300, 3, NULL);
+    td_palette pal;
+    uint8_t *lut = malloc(33 * 33 * 33);
+    int i, x, y, k;
+    for (y = 0; y < im->h; y++)
+        for (x = 0; x < im->w; x++)
+            memcpy(im->data + (size_t)y * im->stride + 3 * x, CREAM, 3);
+    for (k = 0; k < 14; k++) {
+        uint8_t faded[3];
+        for (i = 0; i < 3; i++) /* every third line printed at 60 % */
+            faded[i] = (uint8_t)(k % 3 ? BROWN[i]
+                                       : 255 - 0.6 * (255 - BROWN[i]));
+        line(im, 10 + 20 * k, 0.15, k % 5 == 0 ? 3.2 : 1.8, faded);
+    }
+    line(im, 150, -0.8, 2.2, RED);
+    line(im, 320, -1.6, 2.2, RED);
+    TT_CHECK(td_palette_find(im, &pal, NULL) == 0);
+    {
+        int inks = 0, brown = -1, red = -1;
+        for (i = 0; i < pal.n; i++) {
+            const td_ink *q = &pal.ink[i];
+            if (q->role != TD_INKROLE_INK)
+                continue;
+            inks++;
+            if (abs(q->rgb[0] - 154) < 15 && abs(q->rgb[1] - 83) < 15 &&
+                abs(q->rgb[2] - 33) < 15)
+                brown = i;
+            if (abs(q->rgb[0] - 196) < 15 && abs(q->rgb[1] - 46) < 15 &&
+                abs(q->rgb[2] - 33) < 15)
+                red = i;
+        }
+        TT_CHECKF(inks == 2 && brown >= 0 && red >= 0,
+                  "%d inks, brown %d, red %d", inks, brown, red);
+        TT_CHECK(td_palette_choose(&pal, 0) == brown);
+        TT_CHECK(td_palette_choose(&pal, 1) == brown);
+        td_palette_lut(&pal, lut);
+        /* nodes: index (r/8, g/8, b/8) */
+        TT_CHECKF(lut[((152 / 8) * 33 + 80 / 8) * 33 + 32 / 8] > 200,
+                  "brown %d", lut[((152 / 8) * 33 + 80 / 8) * 33 + 32 / 8]);
+        TT_CHECKF(lut[((200 / 8) * 33 + 48 / 8) * 33 + 32 / 8] == 0, "red %d",
+                  lut[((200 / 8) * 33 + 48 / 8) * 33 + 32 / 8]);
+        TT_CHECK(lut[((248 / 8) * 33 + 232 / 8) * 33 + 208 / 8] < 20);
+    }
+    free(lut);
+    td_image_free(im);
+}
+
+/* A printed map drawn from the Front Range DEM (x8), scanned as it comes
+ * (fringing, blur 0.8, noise 6, JPEG): --ink auto finds the contour brown,
+ * keeps the red roads and the green tint apart, and the traced lines
+ * cover the true contours; the fixed brown hue window (the first brown
+ * selection) recovers far less. */
+static void test_printed_map(void)
+{
+    td_grid_f32 *src = NULL;
+    td_gen_params gp = td_gen_defaults();
+    td_image *im = NULL;
+    td_lines *truth = NULL;
+    td_scan_params sp = td_scan_defaults();
+    td_scan_result res;
+    td_scanscore sc, old;
+    td_ctx cx;
+    int i, tint = 0;
+    td_ctx_init(&cx);
+    TT_CHECKF(td_hsheet_load_dem("tests/data/dems/frontrange_srtm3.tif", &src,
+                                 &cx) == 0,
+              "%s", td_errmsg(&cx));
+    if (!src)
+        return;
+    gp.terrain = TD_GEN_DEM;
+    gp.dem_in = src;
+    gp.w = src->w * 8;
+    gp.h = src->h * 8;
+    gp.line_width = 1.8;
+    gp.index_width = 3.2;
+    gp.colour = gp.distractors = gp.print = 1;
+    gp.blur = 0.8;
+    gp.noise = 6;
+    TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
+    TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
+    for (i = 0; i < res.palette.n; i++)
+        tint += res.palette.ink[i].role == TD_INKROLE_TINT;
+    TT_CHECK(tint >= 1);
+    TT_CHECK(res.palette.chosen >= 0);
+    if (res.palette.chosen >= 0) {
+        const uint8_t *c = res.palette.ink[res.palette.chosen].rgb;
+        TT_CHECKF(c[0] > c[1] + 30 && c[1] > c[2] + 15 && c[0] < 200,
+                  "contour ink #%02x%02x%02x is no brown", c[0], c[1], c[2]);
+    }
+    TT_CHECK(td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
+                           NULL) == 0);
+    td_scan_result_free(&res);
+    sp.bin.ink = TD_INK_BROWN_HUE;
+    TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
+    TT_CHECK(td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &old,
+                           NULL) == 0);
+    td_scan_result_free(&res);
+    fprintf(stderr, "  printed map: auto recall %.3f precision %.3f own %.3f "
+            "jumps %ld/%ld; brown-hue recall %.3f precision %.3f\n",
+            sc.recall, sc.precision, sc.own, sc.n_jump, sc.n_traced,
+            old.recall, old.precision);
+    TT_CHECK(sc.recall >= 0.96);
+    TT_CHECK(sc.precision >= 0.98);
+    TT_CHECK(sc.own >= 0.98);
+    TT_CHECK(sc.recall > old.recall + 0.1);
+    td_image_free(im);
+    td_lines_free(truth);
+    td_grid_f32_free(src);
+}
+
+/* A grey scan saved as RGB: auto takes the dark ink, as --ink dark. */
+static void test_grey_as_rgb(void)
+{
+    td_image *im = td_image_new(300, 200, 3, NULL);
+    static const uint8_t white[3] = {250, 250, 250}, black[3] = {20, 20, 20};
+    td_palette pal;
+    int x, y, k;
+    for (y = 0; y < im->h; y++)
+        for (x = 0; x < im->w; x++)
+            memcpy(im->data + (size_t)y * im->stride + 3 * x, white, 3);
+    for (k = 0; k < 9; k++)
+        line(im, 12 + 20 * k, 0.1, 2.0, black);
+    TT_CHECK(td_palette_find(im, &pal, NULL) == 0);
+    TT_CHECK(td_palette_choose(&pal, 0) >= 0);
+    if (pal.chosen >= 0)
+        TT_CHECK(pal.ink[pal.chosen].rgb[0] < 60 &&
+                 pal.ink[pal.chosen].rgb[1] < 60);
+    td_image_free(im);
+}
+
+/* No ink at all: a clear error, no mask. */
+static void test_paper_only(void)
+{
+    td_image *im = td_image_new(200, 100, 3, NULL);
+    td_binarise_params p = td_binarise_defaults();
+    td_grid_u8 *m = td_grid_u8_new(200, 100, NULL);
+    td_ctx cx;
+    int x, y;
+    td_ctx_init(&cx);
+    for (y = 0; y < im->h; y++)
+        for (x = 0; x < im->w; x++)
+            memcpy(im->data + (size_t)y * im->stride + 3 * x, CREAM, 3);
+    TT_CHECK(td_binarise(im, &p, m, &cx) == TD_EFORMAT);
+    TT_CHECK(strstr(td_errmsg(&cx), "no ink") != NULL);
+    td_grid_u8_free(m);
+    td_image_free(im);
+}
+
+int main(void)
+{
+    TT_RUN(test_two_inks);
+    TT_RUN(test_printed_map);
+    TT_RUN(test_grey_as_rgb);
+    TT_RUN(test_paper_only);
+    return tt_summary();
+}
