@@ -24,6 +24,8 @@
 #define A_MAX 2.0        /* largest coverage fitted */
 #define TINT_LIGHT 90.0  /* tints are this near the paper (RGB) */
 #define SOFT0 4.0        /* the contour ink's strength where it explains a */
+#define BAD0 30.0        /* ... and within BAD0 .. BAD1 in itself */
+#define BAD1 60.0
 #define SOFT1 10.0       /* colour within SOFT0 .. SOFT1 of the best model */
 #define LUT_N 33
 
@@ -681,6 +683,10 @@ void td_palette_lut(const td_palette *pal, uint8_t *lut)
                        none beyond SOFT1 (another ink) */
                     w = (SOFT1 - (rk - rb)) / (SOFT1 - SOFT0);
                     w = w < 0 ? 0 : w > 1 ? 1 : w;
+                    /* and none where it explains v badly in itself: an
+                       ink the palette missed (a little black text) */
+                    w *= rk < BAD0 ? 1.0 : rk > BAD1 ? 0.0
+                                                     : (BAD1 - rk) / (BAD1 - BAD0);
                     best = fmax(best, 255.0 * fmin(a, 1.0) * w);
                 }
                 lut[n++] = (uint8_t)lrint(best);
