@@ -303,7 +303,8 @@ static void veto_row(const td_image *im, const uint8_t *veto, td_grid_u8 *s,
     const uint8_t *px = im->data + (size_t)y * im->stride;
     int x, yy, xx;
     for (x = 0; x < im->w; x++, px += 3) {
-        if (brown_lookup(veto, px[0], px[1], px[2]) < 128)
+        if (!veto[(((px[0] + 4) >> 3) * LUT_N + ((px[1] + 4) >> 3)) * LUT_N +
+                  ((px[2] + 4) >> 3)]) /* the nearest node */
             continue;
         for (yy = y - VETO_R; yy <= y + VETO_R; yy++) {
             uint8_t *row;
