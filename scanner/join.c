@@ -1045,13 +1045,30 @@ fail:
 
 /* ---- stage 0: fragments ----------------------------------------------- */
 
+#define MAX_TEXT_BOXES 65536
+#define TEXT_GAP 4.0 /* px between a digit ring and the next glyph */
+
+/* Bounding box of l: x0, y0, x1, y1. */
+static void line_box(const td_line *l, double *b)
+{
+    size_t k;
+    b[0] = b[1] = HUGE_VAL;
+    b[2] = b[3] = -HUGE_VAL;
+    for (k = 0; k < l->n; k++) {
+        b[0] = fmin(b[0], l->xy[2 * k]), b[2] = fmax(b[2], l->xy[2 * k]);
+        b[1] = fmin(b[1], l->xy[2 * k + 1]);
+        b[3] = fmax(b[3], l->xy[2 * k + 1]);
+    }
+}
+
 /* Short open lines (shorter than min_length, or fitting in a box of that
  * side: a bent digit such as 2 or 5) with both ends inside the sheet are
  * label or text fragments unless both ends continue longer lines (a stage-1 pair with an
  * end of a line that is not itself such a candidate): a short piece of a
  * contour between two breaks is kept; so is a compact piece at least twice
  * min_length long with both ends at skeleton junctions (a small ring cut
- * open where it touches a line). */
+ * open where it touches a line).  Small closed rings within TEXT_GAP px of
+ * a removed fragment are the 0, 6, 8 and 9 of the same label and go too. */
 static int remove_fragments(td_lines *ls, const td_join_params *p,
                             td_join_stats *st, td_ctx *cx)
 {
@@ -1059,8 +1076,11 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
     long *eol = NULL;
     jpair *pairs = NULL;
     uint8_t *cand = NULL, *cont = NULL;
-    size_t ne = 0, np = 0, i;
-    int rc;
+    size_t ne = 0, np = 0, i, nbox = 0;
+    double(*box)[4] = NULL;
+    int rc, again;
+    if (!(box = td_malloc(MAX_TEXT_BOXES * sizeof *box, cx)))
+        return TD_ENOMEM;
     if ((rc = collect_ends(ls, p, p->tangent, 1, &e, &ne, &eol, cx)) != 0 ||
         (rc = find_pairs(ls, e, ne, p, 1, &pairs, &np, cx)) != 0)
         goto fail;
@@ -1088,11 +1108,46 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
     }
     for (i = ls->n; i-- > 0;)
         if (cand[i] && !(cont[eol[2 * i]] && cont[eol[2 * i + 1]])) {
+            if (nbox < MAX_TEXT_BOXES)
+                line_box(&ls->v[i], box[nbox++]);
             if (p->record && keep_text(st, &ls->v[i], cx) != 0)
                 goto fail;
             td_lines_remove(ls, i);
             st->fragments++;
         }
+    /* the rings of 0, 6, 8, 9 next to the other digits of a label whose
+       gap was not joined (no join passed through them) */
+    for (again = nbox > 0; again;) { /* a ring next to a removed ring too */
+        again = 0;
+        for (i = ls->n; i-- > 0;) {
+            double b[4];
+            size_t k;
+            int near = 0;
+            if (!small_ring(&ls->v[i], p->min_length) || ls->v[i].edge)
+                continue;
+            line_box(&ls->v[i], b);
+            for (k = 0; k < nbox && !near; k++) {
+                /* one label's glyphs: side by side, of one size */
+                double sr = fmax(b[2] - b[0], b[3] - b[1]);
+                double sf = fmax(box[k][2] - box[k][0], box[k][3] - box[k][1]);
+                near = b[0] - box[k][2] <= TEXT_GAP &&
+                       box[k][0] - b[2] <= TEXT_GAP &&
+                       b[1] - box[k][3] <= TEXT_GAP &&
+                       box[k][1] - b[3] <= TEXT_GAP && sr > 0.7 * sf &&
+                       sr < 1.4 * sf;
+            }
+            if (!near)
+                continue;
+            if (p->record && keep_text(st, &ls->v[i], cx) != 0)
+                goto fail;
+            if (nbox < MAX_TEXT_BOXES) {
+                memcpy(box[nbox++], b, sizeof b);
+                again = 1;
+            }
+            td_lines_remove(ls, i);
+            st->glyphs++;
+        }
+    }
     rc = 0;
 fail:
     free(e);
@@ -1100,6 +1155,7 @@ fail:
     free(pairs);
     free(cand);
     free(cont);
+    free(box);
     return rc;
 }
 
