@@ -6,6 +6,7 @@
 // crosses cvshim.h.  Grids and images are wrapped in cv::Mat headers over
 // their own memory wherever OpenCV allows, so nothing is copied needlessly.
 #include "cvshim.h"
+#include "imageio.h"
 
 #include <climits>
 #include <opencv2/core.hpp>
@@ -208,21 +209,17 @@ int read_jpeg(const char *path, td_image **out, td_ctx *cx)
 int write_file_atomic(const char *path, const std::vector<uchar> &bytes,
                       td_ctx *cx)
 {
-    std::string tmp = std::string(path) + ".tmp." + std::to_string(getpid());
-    FILE *f = std::fopen(tmp.c_str(), "wb");
+    char tmp[4096];
+    FILE *f = td_atomic_open(path, tmp, sizeof tmp, cx);
     if (!f)
-        return td_seterr(cx, TD_EIO, "%s: cannot create: %s", path,
-                         std::strerror(errno));
-    size_t n = std::fwrite(bytes.data(), 1, bytes.size(), f);
-    int bad = n != bytes.size() || std::fflush(f) != 0;
-    bad |= std::fclose(f) != 0;
-    if (bad || std::rename(tmp.c_str(), path) != 0) {
+        return cx ? cx->code : TD_EIO;
+    if (std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size()) {
         int e = errno;
-        std::remove(tmp.c_str());
+        td_atomic_abort(f, tmp);
         return td_seterr(cx, TD_EIO, "%s: cannot write: %s", path,
                          std::strerror(e));
     }
-    return 0;
+    return td_atomic_commit(f, tmp, path, cx);
 }
 
 // ---- banded filters ----------------------------------------------------

@@ -99,6 +99,10 @@ FILE *td_atomic_open(const char *path, char *tmp, size_t tmpsize,
 int td_atomic_commit(FILE *f, const char *tmp, const char *path, td_ctx *cx);
 void td_atomic_abort(FILE *f, const char *tmp);
 
+/* 0, or TD_EINVAL naming path when it exists and is no regular file (a
+ * folder, a device, a FIFO). */
+int td_atomic_check_target(const char *path, td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

@@ -113,5 +113,41 @@ echo keep >"$T/keep.geojson"
 "$TD" scan "$T/text.png" -o "$T/keep.geojson" 2>/dev/null
 check "failed run leaves existing output untouched" "[ \"\$(cat '$T/keep.geojson')\" = keep ]"
 
+# --- outputs that must not do harm (issue 15's catalogue, regression tests)
+echo precious >"$T/victim"
+sh -c 'ln -s "$1/victim" "$1/out.png.tmp.$$.0"; ln -s "$1/victim" "$1/out.png.tmp.$$"; exec "$2" render samples/hills.tif -o "$1/out.png"' sh "$T" "$TD" 2>/dev/null
+check "a symlink planted at the temporary name is not followed" \
+  "[ \"\$(cat '$T/victim')\" = precious ] && [ -s '$T/out.png' ] && [ ! -L '$T/out.png' ]"
+rm -f "$T"/out.png.tmp.*
+if mkfifo "$T/fifo" 2>/dev/null; then
+  "$TD" render samples/hills.tif -o "$T/fifo" 2>"$T/err"
+  check "-o a FIFO: exit 1, one line naming it, still a FIFO" \
+    "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'fifo: is a FIFO' '$T/err' && [ -p '$T/fifo' ]"
+fi
+"$TD" render samples/hills.tif -o "$T" 2>"$T/err"
+check "-o a folder: exit 1, one line" "[ \$? = 1 ] && grep -q 'is a folder' '$T/err'"
+cp samples/hills.tif "$T/h.tif"
+for cmd in "render" "flow" "erode --steps 1"; do
+  "$TD" $cmd "$T/h.tif" -o "$T/h.tif" 2>"$T/err"
+  check "$cmd -o the input: exit 1, the input untouched" \
+    "[ \$? = 1 ] && grep -q 'the output is the input' '$T/err' && cmp -s samples/hills.tif '$T/h.tif'"
+done
+cp samples/hills.png "$T/s.png"
+ln -s s.png "$T/s_link.png"
+"$TD" scan "$T/s.png" -o "$T/s_link.png" 2>"$T/err"
+check "scan -o the scan (through a link): exit 1, the scan untouched" \
+  "[ \$? = 1 ] && grep -q 'the output is the input' '$T/err' && cmp -s samples/hills.png '$T/s.png'"
+echo old >"$T/p.tif"
+"$TD" flow samples/hills.tif -o "$T/p.tif" --classes /nonexistent/c.tif -q 2>/dev/null
+check "flow: a failed --classes leaves the existing output as it was" \
+  "[ \$? = 1 ] && [ \"\$(cat '$T/p.tif')\" = old ]"
+"$TD" run samples/hills.png -o "$T/nan.tif" --interval 20 --known 123.5,264,nan 2>"$T/err"
+check "run --known X,Y,nan: exit 1, one line, no output" \
+  "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'is not X,Y,H' '$T/err' && [ ! -e '$T/nan.tif' ]"
+for v in inf 1e400 -nan; do
+  "$TD" label samples/hills.geojson -o "$T/k.geojson" --interval 20 --known "10,10,$v" 2>/dev/null
+  check "label --known 10,10,$v: exit 1, no output" "[ \$? = 1 ] && [ ! -e '$T/k.geojson' ]"
+done
+
 echo "$pass passed, $fail failed"
 [ $fail = 0 ]

@@ -1,5 +1,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli.h"
+#include "../imageio.h"
+
+#include <sys/stat.h>
 
 #include "../../scanner/palette.h"
 
@@ -140,4 +143,37 @@ void td_cli_print_palette(const char *prog, const td_palette *pal)
             fprintf(stderr, " (taken)");
     }
     fputc('\n', stderr);
+}
+
+/* Contract in cli.h. */
+int td_cli_check_output(const char *cmd, const char *out, const char *in)
+{
+    struct stat so, si;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    if (in && stat(out, &so) == 0 && stat(in, &si) == 0 &&
+        so.st_dev == si.st_dev && so.st_ino == si.st_ino)
+        return td_cli_failf(cmd, "%s: the output is the input; give another "
+                            "file name", out);
+    if (td_atomic_check_target(out, &cx) != 0)
+        return td_cli_fail(cmd, &cx);
+    return 0;
+}
+
+/* Contract in cli.h. */
+int td_cli_parse_nums(const char *s, double *v, int n)
+{
+    char buf[256], *tok, *save = NULL;
+    int k = 0;
+    if (strlen(s) >= sizeof buf)
+        return -1;
+    strcpy(buf, s);
+    for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        while (*tok == ' ' || *tok == '\t')
+            tok++;
+        tok[strcspn(tok, " \t\r\n")] = '\0';
+        if (k >= n || td_cli_parse_double(tok, -1e12, 1e12, &v[k++]) != 0)
+            return -1;
+    }
+    return k == n ? 0 : -1;
 }

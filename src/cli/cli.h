@@ -57,4 +57,13 @@ int td_cmd_generate(int argc, char **argv);
 struct td_palette;
 void td_cli_print_palette(const char *prog, const struct td_palette *pal);
 
+/* Refuse an output that would destroy an input or is no file: out the
+ * same file as in (in may be NULL), or an existing folder, device or
+ * FIFO.  Prints one line naming the file; returns 0 or 1. */
+int td_cli_check_output(const char *cmd, const char *out, const char *in);
+
+/* n comma-separated finite numbers within +-1e12 ("X,Y,H"; blanks around
+ * each allowed) into v; 0, or -1 when s is anything else. */
+int td_cli_parse_nums(const char *s, double *v, int n);
+
 #endif

@@ -213,6 +213,8 @@ static int parse_args(int argc, char **argv, erode_opts *o)
     o->in = argv[optind];
     if (!o->out)
         return td_cli_failf("erode", "no output: give -o ERODED.tif");
+    if (td_cli_check_output("erode", o->out, o->in) != 0)
+        return 1;
     return 0;
 }
 
@@ -273,8 +275,10 @@ static int write_outputs(const erode_opts *o, const td_grid_f32 *out,
                          const td_erode_fields *f, const td_georef *geo,
                          td_ctx *cx)
 {
-    int rc = td_dem_write(o->out, out, geo, cx);
-    if (rc == 0 && o->water)
+    /* the secondary outputs first: when one fails, the main output (new
+       or old) is left as it was */
+    int rc = 0;
+    if (o->water)
         rc = td_dem_write(o->water, f->water, geo, cx);
     if (rc == 0 && o->energy)
         rc = td_dem_write(o->energy, f->energy, geo, cx);
@@ -282,6 +286,8 @@ static int write_outputs(const erode_opts *o, const td_grid_f32 *out,
         rc = td_dem_write(o->sediment, f->sediment, geo, cx);
     if (rc == 0 && o->mass_log)
         rc = write_mass_log(o, cx);
+    if (rc == 0)
+        rc = td_dem_write(o->out, out, geo, cx);
     return rc;
 }
 

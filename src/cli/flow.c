@@ -122,6 +122,8 @@ static int parse_args(int argc, char **argv, flow_opts *o)
     o->in = argv[optind];
     if (!o->out)
         return td_cli_failf("flow", "no output: give -o PASSES.tif");
+    if (td_cli_check_output("flow", o->out, o->in) != 0)
+        return 1;
     if (!(o->ridge_q < o->valley_q))
         return td_cli_failf("flow", "--ridge-q %g must be below --valley-q "
                             "%g", o->ridge_q, o->valley_q);
@@ -201,11 +203,12 @@ int td_cmd_flow(int argc, char **argv)
     rc = td_dem_read(o.in, &dem, &geo, &cx);
     if (rc == 0)
         rc = compute(&o, dem, &passes, &cls, &st, &cx);
+    /* the secondary output first: when it fails, the main output (new or
+       old) is left as it was */
+    if (rc == 0 && cls)
+        rc = td_geotiff_write_u8(o.classes, cls, &geo, &cx);
     if (rc == 0)
         rc = td_geotiff_write_f32(o.out, passes, &geo, &cx);
-    if (rc == 0 && cls && (rc = td_geotiff_write_u8(o.classes, cls, &geo,
-                                                    &cx)) != 0)
-        remove(o.out); /* all or nothing */
     td_cli_progress_done(&pr);
     if (rc == 0 && !o.quiet)
         summary(&o, &st, td_now() - t0);

@@ -199,6 +199,8 @@ static int parse_args(int argc, char **argv, sun_opts *o)
     o->in = argv[optind];
     if (!o->out)
         return td_cli_failf("insolation", "no output: give -o SUN.tif");
+    if (td_cli_check_output("insolation", o->out, o->in) != 0)
+        return 1;
     if (!o->have_lat)
         return td_cli_failf("insolation", "no latitude: give --lat DEG "
                             "(-90..90)");

@@ -98,6 +98,8 @@ static int parse_args(int argc, char **argv, ip_opts *o)
     o->in = argv[optind];
     if (!o->out)
         return td_cli_failf("interp", "no output: give -o DEM.tif");
+    if (td_cli_check_output("interp", o->out, o->in) != 0)
+        return 1;
     if (!o->like)
         return td_cli_failf("interp", "no grid: give --like SCAN (the scan "
                             "the lines come from)");

@@ -123,22 +123,6 @@ static int push_pt(pts *a, double x, double y, double h, long id, td_ctx *cx)
 }
 
 /* "A,B[,C]" with n numbers. */
-static int parse_nums(const char *s, double *v, int n)
-{
-    char buf[256], *tok, *save = NULL;
-    int k = 0;
-    if (strlen(s) >= sizeof buf)
-        return -1;
-    strcpy(buf, s);
-    for (tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
-        while (*tok == ' ' || *tok == '\t')
-            tok++;
-        tok[strcspn(tok, " \t\r\n")] = '\0';
-        if (k >= n || td_cli_parse_double(tok, -1e12, 1e12, &v[k++]) != 0)
-            return -1;
-    }
-    return k == n ? 0 : -1;
-}
 
 /* "id," or "id" (spaces allowed): a row without a height; the id in v[0]. */
 static int empty_height(const char *line, double *v)
@@ -155,7 +139,7 @@ static int empty_height(const char *line, double *v)
         return 0;
     memcpy(buf, line, n);
     buf[n] = '\0';
-    return parse_nums(buf, v, 1) == 0;
+    return td_cli_parse_nums(buf, v, 1) == 0;
 }
 
 /* Rows of a CSV file: x,y,height (ids 0) or id,height (ids 1); in id
@@ -180,7 +164,7 @@ static int read_csv(const char *path, int ids, pts *a, td_ctx *cx)
                 rc = td_seterr(cx, TD_EINVAL, "%s:%ld: bad id", path, no);
             continue; /* "id," : undetermined, no height given */
         }
-        if (parse_nums(line, v, ids ? 2 : 3) != 0) {
+        if (td_cli_parse_nums(line, v, ids ? 2 : 3) != 0) {
             if (no == 1 && strpbrk(line, "abcdefghijklmnopqrstuvwxyz"))
                 continue; /* a header */
             rc = td_seterr(cx, TD_EINVAL, "%s:%ld: expected %s, got '%.40s'",
@@ -234,12 +218,12 @@ static int parse_opt(int c, const char *arg, label_opts *o, pts *heights,
         *(c == O_BASE ? &o->base : &o->interval) = v[0];
         return 0;
     case O_KNOWN:
-        if (parse_nums(arg, v, 3) != 0)
+        if (td_cli_parse_nums(arg, v, 3) != 0)
             return td_seterr(cx, TD_EINVAL, "--known: '%s' is not X,Y,H", arg);
         return push_pt(&o->known, v[0], v[1], v[2], -1, cx);
     case O_DEPR: {
         double *d;
-        if (parse_nums(arg, v, 2) != 0)
+        if (td_cli_parse_nums(arg, v, 2) != 0)
             return td_seterr(cx, TD_EINVAL, "--depressions: '%s' is not X,Y",
                              arg);
         if (!(d = realloc(o->dep, (2 * o->ndep + 2) * sizeof *d)))
@@ -301,6 +285,8 @@ static int parse_args(int argc, char **argv, label_opts *o, pts *heights)
     o->in = argv[optind];
     if (!o->out)
         return td_cli_failf("label", "no output: give -o LABELLED.geojson");
+    if (td_cli_check_output("label", o->out, o->in) != 0)
+        return 1;
     if (!(o->interval > 0) && (!o->scan || o->tree))
         return td_cli_failf("label", "no interval: give --interval I%s",
                             o->scan ? "" : " (or --sheet SCAN to read the "
@@ -840,10 +826,12 @@ int td_cmd_label(int argc, char **argv)
             goto fail;
     }
     more += (size_t)ncross;
+    /* the secondary outputs first: when one fails, the main output (new
+       or old) is left as it was */
     if ((rc = final_checks(&o, ls, &p, &checks, &cx)) != 0 ||
-        (rc = td_geojson_write_lines(o.out, ls, NULL, &cx)) != 0 ||
         (o.csv_out && (rc = export_csv(o.csv_out, ls, &cx)) != 0) ||
-        (o.debug_dir && (rc = write_heights_png(&o, ls, &cx)) != 0))
+        (o.debug_dir && (rc = write_heights_png(&o, ls, &cx)) != 0) ||
+        (rc = td_geojson_write_lines(o.out, ls, NULL, &cx)) != 0)
         goto fail;
     if (!o.quiet)
         summary(ls, &rep, &checks, &heights, &seen, more);

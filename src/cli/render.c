@@ -101,6 +101,8 @@ static int parse_args(int argc, char **argv, rd_opts *o)
     o->in = argv[optind];
     if (!o->out)
         return td_cli_failf("render", "no output: give -o PICTURE.png");
+    if (td_cli_check_output("render", o->out, o->in) != 0)
+        return 1;
     return 0;
 }
 

@@ -93,6 +93,8 @@ static int parse_args(int argc, char **argv, rg_opts *o)
     o->in = argv[optind];
     if (!o->out)
         return td_cli_failf("ridges", "no output: give -o RIDGES.geojson");
+    if (td_cli_check_output("ridges", o->out, o->in) != 0)
+        return 1;
     return 0;
 }
 

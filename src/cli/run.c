@@ -100,24 +100,12 @@ typedef struct run_opts {
 enum { O_INTERVAL = 256, O_BASE, O_KNOWN, O_DEPR, O_INK, O_THR, O_PASS,
        O_INDEX, O_LABELLER, O_SAVE, O_DEBUG, O_LABELS };
 
-static int parse_nums(const char *s, double *v, int n)
-{
-    char *end;
-    int i;
-    for (i = 0; i < n; i++) {
-        v[i] = strtod(s, &end);
-        if (end == s || (i < n - 1 ? *end != ',' : *end != '\0'))
-            return -1;
-        s = end + 1;
-    }
-    return 0;
-}
 
 static int add_point(run_opts *o, const char *arg, td_ctx *cx)
 {
     double v[3];
     td_label_point *k;
-    if (parse_nums(arg, v, 3) != 0)
+    if (td_cli_parse_nums(arg, v, 3) != 0)
         return td_seterr(cx, TD_EINVAL, "--known: '%s' is not X,Y,H", arg);
     if (!(k = realloc(o->known, (o->nknown + 1) * sizeof *k)))
         return td_seterr(cx, TD_ENOMEM, "out of memory");
@@ -132,7 +120,7 @@ static int add_point(run_opts *o, const char *arg, td_ctx *cx)
 static int add_depression(run_opts *o, const char *arg, td_ctx *cx)
 {
     double v[2], *d;
-    if (parse_nums(arg, v, 2) != 0)
+    if (td_cli_parse_nums(arg, v, 2) != 0)
         return td_seterr(cx, TD_EINVAL, "--depressions: '%s' is not X,Y", arg);
     if (!(d = realloc(o->dep, (2 * o->ndep + 2) * sizeof *d)))
         return td_seterr(cx, TD_ENOMEM, "out of memory");
@@ -219,6 +207,8 @@ static int parse_args(int argc, char **argv, run_opts *o)
     o->in = argv[optind];
     if (!o->out)
         return td_cli_failf("run", "no output: give -o DEM.tif");
+    if (td_cli_check_output("run", o->out, o->in) != 0)
+        return 1;
     return 0;
 }
 

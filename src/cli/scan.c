@@ -174,6 +174,8 @@ static int parse_args(int argc, char **argv, scan_opts *o)
     o->in = argv[optind];
     if (!o->out)
         return td_cli_failf("scan", "no output: give -o LINES.geojson");
+    if (td_cli_check_output("scan", o->out, o->in) != 0)
+        return 1;
     return 0;
 }
 
@@ -362,10 +364,12 @@ int td_cmd_scan(int argc, char **argv)
         memcpy(cx.msg, m, sizeof cx.msg - 1);
         cx.msg[sizeof cx.msg - 1] = '\0';
     }
-    if (rc == 0)
-        rc = td_geojson_write_lines(o.out, res.lines, &geo, &cx);
+    /* the debug pictures first: when they fail, the output (new or old)
+       is left as it was */
     if (rc == 0 && o.debug_dir)
         rc = write_debug(&o, im, &res, &cx);
+    if (rc == 0)
+        rc = td_geojson_write_lines(o.out, res.lines, &geo, &cx);
     td_cli_progress_done(&pr);
     if (rc == 0 && !o.quiet)
         summary(&res, td_now() - t0);
