@@ -252,29 +252,61 @@ static int cmp_cross(const void *pa, const void *pb)
     return (a->b > b->b) - (a->b < b->b);
 }
 
-/* Sort the segments by bucket (cell of their first point, 16 px; segments
- * are short, so neighbouring cells are searched too). */
+/* A bucket grid of segment pieces: every segment goes into each cell its
+ * pieces (at most one cell long) cover.  Cells are 16 px, or coarser when
+ * the lines' extent is large and the lines few, so memory follows what
+ * the lines contain, not the coordinates they claim. */
 typedef struct xgrid {
-    double x0, y0;
+    double x0, y0, cs;
     long cw, ch;
     size_t *start; /* cw*ch + 1 offsets into segs */
     xseg *segs;
 } xgrid;
 
+#define XCELLS_MIN 4000000
+
 static long xcell(const xgrid *g, double v, double o, long lim)
 {
-    long c = (long)floor((v - o) / 16.0);
+    long c = (long)floor((v - o) / g->cs);
     return c < 0 ? 0 : c >= lim ? lim - 1 : c;
 }
 
-static int xgrid_build(const td_lines *ls, xgrid *g, double *maxlen,
-                       td_ctx *cx)
+/* Visit (pass 0: count, pass 1: place) the cells of segment s. */
+static void xvisit(xgrid *g, const td_lines *ls, xseg s, size_t *cnt, int pass)
+{
+    const double *a = seg_pt(ls, &s, 0), *b = seg_pt(ls, &s, 1);
+    double len = hypot(b[0] - a[0], b[1] - a[1]);
+    long m = (long)ceil(len / g->cs), k, cx, cy, lastc = -1;
+    m = m < 1 ? 1 : m;
+    for (k = 0; k < m; k++) {
+        double t0 = (double)k / m, t1 = (double)(k + 1) / m;
+        double xa = a[0] + t0 * (b[0] - a[0]), xb = a[0] + t1 * (b[0] - a[0]);
+        double ya = a[1] + t0 * (b[1] - a[1]), yb = a[1] + t1 * (b[1] - a[1]);
+        long x0 = xcell(g, fmin(xa, xb), g->x0, g->cw);
+        long x1 = xcell(g, fmax(xa, xb), g->x0, g->cw);
+        long y0 = xcell(g, fmin(ya, yb), g->y0, g->ch);
+        long y1 = xcell(g, fmax(ya, yb), g->y0, g->ch);
+        for (cy = y0; cy <= y1; cy++)
+            for (cx = x0; cx <= x1; cx++) {
+                long c = cy * g->cw + cx;
+                if (c == lastc) /* consecutive pieces share a cell */
+                    continue;
+                if (pass == 0)
+                    g->start[c + 1]++;
+                else
+                    g->segs[g->start[c] + cnt[c]++] = s;
+                if (x0 == x1 && y0 == y1)
+                    lastc = c;
+            }
+    }
+}
+
+static int xgrid_build(const td_lines *ls, xgrid *g, td_ctx *cx)
 {
     double x1 = -INFINITY, y1 = -INFINITY;
-    size_t i, k, n = 0, *cnt = NULL;
+    size_t i, k, n = 0, *cnt = NULL, cap, nc;
     memset(g, 0, sizeof *g);
     g->x0 = g->y0 = INFINITY;
-    *maxlen = 0;
     for (i = 0; i < ls->n; i++)
         for (k = 0; k < ls->v[i].n; k++) {
             g->x0 = fmin(g->x0, ls->v[i].xy[2 * k]), x1 = fmax(x1, ls->v[i].xy[2 * k]);
@@ -283,33 +315,37 @@ static int xgrid_build(const td_lines *ls, xgrid *g, double *maxlen,
         }
     if (n == 0)
         return 0;
-    g->cw = (long)((x1 - g->x0) / 16.0) + 1, g->ch = (long)((y1 - g->y0) / 16.0) + 1;
-    if (!(g->start = calloc((size_t)g->cw * g->ch + 1, sizeof *g->start)) ||
-        !(g->segs = malloc(n * sizeof *g->segs)) ||
-        !(cnt = calloc((size_t)g->cw * g->ch + 1, sizeof *cnt)))
-        return td_seterr(cx, TD_ENOMEM, "crossings: out of memory");
-    for (k = 0; k < 2; k++) /* count, then place */
+    cap = n < XCELLS_MIN / 16 ? XCELLS_MIN : 16 * n;
+    for (g->cs = 16.0;
+         ((x1 - g->x0) / g->cs + 1) * ((y1 - g->y0) / g->cs + 1) > (double)cap;
+         g->cs *= 2)
+        ;
+    g->cw = (long)((x1 - g->x0) / g->cs) + 1, g->ch = (long)((y1 - g->y0) / g->cs) + 1;
+    nc = (size_t)g->cw * g->ch;
+    if (!(g->start = calloc(nc + 1, sizeof *g->start)) ||
+        !(cnt = calloc(nc + 1, sizeof *cnt)))
+        goto nomem;
+    for (k = 0; k < 2; k++) { /* count, then place */
         for (i = 0; i < ls->n; i++) {
             const td_line *l = &ls->v[i];
             size_t j, ns = l->n < 2 ? 0 : l->closed ? l->n : l->n - 1;
             for (j = 0; j < ns; j++) {
                 xseg s = {i, j};
-                const double *a = seg_pt(ls, &s, 0), *b = seg_pt(ls, &s, 1);
-                size_t c = (size_t)xcell(g, a[1], g->y0, g->ch) * g->cw +
-                           xcell(g, a[0], g->x0, g->cw);
-                if (k == 0) {
-                    g->start[c + 1]++;
-                    *maxlen = fmax(*maxlen, hypot(b[0] - a[0], b[1] - a[1]));
-                } else {
-                    g->segs[g->start[c] + cnt[c]++] = s;
-                }
+                xvisit(g, ls, s, cnt, (int)k);
             }
-            if (k == 0 && i + 1 == ls->n)
-                for (j = 0; j < (size_t)g->cw * g->ch; j++)
-                    g->start[j + 1] += g->start[j];
         }
+        if (k == 0) {
+            for (i = 0; i < nc; i++)
+                g->start[i + 1] += g->start[i];
+            if (!(g->segs = malloc((g->start[nc] + 1) * sizeof *g->segs)))
+                goto nomem;
+        }
+    }
     free(cnt);
     return 0;
+nomem:
+    free(cnt);
+    return td_seterr(cx, TD_ENOMEM, "crossings: out of memory");
 }
 
 static int add_cross(td_crossing **v, size_t *n, size_t *cap, long a, long b,
@@ -335,42 +371,30 @@ int td_contain_crossings(const td_lines *ls, td_crossing **out, size_t *nout,
     xgrid g;
     td_crossing *v = NULL;
     size_t n = 0, cap = 0, c, i, j, w;
-    double maxlen;
-    long reach, cx0, cy0, dx, dy;
-    int rc = xgrid_build(ls, &g, &maxlen, cx);
+    int rc = xgrid_build(ls, &g, cx);
     *out = NULL, *nout = 0;
     if (rc || !g.segs)
         goto done;
-    reach = (long)ceil(maxlen / 16.0) + 1;
     for (c = 0; c < (size_t)g.cw * g.ch; c++)
-        for (i = g.start[c]; i < g.start[c + 1]; i++) {
-            const xseg *s = &g.segs[i];
-            cx0 = (long)(c % (size_t)g.cw), cy0 = (long)(c / (size_t)g.cw);
-            for (dy = -reach; dy <= reach; dy++)
-                for (dx = -reach; dx <= reach; dx++) {
-                    long qx = cx0 + dx, qy = cy0 + dy;
-                    size_t q;
-                    if (qx < 0 || qy < 0 || qx >= g.cw || qy >= g.ch)
-                        continue;
-                    q = (size_t)qy * g.cw + qx;
-                    for (j = g.start[q]; j < g.start[q + 1]; j++) {
-                        const xseg *t = &g.segs[j];
-                        double x, y;
-                        if (t->line <= s->line ||
-                            !proper_cross(seg_pt(ls, s, 0), seg_pt(ls, s, 1),
-                                          seg_pt(ls, t, 0), seg_pt(ls, t, 1),
-                                          &x, &y))
-                            continue;
-                        if (add_cross(&v, &n, &cap, ls->v[s->line].id,
-                                      ls->v[t->line].id, x, y) != 0) {
-                            rc = td_seterr(cx, TD_ENOMEM,
-                                           "crossings: out of memory");
-                            goto done;
-                        }
-                    }
+        for (i = g.start[c]; i < g.start[c + 1]; i++)
+            for (j = g.start[c]; j < g.start[c + 1]; j++) {
+                const xseg *s = &g.segs[i], *t = &g.segs[j];
+                double x, y;
+                if (t->line <= s->line ||
+                    !proper_cross(seg_pt(ls, s, 0), seg_pt(ls, s, 1),
+                                  seg_pt(ls, t, 0), seg_pt(ls, t, 1), &x, &y))
+                    continue;
+                /* each crossing once: in the cell that holds it */
+                if ((size_t)(xcell(&g, y, g.y0, g.ch) * g.cw +
+                             xcell(&g, x, g.x0, g.cw)) != c)
+                    continue;
+                if (add_cross(&v, &n, &cap, ls->v[s->line].id,
+                              ls->v[t->line].id, x, y) != 0) {
+                    rc = td_seterr(cx, TD_ENOMEM, "crossings: out of memory");
+                    goto done;
                 }
-        }
-    if (n > 1) /* one per pair: the first found */
+            }
+    if (n > 1) /* one per pair */
         qsort(v, n, sizeof *v, cmp_cross);
     for (i = 0, w = 0; i < n; i++)
         if (w == 0 || v[w - 1].a != v[i].a || v[w - 1].b != v[i].b)

@@ -10,12 +10,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define CELL 8
+#define CELL 8 /* the finest cell; coarser when the sheet is large and empty */
+#define MAX_CELLS 4000000
 #define SIMPLIFY 0.6 /* px: traced staircases simplified before indexing */
 
 struct td_faces {
     const td_lines *ls;
-    int w, h, gw, gh;
+    int w, h, gw, gh, cell; /* cell: side of a grid cell, px */
     uint32_t *start; /* gw * gh + 1 offsets into seg */
     uint32_t *seg;   /* pairs: line index, first vertex index */
     unsigned char *used;
@@ -56,9 +57,9 @@ static size_t nsegs(const td_line *l)
     return l->n < 2 ? 0 : l->closed ? l->n : l->n - 1;
 }
 
-static int cell_of(double v, int n)
+static int cell_of(double v, int n, int cell)
 {
-    long c = (long)floor(v / CELL);
+    long c = (long)floor(v / cell);
     return c < 0 ? 0 : c >= n ? n - 1 : (int)c;
 }
 
@@ -75,10 +76,10 @@ static void bin_segments(td_faces *f, int pass, uint32_t *fill)
             double a[2], b[2];
             int x0, x1, y0, y1, cx, cy;
             seg_ends(l, k, a, b);
-            x0 = cell_of(a[0] < b[0] ? a[0] : b[0], f->gw);
-            x1 = cell_of(a[0] < b[0] ? b[0] : a[0], f->gw);
-            y0 = cell_of(a[1] < b[1] ? a[1] : b[1], f->gh);
-            y1 = cell_of(a[1] < b[1] ? b[1] : a[1], f->gh);
+            x0 = cell_of(a[0] < b[0] ? a[0] : b[0], f->gw, f->cell);
+            x1 = cell_of(a[0] < b[0] ? b[0] : a[0], f->gw, f->cell);
+            y0 = cell_of(a[1] < b[1] ? a[1] : b[1], f->gh, f->cell);
+            y1 = cell_of(a[1] < b[1] ? b[1] : a[1], f->gh, f->cell);
             for (cy = y0; cy <= y1; cy++)
                 for (cx = x0; cx <= x1; cx++) {
                     size_t c = (size_t)cy * f->gw + cx;
@@ -241,8 +242,21 @@ td_faces *td_faces_new(const td_lines *ls, int w, int h,
     f->w = w;
     f->h = h;
     f->p = p ? *p : td_faces_defaults();
-    f->gw = (w + CELL - 1) / CELL;
-    f->gh = (h + CELL - 1) / CELL;
+    /* memory follows the lines, not the sheet's claimed size: cells grow
+       until there are at most max(MAX_CELLS, 16 per vertex) */
+    {
+        size_t nv = 0, cap;
+        for (i = 0; i < ls->n; i++)
+            nv += ls->v[i].n;
+        cap = nv < MAX_CELLS / 16 ? MAX_CELLS : 16 * nv;
+        for (f->cell = CELL;
+             ((size_t)w / f->cell + 1) * ((size_t)h / f->cell + 1) > cap &&
+             f->cell < (1 << 20);
+             f->cell *= 2)
+            ;
+    }
+    f->gw = (int)(((size_t)w + f->cell - 1) / f->cell);
+    f->gh = (int)(((size_t)h + f->cell - 1) / f->cell);
     nc = (size_t)f->gw * f->gh;
     if (!(f->used = td_calloc(ls->n + 1, 1, cx)) ||
         !(f->len = td_calloc(ls->n + 1, sizeof *f->len, cx)) ||
@@ -365,14 +379,14 @@ long td_faces_ray(const td_faces *f, double x, double y, double dx, double dy,
         return -1;
     d[0] = dx / len;
     d[1] = dy / len;
-    cx = cell_of(x, f->gw);
-    cy = cell_of(y, f->gh);
+    cx = cell_of(x, f->gw, f->cell);
+    cy = cell_of(y, f->gh, f->cell);
     sx = d[0] > 0 ? 1 : -1;
     sy = d[1] > 0 ? 1 : -1;
-    tdx = d[0] != 0 ? CELL / fabs(d[0]) : INFINITY;
-    tdy = d[1] != 0 ? CELL / fabs(d[1]) : INFINITY;
-    tmx = d[0] != 0 ? ((cx + (sx > 0)) * (double)CELL - x) / d[0] : INFINITY;
-    tmy = d[1] != 0 ? ((cy + (sy > 0)) * (double)CELL - y) / d[1] : INFINITY;
+    tdx = d[0] != 0 ? f->cell / fabs(d[0]) : INFINITY;
+    tdy = d[1] != 0 ? f->cell / fabs(d[1]) : INFINITY;
+    tmx = d[0] != 0 ? ((cx + (sx > 0)) * (double)f->cell - x) / d[0] : INFINITY;
+    tmy = d[1] != 0 ? ((cy + (sy > 0)) * (double)f->cell - y) / d[1] : INFINITY;
     for (;;) {
         double texit = fmin(tmx, tmy);
         test_cell(f, (size_t)cy * f->gw + cx, o, d, skip, skip_t, &best, &node);
