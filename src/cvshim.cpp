@@ -177,6 +177,16 @@ int read_jpeg(const char *path, td_image **out, td_ctx *cx)
     std::string what = std::string("JPEG '") + path + "'";
     if ((rc = td_check_dims(w, h, what.c_str(), cx)) != 0)
         return rc;
+    // Every 8 x 8 block of a baseline JPEG takes at least about 2 bits
+    // (a blank sheet: 62660 bytes for 4000 x 4000); a file far smaller
+    // than its frame claims is cut short or forged, and decoding it would
+    // allocate the whole frame first.  A quarter of a bit per block leaves
+    // room for arithmetic coding.
+    if ((double)buf.size() < (double)w * (double)h / 2048.0)
+        return td_seterr(cx, TD_EFORMAT,
+                         "%s: cannot decode JPEG (%d x %d pixels claimed in "
+                         "only %zu bytes: truncated or corrupt)",
+                         path, w, h, buf.size());
     if ((size_t)w * (size_t)h > ((size_t)1 << 30) &&
         !std::getenv("CV_IO_MAX_IMAGE_PIXELS"))
         return td_seterr(cx, TD_ETOOBIG,

@@ -421,6 +421,51 @@ static void test_jpeg_by_magic(void)
     td_image_free(im);
 }
 
+
+/* A JPEG whose frame header claims 30000 x 30000 pixels in a file of a few
+ * kilobytes is refused at once (it used to allocate the whole frame and
+ * decode for minutes); a real one of that file size is read. */
+static void test_jpeg_forged_size(void)
+{
+    td_ctx cx;
+    td_image *im, *back = NULL;
+    char *path = tmpfile_path("forged.jpg");
+    unsigned char buf[65536];
+    size_t n, i;
+    FILE *f;
+    int x, y, rc;
+    td_ctx_init(&cx);
+    im = td_image_new(200, 150, 1, &cx);
+    for (y = 0; y < 150; y++)
+        for (x = 0; x < 200; x++)
+            im->data[(size_t)y * im->stride + x] = (uint8_t)((x * 7 + y * 3) & 255);
+    TT_CHECK(td_cv_write_jpeg(path, im, 90, &cx) == 0);
+    f = fopen(path, "rb");
+    n = f ? fread(buf, 1, sizeof buf, f) : 0;
+    if (f)
+        fclose(f);
+    TT_CHECK(n > 100);
+    for (i = 0; i + 9 < n; i++) /* SOF0: FF C0 len(2) prec(1) h(2) w(2) */
+        if (buf[i] == 0xff && buf[i + 1] == 0xc0) {
+            buf[i + 5] = buf[i + 7] = 30000 >> 8;
+            buf[i + 6] = buf[i + 8] = 30000 & 255;
+            break;
+        }
+    TT_CHECK(i + 9 < n);
+    f = fopen(path, "wb");
+    if (f) {
+        fwrite(buf, 1, n, f);
+        fclose(f);
+    }
+    td_ctx_clear(&cx);
+    rc = td_image_read(path, &back, NULL, &cx);
+    TT_CHECKF(rc == TD_EFORMAT && strstr(td_errmsg(&cx), "forged.jpg") &&
+                  strstr(td_errmsg(&cx), "30000 x 30000"),
+              "rc %d: %s", rc, td_errmsg(&cx));
+    td_image_free(back);
+    td_image_free(im);
+}
+
 /* ---- PNG --------------------------------------------------------------- */
 
 /* Write a PNG with libpng: rows of w pixels made by px(x,y,sample). */
@@ -1166,6 +1211,7 @@ int main(void)
     TT_RUN(test_tiff_palette);
     TT_RUN(test_tiff_jpeg_ycbcr);
     TT_RUN(test_jpeg_by_magic);
+    TT_RUN(test_jpeg_forged_size);
     TT_RUN(test_png_read_kinds);
     TT_RUN(test_png_write_roundtrip);
     TT_RUN(test_png_write_u16);
