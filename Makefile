@@ -17,11 +17,11 @@ CPPFLAGS+= -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -Isrc -I. -I/usr/include/
            -I/usr/include/freetype2 -I/usr/include/leptonica
 CV_CFLAGS = $(shell pkg-config --cflags opencv4 2>/dev/null || echo -I/usr/include/opencv4)
 CV_LIBS   = -lopencv_imgcodecs -lopencv_imgproc -lopencv_core
-LDLIBS  += $(CV_LIBS) -ltesseract -llept -lfreetype -lgeotiff -ltiff -lpng -lz -lstdc++ -lgomp -lm
+LDLIBS  += $(CV_LIBS) -ltesseract -llept -lfreetype -lgeotiff -ltiff -lpng -ljpeg -lz -lstdc++ -lgomp -lm
 
 # Debian packages the build and tests use; the benchmarks' anchor tools.
 DEB_PKGS = gcc g++ make pkg-config libopencv-dev libopencv-contrib-dev \
-           libtiff-dev libpng-dev libgeotiff-dev zlib1g-dev gdal-bin \
+           libtiff-dev libpng-dev libjpeg-dev libgeotiff-dev zlib1g-dev gdal-bin \
            libtesseract-dev tesseract-ocr-eng libfreetype-dev fonts-dejavu-core
 BENCH_PKGS = grass-core
 

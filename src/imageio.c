@@ -1,6 +1,6 @@
 /* imageio.c: the scan reader's front door.  The format is found from the
  * file's first bytes (never its name) and the file handed to the TIFF, PNG
- * or JPEG (OpenCV shim) reader. */
+ * or JPEG (libjpeg, src/jpegio.c) reader. */
 #include "imageio_int.h"
 
 #include "cvshim.h"
@@ -57,7 +57,7 @@ int td_image_read(const char *path, td_image **out, td_georef *georef,
         return td_tiff_read(path, out, georef, cx);
     if (fmt == FMT_PNG)
         return td_png_read(path, out, cx);
-    return td_cv_read_jpeg(path, out, cx);
+    return td_jpeg_read(path, out, cx);
 }
 
 /* See imageio.h. */
@@ -74,8 +74,8 @@ int td_image_info(const char *path, int *w, int *h, int *channels,
         return td_tiff_info(path, w, h, channels, georef, cx);
     if (fmt == FMT_PNG)
         return td_png_info(path, w, h, channels, cx);
-    /* JPEG: the shim has no header-only call, so decode it. */
-    if ((rc = td_cv_read_jpeg(path, &im, cx)) != 0)
+    /* JPEG: decoded whole (and so checked) */
+    if ((rc = td_jpeg_read(path, &im, cx)) != 0)
         return rc;
     *w = im->w;
     *h = im->h;

@@ -31,6 +31,10 @@ int td_tiff_read(const char *path, td_image **out, td_georef *georef,
                  td_ctx *cx);
 int td_png_info(const char *path, int *w, int *h, int *channels, td_ctx *cx);
 int td_png_read(const char *path, td_image **out, td_ctx *cx);
+/* JPEG through libjpeg (src/jpegio.c): every libjpeg warning (corrupt or
+ * truncated data) is an error naming path; a frame the file is far too
+ * small for is refused before any pixel memory is allocated. */
+int td_jpeg_read(const char *path, td_image **out, td_ctx *cx);
 
 /* Fill g from the GeoTIFF tags of the open directory (g->valid stays 0
  * when the tags give no affine transform).  Returns 0 or TD_ENOMEM. */
