@@ -812,6 +812,26 @@ static int known_on(const solver *s, long l)
 }
 
 /* Contract in label.h. */
+/* Heights the solver counts in intervals from the base: a known point
+ * more than TD_LABEL_MAX_LEVELS intervals away (--interval 1e-9 with a
+ * height of 1e12) is refused, not turned into an overflowing level. */
+static int check_levels(const td_label_params *p, td_ctx *cx)
+{
+    size_t i;
+    if (!(p->interval > 0))
+        return 0;
+    for (i = 0; i < p->nknown; i++) {
+        double k = (p->known[i].height - p->base) / p->interval;
+        if (!isfinite(p->known[i].height) || !(fabs(k) <= TD_LABEL_MAX_LEVELS))
+            return td_seterr(cx, TD_EINVAL,
+                             "known height %g at %g,%g is %.3g intervals "
+                             "from the base %g: check --interval",
+                             p->known[i].height, p->known[i].x,
+                             p->known[i].y, k, p->base);
+    }
+    return 0;
+}
+
 int td_label_auto(td_lines *ls, const td_label_params *p,
                   td_label_report *rep, td_ctx *cx)
 {
@@ -820,6 +840,8 @@ int td_label_auto(td_lines *ls, const td_label_params *p,
     int rc;
     memset(rep, 0, sizeof *rep);
     memset(&s, 0, sizeof s);
+    if ((rc = check_levels(p, cx)) != 0)
+        return rc;
     if (p->method == TD_LABEL_FACES && p->interval == 0 && isfinite(p->base))
         return td_heights_infer(ls, p, rep, cx);
     if (!(p->interval > 0) || !isfinite(p->interval) || !isfinite(p->base))

@@ -36,6 +36,9 @@
 extern "C" {
 #endif
 
+/* The most intervals a known height may lie from the base. */
+#define TD_LABEL_MAX_LEVELS 1e6
+
 typedef struct td_label_point {
     double x, y;   /* scan pixel coordinates (ignored when id >= 0) */
     double height;

@@ -288,8 +288,9 @@ static int zb_project(const td_grid_f32 *dem, double cs, double az,
         zb->su[i] = (zb->su[i] - u0) / pu;
         zb->sv[i] = (zb->sv[i] - v0) / pv;
     }
-    if ((u1 - u0) / pu > 1e9 || (v1 - v0) / pv > 1e9)
-        return td_seterr(cx, TD_ETOOBIG, "hidden-surface: z-buffer too big");
+    if (!((u1 - u0) / pu <= 1e9) || !((v1 - v0) / pv <= 1e9))
+        return td_seterr(cx, TD_ETOOBIG, "hidden-surface: z-buffer too big "
+                         "(heights not finite, or too far apart)");
     zb->W = (int)floor((u1 - u0) / pu) + 2;
     zb->H = (int)floor((v1 - v0) / pv) + 2;
     if (td_mul2((size_t)zb->W, (size_t)zb->H, &cells) != 0 ||

@@ -161,5 +161,14 @@ case "$BUILD" in
   ;;
 esac
 
+# coordinates and heights that would overflow
+printf '{"type":"FeatureCollection","features":[{"type":"Feature","properties":{},"geometry":{"type":"LineString","coordinates":[[10,10],[1e308,10]]}}]}' >"$T/huge.geojson"
+"$TD" label "$T/huge.geojson" -o "$T/hk.geojson" --interval 20 --known 10,10,100 2>"$T/err"
+check "label of a line to x = 1e308: exit 1, one line, no output" \
+  "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'beyond any sheet' '$T/err' && [ ! -e '$T/hk.geojson' ]"
+"$TD" label samples/hills.geojson -o "$T/hk.geojson" --interval 1e-9 --known 123.5,264,1e12 2>"$T/err"
+check "label --interval 1e-9 --known ..,1e12: exit 1, one line naming --interval" \
+  "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'check --interval' '$T/err' && [ ! -e '$T/hk.geojson' ]"
+
 echo "$pass passed, $fail failed"
 [ $fail = 0 ]
