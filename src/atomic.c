@@ -28,6 +28,18 @@ int td_atomic_check_target(const char *path, td_ctx *cx)
     return 0;
 }
 
+/* An input must be a file (or a FIFO or device a user pipes in): a
+ * folder is named as such, not read as an empty file.  0 or TD_EINVAL. */
+int td_check_input(const char *path, td_ctx *cx)
+{
+    struct stat st;
+    if (!path || !*path)
+        return td_seterr(cx, TD_EINVAL, "no input file name given");
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+        return td_seterr(cx, TD_EINVAL, "%s: is a folder, not a file", path);
+    return 0;
+}
+
 /* Create "<path>.tmp.<pid>.<n>" for writing (and reading, so libtiff may
  * use the descriptor too): O_CREAT | O_EXCL | O_NOFOLLOW, so a file or a
  * symbolic link planted under that name is never opened nor followed (the

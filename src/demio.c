@@ -426,6 +426,10 @@ static int asc_values(asc_in *a, const asc_head *H, td_grid_f32 *g,
             (rc = td_progress(cx, "read", (double)i / n)) != 0)
             return rc;
     }
+    if ((r = asc_next(a)) == 1) /* more values than the header says */
+        return td_seterr(cx, TD_EFORMAT, "%s: line %ld: more than the %zu "
+                         "values ncols x nrows give ('%s')", path,
+                         a->tok_line + 1, n, a->tok);
     g->nodata = nd;
     g->has_nodata = H->has_nodata || saw_nan;
     return 0;
@@ -486,6 +490,8 @@ int td_dem_read(const char *path, td_grid_f32 **out, td_georef *georef,
     if (!path || !out)
         return td_seterr(cx, TD_EINVAL, "no DEM file name given");
     *out = NULL;
+    if ((rc = td_check_input(path, cx)) != 0)
+        return rc;
     if (!(f = fopen(path, "rb")))
         return td_seterr(cx, TD_EIO, "%s: cannot open: %s", path,
                          strerror(errno));

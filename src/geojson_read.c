@@ -709,10 +709,13 @@ static int collection(jp *p, rd *R)
 static int slurp(const char *path, char **buf, size_t *size, td_ctx *cx)
 {
     struct stat st;
-    FILE *f = fopen(path, "rb");
+    FILE *f;
     char *b = NULL;
     int rc = TD_EIO;
     *buf = NULL;
+    if (td_check_input(path, cx) != 0)
+        return TD_EINVAL;
+    f = fopen(path, "rb");
     if (!f)
         return td_seterr(cx, TD_EIO, "%s: cannot open: %s", path,
                          strerror(errno));

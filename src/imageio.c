@@ -18,8 +18,8 @@ static int sniff(const char *path, td_ctx *cx)
     uint8_t b[8];
     size_t n;
     FILE *f;
-    if (!path || !*path)
-        return td_seterr(cx, TD_EINVAL, "no input file name given");
+    if (td_check_input(path, cx) != 0)
+        return cx ? cx->code : TD_EINVAL;
     f = fopen(path, "rb");
     if (!f)
         return td_seterr(cx, TD_EIO, "%s: cannot open: %s", path,

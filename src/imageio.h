@@ -103,6 +103,10 @@ void td_atomic_abort(FILE *f, const char *tmp);
  * folder, a device, a FIFO). */
 int td_atomic_check_target(const char *path, td_ctx *cx);
 
+/* 0, or TD_EINVAL naming path when it is a folder (readers call it before
+ * opening an input). */
+int td_check_input(const char *path, td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

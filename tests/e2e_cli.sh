@@ -170,5 +170,27 @@ check "label of a line to x = 1e308: exit 1, one line, no output" \
 check "label --interval 1e-9 --known ..,1e12: exit 1, one line naming --interval" \
   "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'check --interval' '$T/err' && [ ! -e '$T/hk.geojson' ]"
 
+# a folder as an input is named as one (it was "empty file", or read as an
+# empty --known-file with exit 0)
+mkdir -p "$T/adir"
+"$TD" scan "$T/adir" -o "$T/d.geojson" 2>"$T/err"
+check "scan FOLDER: exit 1, 'is a folder'" "[ \$? = 1 ] && grep -q 'adir: is a folder' '$T/err'"
+"$TD" label samples/hills.geojson -o "$T/d.geojson" --interval 20 --known-file "$T/adir" 2>"$T/err"
+check "label --known-file FOLDER: exit 1, no output" \
+  "[ \$? = 1 ] && grep -q 'adir: is a folder' '$T/err' && [ ! -e '$T/d.geojson' ]"
+"$TD" render "$T/adir" -o "$T/d.png" 2>"$T/err"
+check "render FOLDER: exit 1, 'is a folder'" "[ \$? = 1 ] && grep -q 'adir: is a folder' '$T/err'"
+# compare: no cell with data in both is an error, not rmse 0; an ASCII
+# grid with more values than its header says is refused
+printf 'ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -9999\n-9999 -9999\n-9999 -9999\n' >"$T/nd.asc"
+printf 'ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -9999\n1 2\n3 4\n' >"$T/v.asc"
+printf 'ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\nNODATA_value -9999\n1 2\n3 4\n5\n' >"$T/x.asc"
+"$TD" compare "$T/nd.asc" "$T/v.asc" >/dev/null 2>"$T/err"
+check "compare with no common cell: exit 1, one line" \
+  "[ \$? = 1 ] && grep -q 'no cell with data in both' '$T/err'"
+"$TD" compare "$T/x.asc" "$T/v.asc" >/dev/null 2>"$T/err"
+check "an ASCII grid with an extra value: exit 1, naming the line" \
+  "[ \$? = 1 ] && grep -q 'x.asc: line 9: more than the 4 values' '$T/err'"
+
 echo "$pass passed, $fail failed"
 [ $fail = 0 ]

@@ -114,6 +114,11 @@ int td_cmd_compare(int argc, char **argv)
                        o.a, a->w, a->h, o.b, b->w, b->h);
         goto fail;
     }
+    if (st.n_both == 0) { /* no statistic means anything */
+        rc = td_seterr(&cx, TD_EFORMAT,
+                       "%s and %s have no cell with data in both", o.a, o.b);
+        goto fail;
+    }
     if (o.diff &&
         ((rc = td_compare_diff_image(a, b, o.range, &im, &cx)) != 0 ||
          (rc = td_png_write(o.diff, im, &cx)) != 0))

@@ -146,10 +146,13 @@ static int empty_height(const char *line, double *v)
  * files an empty height is no height (undetermined). */
 static int read_csv(const char *path, int ids, pts *a, td_ctx *cx)
 {
-    FILE *f = fopen(path, "r");
+    FILE *f;
     char line[512];
     long no = 0;
     int rc = 0;
+    if (td_check_input(path, cx) != 0)
+        return TD_EINVAL;
+    f = fopen(path, "r");
     if (!f)
         return td_seterr(cx, TD_EIO, "%s: cannot open (%s)", path,
                          strerror(errno));
