@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* Error sink of one libpng handle. */
 typedef struct pio_err {
@@ -183,6 +184,18 @@ static int pio_decode(pio_job *j, td_ctx *cx)
     j->tchan = png_get_channels(j->png, j->info);
     if (j->header_only)
         return 0;
+    { /* deflate packs at most 1032:1: a file far smaller than its frame
+         is cut short or forged, refused before the frame is allocated */
+        struct stat st;
+        double raw = (double)j->w * j->h *
+                     png_get_channels(j->png, j->info) *
+                     png_get_bit_depth(j->png, j->info) / 8.0;
+        if (fstat(fileno(j->f), &st) == 0 && raw > 1100.0 * st.st_size + 1e6)
+            return td_seterr(cx, TD_EFORMAT,
+                             "%s: truncated or corrupt PNG (%d x %d pixels "
+                             "claimed in only %lld bytes)",
+                             j->path, j->w, j->h, (long long)st.st_size);
+    }
     j->im = td_image_new(j->w, j->h, j->channels, cx);
     if (!j->im)
         return cx && cx->code ? cx->code : TD_ENOMEM;

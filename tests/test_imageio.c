@@ -589,6 +589,56 @@ static void check_png(const char *name, int ctype, int depth, int interlace,
     td_image_free(im);
 }
 
+
+static void put32(unsigned char *p, unsigned long v)
+{
+    p[0] = (unsigned char)(v >> 24), p[1] = (unsigned char)(v >> 16);
+    p[2] = (unsigned char)(v >> 8), p[3] = (unsigned char)v;
+}
+
+/* A PNG whose header claims 40000 x 40000 pixels in 74 bytes is refused
+ * before the frame is allocated (deflate cannot pack 1.6 GB into that). */
+static void test_png_forged_size(void)
+{
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', 13, 10, 26, 10};
+    unsigned char ihdr[25], idat[64], iend[12], z[32];
+    unsigned char zero[1000];
+    uLongf zn = sizeof z;
+    char *path = tmpfile_path("forged.png");
+    td_image *im = NULL;
+    td_ctx cx;
+    FILE *f;
+    int rc;
+    td_ctx_init(&cx);
+    memset(zero, 0, sizeof zero);
+    TT_CHECK(compress(z, &zn, zero, sizeof zero) == Z_OK && zn <= 40);
+    put32(ihdr, 13);
+    memcpy(ihdr + 4, "IHDR", 4);
+    put32(ihdr + 8, 40000);
+    put32(ihdr + 12, 40000);
+    ihdr[16] = 8, ihdr[17] = 0, ihdr[18] = ihdr[19] = ihdr[20] = 0;
+    put32(ihdr + 21, crc32(0, ihdr + 4, 17));
+    put32(idat, (unsigned long)zn);
+    memcpy(idat + 4, "IDAT", 4);
+    memcpy(idat + 8, z, zn);
+    put32(idat + 8 + zn, crc32(0, idat + 4, (uInt)(4 + zn)));
+    put32(iend, 0);
+    memcpy(iend + 4, "IEND", 4);
+    put32(iend + 8, crc32(0, iend + 4, 4));
+    f = fopen(path, "wb");
+    if (f) {
+        fwrite(sig, 1, 8, f);
+        fwrite(ihdr, 1, 25, f);
+        fwrite(idat, 1, 12 + zn, f);
+        fwrite(iend, 1, 12, f);
+        fclose(f);
+    }
+    rc = td_image_read(path, &im, NULL, &cx);
+    TT_CHECKF(rc == TD_EFORMAT && strstr(td_errmsg(&cx), "40000 x 40000"),
+              "rc %d: %s", rc, td_errmsg(&cx));
+    td_image_free(im);
+}
+
 static void test_png_read_kinds(void)
 {
     check_png("grey8.png", PNG_COLOR_TYPE_GRAY, 8, 0, 0, 1);
@@ -1234,6 +1284,7 @@ int main(void)
     TT_RUN(test_jpeg_by_magic);
     TT_RUN(test_jpeg_forged_size);
     TT_RUN(test_png_read_kinds);
+    TT_RUN(test_png_forged_size);
     TT_RUN(test_png_write_roundtrip);
     TT_RUN(test_png_write_u16);
     TT_RUN(test_geotiff_georef_read);
