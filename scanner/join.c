@@ -871,7 +871,7 @@ static size_t zfind(size_t *uf, size_t a)
 /* Choose each junction zone's pairing: its pairs get cost -1 (accepted
  * first), the zone's other junction-to-junction pairs are dropped. */
 static int junction_zones(const jend *e, size_t ne, jpair *pairs, size_t *np,
-                          td_ctx *cx)
+                          td_join_stats *st, td_ctx *cx)
 {
     size_t *uf = td_malloc((ne + 1) * sizeof *uf, cx), i, j, n = *np, m = 0;
     size_t ends[JUNC_MAX];
@@ -909,6 +909,10 @@ static int junction_zones(const jend *e, size_t ne, jpair *pairs, size_t *np,
         for (a = 0; a < JUNC_MAX; a++)
             z.mate[a] = -2, z.best_mate[a] = -1;
         zone_search(&z, 0.0);
+        st->merges++;
+        for (a = 0; a < z.n && z.best_mate[a] >= 0; a++)
+            ;
+        st->merges_open += a < z.n;
         for (j = 0; j < n; j++)
             for (a = 0; a < z.n; a++)
                 for (b = 0; b < z.n; b++)
@@ -1008,7 +1012,7 @@ static int join_pass(td_lines **lsp, const td_join_params *p, int stage,
     if ((rc = collect_ends(ls, p, stage == 2 ? p->long_tangent : p->tangent,
                            stage, &e, &ne, &eol, cx)) != 0 ||
         (rc = find_pairs(ls, e, ne, p, stage, &pairs, &np, cx)) != 0 ||
-        (stage == 1 && (rc = junction_zones(e, ne, pairs, &np, cx)) != 0) ||
+        (stage == 1 && (rc = junction_zones(e, ne, pairs, &np, st, cx)) != 0) ||
         (rc = accept_pairs(ls, p, stage, e, pairs, np, &acc, &nacc, paths,
                            st, cx)) != 0)
         goto fail;

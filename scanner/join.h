@@ -48,7 +48,11 @@ typedef struct td_join_stats {
     size_t long_joins; /* of joins: made by stage 2 */
     size_t bridges;    /* short pieces between two junctions removed */
     size_t glyphs;     /* small closed rings (digits such as 0, 6, 8, 9)
-                          removed because a stage-2 join passes through */
+                          removed because a stage-2 join passes through,
+                          or next to a removed label fragment */
+    size_t merges;      /* junction zones (contours touching): all */
+    size_t merges_open; /* of them: with a branch left open (no pairing
+                           without a crossing or a sharp turn) */
     td_lines *segments; /* p->record only: each stage-2 join as a line
                            (its path: 2 points for a chord, more along a
                            curve); free with td_join_stats_free */

@@ -66,9 +66,10 @@ static const char help[] =
     "  -h, --help             this help\n"
     "\n"
     "Summary on stderr: lines, closed, open, edge, bridged gaps, remaining\n"
-    "junctions (touching contours, split), seconds.  --debug-dir also\n"
-    "writes join.txt: gaps joined (label gaps), fragments removed, open\n"
-    "ends left.\n";
+    "junctions (touching contours, split), merges (places where contours\n"
+    "touch) resolved and left open (a line ends there), seconds.\n"
+    "--debug-dir also writes join.txt: gaps joined (label gaps),\n"
+    "fragments removed, open ends left, merges.\n";
 
 typedef struct scan_opts {
     const char *in, *out, *debug_dir;
@@ -189,9 +190,10 @@ static int write_join_report(const char *path, const td_join_stats *j,
         return td_seterr(cx, TD_EIO, "%s: cannot write (%s)", path,
                          strerror(errno));
     fprintf(f, "joins %zu\nlabel_gap_joins %zu\nclosures %zu\n"
-            "fragments_removed %zu\nglyph_rings_removed %zu\nends_open %zu\n",
+            "fragments_removed %zu\nglyph_rings_removed %zu\nends_open %zu\n"
+            "merges %zu\nmerges_left_open %zu\n",
             j->joins, j->long_joins, j->closures, j->fragments, j->glyphs,
-            j->ends_open);
+            j->ends_open, j->merges, j->merges_open);
     bad = ferror(f);
     if (fclose(f) != 0 || bad)
         return td_seterr(cx, TD_EIO, "%s: cannot write", path);
@@ -330,9 +332,11 @@ static void summary(const td_scan_result *r, double secs)
     }
     fprintf(stderr,
             "scan: %zu lines, %zu closed, %zu open, %zu edge, %zu bridged "
-            "gaps, %zu remaining junctions, %.2f s\n",
+            "gaps, %zu remaining junctions, %zu merges resolved, %zu left "
+            "open, %.2f s\n",
             n, closed, n - closed, edge, t->bridged + r->join.joins,
-            t->junctions, secs);
+            t->junctions, r->join.merges - r->join.merges_open,
+            r->join.merges_open, secs);
     if (r->palette.n > 0)
         td_cli_print_palette("scan", &r->palette);
 }
