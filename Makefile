@@ -97,9 +97,8 @@ deps:
 # (make bench); its tests run once more in such a build.
 test: deps
 	$(MAKE) all $(TESTS)
-	BUILD=$(BUILD) sh tests/run.sh
 	$(MAKE) BUILD=build-native OPT="-O2 -g -march=native" build-native/tests/test_flow
-	build-native/tests/test_flow
+	BUILD=$(BUILD) EXTRA_TESTS=build-native/tests/test_flow sh tests/run.sh
 
 check: deps
 	$(MAKE) BUILD=build-san OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" \
