@@ -2,6 +2,8 @@
  * file; this one only sequences them and keeps the debug copies. */
 #include "scan.h"
 
+#include "blobring.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -15,6 +17,7 @@ td_scan_params td_scan_defaults(void)
     p.join = td_join_defaults(0, 0);
     p.do_join = 1;
     p.measure_width = 1;
+    p.blob_rings = 1;
     return p;
 }
 
@@ -72,6 +75,14 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     if (p->measure_width &&
         (rc = td_line_widths_packed(bits, im->w, im->h, res->lines, cx)) != 0)
         goto fail;
+    if (p->measure_width && p->blob_rings) {
+        long nr = td_blob_rings(bits, im->w, im->h, res->lines, cx);
+        if (nr < 0) {
+            rc = (int)nr;
+            goto fail;
+        }
+        res->blob_rings = (size_t)nr;
+    }
     res->seconds[4] = td_now() - t0;
     res->despurred = g;
     free(bits);

@@ -29,6 +29,9 @@ typedef struct td_scan_params {
     td_join_params join;  /* w,h filled in by td_scan */
     int do_join;          /* default 1 */
     int measure_width;    /* set each line's width (width.h), default 1 */
+    int blob_rings;       /* tiny rings that printed as dots of ink get
+                             back their circle (blobring.h; ours; needs
+                             measure_width), default 1 */
     int keep_debug;       /* keep mask and skeleton copies in the result */
 } td_scan_params;
 
@@ -41,6 +44,7 @@ typedef struct td_scan_result {
     td_despur_stats spur;
     td_trace_stats trace;
     td_join_stats join;
+    size_t blob_rings;     /* tiny rings redrawn from their dots */
     td_palette palette;    /* the inks found on a colour scan (--ink auto
                               or brown; n = 0 otherwise) */
     double seconds[5];     /* binarise, thin, despur, trace, join */

@@ -1,0 +1,117 @@
+/* blobring.c: tiny summit rings from dots of ink (contract in blobring.h). */
+#include "blobring.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define WIN 31 /* the dot's window, px */
+
+static int bit_at(const uint8_t *bits, int w, int h, int x, int y)
+{
+    size_t rb = ((size_t)w + 7) / 8;
+    if (x < 0 || y < 0 || x >= w || y >= h)
+        return 0;
+    return bits[(size_t)y * rb + ((size_t)x >> 3)] >> (x & 7) & 1;
+}
+
+static int cmp_d(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The median width of the measured lines 30 px and longer, 0 if none. */
+static double pen_width(const td_lines *ls, td_ctx *cx)
+{
+    double *v = td_malloc((ls->n + 1) * sizeof *v, cx), med = 0;
+    size_t i, n = 0;
+    if (!v)
+        return -1;
+    for (i = 0; i < ls->n; i++)
+        if (ls->v[i].width > 0 && td_line_length(&ls->v[i]) >= 30)
+            v[n++] = ls->v[i].width;
+    if (n) {
+        qsort(v, n, sizeof *v, cmp_d);
+        med = v[n / 2];
+    }
+    free(v);
+    return med;
+}
+
+/* The dot under (cx0, cy0): its area and centroid, by a flood fill within
+ * the window around it; 0 when there is no ink there or the ink reaches
+ * the window's edge (no dot: part of something bigger). */
+static int dot(const uint8_t *bits, int w, int h, int cx0, int cy0,
+               double *area, double *mx, double *my)
+{
+    unsigned char seen[WIN * WIN];
+    int stack[2 * WIN * WIN], top = 0, x0 = cx0 - WIN / 2, y0 = cy0 - WIN / 2;
+    long n = 0;
+    double sx = 0, sy = 0;
+    memset(seen, 0, sizeof seen);
+    if (!bit_at(bits, w, h, cx0, cy0))
+        return 0;
+    seen[(cy0 - y0) * WIN + (cx0 - x0)] = 1;
+    stack[top++] = cx0, stack[top++] = cy0;
+    while (top) {
+        int y = stack[--top], x = stack[--top], dx, dy;
+        n++, sx += x, sy += y;
+        if (x == x0 || y == y0 || x == x0 + WIN - 1 || y == y0 + WIN - 1)
+            return 0;
+        for (dy = -1; dy <= 1; dy++)
+            for (dx = -1; dx <= 1; dx++) {
+                int nx = x + dx, ny = y + dy;
+                unsigned char *s = &seen[(ny - y0) * WIN + (nx - x0)];
+                if (*s || !bit_at(bits, w, h, nx, ny))
+                    continue;
+                *s = 1;
+                stack[top++] = nx, stack[top++] = ny;
+            }
+    }
+    *area = (double)n;
+    *mx = sx / n + 0.5; /* pixel centres */
+    *my = sy / n + 0.5;
+    return 1;
+}
+
+long td_blob_rings(const uint8_t *bits, int w, int h, td_lines *ls,
+                   td_ctx *cx)
+{
+    double pen = pen_width(ls, cx);
+    long done = 0;
+    size_t i, k;
+    if (pen < 0)
+        return TD_ENOMEM;
+    if (pen == 0)
+        return 0;
+    for (i = 0; i < ls->n; i++) {
+        td_line *l = &ls->v[i];
+        double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
+        double a, mx, my, r;
+        int n;
+        if (!l->closed || l->edge || l->n < 1 || l->n > 9)
+            continue;
+        for (k = 0; k < l->n; k++) {
+            x0 = fmin(x0, l->xy[2 * k]), x1 = fmax(x1, l->xy[2 * k]);
+            y0 = fmin(y0, l->xy[2 * k + 1]), y1 = fmax(y1, l->xy[2 * k + 1]);
+        }
+        if (x1 - x0 > 2.01 || y1 - y0 > 2.01 ||
+            !dot(bits, w, h, (int)floor(0.5 * (x0 + x1)),
+                 (int)floor(0.5 * (y0 + y1)), &a, &mx, &my))
+            continue;
+        r = sqrt(a / 3.14159265358979) - 0.5 * pen;
+        if (r < 1.5)
+            continue;
+        n = (int)ceil(2 * 3.14159265358979 * r);
+        n = n < 8 ? 8 : n;
+        l->n = 0;
+        for (k = 0; k < (size_t)n; k++) {
+            double t = 2 * 3.14159265358979 * (double)k / n;
+            if (td_line_push(l, mx + r * cos(t), my - r * sin(t), cx) != 0)
+                return TD_ENOMEM;
+        }
+        done++;
+    }
+    return done;
+}
