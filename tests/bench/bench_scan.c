@@ -55,6 +55,34 @@ static int make_sheet(const char *path, int size, td_ctx *cx)
     return rc;
 }
 
+/* Make (or reuse) a 6000 x 6000 pair: the same sheet as a printed colour
+ * map (tdgen --print) and in grey, both with blur 0.8 and noise 6, PNG. */
+static int make_pair(const char *colour, const char *grey, int size,
+                     td_ctx *cx)
+{
+    int k, rc = 0;
+    for (k = 0; k < 2 && rc == 0; k++) {
+        const char *path = k ? grey : colour;
+        td_gen_params gp = td_gen_defaults();
+        td_image *im = NULL;
+        struct stat sb;
+        if (stat(path, &sb) == 0)
+            continue;
+        gp.w = gp.h = size;
+        gp.terrain = TD_GEN_RIDGES;
+        gp.line_width = 2.0;
+        gp.seed = 7;
+        gp.blur = 0.8;
+        gp.noise = 6;
+        gp.colour = gp.distractors = gp.print = !k;
+        fprintf(stderr, "generating %dx%d sheet %s ...\n", size, size, path);
+        if ((rc = td_gen_sheet(&gp, &im, NULL, NULL, cx)) == 0)
+            rc = td_png_write(path, im, cx);
+        td_image_free(im);
+    }
+    return rc;
+}
+
 /* Run the CLI once; wall seconds and peak RSS (bytes) of the child. */
 static int run_cli(const char *exe, const char *sheet, const char *out,
                    double *secs, double *peak)
@@ -170,6 +198,27 @@ int main(int argc, char **argv)
                peak / ((double)size * size));
     } else {
         printf("  topodig scan failed (%s)\n", exe);
+    }
+    { /* colour (--ink auto: the palette) against grey, same sheet */
+        char col[1024], grey[1024];
+        double sc, sg, pc, pg;
+        int cs = size < 6000 ? size : 6000;
+        snprintf(col, sizeof col, "%s/print%d.png", dir, cs);
+        snprintf(grey, sizeof grey, "%s/grey%d.png", dir, cs);
+        if (make_pair(col, grey, cs, &cx) != 0) {
+            printf("  colour pair: %s\n", td_errmsg(&cx));
+        } else if (run_cli(exe, grey, out, &sg, &pg) == 0 &&
+                   run_cli(exe, col, out, &sc, &pc) == 0) {
+            printf("printed colour map vs the same sheet in grey, %dx%d PNG, "
+                   "whole CLI scan\n", cs, cs);
+            row("grey (--ink auto = dark)", cs, cs, sg);
+            row("colour (--ink auto: palette)", cs, cs, sc);
+            printf("  colour / grey %.2fx (target <= 2); peak %.2f / %.2f "
+                   "bytes/pixel\n", sc / sg, pc / ((double)cs * cs),
+                   pg / ((double)cs * cs));
+        } else {
+            printf("  colour pair: topodig scan failed\n");
+        }
     }
     return 0;
 }
