@@ -66,6 +66,17 @@ int td_cli_fail(const char *cmd, const td_ctx *cx)
     return 1;
 }
 
+int td_cli_fail_on(const char *cmd, const char *in, const char *out,
+                   const td_ctx *cx)
+{
+    const char *m = td_errmsg(cx);
+    if (in && *in && !strstr(m, in) && !(out && *out && strstr(m, out)))
+        fprintf(stderr, "topodig %s: %s: %s\n", cmd, in, m);
+    else
+        fprintf(stderr, "topodig %s: %s\n", cmd, m);
+    return 1;
+}
+
 int td_cli_failf(const char *cmd, const char *fmt, ...)
 {
     va_list ap;

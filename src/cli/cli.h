@@ -66,4 +66,9 @@ int td_cli_check_output(const char *cmd, const char *out, const char *in);
  * each allowed) into v; 0, or -1 when s is anything else. */
 int td_cli_parse_nums(const char *s, double *v, int n);
 
+/* As td_cli_fail, and the message names the input in when it names
+ * neither in nor out (an error deep in a stage: "z-buffer too big"). */
+int td_cli_fail_on(const char *cmd, const char *in, const char *out,
+                   const td_ctx *cx);
+
 #endif

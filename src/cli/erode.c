@@ -391,5 +391,5 @@ int td_cmd_erode(int argc, char **argv)
     td_grid_f32_free(f.sediment);
     td_georef_clear(&geo);
     free(o.log);
-    return rc == 0 ? 0 : td_cli_fail("erode", &cx);
+    return rc == 0 ? 0 : td_cli_fail_on("erode", o.in, o.out, &cx);
 }

@@ -216,5 +216,5 @@ int td_cmd_flow(int argc, char **argv)
     td_grid_f32_free(passes);
     td_grid_u8_free(cls);
     td_georef_clear(&geo);
-    return rc == 0 ? 0 : td_cli_fail("flow", &cx);
+    return rc == 0 ? 0 : td_cli_fail_on("flow", o.in, o.out, &cx);
 }

@@ -292,5 +292,5 @@ int td_cmd_insolation(int argc, char **argv)
     td_insol_result_free(r);
     td_grid_f32_free(dem);
     td_georef_clear(&geo);
-    return rc == 0 ? 0 : td_cli_fail("insolation", &cx);
+    return rc == 0 ? 0 : td_cli_fail_on("insolation", o.in, o.out, &cx);
 }

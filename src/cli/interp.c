@@ -174,5 +174,5 @@ fail:
     td_grid_f32_free(dem);
     td_lines_free(ls);
     td_georef_clear(&geo);
-    return rc == 0 ? 0 : td_cli_fail("interp", &cx);
+    return rc == 0 ? 0 : td_cli_fail_on("interp", o.in, o.out, &cx);
 }

@@ -131,5 +131,5 @@ fail:
     td_image_free(im);
     td_grid_f32_free(dem);
     td_georef_clear(&geo);
-    return rc == 0 ? 0 : td_cli_fail("render", &cx);
+    return rc == 0 ? 0 : td_cli_fail_on("render", o.in, o.out, &cx);
 }

@@ -187,5 +187,5 @@ fail:
     td_ridges_free(r);
     td_lines_free(ls);
     td_georef_clear(&geo);
-    return rc == 0 ? 0 : td_cli_fail("ridges", &cx);
+    return rc == 0 ? 0 : td_cli_fail_on("ridges", o.in, o.out, &cx);
 }

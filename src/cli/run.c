@@ -459,12 +459,7 @@ int td_cmd_run(int argc, char **argv)
         put_warnings(&s.rep);
         summary(&s);
     }
-    if (rc != 0 && !strstr(cx.msg, o.in)) {
-        char m[sizeof cx.msg];
-        snprintf(m, sizeof m, "%.200s: %.300s", o.in, cx.msg);
-        memcpy(cx.msg, m, sizeof m);
-    }
-    rc = rc == 0 ? 0 : td_cli_fail("run", &cx);
+    rc = rc == 0 ? 0 : td_cli_fail_on("run", o.in, o.out, &cx);
     td_grid_f32_free(s.dem);
     td_lines_free(s.ls);
     td_label_report_free(&s.rep);
