@@ -64,6 +64,32 @@ static void rgb_of(const td_ink *k, double *v)
     v[0] = k->rgb[0], v[1] = k->rgb[1], v[2] = k->rgb[2];
 }
 
+/* A table over the 33^3 colour nodes 0, 8, ..., 248, 255 of each
+ * channel: out[node] = fn(pal, node colour, u). */
+typedef uint8_t (*node_fn)(const td_palette *pal, const double *v,
+                           const void *u);
+
+static void for_nodes(const td_palette *pal, node_fn fn, const void *u,
+                      uint8_t *out)
+{
+    int i, j, k, n = 0;
+    for (i = 0; i < LUT_N; i++)
+        for (j = 0; j < LUT_N; j++)
+            for (k = 0; k < LUT_N; k++) {
+                double v[3] = {i * 8 > 255 ? 255 : i * 8,
+                               j * 8 > 255 ? 255 : j * 8,
+                               k * 8 > 255 ? 255 : k * 8};
+                out[n++] = fn(pal, v, u);
+            }
+}
+
+/* The node nearest to a pixel's colour. */
+static size_t nearest_node(const uint8_t *px)
+{
+    return ((size_t)((px[0] + 4) >> 3) * LUT_N + ((px[1] + 4) >> 3)) * LUT_N +
+           ((px[2] + 4) >> 3);
+}
+
 /* The model that explains v best.  bg_only_paper: every non-paper colour
  * is an ink over the paper (before the roles are known). */
 static int explain(const td_palette *pal, const double *v, int bg_only_paper,
@@ -332,30 +358,26 @@ static void keep_bases(td_palette *pal, const double *paper, clus *cl,
 
 /* Label every pixel of the crop with the colour explaining it (ink
  * coverage >= 0.4, else the paper), through a nearest-node table. */
+static uint8_t crop_node(const td_palette *pal, const double *v,
+                         const void *u)
+{
+    double a;
+    int who = explain(pal, v, 1, &a);
+    (void)u;
+    return (uint8_t)(who != pal->paper && a < 0.4 ? pal->paper : who);
+}
+
 static void label_crop(const td_palette *pal, const td_image *im, int x0,
                        int y0, int cw, int ch, uint8_t *lbl)
 {
     uint8_t node[LUT_N * LUT_N * LUT_N];
-    int i, j, k, x, y, nn = 0;
-    for (i = 0; i < LUT_N; i++)
-        for (j = 0; j < LUT_N; j++)
-            for (k = 0; k < LUT_N; k++) {
-                double v[3] = {i * 8 > 255 ? 255 : i * 8,
-                               j * 8 > 255 ? 255 : j * 8,
-                               k * 8 > 255 ? 255 : k * 8},
-                       a;
-                int who = explain(pal, v, 1, &a);
-                node[nn++] = (uint8_t)(who != pal->paper && a < 0.4
-                                           ? pal->paper
-                                           : who);
-            }
+    int x, y;
+    for_nodes(pal, crop_node, NULL, node);
     for (y = 0; y < ch; y++) {
         const uint8_t *px = im->data + (size_t)(y0 + y) * im->stride +
                             3 * (size_t)x0;
         for (x = 0; x < cw; x++, px += 3)
-            lbl[(size_t)y * cw + x] =
-                node[(((px[0] + 4) >> 3) * LUT_N + ((px[1] + 4) >> 3)) * LUT_N +
-                     ((px[2] + 4) >> 3)];
+            lbl[(size_t)y * cw + x] = node[nearest_node(px)];
     }
 }
 
@@ -655,103 +677,96 @@ static int is_contour(const td_palette *pal, int k)
     return k == pal->chosen || (k >= 0 && (pal->also >> k & 1u));
 }
 
+static uint8_t strength_node(const td_palette *pal, const double *v,
+                             const void *u)
+{
+    double a, ab, rb, rk, w, best = 0, bv[3];
+    int who = explain(pal, v, 0, &ab), k;
+    (void)u;
+    /* the best model's residual */
+    if (who == pal->paper || pal->ink[who].role == TD_INKROLE_TINT) {
+        rgb_of(&pal->ink[who], bv);
+        rb = dist3(v, bv);
+    } else {
+        rb = fit_ink(pal, who, v, &ab);
+    }
+    for (k = 0; k < pal->n; k++) {
+        if (!is_contour(pal, k))
+            continue;
+        rk = fit_ink(pal, k, v, &a);
+        /* the ink's share: full when it explains v within SOFT0 of the
+           best model (a colour fringe, JPEG), none beyond SOFT1 (another
+           ink) */
+        w = (SOFT1 - (rk - rb)) / (SOFT1 - SOFT0);
+        w = w < 0 ? 0 : w > 1 ? 1 : w;
+        /* and none where it explains v badly in itself: an ink the
+           palette missed (a little black text) */
+        w *= rk < BAD0 ? 1.0 : rk > BAD1 ? 0.0 : (BAD1 - rk) / (BAD1 - BAD0);
+        best = fmax(best, 255.0 * fmin(a, 1.0) * w);
+    }
+    return (uint8_t)lrint(best);
+}
+
 void td_palette_lut(const td_palette *pal, uint8_t *lut)
 {
-    int i, j, l, k, n = 0;
-    for (i = 0; i < LUT_N; i++)
-        for (j = 0; j < LUT_N; j++)
-            for (l = 0; l < LUT_N; l++) {
-                double v[3] = {i * 8 > 255 ? 255 : i * 8,
-                               j * 8 > 255 ? 255 : j * 8,
-                               l * 8 > 255 ? 255 : l * 8},
-                       a, ab, rb, rk, w, best = 0;
-                int who = explain(pal, v, 0, &ab);
-                double bv[3];
-                /* the best model's residual */
-                if (who == pal->paper || pal->ink[who].role == TD_INKROLE_TINT) {
-                    rgb_of(&pal->ink[who], bv);
-                    rb = dist3(v, bv);
-                } else {
-                    rb = fit_ink(pal, who, v, &ab);
-                }
-                for (k = 0; k < pal->n; k++) {
-                    if (!is_contour(pal, k))
-                        continue;
-                    rk = fit_ink(pal, k, v, &a);
-                    /* the ink's share: full when it explains v within
-                       SOFT0 of the best model (a colour fringe, JPEG),
-                       none beyond SOFT1 (another ink) */
-                    w = (SOFT1 - (rk - rb)) / (SOFT1 - SOFT0);
-                    w = w < 0 ? 0 : w > 1 ? 1 : w;
-                    /* and none where it explains v badly in itself: an
-                       ink the palette missed (a little black text) */
-                    w *= rk < BAD0 ? 1.0 : rk > BAD1 ? 0.0
-                                                     : (BAD1 - rk) / (BAD1 - BAD0);
-                    best = fmax(best, 255.0 * fmin(a, 1.0) * w);
-                }
-                lut[n++] = (uint8_t)lrint(best);
-            }
+    for_nodes(pal, strength_node, NULL, lut);
+}
+
+static uint8_t veto_node(const td_palette *pal, const double *v,
+                         const void *u)
+{
+    double a, ak;
+    int who = explain(pal, v, 0, &a);
+    (void)u;
+    return !is_contour(pal, who) && pal->ink[who].role == TD_INKROLE_INK &&
+                   a >= 0.5 &&
+                   fit_ink(pal, who, v, &a) + 10.0 <
+                       fit_ink(pal, pal->chosen, v, &ak)
+               ? 255
+               : 0;
 }
 
 void td_palette_veto_lut(const td_palette *pal, uint8_t *lut)
 {
-    int i, j, l, n = 0;
-    for (i = 0; i < LUT_N; i++)
-        for (j = 0; j < LUT_N; j++)
-            for (l = 0; l < LUT_N; l++) {
-                double v[3] = {i * 8 > 255 ? 255 : i * 8,
-                               j * 8 > 255 ? 255 : j * 8,
-                               l * 8 > 255 ? 255 : l * 8},
-                       a, ak;
-                int who = explain(pal, v, 0, &a);
-                lut[n++] = !is_contour(pal, who) &&
-                                   pal->ink[who].role == TD_INKROLE_INK &&
-                                   a >= 0.5 &&
-                                   fit_ink(pal, who, v, &a) + 10.0 <
-                                       fit_ink(pal, pal->chosen, v, &ak)
-                               ? 255
-                               : 0;
-            }
+    for_nodes(pal, veto_node, NULL, lut);
+}
+
+static uint8_t label_node(const td_palette *pal, const double *v,
+                          const void *u)
+{
+    double a, bg = HUGE_VAL;
+    int who = explain(pal, v, 0, &a), b, wb = pal->paper;
+    (void)u;
+    if (pal->ink[who].role == TD_INKROLE_INK && a < 0.4) {
+        for (b = 0; b < pal->n; b++) { /* the nearest background */
+            double bv[3];
+            if (pal->ink[b].role == TD_INKROLE_INK)
+                continue;
+            rgb_of(&pal->ink[b], bv);
+            if (dist3(v, bv) < bg)
+                bg = dist3(v, bv), wb = b;
+        }
+        who = wb;
+    }
+    return (uint8_t)who;
 }
 
 int td_palette_label(const td_palette *pal, const td_image *im,
                      td_grid_u8 *lbl, td_ctx *cx)
 {
     uint8_t *node;
-    int i, j, k, x, y, nn = 0;
+    int x, y;
     if (!im || im->channels != 3 || !lbl || lbl->w != im->w ||
         lbl->h != im->h || pal->n < 1)
         return td_seterr(cx, TD_EINVAL, "palette: bad image or labels");
     if (!(node = td_malloc(LUT_N * LUT_N * LUT_N, cx)))
         return TD_ENOMEM;
-    for (i = 0; i < LUT_N; i++)
-        for (j = 0; j < LUT_N; j++)
-            for (k = 0; k < LUT_N; k++) {
-                double v[3] = {i * 8 > 255 ? 255 : i * 8,
-                               j * 8 > 255 ? 255 : j * 8,
-                               k * 8 > 255 ? 255 : k * 8},
-                       a, bg = HUGE_VAL;
-                int who = explain(pal, v, 0, &a), b, wb = pal->paper;
-                if (pal->ink[who].role == TD_INKROLE_INK && a < 0.4) {
-                    for (b = 0; b < pal->n; b++) { /* the nearest background */
-                        double bv[3];
-                        if (pal->ink[b].role == TD_INKROLE_INK)
-                            continue;
-                        rgb_of(&pal->ink[b], bv);
-                        if (dist3(v, bv) < bg)
-                            bg = dist3(v, bv), wb = b;
-                    }
-                    who = wb;
-                }
-                node[nn++] = (uint8_t)who;
-            }
+    for_nodes(pal, label_node, NULL, node);
     for (y = 0; y < im->h; y++) {
         const uint8_t *px = im->data + (size_t)y * im->stride;
         uint8_t *out = lbl->data + (size_t)y * lbl->stride;
         for (x = 0; x < im->w; x++, px += 3)
-            out[x] = node[(((px[0] + 4) >> 3) * LUT_N + ((px[1] + 4) >> 3)) *
-                              LUT_N +
-                          ((px[2] + 4) >> 3)];
+            out[x] = node[nearest_node(px)];
     }
     free(node);
     return 0;

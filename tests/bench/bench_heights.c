@@ -29,26 +29,6 @@ static const sheet_case cases[] = {
     {"ridges", NULL, TD_GEN_RIDGES, 0, 0, 2000},
 };
 
-static void defects(td_gen_params *p, int scanned)
-{
-    p->line_width = 1.8;
-    p->index_width = 3.2;
-    if (!scanned)
-        return;
-    if (scanned == 2) { /* brown ink on cream, blue water, black text */
-        p->colour = 1;
-        p->distractors = 1;
-    }
-    p->blur = 0.8;
-    p->noise = 8;
-    p->specks = 300;
-    p->breaks = 40;
-    p->break_min = 3;
-    p->break_max = 10;
-    p->labels = 3;
-    p->label_bend = 40;
-    p->label_font = 1;
-}
 
 static const char *const scan_name[4] = {"truth", "clean", "scanned", "colour"};
 static const char *const hint_name[3] = {"3 known", "3 known+index",
@@ -109,7 +89,7 @@ int main(int argc, char **argv)
                 } else {
                     hs.gp.w = hs.gp.h = k->size;
                 }
-                defects(&hs.gp, scanned >= 2 ? (scanned == 3 ? 2 : 1) : 0);
+                td_hsheet_defects(&hs.gp, scanned >= 2 ? (scanned == 3 ? 2 : 1) : 0);
                 hs.use_truth_lines = scanned == 0;
                 if (hint == 2 && scanned < 2)
                     continue; /* labels: on the scanned sheets */

@@ -33,28 +33,6 @@ static const sheet_case cases[] = {
 static const char *const scan_name[4] = {"clean", "scanned", "colour",
                                          "printed"};
 
-/* The defects of bench_heights' sheets (printed labels included). */
-static void defects(td_gen_params *p, int kind)
-{
-    p->line_width = 1.8;
-    p->index_width = 3.2;
-    if (!kind)
-        return;
-    if (kind >= 2) {
-        p->colour = 1;
-        p->distractors = 1;
-        p->print = kind == 3;
-    }
-    p->blur = 0.8;
-    p->noise = 8;
-    p->specks = 300;
-    p->breaks = 40;
-    p->break_min = 3;
-    p->break_max = 10;
-    p->labels = 3;
-    p->label_bend = 40;
-    p->label_font = 1;
-}
 
 int main(int argc, char **argv)
 {
@@ -99,7 +77,7 @@ int main(int argc, char **argv)
             gp.interval = k->interval;
             gp.w = (int)(src->w * k->scale);
             gp.h = (int)(src->h * k->scale);
-            defects(&gp, kind);
+            td_hsheet_defects(&gp, kind);
             if (td_gen_sheet(&gp, &im, &truth, NULL, &cx) != 0) {
                 printf("%-12s %-7s generate failed: %s\n", k->name,
                        scan_name[kind], td_errmsg(&cx));

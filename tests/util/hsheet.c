@@ -191,3 +191,26 @@ done:
     td_grid_f32_free(dem);
     return rc;
 }
+
+/* Contract in hsheet.h. */
+void td_hsheet_defects(td_gen_params *p, int kind)
+{
+    p->line_width = 1.8;
+    p->index_width = 3.2;
+    if (!kind)
+        return;
+    if (kind >= 2) {
+        p->colour = 1;
+        p->distractors = 1;
+        p->print = kind == 3;
+    }
+    p->blur = 0.8;
+    p->noise = 8;
+    p->specks = 300;
+    p->breaks = 40;
+    p->break_min = 3;
+    p->break_max = 10;
+    p->labels = 3;
+    p->label_bend = 40;
+    p->label_font = 1;
+}

@@ -35,6 +35,12 @@ typedef struct td_hsheet {
  * vertex.  log (may be NULL) gets the wrong sure lines. */
 int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx);
 
+/* The benchmarks' sheet defects: kind 0 clean (lines 1.8 px, index
+ * contours 3.2 px), 1 scanned (blur 0.8, noise 8, 300 specks, 40 breaks of
+ * 3-10 px, printed DejaVu labels), 2 the same in colour (brown on cream,
+ * blue river, black lettering), 3 a printed map (tdgen --print). */
+void td_hsheet_defects(td_gen_params *p, int kind);
+
 /* Load a real DEM (../shared/dems/NAME) into *out, or return nonzero. */
 int td_hsheet_load_dem(const char *path, td_grid_f32 **out, td_ctx *cx);
 
