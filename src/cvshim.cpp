@@ -597,43 +597,45 @@ int td_cv_read_jpeg(const char *path, td_image **out, td_ctx *cx)
     return guarded(path, cx, [&] { return read_jpeg(path, out, cx); });
 }
 
+// im (grey or RGB) encoded as JPEG at quality into bytes; what names im in
+// messages.  0 or an error.
+static int encode_jpeg(const td_image *im, int quality, const char *what,
+                       std::vector<uchar> &bytes, td_ctx *cx)
+{
+    if (!im || !im->data || (im->channels != 1 && im->channels != 3) ||
+        quality < 1 || quality > 100)
+        return td_seterr(cx, TD_EINVAL, "%s: bad image or quality", what);
+    cv::Mat src(im->h, im->w, CV_8UC(im->channels), im->data, im->stride),
+        bgr;
+    if (im->channels == 3)
+        cv::cvtColor(src, bgr, cv::COLOR_RGB2BGR);
+    else
+        bgr = src;
+    std::vector<int> opt = {cv::IMWRITE_JPEG_QUALITY, quality};
+    if (!cv::imencode(".jpg", bgr, bytes, opt))
+        return td_seterr(cx, TD_EFORMAT, "%s: cannot encode JPEG", what);
+    return 0;
+}
+
 int td_cv_write_jpeg(const char *path, const td_image *im, int quality,
                      td_ctx *cx)
 {
     return guarded(path, cx, [&] {
-        if (!im || !im->data || (im->channels != 1 && im->channels != 3) ||
-            quality < 1 || quality > 100)
-            return td_seterr(cx, TD_EINVAL, "%s: bad image or quality", path);
-        cv::Mat src(im->h, im->w, CV_8UC(im->channels), im->data, im->stride),
-            bgr;
-        if (im->channels == 3)
-            cv::cvtColor(src, bgr, cv::COLOR_RGB2BGR);
-        else
-            bgr = src;
         std::vector<uchar> bytes;
-        std::vector<int> opt = {cv::IMWRITE_JPEG_QUALITY, quality};
-        if (!cv::imencode(".jpg", bgr, bytes, opt))
-            return td_seterr(cx, TD_EFORMAT, "%s: cannot encode JPEG", path);
-        return write_file_atomic(path, bytes, cx);
+        int rc = encode_jpeg(im, quality, path, bytes, cx);
+        return rc != 0 ? rc : write_file_atomic(path, bytes, cx);
     });
 }
 
 int td_cv_jpeg_roundtrip(td_image *im, int quality, td_ctx *cx)
 {
     return guarded("jpeg", cx, [&] {
-        if (!im || !im->data || (im->channels != 1 && im->channels != 3) ||
-            quality < 1 || quality > 100)
-            return td_seterr(cx, TD_EINVAL, "jpeg: bad image or quality");
-        int ch = im->channels;
-        cv::Mat src(im->h, im->w, CV_8UC(ch), im->data, im->stride), bgr;
-        if (ch == 3)
-            cv::cvtColor(src, bgr, cv::COLOR_RGB2BGR);
-        else
-            bgr = src;
         std::vector<uchar> bytes;
-        std::vector<int> opt = {cv::IMWRITE_JPEG_QUALITY, quality};
-        if (!cv::imencode(".jpg", bgr, bytes, opt))
-            return td_seterr(cx, TD_EFORMAT, "jpeg: cannot encode");
+        int rc = encode_jpeg(im, quality, "jpeg", bytes, cx);
+        if (rc != 0)
+            return rc;
+        int ch = im->channels;
+        cv::Mat src(im->h, im->w, CV_8UC(ch), im->data, im->stride);
         cv::Mat dec = cv::imdecode(bytes, ch == 1 ? cv::IMREAD_GRAYSCALE
                                                   : cv::IMREAD_COLOR);
         if (dec.rows != im->h || dec.cols != im->w || dec.type() != CV_8UC(ch))

@@ -422,9 +422,9 @@ static void test_jpeg_by_magic(void)
 }
 
 
-/* A JPEG whose frame header claims 30000 x 30000 pixels in a file of a few
- * kilobytes is refused at once (it used to allocate the whole frame and
- * decode for minutes); a real one of that file size is read. */
+/* src/jpegio.c: a JPEG whose frame header claims 30000 x 30000 pixels in
+ * a file of a few kilobytes is refused at once (it used to allocate the
+ * whole frame and decode for minutes); a JPEG cut short is refused too. */
 static void test_jpeg_forged_size(void)
 {
     td_ctx cx;

@@ -160,9 +160,10 @@ static void test_brown(void)
 }
 
 
-/* A summit ring 2.5 px in radius drawn with a 2-px pen prints as a dot
- * (beside long lines that set the pen width): the scan gives it back as a
- * closed line about 2.5 px from the dot's middle, not a point. */
+/* scanner/blobring.c: a summit ring 2.5 px in radius drawn with a 2-px
+ * pen prints as a dot (beside long lines that set the pen width): the scan
+ * gives it back as a closed line about 2.5 px from the dot's middle, not a
+ * point. */
 static void test_blob_ring(void)
 {
     td_image *im = td_image_new(200, 120, 1, NULL);
