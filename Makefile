@@ -1,5 +1,5 @@
 # topodig: plain Make.  Sources are found by folder, so adding a file to
-# src/, scanner/, interp/, src/cli/, tests/ or samples/gen/ needs no edit here.
+# a folder of LIB_DIRS, src/cli/, tests/ or samples/gen/ needs no edit here.
 #
 #   make demo    install missing Debian packages, build, scan a sample sheet
 #   make test    install missing packages, build, run every test
@@ -13,7 +13,7 @@ CXX     ?= c++
 OPT     ?= -O2 -g
 CFLAGS  += -std=c11 $(OPT) -fopenmp -Wall -Wextra -Wshadow -Wno-unused-parameter -MMD -MP
 CXXFLAGS+= -std=c++17 $(OPT) -fopenmp -Wall -Wextra -Wno-unused-parameter -MMD -MP
-CPPFLAGS+= -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -Isrc -I. -I/usr/include/geotiff \
+CPPFLAGS+= -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -I. -I/usr/include/geotiff \
            -I/usr/include/freetype2 -I/usr/include/leptonica
 CV_CFLAGS = $(shell pkg-config --cflags opencv4 2>/dev/null || echo -I/usr/include/opencv4)
 CV_LIBS   = -lopencv_imgcodecs -lopencv_imgproc -lopencv_core
@@ -25,8 +25,9 @@ DEB_PKGS = gcc g++ make pkg-config libopencv-dev libopencv-contrib-dev \
            libtesseract-dev tesseract-ocr-eng libfreetype-dev fonts-dejavu-core
 BENCH_PKGS = grass-core
 
-LIB_C   := $(wildcard src/*.c scanner/*.c interp/*.c)
-LIB_CXX := $(wildcard src/*.cpp)
+LIB_DIRS := src/core src/io src/erode src/flow src/sun src/render src/compare src/model src/pipeline scanner interp
+LIB_C   := $(wildcard $(addsuffix /*.c,$(LIB_DIRS)))
+LIB_CXX := $(wildcard $(addsuffix /*.cpp,$(LIB_DIRS)))
 CLI_C   := $(wildcard src/cli/*.c)
 GEN_C   := $(filter-out samples/gen/tdgen.c,$(wildcard samples/gen/*.c))
 TUTIL_C := tests/tt.c $(wildcard tests/util/*.c)
@@ -40,7 +41,7 @@ TUTIL_O := $(TUTIL_C:%.c=$(BUILD)/%.o)
 TESTS   := $(TEST_C:tests/%.c=$(BUILD)/tests/%)
 BENCHES := $(BENCH_C:tests/bench/%.c=$(BUILD)/bench/%)
 
-.PHONY: all deps test check bench demo fuzz clean samples
+.PHONY: all deps test check bench demo fuzz clean samples layers
 all: $(BUILD)/topodig $(BUILD)/libtopodig.a $(BUILD)/tdgen
 
 $(BUILD)/%.o: %.c
@@ -50,15 +51,15 @@ $(BUILD)/%.o: %.c
 # The particle lanes' arithmetic as vector instructions at any -O level:
 # sqrt need not set errno (nothing reads it) and, with no FP traps enabled,
 # both arms of a ?: may be computed.  Neither changes a value.
-$(BUILD)/src/erode_flow.o: CFLAGS += -fno-math-errno -fno-trapping-math
+$(BUILD)/src/erode/erode_particles.o: CFLAGS += -fno-math-errno -fno-trapping-math
 
 $(BUILD)/%.o: %.cpp
 	@mkdir -p $(dir $@)
 	$(CXX) $(CPPFLAGS) $(CV_CFLAGS) $(CXXFLAGS) -c $< -o $@
 
-# horizon.c: row kernels with square roots and guarded divisions vectorise
+# sun/horizon.c: row kernels with square roots and guarded divisions vectorise
 # only without errno and FP traps (neither is used).
-$(BUILD)/src/horizon.o: CFLAGS += -fno-math-errno -fno-trapping-math
+$(BUILD)/src/sun/horizon.o: CFLAGS += -fno-math-errno -fno-trapping-math
 
 $(BUILD)/libtopodig.a: $(LIB_O)
 	@rm -f $@
@@ -99,6 +100,10 @@ test: deps
 	$(MAKE) all $(TESTS)
 	$(MAKE) BUILD=build-native OPT="-O2 -g -march=native" build-native/tests/test_flow
 	BUILD=$(BUILD) EXTRA_TESTS=build-native/tests/test_flow sh tests/run.sh
+
+# The include layers of DESIGN.md (also run by make test).
+layers:
+	sh tests/check_layers.sh
 
 check: deps
 	$(MAKE) BUILD=build-san OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" \

@@ -15,7 +15,7 @@
  * concave one the minimum a valley point; the surviving candidates are
  * inflection points.  Extrema on the first or last 2 samples of an open
  * line are not taken: the sheet edge cut that stretch. */
-#include "homotopy_int.h"
+#include "interp/homotopy_int.h"
 
 #include <math.h>
 #include <stdlib.h>

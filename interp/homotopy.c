@@ -25,10 +25,10 @@
  * them, counted): the saddle parts of branching faces, faces holding
  * lines of different heights, the regions inside the innermost contours
  * (summits, pits) and outside the outermost, lines that bound no region. */
-#include "homotopy_int.h"
+#include "interp/homotopy_int.h"
 
-#include "multidir.h"
-#include "scanline.h"
+#include "interp/multidir.h"
+#include "interp/scanline.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -21,8 +21,8 @@
 #ifndef TD_INTERP_HOMOTOPY_H
 #define TD_INTERP_HOMOTOPY_H
 
-#include "../src/grid.h"
-#include "../src/lines.h"
+#include "src/core/grid.h"
+#include "src/core/lines.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -105,13 +105,6 @@ int td_ridges_paths(const td_ridges *r, td_rv_path **out, size_t *n,
                     td_ctx *cx);
 void td_rv_paths_free(td_rv_path *v, size_t n);
 
-/* Write paths as GeoJSON LineStrings with [x, y, z] positions and the
- * properties kind ("ridge", "valley", "inflection"), tree (null for
- * inflections) and heights (the vertices' z), atomically.  Coordinates go
- * through georef when it is valid (may be NULL).  0 or an error. */
-struct td_georef;
-int td_geojson_write_paths(const char *path, const td_rv_path *v, size_t n,
-                           const struct td_georef *georef, td_ctx *cx);
 
 /* What td_homotopy_fill did, in DEM cells. */
 typedef struct td_homotopy_stats {

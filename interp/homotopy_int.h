@@ -3,8 +3,8 @@
 #ifndef TD_INTERP_HOMOTOPY_INT_H
 #define TD_INTERP_HOMOTOPY_INT_H
 
-#include "homotopy.h"
-#include "../scanner/contain.h"
+#include "interp/homotopy.h"
+#include "src/core/contain.h"
 
 #include <stdint.h>
 

@@ -5,7 +5,7 @@
 #ifndef TD_INTERP_INT_H
 #define TD_INTERP_INT_H
 
-#include "rasterise.h"
+#include "interp/rasterise.h"
 
 enum { TD_FIND_BLOCK = 32 };
 

@@ -1,8 +1,8 @@
-#include "multidir.h"
-#include "interp_int.h"
-#include "multidir_int.h"
+#include "interp/multidir.h"
+#include "interp/interp_int.h"
+#include "interp/multidir_int.h"
 
-#include "rasterise.h"
+#include "interp/rasterise.h"
 
 #include <math.h>
 #include <stdlib.h>

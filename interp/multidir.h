@@ -21,13 +21,13 @@
  * blended the same way; flat when summit = 0.  Peninsulas need nothing
  * special: the line along the peninsula's axis resolves them.
  * The linear phase runs in one pass down the rows for all directions
- * (md_sweep.c); the summit phase only over the cells it left.  Memory on
+ * (multidir_sweep.c); the summit phase only over the cells it left.  Memory on
  * top of the grid: 16 bytes per line cell, then 8 bytes per cell (of
  * which only the pages holding undetermined cells are touched). */
 #ifndef TD_INTERP_MULTIDIR_H
 #define TD_INTERP_MULTIDIR_H
 
-#include "../src/grid.h"
+#include "src/core/grid.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -2,7 +2,7 @@
 #ifndef TD_INTERP_MULTIDIR_INT_H
 #define TD_INTERP_MULTIDIR_INT_H
 
-#include "multidir.h"
+#include "interp/multidir.h"
 
 /* The span weight of td_multidir_weight m for the cells of a span of n
  * steps of length sl, where it does not depend on the cell (span, span2;

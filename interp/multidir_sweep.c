@@ -1,4 +1,4 @@
-/* md_sweep.c: phase 1 of the multidir method in one pass down the rows.
+/* multidir_sweep.c: phase 1 of the multidir method in one pass down the rows.
  *
  * Walking each direction separately (td_interp_walk) writes the diagonal
  * and vertical spans down columns, a cache line per cell, and needs an
@@ -18,10 +18,10 @@
  * operations are those of linear_span in multidir.c (z += dz from the
  * first anchor, sum += w z and w in direction order from 0), so the result
  * is bit-identical to walking the directions one by one. */
-#include "multidir_int.h"
+#include "interp/multidir_int.h"
 
-#include "interp_int.h"
-#include "rasterise.h"
+#include "interp/interp_int.h"
+#include "interp/rasterise.h"
 
 #include <math.h>
 #include <stdint.h>

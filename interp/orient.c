@@ -2,7 +2,7 @@
  * higher ground on the left") and the band label grid.
  *
  * Which side of a line is higher comes from the containment tree
- * (scanner/contain.h): a child at a different height says whether the
+ * (src/core/contain.h): a child at a different height says whether the
  * inside of the line's region is higher; without one, the parent does
  * (a parent below: the region is a summit).  The direction then follows
  * from the sign of the region's area (its ring is the line followed by
@@ -11,7 +11,7 @@
  *   y-up frame (printed map)        pixel frame (y down)
  *   summit ring counterclockwise    summit ring clockwise: area < 0
  *                                   by the shoelace sum in pixel units */
-#include "homotopy_int.h"
+#include "interp/homotopy_int.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
 /* rasterise.h: labelled contour lines -> a height grid, and what the
- * interpolation methods share: the span walker and the one-call driver
- * td_interp_lines (lines -> DEM by the chosen method).
+ * interpolation methods share: the span walker, the gap runs and the
+ * summit tent.  The one-call driver is interp/interp.h.
  *
  *   labelled lines --td_rasterise_lines--> grid: line height on every cell
  *   a line passes through (4-connected, no gaps), NaN elsewhere
@@ -13,8 +13,8 @@
 #ifndef TD_INTERP_RASTERISE_H
 #define TD_INTERP_RASTERISE_H
 
-#include "../src/grid.h"
-#include "../src/lines.h"
+#include "src/core/grid.h"
+#include "src/core/lines.h"
 
 #include <stddef.h>
 
@@ -97,55 +97,6 @@ int td_interp_slope(const td_grid_f32 *g, const td_span *s, int end,
  * not on the map).  Any other pair of slopes: z (flat, as the paper). */
 double td_interp_tent(double z, double s1, double s2, double d1, double d2,
                       double interval);
-
-typedef enum {
-    TD_INTERP_SCANLINE = 0, /* the paper's x then y pass (001 §2.4-2.5) */
-    TD_INTERP_MULTIDIR = 1, /* 4 directions blended (the default) */
-    TD_INTERP_HOMOTOPY = 2  /* along ridge/valley lines (003), homotopy.h */
-} td_interp_method;
-
-struct td_scanline_params;
-struct td_multidir_params;
-struct td_homotopy_stats;
-
-/* Everything td_interp_lines needs.  Defaults: multidir, step 1,
- * interval 0 (found from the lines), the methods' own defaults. */
-typedef struct td_interp_params {
-    td_interp_method method;
-    int step;           /* one DEM cell per step x step scan pixels */
-    double interval;    /* contour interval, <= 0: td_interp_interval */
-    int summit;         /* 1: §2.5 extrapolation, 0: flat (P1 height) */
-    int peninsula;      /* scanline: 1: diagonal passes (see scanline.h) */
-    int weight;         /* multidir: td_multidir_weight */
-    int ndir;           /* multidir: 2 or 4 directions */
-    float nodata;       /* written where undeterminable (-9999) */
-    int smooth;         /* sweeps of td_smooth_bands afterwards (0) */
-    double epsilon;     /* homotopy: turning-angle threshold, degrees */
-    int hfallback;      /* homotopy: 0 scanline (default), 1 multidir */
-    struct td_homotopy_stats *hstats; /* homotopy: out, may be NULL */
-} td_interp_params;
-
-td_interp_params td_interp_defaults(void);
-
-/* Parse a --method value ("scanline", "multidir", "homotopy"); 0 or TD_EINVAL with a
- * message listing the choices. */
-int td_interp_parse_method(const char *s, td_interp_method *m, td_ctx *cx);
-
-/* Set one option of p from its command-line form (key without "--"):
- * method scanline|multidir|homotopy, epsilon DEG (0..180), fallback
- * scanline|multidir (homotopy), step N (1..4096), interval I (> 0), summit
- * extrapolate|flat, peninsula diagonal|flat, weight prod|span|span2,
- * dirs 2|4, nodata V, smooth N (0..10000).  Returns 0, 1 when key is not one of these, or
- * TD_EINVAL with a message naming the option and the choices. */
-int td_interp_set(td_interp_params *p, const char *key, const char *val,
-                  td_ctx *cx);
-
-/* Labelled lines on a w x h pixel scan -> a new DEM of ceil(w/step) x
- * ceil(h/step) cells (*out, free with td_grid_f32_free), has_nodata set.
- * Errors as td_rasterise_lines, TD_ENOMEM, TD_ECANCEL. */
-int td_interp_lines(const td_lines *ls, int w, int h,
-                    const td_interp_params *p, td_grid_f32 **out,
-                    td_ctx *cx);
 
 #ifdef __cplusplus
 }

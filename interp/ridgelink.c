@@ -24,7 +24,7 @@
  *                             join_factor x the link limit (Step 4).
  *
  * Valleys run the same from the top down: valleys merge downstream. */
-#include "homotopy_int.h"
+#include "interp/homotopy_int.h"
 
 #include <math.h>
 #include <stdlib.h>

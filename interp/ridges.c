@@ -1,8 +1,7 @@
 /* ridges.c: the ridge/valley driver (orient -> curves -> points -> links
  * and trees), the links chained into paths, and their GeoJSON writer. */
-#include "homotopy_int.h"
+#include "interp/homotopy_int.h"
 
-#include "../src/imageio.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -181,64 +180,4 @@ fail:
     free(next);
     free(indeg);
     return rc;
-}
-
-static const char *kind_name(int k)
-{
-    return k == TD_RV_RIDGE ? "ridge" : k == TD_RV_VALLEY ? "valley"
-                                                          : "inflection";
-}
-
-static void put_path(FILE *f, const td_rv_path *q, const td_georef *g)
-{
-    size_t i;
-    fprintf(f, "{\"type\":\"Feature\",\"properties\":{\"kind\":\"%s\","
-            "\"tree\":", kind_name(q->kind));
-    if (q->tree >= 0)
-        fprintf(f, "%ld", q->tree);
-    else
-        fputs("null", f);
-    fputs(",\"heights\":[", f);
-    for (i = 0; i < q->n; i++)
-        fprintf(f, "%s%.10g", i ? "," : "", q->xyz[3 * i + 2]);
-    fputs("]},\"geometry\":{\"type\":\"LineString\",\"coordinates\":[", f);
-    for (i = 0; i < q->n; i++) {
-        double x = q->xyz[3 * i], y = q->xyz[3 * i + 1];
-        if (g && g->valid)
-            td_georef_apply(g, x, y, &x, &y);
-        fprintf(f, "%s[%.10g,%.10g,%.10g]", i ? "," : "", x, y,
-                q->xyz[3 * i + 2]);
-    }
-    fputs("]}}", f);
-}
-
-int td_geojson_write_paths(const char *path, const td_rv_path *v, size_t n,
-                           const td_georef *georef, td_ctx *cx)
-{
-    size_t i, tmpsize = strlen(path) + 32;
-    char *tmp = td_malloc(tmpsize, cx);
-    FILE *f;
-    if (!tmp)
-        return TD_ENOMEM;
-    if (!(f = td_atomic_open(path, tmp, tmpsize, cx))) {
-        free(tmp);
-        return cx && cx->code ? cx->code : TD_EIO;
-    }
-    fputs("{\"type\":\"FeatureCollection\",\n\"features\":[\n", f);
-    for (i = 0; i < n; i++) {
-        for (size_t k = 0; k < 3 * v[i].n; k++)
-            if (!isfinite(v[i].xyz[k])) {
-                td_atomic_abort(f, tmp);
-                free(tmp);
-                return td_seterr(cx, TD_EINVAL, "%s: a path has a "
-                                 "non-finite coordinate", path);
-            }
-        if (i)
-            fputs(",\n", f);
-        put_path(f, &v[i], georef);
-    }
-    fputs("\n]}\n", f);
-    i = (size_t)td_atomic_commit(f, tmp, path, cx);
-    free(tmp);
-    return (int)i;
 }

@@ -1,6 +1,6 @@
-#include "scanline.h"
+#include "interp/scanline.h"
 
-#include "rasterise.h"
+#include "interp/rasterise.h"
 
 #include <math.h>
 #include <stdlib.h>

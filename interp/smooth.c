@@ -1,4 +1,4 @@
-#include "smooth.h"
+#include "interp/smooth.h"
 
 #include <math.h>
 

@@ -15,7 +15,7 @@
  *
  * (cyclic on rings, M = 0 at open ends), by Gauss-Seidel: the system is
  * diagonally dominant (4 against 1 + 1), each sweep halves the error. */
-#include "homotopy_int.h"
+#include "interp/homotopy_int.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -8,9 +8,9 @@
  * 4. Fill pinholes (paper components) smaller than min_hole.
  * The user guide with the brownness score and measurements is
  * docs/binarise.md. */
-#include "binarise.h"
+#include "scanner/binarise.h"
 
-#include "../src/cvshim.h"
+#include "src/io/cvshim.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -10,8 +10,8 @@
 #ifndef TD_BINARISE_H
 #define TD_BINARISE_H
 
-#include "../src/grid.h"
-#include "palette.h"
+#include "src/core/grid.h"
+#include "scanner/palette.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -1,5 +1,5 @@
 /* blobring.c: tiny summit rings from dots of ink (contract in blobring.h). */
-#include "blobring.h"
+#include "scanner/blobring.h"
 
 #include <math.h>
 #include <stdlib.h>

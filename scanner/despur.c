@@ -23,10 +23,10 @@
  * rounds repeat for spurs of spurs.  A junction keeps at least two of its
  * branches (shortest spurs erased first), so a genuine break end that
  * happens to lie near a whisker survives. */
-#include "despur.h"
+#include "scanner/despur.h"
 
-#include "skel.h"
-#include "thin.h"
+#include "scanner/skel.h"
+#include "scanner/thin.h"
 
 #include <math.h>
 #include <stdlib.h>

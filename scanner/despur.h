@@ -3,7 +3,7 @@
 #ifndef TD_DESPUR_H
 #define TD_DESPUR_H
 
-#include "../src/grid.h"
+#include "src/core/grid.h"
 
 #ifdef __cplusplus
 extern "C" {

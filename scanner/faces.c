@@ -4,7 +4,7 @@
  * segment in every cell its bounding box touches); a ray walks the cells it
  * crosses in order (Amanatides & Woo's traversal) and stops at the first
  * cell whose nearest crossing lies inside it. */
-#include "faces.h"
+#include "scanner/faces.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -27,7 +27,7 @@
 #ifndef TD_FACES_H
 #define TD_FACES_H
 
-#include "../src/lines.h"
+#include "src/core/lines.h"
 
 #include <stdint.h>
 

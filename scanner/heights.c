@@ -28,10 +28,10 @@
  * leaks or merged lines (reported).  Solved twice: without the priors
  * (summit) a line whose height is still decided is "solved", one decided
  * only with them "assumed", one decided by neither has no height. */
-#include "heights_int.h"
+#include "scanner/heights_int.h"
 
-#include "contain.h"
-#include "faces.h"
+#include "src/core/contain.h"
+#include "scanner/faces.h"
 
 #include <limits.h>
 #include <math.h>

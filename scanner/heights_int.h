@@ -2,7 +2,7 @@
 #ifndef TD_HEIGHTS_INT_H
 #define TD_HEIGHTS_INT_H
 
-#include "label.h"
+#include "scanner/label.h"
 
 /* The face solve (heights.c, the default): every line of ls gets its
  * height, hsource, confidence, or has_height 0 and why.  rep is zeroed by

@@ -23,7 +23,7 @@
  *   shift is at most max(2.5, 0.15 |ab|) px and their common bend at most
  *   0.3 |ab| (long_cost), and the segment a-b meets no other line (a
  *   bucket grid of line segments). */
-#include "join.h"
+#include "scanner/join.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -10,10 +10,10 @@
  * Levels are kept relative to the root (rel[]) plus one offset fixed by the
  * first known point; flipping a unit (one ring, or one slope strip of
  * border-closed lines) negates its lines' d. */
-#include "label.h"
+#include "scanner/label.h"
 
-#include "contain.h"
-#include "heights_int.h"
+#include "src/core/contain.h"
+#include "scanner/heights_int.h"
 
 #include <math.h>
 #include <stdarg.h>

@@ -29,8 +29,8 @@
 #ifndef TD_LABEL_H
 #define TD_LABEL_H
 
-#include "../src/lines.h"
-#include "ocr.h"
+#include "src/core/lines.h"
+#include "scanner/ocr.h"
 
 #ifdef __cplusplus
 extern "C" {

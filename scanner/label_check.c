@@ -7,7 +7,7 @@
  *                  -----+-------+------+-----+---     log widths; checked
  *                      2.2     ratio >= 1.3  4.2      only with contrast
  */
-#include "label.h"
+#include "scanner/label.h"
 
 #include <math.h>
 #include <stdio.h>

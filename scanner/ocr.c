@@ -1,10 +1,10 @@
 /* Reading printed height labels (contract and picture in ocr.h). */
-#include "ocr.h"
+#include "scanner/ocr.h"
 
-#include "contain.h"
-#include "join.h"
+#include "src/core/contain.h"
+#include "scanner/join.h"
 
-#include "../src/draw.h"
+#include "src/core/draw.h"
 
 #include <tesseract/capi.h>
 

@@ -18,8 +18,8 @@
 #ifndef TD_OCR_H
 #define TD_OCR_H
 
-#include "../src/grid.h"
-#include "../src/lines.h"
+#include "src/core/grid.h"
+#include "src/core/lines.h"
 
 #ifdef __cplusplus
 extern "C" {

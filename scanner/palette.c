@@ -1,7 +1,7 @@
 /* palette.c: the inks of a colour scan (model and contract in palette.h). */
-#include "palette.h"
+#include "scanner/palette.h"
 
-#include "../src/cvshim.h"
+#include "src/io/cvshim.h"
 
 #include <math.h>
 #include <stdlib.h>

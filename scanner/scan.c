@@ -1,8 +1,8 @@
 /* The scanner stage driver (paper 001 §2.1-2.3): each step is its own
  * file; this one only sequences them and keeps the debug copies. */
-#include "scan.h"
+#include "scanner/scan.h"
 
-#include "blobring.h"
+#include "scanner/blobring.h"
 
 #include <stdlib.h>
 #include <string.h>

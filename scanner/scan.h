@@ -11,12 +11,12 @@
 #ifndef TD_SCAN_H
 #define TD_SCAN_H
 
-#include "binarise.h"
-#include "despur.h"
-#include "join.h"
-#include "thin.h"
-#include "trace.h"
-#include "width.h"
+#include "scanner/binarise.h"
+#include "scanner/despur.h"
+#include "scanner/join.h"
+#include "scanner/thin.h"
+#include "scanner/trace.h"
+#include "scanner/width.h"
 
 #ifdef __cplusplus
 extern "C" {

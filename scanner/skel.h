@@ -8,7 +8,7 @@
 #ifndef TD_SKEL_H
 #define TD_SKEL_H
 
-#include "../src/grid.h"
+#include "src/core/grid.h"
 
 #include <string.h>
 

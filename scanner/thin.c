@@ -28,7 +28,7 @@
  * are -1) entries.  A pixel's decision changes between passes only if a
  * neighbour was deleted in the previous pass, so after the first pass only
  * rows next to a deletion are scanned. */
-#include "thin.h"
+#include "scanner/thin.h"
 
 #include <stdlib.h>
 #include <string.h>

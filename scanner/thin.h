@@ -3,7 +3,7 @@
 #ifndef TD_THIN_H
 #define TD_THIN_H
 
-#include "../src/grid.h"
+#include "src/core/grid.h"
 
 #ifdef __cplusplus
 extern "C" {

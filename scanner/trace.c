@@ -36,9 +36,9 @@
  *    (along their direction) and flagged edge;
  *  - a line fitting in a 3x3 window off the border is a ring smaller than
  *    the line width (filled in, thinned to a dot): it is closed. */
-#include "trace.h"
+#include "scanner/trace.h"
 
-#include "skel.h"
+#include "scanner/skel.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -3,8 +3,8 @@
 #ifndef TD_TRACE_H
 #define TD_TRACE_H
 
-#include "../src/grid.h"
-#include "../src/lines.h"
+#include "src/core/grid.h"
+#include "src/core/lines.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -7,7 +7,7 @@
  *        ink   ####v#######
  *        paper . . . . . . .
  */
-#include "width.h"
+#include "scanner/width.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -6,8 +6,8 @@
 #ifndef TD_WIDTH_H
 #define TD_WIDTH_H
 
-#include "../src/grid.h"
-#include "../src/lines.h"
+#include "src/core/grid.h"
+#include "src/core/lines.h"
 
 #ifdef __cplusplus
 extern "C" {

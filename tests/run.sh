@@ -1,12 +1,13 @@
 #!/bin/sh
-# Run every test binary (build/tests/test_*), every end-to-end script
+# Run the source checks (tests/check_*.sh: the include layers), every
+# test binary (build/tests/test_*), every end-to-end script
 # (tests/e2e_*.sh) and the binaries named in EXTRA_TESTS (make test: the
 # flow tests built with -march=native); each prints "N passed, N failed"
 # as its last line.  Prints the totals the same way, once, and exits 1
 # when anything failed.
 BUILD=${BUILD:-build}
 pass=0; fail=0; broken=""
-for t in "$BUILD"/tests/test_* tests/e2e_*.sh ${EXTRA_TESTS:-}; do
+for t in tests/check_*.sh "$BUILD"/tests/test_* tests/e2e_*.sh ${EXTRA_TESTS:-}; do
     [ -e "$t" ] || continue
     case "$t" in *.o|*.d) continue ;; esac
     echo "== $t"

@@ -1,9 +1,9 @@
 /* test_binarise.c: binarisation and the OpenCV shim on synthetic sheets
  * drawn here with a known truth (4x4 supersampled coverage per layer). */
-#include "tt.h"
+#include "tests/tt.h"
 
-#include "../scanner/binarise.h"
-#include "cvshim.h"
+#include "scanner/binarise.h"
+#include "src/io/cvshim.h"
 
 #include <stdint.h>
 #include <stdlib.h>

@@ -1,10 +1,10 @@
 /* test_compare.c: DEM comparison statistics and the difference picture on
  * hand-made grids with known answers; the shaded-relief renderer (flat and
  * tilted planes, contour overlay, nodata). */
-#include "tt.h"
+#include "tests/tt.h"
 
-#include "compare.h"
-#include "render.h"
+#include "src/compare/compare.h"
+#include "src/render/render.h"
 
 #include <math.h>
 #include <string.h>

@@ -4,9 +4,9 @@
  * must read back exactly; ESRI ASCII grids round-trip; bad files fail with
  * one message naming the file. */
 #define _POSIX_C_SOURCE 200809L
-#include "tt.h"
+#include "tests/tt.h"
 
-#include "demio.h"
+#include "src/io/demio.h"
 
 #include <float.h>
 #include <png.h>

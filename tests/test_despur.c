@@ -1,8 +1,8 @@
 /* Spur removal: the paper's rule and the length-bounded default. */
-#include "tt.h"
-#include "util/gridtest.h"
-#include "../scanner/despur.h"
-#include "../scanner/skel.h"
+#include "tests/tt.h"
+#include "tests/util/gridtest.h"
+#include "scanner/despur.h"
+#include "scanner/skel.h"
 
 static size_t kind(const td_grid_u8 *g, int c_want, int at_least)
 {

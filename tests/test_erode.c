@@ -1,9 +1,9 @@
-/* test_erode: velocity-field erosion (src/erode.h) and the mound generator
- * (src/terrain_gen.h) on small generated terrains with known behaviour.
- * Covers src/erode.c and erode_flow.c (the particle tracing). */
-#include "../src/erode.h"
-#include "../src/terrain_gen.h"
-#include "tt.h"
+/* test_erode: velocity-field erosion (src/erode/erode.h) and the mound generator
+ * (src/model/model.h) on small generated terrains with known behaviour.
+ * Covers src/erode/erode.c and erode_particles.c (the particle tracing). */
+#include "src/erode/erode.h"
+#include "src/model/model.h"
+#include "tests/tt.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,13 +1,13 @@
-/* test_flow.c: rain-flow pass counts (src/flow.c) on surfaces whose flow
+/* test_flow.c: rain-flow pass counts (src/flow/flow.c) on surfaces whose flow
  * is known: a cone, a V-valley, a pit, a walled flat with one gap, nodata
  * holes, a ridge-valley wave for the classes; the priority-flood fill
  * against a brute-force minimax fill; conservation of rain at the outlets. */
-#include "tt.h"
+#include "tests/tt.h"
 
-#include "flow.h"
-#include "flow_int.h"
+#include "src/flow/flow.h"
+#include "src/flow/flow_int.h"
 #include "samples/gen/gen.h"
-#include "terrain_gen.h"
+#include "src/model/model.h"
 
 #include <float.h>
 #include <stdlib.h>
@@ -262,7 +262,7 @@ static int nodata_at(const td_grid_f32 *dem, int x, int y)
     return isnan(v) || (dem->has_nodata && v == dem->nodata);
 }
 
-/* src/flow_d8.c on its own: one path that snakes down column 0, up column
+/* src/flow/flow_d8.c on its own: one path that snakes down column 0, up column
  * 1, down column 2, ... so it crosses every row band's border in both
  * directions (a hand-over round per crossing).  The cell k steps along the
  * path collects k + 1; the last cell is the outlet.  1 to 4 bands, w x 64
@@ -444,7 +444,7 @@ static void test_conservation_nodata(void)
     td_grid_f32_free(dem);
 }
 
-/* The flood (src/pflood.c: tiles, labels, drained-cell sweeps, upslope
+/* The flood (src/flow/flow_fill.c: tiles, labels, drained-cell sweeps, upslope
  * tracing), in one tile or many, equals the brute force: noisy, quantised
  * (flats) and smooth DEMs. */
 static void test_fill_matches_brute_force(void)

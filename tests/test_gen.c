@@ -3,8 +3,8 @@
  * terrain.c, contours.c, render.c, effects.c (blur, noise, specks, breaks)
  * and sheet.c; tdgen.c (the CLI) is run by tests/e2e_cli.sh. */
 #include "samples/gen/gen.h"
-#include "tt.h"
-#include "util/match.h"
+#include "tests/tt.h"
+#include "tests/util/match.h"
 
 #include <math.h>
 #include <stdlib.h>

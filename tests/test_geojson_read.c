@@ -3,10 +3,10 @@
  * written files cover MultiLineStrings, QGIS-style members, skipped
  * geometry types and every kind of bad input. */
 #define _POSIX_C_SOURCE 200809L
-#include "tt.h"
+#include "tests/tt.h"
 
-#include "imageio.h"
-#include "lines.h"
+#include "src/io/imageio.h"
+#include "src/core/lines.h"
 #include "samples/gen/gen.h"
 
 #include <stdlib.h>

@@ -1,11 +1,11 @@
 /* Tests of the face solve (scanner/faces.c, scanner/heights.c): hand-made
  * sheets with one right answer, and sheets drawn from real DEMs scored by
  * the share of traced line length with the right height. */
-#include "tt.h"
-#include "util/hsheet.h"
+#include "tests/tt.h"
+#include "tests/util/hsheet.h"
 
-#include "../scanner/faces.h"
-#include "../scanner/label.h"
+#include "scanner/faces.h"
+#include "scanner/label.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,11 +1,11 @@
 /* Pinhole filling before thinning (td_cv_fill_holes): noisy scans leave
  * pinholes in the ink that Hilditch would keep as tiny loops. */
-#include "tt.h"
-#include "util/gridtest.h"
-#include "../scanner/despur.h"
-#include "../scanner/thin.h"
-#include "../scanner/skel.h"
-#include "cvshim.h"
+#include "tests/tt.h"
+#include "tests/util/gridtest.h"
+#include "scanner/despur.h"
+#include "scanner/thin.h"
+#include "scanner/skel.h"
+#include "src/io/cvshim.h"
 
 #include <stdlib.h>
 

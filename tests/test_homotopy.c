@@ -5,12 +5,12 @@
  * joining a main ridge; orientation; curvature of a circle; the DEM
  * against the truth and against the scanline method. */
 #define _POSIX_C_SOURCE 200809L
-#include "tt.h"
+#include "tests/tt.h"
 
-#include "compare.h"
-#include "../interp/homotopy.h"
-#include "../interp/rasterise.h"
-#include "../samples/gen/gen.h"
+#include "src/compare/compare.h"
+#include "interp/homotopy.h"
+#include "interp/interp.h"
+#include "samples/gen/gen.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,13 +1,13 @@
-/* test_horizon.c: the profile sweep (src/horizon.c) against a brute-force
+/* test_horizon.c: the profile sweep (src/sun/horizon.c) against a brute-force
  * ray march over the bilinear surface (exact on every bilinear piece, and
  * itself checked against a finely sampled march) on random and synthetic
  * DEMs up to 200 x 200 for 8 and 36 directions, and against shapes whose
  * horizons are known exactly (a wall, a tower beyond the Earth's
  * curvature, north = row 0). */
-#include "tt.h"
+#include "tests/tt.h"
 
-#include "horizon.h"
-#include "util/raymarch.h"
+#include "src/sun/horizon.h"
+#include "tests/util/raymarch.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -2,12 +2,12 @@
  * known truth.  TIFFs are written with libtiff directly in every layout the
  * reader claims; PNGs with libpng directly; the readers must return exactly
  * the expected 8-bit pixels.  Covers src/imageio.c, tiffio.c, pngio.c,
- * georef.c and atomic.c (failed writes leave the old file, no temp). */
+ * georef.c and outfile.c (failed writes leave the old file, no temp). */
 #define _POSIX_C_SOURCE 200809L
-#include "tt.h"
+#include "tests/tt.h"
 
-#include "cvshim.h"
-#include "imageio.h"
+#include "src/io/cvshim.h"
+#include "src/io/imageio.h"
 
 #include <dirent.h>
 #include <geotiff.h>
@@ -422,7 +422,7 @@ static void test_jpeg_by_magic(void)
 }
 
 
-/* src/jpegio.c: a JPEG whose frame header claims 30000 x 30000 pixels in
+/* src/io/jpegio.c: a JPEG whose frame header claims 30000 x 30000 pixels in
  * a file of a few kilobytes is refused at once (it used to allocate the
  * whole frame and decode for minutes); a JPEG cut short is refused too. */
 static void test_jpeg_forged_size(void)

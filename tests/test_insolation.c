@@ -1,13 +1,13 @@
-/* test_insolation.c: the insolation stage (src/insolation.c) against known
+/* test_insolation.c: the insolation stage (src/sun/insolation.c) against known
  * truths: the analytic clear-sky day on a flat plane, a wall's exact
  * shadow, south faces against north faces (north = row 0), the horizon
  * method against the hidden-surface reference, and the reference
  * converging as its viewpoint count m grows. */
-#include "tt.h"
+#include "tests/tt.h"
 
-#include "insolation.h"
-#include "geotiff_bands.h"
-#include "horizon.h"
+#include "src/sun/insolation.h"
+#include "src/io/geotiff_bands.h"
+#include "src/sun/horizon.h"
 
 #include <tiffio.h>
 

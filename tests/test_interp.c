@@ -1,18 +1,18 @@
 /* test_interp.c: rasterising labelled lines and the two interpolation
  * methods (the paper's scanline, multidir) on surfaces with a known truth:
  * planes, a cone, Gaussian hills, a saddle; summit extrapolation against
- * flat filling; multidir's one-pass sweep (interp/md_sweep.c) and walk
+ * flat filling; multidir's one-pass sweep (interp/multidir_sweep.c) and walk
  * against a brute force; band smoothing (interp/smooth.c); GeoTIFF round
  * trip through gdalinfo; bad input. */
 #define _POSIX_C_SOURCE 200809L
-#include "tt.h"
+#include "tests/tt.h"
 
-#include "compare.h"
-#include "imageio.h"
-#include "../interp/multidir.h"
-#include "../interp/rasterise.h"
-#include "../interp/scanline.h"
-#include "../samples/gen/gen.h"
+#include "src/compare/compare.h"
+#include "src/io/imageio.h"
+#include "interp/multidir.h"
+#include "interp/interp.h"
+#include "interp/scanline.h"
+#include "samples/gen/gen.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -302,7 +302,7 @@ static void check_summit(td_interp_method m)
     double ea, eb;
     long na, nb;
     TT_CHECK(run(dem, 30, p, &st, &a) == 0);
-    p.summit = 0;
+    p.scanline.summit = p.multidir.summit = 0;
     TT_CHECK(run(dem, 30, p, &st, &b) == 0);
     if (!a || !b)
         goto done;

@@ -3,11 +3,11 @@
  * inline elevation labels (samples/gen/labels.c): after the scanner every
  * true contour is whole (closed rings closed, one piece each), no traced
  * line follows two contours, and no label-gap join crosses a line. */
-#include "tt.h"
-#include "util/match.h"
-#include "../samples/gen/gen.h"
-#include "../scanner/contain.h"
-#include "../scanner/scan.h"
+#include "tests/tt.h"
+#include "tests/util/match.h"
+#include "samples/gen/gen.h"
+#include "src/core/contain.h"
+#include "scanner/scan.h"
 
 #include <string.h>
 

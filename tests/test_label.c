@@ -1,14 +1,14 @@
-/* Tests of the containment tree and automatic heights (scanner/contain.c,
+/* Tests of the containment tree and automatic heights (src/core/contain.c,
  * scanner/label.c) on generated terrains with a known truth: every line's
  * height must equal the truth exactly (heights are multiples of the
  * interval, so there is no tolerance to give). */
-#include "tt.h"
-#include "util/match.h"
+#include "tests/tt.h"
+#include "tests/util/match.h"
 
-#include "../samples/gen/gen.h"
-#include "../scanner/contain.h"
-#include "../scanner/label.h"
-#include "../scanner/scan.h"
+#include "samples/gen/gen.h"
+#include "src/core/contain.h"
+#include "scanner/label.h"
+#include "scanner/scan.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -2,10 +2,10 @@
  * written file is parsed back by a small JSON reader below, so structure,
  * properties and coordinates are checked value by value. */
 #define _POSIX_C_SOURCE 200809L
-#include "tt.h"
+#include "tests/tt.h"
 
-#include "imageio.h"
-#include "lines.h"
+#include "src/io/imageio.h"
+#include "src/core/lines.h"
 
 #include <ctype.h>
 #include <dirent.h>

@@ -2,12 +2,12 @@
  * hand-made sheet with one right answer, and a printed map drawn from a
  * real DEM (tdgen --print: tint, faded contours, red roads, water, text,
  * grid, fringing, JPEG) scored against its true contours. */
-#include "tt.h"
-#include "util/hsheet.h"
-#include "util/match.h"
+#include "tests/tt.h"
+#include "tests/util/hsheet.h"
+#include "tests/util/match.h"
 
-#include "../scanner/palette.h"
-#include "../scanner/scan.h"
+#include "scanner/palette.h"
+#include "scanner/scan.h"
 
 #include <math.h>
 #include <stdlib.h>

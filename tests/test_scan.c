@@ -2,10 +2,10 @@
  * every true contour traced (coverage >= 99%, mean distance <= 1.5 px), no
  * traced line following two contours, closed/open/edge flags right, breaks
  * of 1-4 px bridged (each contour in one piece). */
-#include "tt.h"
-#include "util/match.h"
-#include "../samples/gen/gen.h"
-#include "../scanner/scan.h"
+#include "tests/tt.h"
+#include "tests/util/match.h"
+#include "samples/gen/gen.h"
+#include "scanner/scan.h"
 
 #include <math.h>
 #include <string.h>

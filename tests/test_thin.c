@@ -1,8 +1,8 @@
 /* Hilditch thinning on hand-made patterns with a known skeleton shape. */
-#include "tt.h"
-#include "util/gridtest.h"
-#include "../scanner/thin.h"
-#include "../scanner/skel.h"
+#include "tests/tt.h"
+#include "tests/util/gridtest.h"
+#include "scanner/thin.h"
+#include "scanner/skel.h"
 
 #include <stdlib.h>
 

@@ -1,11 +1,11 @@
 /* Tracing: the paper's start order and counter-clockwise search, 5x5
  * bridging, closure, the backward leg, edge flags, junction splitting,
  * and gap joining. */
-#include "tt.h"
-#include "util/gridtest.h"
-#include "../scanner/join.h"
-#include "../scanner/thin.h"
-#include "../scanner/trace.h"
+#include "tests/tt.h"
+#include "tests/util/gridtest.h"
+#include "scanner/join.h"
+#include "scanner/thin.h"
+#include "scanner/trace.h"
 
 #include <stdlib.h>
 #include <string.h>

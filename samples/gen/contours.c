@@ -27,7 +27,7 @@
  * tail meets its own head is a ring and leaves memory at once.  The hash
  * holds only the frontier (the chains crossing the current row), so memory
  * beyond the DEM is O(output). */
-#include "gen.h"
+#include "samples/gen/gen.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,7 +1,7 @@
 /* effects.c: what makes a rendered sheet look scanned: specks, colour
  * distractors (river, lettering), blur and noise. */
-#include "gen.h"
-#include "gen_int.h"
+#include "samples/gen/gen.h"
+#include "samples/gen/gen_int.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -7,8 +7,8 @@
 #ifndef TD_GEN_H
 #define TD_GEN_H
 
-#include "../../src/grid.h"
-#include "../../src/lines.h"
+#include "src/core/grid.h"
+#include "src/core/lines.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -49,7 +49,7 @@ static inline uint64_t td_rng_below(td_rng *r, uint64_t n)
     return td_rng_u64(r) % n;
 }
 
-#include "gen.h"
+#include "samples/gen/gen.h"
 
 /* Ink layers are 8-bit coverage maps (0 none .. 255 full), w x h, stride w.
  * Draw segment (x0,y0)-(x1,y1) with radius r = width/2 + 0.5: a pixel whose

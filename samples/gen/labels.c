@@ -12,7 +12,7 @@
  *    e   c        d (0,0)-(1,0)
  *      d
  */
-#include "gen_int.h"
+#include "samples/gen/gen_int.h"
 
 #include <ft2build.h>
 #include FT_FREETYPE_H

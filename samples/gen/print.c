@@ -12,10 +12,10 @@
  * Scan: the paper yellows and darkens smoothly (0.93-1.0 per channel),
  * the red and blue channels are misregistered by +-0.6 px horizontally
  * (colour fringing), then blur, noise and JPEG (quality 75). */
-#include "gen.h"
-#include "gen_int.h"
+#include "samples/gen/gen.h"
+#include "samples/gen/gen_int.h"
 
-#include "../../src/cvshim.h"
+#include "src/io/cvshim.h"
 
 #include <math.h>
 #include <stdlib.h>

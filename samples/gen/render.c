@@ -12,8 +12,8 @@
  * a stretch of the line: the drawn pieces stop W/2 before the gap and start
  * again W/2 after it, so the round ends meet the gap's ends at 50% coverage
  * and the visible gap, measured along the line, is the break's length. */
-#include "gen.h"
-#include "gen_int.h"
+#include "samples/gen/gen.h"
+#include "samples/gen/gen_int.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,5 +1,5 @@
 /* sheet.c: terrain -> truth contours -> rendered sheet in one call. */
-#include "gen_int.h"
+#include "samples/gen/gen_int.h"
 
 /* With inline labels: render without the scanner's effects, cut the
  * labels into the clean sheet, then scan it as td_gen_render would. */

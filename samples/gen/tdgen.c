@@ -3,9 +3,9 @@
  *   tdgen -o sheet.png --truth truth.geojson [--dem truth.tif] [options]
  *
  * Errors are one line on stderr and exit status 1. */
-#include "demio.h"
-#include "gen.h"
-#include "imageio.h"
+#include "src/io/demio.h"
+#include "samples/gen/gen.h"
+#include "src/io/imageio.h"
 
 #include <errno.h>
 #include <stdio.h>

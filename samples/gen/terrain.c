@@ -6,8 +6,8 @@
  * sin(ax + by + p) = sin(ax + p) cos(by) + cos(ax + p) sin(by), a tilt is
  * t*x * 1), so the per-pixel cost is a few multiply-adds over tables of
  * one row and one column: a 10000 x 10000 DEM takes well under a second. */
-#include "gen.h"
-#include "gen_int.h"
+#include "samples/gen/gen.h"
+#include "samples/gen/gen_int.h"
 
 #include <math.h>
 #include <stdlib.h>

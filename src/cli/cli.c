@@ -1,12 +1,12 @@
 #define _POSIX_C_SOURCE 200809L
-#include "cli.h"
-#include "../imageio.h"
+#include "src/cli/cli.h"
+#include "src/io/imageio.h"
 
 #include <sys/stat.h>
 
-#include "../../scanner/palette.h"
+#include "scanner/palette.h"
 
-#include "../../scanner/label.h"
+#include "scanner/label.h"
 
 #include <errno.h>
 #include <math.h>

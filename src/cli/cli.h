@@ -3,7 +3,7 @@
 #ifndef TD_CLI_H
 #define TD_CLI_H
 
-#include "../core.h"
+#include "src/core/core.h"
 
 #define TD_VERSION "0.1.0"
 

@@ -1,10 +1,10 @@
 /* topodig compare: two DEMs -> RMSE, MAE, max |d|, bias, coverage. */
 #define _GNU_SOURCE
-#include "cli.h"
+#include "src/cli/cli.h"
 
-#include "../compare.h"
-#include "../demio.h"
-#include "../imageio.h"
+#include "src/compare/compare.h"
+#include "src/io/demio.h"
+#include "src/io/imageio.h"
 
 #include <getopt.h>
 #include <stdio.h>

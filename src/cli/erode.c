@@ -1,11 +1,11 @@
 /* topodig erode: DEM -> DEM eroded by the velocity-field model (Fujita,
  * Muraoka, Chiba §2), with the W, E and deposited-sediment fields. */
 #define _GNU_SOURCE
-#include "cli.h"
+#include "src/cli/cli.h"
 
-#include "../demio.h"
-#include "../erode.h"
-#include "../terrain_gen.h"
+#include "src/io/demio.h"
+#include "src/erode/erode.h"
+#include "src/model/model.h"
 
 #include <getopt.h>
 #include <math.h>

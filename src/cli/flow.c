@@ -1,10 +1,10 @@
 /* topodig flow: DEM -> rain-flow pass counts (paper 000 §3.1) and a
  * ridge / slope / valley class raster. */
 #define _GNU_SOURCE
-#include "cli.h"
+#include "src/cli/cli.h"
 
-#include "../demio.h"
-#include "../flow.h"
+#include "src/io/demio.h"
+#include "src/flow/flow.h"
 
 #include <getopt.h>
 #include <math.h>

@@ -1,10 +1,10 @@
 /* topodig generate: synthetic terrains; `mound` is the initial terrain of
  * the velocity-field erosion paper (Fujita, Muraoka, Chiba §3, Fig. 2a). */
 #define _GNU_SOURCE
-#include "cli.h"
+#include "src/cli/cli.h"
 
-#include "../demio.h"
-#include "../terrain_gen.h"
+#include "src/io/demio.h"
+#include "src/model/model.h"
 
 #include <getopt.h>
 #include <stdio.h>

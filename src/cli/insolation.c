@@ -2,11 +2,11 @@
  * diffuse), horizon angles per direction and the sky-view factor (paper
  * 000 §3.2; docs/insolation.md). */
 #define _GNU_SOURCE
-#include "cli.h"
+#include "src/cli/cli.h"
 
-#include "../demio.h"
-#include "../geotiff_bands.h"
-#include "../insolation.h"
+#include "src/io/demio.h"
+#include "src/io/geotiff_bands.h"
+#include "src/sun/insolation.h"
 
 #include <getopt.h>
 #include <math.h>

@@ -1,12 +1,12 @@
 /* topodig interp: labelled contour lines -> DEM (GeoTIFF, .asc, .png). */
 #define _GNU_SOURCE
-#include "cli.h"
+#include "src/cli/cli.h"
 
-#include "../demio.h"
-#include "../imageio.h"
-#include "../lines.h"
-#include "../../interp/homotopy.h"
-#include "../../interp/rasterise.h"
+#include "src/io/demio.h"
+#include "src/io/imageio.h"
+#include "src/core/lines.h"
+#include "interp/homotopy.h"
+#include "interp/interp.h"
 
 #include <getopt.h>
 #include <stdio.h>
@@ -120,7 +120,7 @@ static void summary(const td_grid_f32 *g, const td_interp_params *p,
         fprintf(stderr, "interp: homotopy %zu cells in %zu of %zu bands, "
                 "%s fallback %zu cells; %zu ridge, %zu valley points, "
                 "%zu links\n", hs->cells_homotopy, hs->bands_homotopy,
-                hs->bands, p->hfallback ? "multidir" : "scanline",
+                hs->bands, p->homotopy.fallback == TD_HM_FALLBACK_MULTIDIR ? "multidir" : "scanline",
                 hs->cells_fallback, hs->ridge_points, hs->valley_points,
                 hs->links);
 }

@@ -3,17 +3,17 @@
  * way, one typed height per line (001 §2.3), is --heights after editing the
  * --export-csv file. */
 #define _GNU_SOURCE
-#include "cli.h"
+#include "src/cli/cli.h"
 
-#include "../draw.h"
-#include "../imageio.h"
-#include "../lines.h"
-#include "../../scanner/binarise.h"
-#include "../../scanner/contain.h"
-#include "../../scanner/label.h"
-#include "../../scanner/ocr.h"
-#include "../../scanner/scan.h"
-#include "../../scanner/width.h"
+#include "src/core/draw.h"
+#include "src/io/imageio.h"
+#include "src/core/lines.h"
+#include "scanner/binarise.h"
+#include "src/core/contain.h"
+#include "scanner/label.h"
+#include "scanner/ocr.h"
+#include "scanner/scan.h"
+#include "scanner/width.h"
 
 #include <errno.h>
 #include <getopt.h>

@@ -5,7 +5,7 @@
  * The table below names them all; a command whose file is not in this build
  * is a weak, null reference and is simply not offered, so subcommands can
  * be added one file at a time. */
-#include "cli.h"
+#include "src/cli/cli.h"
 
 #include <stdio.h>
 #include <string.h>

@@ -1,10 +1,10 @@
 /* topodig render: DEM -> shaded-relief picture (PNG). */
 #define _GNU_SOURCE
-#include "cli.h"
+#include "src/cli/cli.h"
 
-#include "../demio.h"
-#include "../imageio.h"
-#include "../render.h"
+#include "src/io/demio.h"
+#include "src/io/imageio.h"
+#include "src/render/render.h"
 
 #include <getopt.h>
 #include <math.h>

@@ -1,17 +1,17 @@
 /* topodig run: scanned sheet -> DEM in one process (scan, label,
  * interpolate; no temporary files). */
 #define _GNU_SOURCE
-#include "cli.h"
+#include "src/cli/cli.h"
 
-#include "../demio.h"
-#include "../draw.h"
-#include "../imageio.h"
-#include "../lines.h"
-#include "../../interp/homotopy.h"
-#include "../../interp/rasterise.h"
-#include "../../scanner/label.h"
-#include "../../scanner/ocr.h"
-#include "../../scanner/scan.h"
+#include "src/io/demio.h"
+#include "src/core/draw.h"
+#include "src/io/imageio.h"
+#include "src/core/lines.h"
+#include "interp/homotopy.h"
+#include "interp/interp.h"
+#include "scanner/label.h"
+#include "scanner/ocr.h"
+#include "scanner/scan.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -389,7 +389,7 @@ static int do_interp(const run_opts *o, run_state *s, td_ctx *cx)
     td_georef_scale(&s->geo, p.step);
     s->secs[2] = td_now() - t0;
     s->method = p.method;
-    s->hfallback = p.hfallback;
+    s->hfallback = p.homotopy.fallback == TD_HM_FALLBACK_MULTIDIR;
     rc = td_dem_write(o->out, s->dem, &s->geo, cx);
     s->secs[3] = td_now() - t0 - s->secs[2];
     return rc;

@@ -1,11 +1,11 @@
 /* topodig scan: scanned sheet -> traced contour lines (GeoJSON). */
 #define _GNU_SOURCE
-#include "cli.h"
+#include "src/cli/cli.h"
 
-#include "../draw.h"
-#include "../imageio.h"
-#include "../lines.h"
-#include "../../scanner/scan.h"
+#include "src/core/draw.h"
+#include "src/io/imageio.h"
+#include "src/core/lines.h"
+#include "scanner/scan.h"
 
 #include <errno.h>
 #include <getopt.h>

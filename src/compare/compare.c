@@ -1,4 +1,4 @@
-#include "compare.h"
+#include "src/compare/compare.h"
 
 #include <math.h>
 #include <string.h>

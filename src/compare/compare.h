@@ -3,7 +3,7 @@
 #ifndef TD_COMPARE_H
 #define TD_COMPARE_H
 
-#include "grid.h"
+#include "src/core/grid.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -10,7 +10,7 @@
 #ifndef TD_CONTAIN_H
 #define TD_CONTAIN_H
 
-#include "../src/lines.h"
+#include "src/core/lines.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -1,5 +1,5 @@
 #define _POSIX_C_SOURCE 200809L
-#include "core.h"
+#include "src/core/core.h"
 
 #include <stdarg.h>
 #include <stdio.h>

@@ -1,4 +1,4 @@
-#include "draw.h"
+#include "src/core/draw.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -2,8 +2,8 @@
 #ifndef TD_DRAW_H
 #define TD_DRAW_H
 
-#include "grid.h"
-#include "lines.h"
+#include "src/core/grid.h"
+#include "src/core/lines.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -1,4 +1,4 @@
-#include "grid.h"
+#include "src/core/grid.h"
 
 #include <stdlib.h>
 #include <string.h>

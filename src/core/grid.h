@@ -8,7 +8,7 @@
 #ifndef TD_GRID_H
 #define TD_GRID_H
 
-#include "core.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

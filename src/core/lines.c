@@ -1,5 +1,5 @@
 /* lines.c: contour polylines in memory. */
-#include "lines.h"
+#include "src/core/lines.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -6,7 +6,7 @@
 #ifndef TD_LINES_H
 #define TD_LINES_H
 
-#include "core.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -4,7 +4,7 @@
  *   STEP0  arrays T (height), W (water), V (velocity), E (collision energy)
  *   STEP1  T := the initial terrain
  *   STEP2  repeat `steps` times:
- *     2-1  velocity field W, V, E from independent particles (erode_flow.c)
+ *     2-1  velocity field W, V, E from independent particles (erode_particles.c)
  *     2-2  erosion, transport, deposition on every cell:
  *            Q = C w v,  Sq = Kq Q,  Se = Ke e       (T lowered by Sq + Se)
  *            Smax = Kc Q^m
@@ -22,7 +22,7 @@
  * loop of receivers, against a wall or into a cell with no flow settles
  * where it is.  Over an open edge it leaves the grid (outflow).  Every
  * transfer is booked, so eroded = deposited + outflow to rounding. */
-#include "erode_int.h"
+#include "src/erode/erode_int.h"
 
 #include <math.h>
 #include <omp.h>

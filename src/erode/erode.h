@@ -15,7 +15,7 @@
 #ifndef TD_ERODE_H
 #define TD_ERODE_H
 
-#include "grid.h"
+#include "src/core/grid.h"
 
 #ifdef __cplusplus
 extern "C" {

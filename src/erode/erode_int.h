@@ -1,9 +1,9 @@
-/* erode_int.h: what src/erode.c (driver, erosion, transport) and
- * src/erode_flow.c (the particles' velocity field) share.  Not public. */
+/* erode_int.h: what src/erode/erode.c (driver, erosion, transport) and
+ * src/erode/erode_particles.c (the particles' velocity field) share.  Not public. */
 #ifndef TD_ERODE_INT_H
 #define TD_ERODE_INT_H
 
-#include "erode.h"
+#include "src/erode/erode.h"
 
 /* Fixed-point scale of the gathered velocity and energy sums: integer sums
  * are exact and order-free, so any thread count gives the same bytes. */
@@ -38,7 +38,7 @@ typedef struct er_state {
     int32_t *indeg, *queue;
 } er_state;
 
-/* STEP2-1 (erode_flow.c): fill s->surf from s->T; trace one particle from
+/* STEP2-1 (erode_particles.c): fill s->surf from s->T; trace one particle from
  * every non-wall cell and leave the gathered sums in s->acc[0..n).  *moves
  * and *drained get the particle moves and the particles that left the grid. */
 void er_surface(er_state *s, const td_erode_params *p);

@@ -1,4 +1,4 @@
-/* erode_flow.c: STEP2-1 of velocity-field erosion, the water particles'
+/* erode_particles.c: STEP2-1 of velocity-field erosion, the water particles'
  * velocity field (Fujita, Muraoka, Chiba §2.1).
  *
  * A particle sits on every cell and moves independently:
@@ -18,7 +18,7 @@
  * Every visit adds to the cell's water count, velocity sum and energy sum
  * in the tracing thread's own accumulator; the sums are fixed-point
  * integers, so the reduction over threads is exact and order-free. */
-#include "erode_int.h"
+#include "src/erode/erode_int.h"
 
 #include <math.h>
 #include <omp.h>

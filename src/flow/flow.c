@@ -11,9 +11,9 @@
  * nibble = direction 0..7, ROOT (no receiver: the water leaves the grid),
  * NODATA, DONE, STOP (Sobel: the drop stays), UNSEEN while flooding; high
  * nibble = number of upstream neighbours still to be added (0..8). */
-#include "flow.h"
-#include "flow_int.h"
-#include "window3.h"
+#include "src/flow/flow.h"
+#include "src/flow/flow_int.h"
+#include "src/flow/flow_window_int.h"
 
 #include <math.h>
 #include <omp.h>
@@ -132,7 +132,7 @@ static int fgrid_init(fgrid *g, const td_grid_f32 *dem, td_grid_f32 *out,
 }
 
 /* ---- filling and directions -------------------------------------------
- * src/pflood.c fills the DEM (tiled priority flood) and marks the outlets.
+ * src/flow/flow_fill.c fills the DEM (tiled priority flood) and marks the outlets.
  * Then every other cell drains by steepest descent (drop / distance, the
  * first of equals in k order) to a strictly lower neighbour on the filled
  * DEM; a cell with none is on a flat (a filled pit or a real flat) and
@@ -247,7 +247,7 @@ static double steepest(fgrid *g, int nth, uint32_t *rows)
     return fail ? -1 : flat;
 }
 
-/* Window slot s (window3.h) -> neighbour code k, and back. */
+/* Window slot s (flow_window_int.h) -> neighbour code k, and back. */
 static const int SLOT_K[9] = {5, 6, 7, 4, -1, 0, 3, 2, 1};
 
 /* The neighbours of flat cell i (never on the grid edge) whose code is
@@ -461,7 +461,7 @@ static int route(fgrid *g, const td_flow_params *p, double p0, double p1,
                  td_flow_stats *st)
 {
     int nth = p->threads > 0 ? p->threads : omp_get_max_threads();
-    int rc = td_pflood(g->dem, g->z, g->code, g->w, g->h, p->tile, nth,
+    int rc = td_flow_fill_tiles(g->dem, g->z, g->code, g->w, g->h, p->tile, nth,
                        &st->raised, p0, p0 + 0.8 * (p1 - p0), g->cx);
     if (rc == 0) {
         uint32_t *rows = calloc((size_t)g->h, sizeof *rows); /* NULL: fine */
@@ -483,7 +483,7 @@ int td_flow_fill(const td_grid_f32 *dem, td_grid_f32 *filled, int tile,
     size_t i;
     int rc = fgrid_init(&g, dem, filled, 0, &valid, cx);
     if (rc == 0)
-        rc = td_pflood(g.dem, g.z, g.code, g.w, g.h, tile, 0, NULL, 0.0, 1.0,
+        rc = td_flow_fill_tiles(g.dem, g.z, g.code, g.w, g.h, tile, 0, NULL, 0.0, 1.0,
                        cx);
     if (rc == 0)
         for (i = 0; i < g.n; i++)
@@ -496,7 +496,7 @@ int td_flow_fill(const td_grid_f32 *dem, td_grid_f32 *filled, int tile,
 /* ---- D8 -----------------------------------------------------------------
  * Outlets (edge cells, cells next to nodata, ROOT): their water leaves the
  * grid.  Other cells: the direction from route() (steepest descent on the
- * filled DEM, or one step nearer a flat's exit).  Counts: src/flow_d8.c.
+ * filled DEM, or one step nearer a flat's exit).  Counts: src/flow/flow_d8.c.
  * D8 counts are uint32 stored in the float buffer g->z (after the filled
  * heights are no longer needed); memcpy keeps that free of aliasing. */
 static uint32_t getu(const fgrid *g, size_t i)
@@ -511,7 +511,7 @@ static void setu(fgrid *g, size_t i, uint32_t v)
     memcpy(&g->z[i], &v, sizeof v);
 }
 
-/* D8 counts (src/flow_d8.c, in row bands on nth threads) into g->z as
+/* D8 counts (src/flow/flow_d8.c, in row bands on nth threads) into g->z as
  * uint32. */
 static int d8_accumulate(fgrid *g, double valid, int nth, td_flow_stats *st)
 {

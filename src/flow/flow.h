@@ -32,7 +32,7 @@
 #ifndef TD_FLOW_H
 #define TD_FLOW_H
 
-#include "grid.h"
+#include "src/core/grid.h"
 
 #ifdef __cplusplus
 extern "C" {

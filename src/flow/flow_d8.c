@@ -21,8 +21,8 @@
  * chain stays in the cache; a chain that steps into another block leaves
  * its count there, and the blocks take those in sweeps down and up.  On
  * smooth hills (long chains) that halves the accumulation time. */
-#include "flow_int.h"
-#include "window3.h"
+#include "src/flow/flow_int.h"
+#include "src/flow/flow_window_int.h"
 
 #include <omp.h>
 #include <stdlib.h>
@@ -89,7 +89,7 @@ static int hv_push(hvec *v, uint32_t r, uint32_t a)
 /* In-degree of cell i = (x, y): neighbours whose code points at i. */
 static unsigned indegree(const acc8 *s, size_t i, int x, int y)
 {
-    /* slot s (window3.h) holds the neighbour at (dx, dy); it points at i
+    /* slot s (flow_window_int.h) holds the neighbour at (dx, dy); it points at i
      * when its code is the direction (-dx, -dy) */
     static const uint8_t TO_ME[16] = {1, 2, 3, 0, 0xFF, 4, 7, 6, 5,
                                       0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF,

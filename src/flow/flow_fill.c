@@ -1,4 +1,4 @@
-/* pflood.c: priority-flood depression filling in tiles.
+/* flow_fill.c: priority-flood depression filling in tiles.
  *
  * Barnes (2016) "Parallel priority-flood depression filling for trillion
  * cell digital elevation models": tiles flooded on their own, on threads.
@@ -29,8 +29,8 @@
  *
  * The result equals the flood over the whole grid for every tile size and
  * thread count (tests/test_flow.c checks it against a brute-force fill). */
-#include "flow_int.h"
-#include "window3.h"
+#include "src/flow/flow_int.h"
+#include "src/flow/flow_window_int.h"
 
 #include <float.h>
 #include <math.h>
@@ -605,7 +605,7 @@ static int flood_tiles(pf *p, double p0, double p1)
             if (stop)
                 continue;
             r = q ? tile_flood(p, q, ti) : TD_ENOMEM;
-#pragma omp critical(td_pflood)
+#pragma omp critical(td_flow_fill_tiles)
             {
                 if (r != 0 && rc == 0)
                     rc = td_seterr(p->cx, TD_ENOMEM, "flow: out of memory");
@@ -1028,7 +1028,7 @@ static void apply(pf *p, const float *W, double *raised)
         *raised = (double)r;
 }
 
-int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
+int td_flow_fill_tiles(const float *dem, float *z, uint8_t *code, int w, int h,
               int tile, int threads, double *raised, double p0, double p1,
               td_ctx *cx)
 {

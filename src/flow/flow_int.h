@@ -1,10 +1,10 @@
-/* flow_int.h: what src/flow.c, src/pflood.c (the tiled priority-flood
- * fill under D8 and D-infinity) and src/flow_d8.c (D8 counts) share.  Not
+/* flow_int.h: what src/flow/flow.c, src/flow/flow_fill.c (the tiled priority-flood
+ * fill under D8 and D-infinity) and src/flow/flow_d8.c (D8 counts) share.  Not
  * public. */
 #ifndef TD_FLOW_INT_H
 #define TD_FLOW_INT_H
 
-#include "core.h"
+#include "src/core/core.h"
 
 #include <stdint.h>
 
@@ -29,11 +29,11 @@ enum { TD_FL_ROOT = 8, TD_FL_NODATA = 9 };
  * per cell of labels (freed on return) plus the label graph (a few labels
  * per tile side) and each thread's tile-sized queues.  0, TD_ENOMEM, TD_ECANCEL, TD_EINVAL (more than
  * 2^32 - 2 cells). */
-int td_pflood(const float *dem, float *z, uint8_t *code, int w, int h,
+int td_flow_fill_tiles(const float *dem, float *z, uint8_t *code, int w, int h,
               int tile, int threads, double *raised, double p0, double p1,
               td_ctx *cx);
 
-/* D8 counts (src/flow_d8.c): code holds each valid cell's direction k
+/* D8 counts (src/flow/flow_d8.c): code holds each valid cell's direction k
  * (0..7: E, SE, S, SW, W, NW, N, NE), TD_FL_ROOT for outlets, TD_FL_NODATA;
  * acc (w * h) gets each cell's count (0 on nodata).  code is overwritten.
  * On `threads` row bands (the result does not depend on it).  *outflow,

@@ -1,5 +1,5 @@
-/* window3.h: bit masks over a cell's 3x3 window, shared by src/flow.c and
- * src/pflood.c.  Not public.
+/* flow_window_int.h: bit masks over a cell's 3x3 window, shared by src/flow/flow.c and
+ * src/flow/flow_fill.c.  Not public.
  *
  * Bit s = 3 (dy + 1) + (dx + 1); bit 4 is the cell itself:
  *

@@ -1,4 +1,4 @@
-/* cvshim.h: the only door to OpenCV.  Implemented in src/cvshim.cpp; no
+/* cvshim.h: the only door to OpenCV.  Implemented in src/io/cvshim.cpp; no
  * other file includes OpenCV or sees C++.  Every function catches C++
  * exceptions and turns them into a TD_E* code with a message in cx.
  *
@@ -9,7 +9,7 @@
 #ifndef TD_CVSHIM_H
 #define TD_CVSHIM_H
 
-#include "grid.h"
+#include "src/core/grid.h"
 
 #ifdef __cplusplus
 extern "C" {

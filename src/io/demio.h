@@ -4,11 +4,11 @@
  * unsigned integers, 32/64-bit floats; striped or tiled; any compression
  * libtiff decodes; GDAL_NODATA honoured) and ESRI ASCII grids (.asc,
  * recognised by content: "ncols" first).  Writers are atomic like every
- * writer (src/imageio.h).  GeoTIFF writing is td_geotiff_write_f32. */
+ * writer (src/io/imageio.h).  GeoTIFF writing is td_geotiff_write_f32. */
 #ifndef TD_DEMIO_H
 #define TD_DEMIO_H
 
-#include "imageio.h"
+#include "src/io/imageio.h"
 
 #ifdef __cplusplus
 extern "C" {

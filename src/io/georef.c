@@ -1,6 +1,6 @@
 /* georef.c: the td_georef value type (geotransform, EPSG code and the
  * verbatim GeoTIFF key directory). */
-#include "imageio_int.h"
+#include "src/io/imageio_int.h"
 
 #include <math.h>
 #include <stdio.h>

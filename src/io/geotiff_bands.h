@@ -4,14 +4,14 @@
 #ifndef TD_GEOTIFF_BANDS_H
 #define TD_GEOTIFF_BANDS_H
 
-#include "imageio.h"
+#include "src/io/imageio.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /* Write bands[0..n-1] (same width and height, any strides) as an n-band
- * float32 GeoTIFF at path, atomically (src/imageio.h): separate planes
+ * float32 GeoTIFF at path, atomically (src/io/imageio.h): separate planes
  * (band i = sample plane i, GDAL band i + 1), strips, Deflate with the
  * floating-point predictor, GDAL_NODATA from bands[0] when it has nodata,
  * the georeferencing when georef is valid (may be NULL).  BigTIFF above

@@ -7,7 +7,7 @@
 #ifndef TD_IMAGEIO_H
 #define TD_IMAGEIO_H
 
-#include "grid.h"
+#include "src/core/grid.h"
 
 #ifdef __cplusplus
 extern "C" {

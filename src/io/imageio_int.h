@@ -1,9 +1,9 @@
 /* imageio_int.h: internals shared by the image I/O files (imageio.c,
- * tiffio.c, pngio.c, georef.c, atomic.c).  Not for other stages. */
+ * tiffio.c, pngio.c, georef.c, outfile.c).  Not for other stages. */
 #ifndef TD_IMAGEIO_INT_H
 #define TD_IMAGEIO_INT_H
 
-#include "imageio.h"
+#include "src/io/imageio.h"
 
 #include <tiffio.h>
 
@@ -31,7 +31,7 @@ int td_tiff_read(const char *path, td_image **out, td_georef *georef,
                  td_ctx *cx);
 int td_png_info(const char *path, int *w, int *h, int *channels, td_ctx *cx);
 int td_png_read(const char *path, td_image **out, td_ctx *cx);
-/* JPEG through libjpeg (src/jpegio.c): every libjpeg warning (corrupt or
+/* JPEG through libjpeg (src/io/jpegio.c): every libjpeg warning (corrupt or
  * truncated data) is an error naming path; a frame the file is far too
  * small for is refused before any pixel memory is allocated. */
 int td_jpeg_read(const char *path, td_image **out, td_ctx *cx);

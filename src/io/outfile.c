@@ -1,6 +1,6 @@
-/* atomic.c: write-to-temporary-then-rename, so that a failed writer never
+/* outfile.c: write-to-temporary-then-rename, so that a failed writer never
  * leaves a half-written file and never touches an existing target. */
-#include "imageio.h"
+#include "src/io/imageio.h"
 
 #include <errno.h>
 #include <fcntl.h>

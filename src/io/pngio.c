@@ -3,7 +3,7 @@
  * libpng.  libpng reports errors by longjmp; each setjmp lives in a small
  * static function whose resources are owned by a struct in the caller's
  * frame, so nothing it touches is an indeterminate local after a jump. */
-#include "imageio_int.h"
+#include "src/io/imageio_int.h"
 
 #include <errno.h>
 #include <png.h>

@@ -7,7 +7,7 @@
  * planes, striped or tiled, any codec libtiff decodes; YCbCr only with JPEG
  * compression (libtiff converts it to RGB).  Everything else fails with
  * "FILE: unsupported TIFF layout (...)". */
-#include "imageio_int.h"
+#include "src/io/imageio_int.h"
 
 #include <math.h>
 #include <pthread.h>

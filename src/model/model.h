@@ -1,4 +1,4 @@
-/* terrain_gen.h: synthetic initial terrains for the erosion experiments.
+/* model.h: synthetic initial terrains for the erosion experiments.
  *
  * The paper's initial terrain (Fujita, Muraoka, Chiba §3, Fig. 2a): a
  * terrain whose centre is a little higher, with white noise added.  Every
@@ -7,7 +7,7 @@
 #ifndef TD_TERRAIN_GEN_H
 #define TD_TERRAIN_GEN_H
 
-#include "grid.h"
+#include "src/core/grid.h"
 
 #ifdef __cplusplus
 extern "C" {

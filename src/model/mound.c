@@ -1,4 +1,4 @@
-/* terrain_gen.c: the paper's initial terrain, a central mound with white
+/* mound.c: the paper's initial terrain, a central mound with white
  * noise (Fujita, Muraoka, Chiba §3, Fig. 2a).
  *
  *   height
@@ -8,7 +8,7 @@
  *     |__/_____________\__ r
  *           centre
  */
-#include "terrain_gen.h"
+#include "src/model/model.h"
 
 #include <math.h>
 

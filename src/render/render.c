@@ -1,4 +1,4 @@
-#include "render.h"
+#include "src/render/render.h"
 
 #include <math.h>
 #include <stdlib.h>

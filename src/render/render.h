@@ -4,7 +4,7 @@
 #ifndef TD_RENDER_H
 #define TD_RENDER_H
 
-#include "grid.h"
+#include "src/core/grid.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -21,7 +21,7 @@
 #ifndef TD_HORIZON_H
 #define TD_HORIZON_H
 
-#include "grid.h"
+#include "src/core/grid.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -20,7 +20,7 @@
 #ifndef TD_INSOLATION_H
 #define TD_INSOLATION_H
 
-#include "grid.h"
+#include "src/core/grid.h"
 
 #ifdef __cplusplus
 extern "C" {

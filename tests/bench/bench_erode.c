@@ -18,8 +18,8 @@
 #ifndef _DEFAULT_SOURCE
 #define _DEFAULT_SOURCE /* getloadavg */
 #endif
-#include "../../src/erode.h"
-#include "../../src/terrain_gen.h"
+#include "src/erode/erode.h"
+#include "src/model/model.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -15,10 +15,10 @@
  *                             r.watershed: the best of 2)
  *
  * Never fails the build. */
-#include "../../samples/gen/gen.h"
-#include "../../src/flow.h"
-#include "../../src/imageio.h"
-#include "../../src/terrain_gen.h"
+#include "samples/gen/gen.h"
+#include "src/flow/flow.h"
+#include "src/io/imageio.h"
+#include "src/model/model.h"
 
 #include <stdio.h>
 #include <stdlib.h>

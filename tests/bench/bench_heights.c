@@ -6,7 +6,7 @@
  * came from, and the labelling time.  Numbers for docs/benchmarks.md.
  *
  *   bench_heights [--dems DIR] [--only NAME] [--tree] [--log] */
-#include "../util/hsheet.h"
+#include "tests/util/hsheet.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -16,13 +16,13 @@
  *    cases (RMSE, valley-floor RMSE, ridge/valley points).
  * Options: --dir DIR --big N --sweep (--topodig is accepted and ignored). */
 #define _POSIX_C_SOURCE 200809L
-#include "../../interp/homotopy.h"
-#include "../../interp/rasterise.h"
-#include "../../samples/gen/gen.h"
-#include "compare.h"
-#include "draw.h"
-#include "imageio.h"
-#include "render.h"
+#include "interp/homotopy.h"
+#include "interp/interp.h"
+#include "samples/gen/gen.h"
+#include "src/compare/compare.h"
+#include "src/core/draw.h"
+#include "src/io/imageio.h"
+#include "src/render/render.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -150,10 +150,10 @@ static td_grid_f32 *run(const td_lines *ls, const td_grid_f32 *t, int m,
     td_compare_stats cs;
     double t0 = td_now(), c0 = cpu_now(), secs, cpu;
     p.method = m == 3 ? TD_INTERP_HOMOTOPY : (td_interp_method)m;
-    p.hfallback = m == 3;
+    p.homotopy.fallback = m == 3 ? TD_HM_FALLBACK_MULTIDIR : TD_HM_FALLBACK_SCANLINE;
     p.hstats = hs;
     if (g_epsilon >= 0)
-        p.epsilon = g_epsilon;
+        p.homotopy.epsilon = g_epsilon;
     if (td_interp_lines(ls, t->w, t->h, &p, &d, NULL) != 0) {
         printf("   %-10s failed\n", label);
         return NULL;

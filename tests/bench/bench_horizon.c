@@ -1,4 +1,4 @@
-/* bench_horizon: the horizon sweep (src/horizon.c) in cell-directions per
+/* bench_horizon: the horizon sweep (src/sun/horizon.c) in cell-directions per
  * second on a generated 2000 x 2000 DEM (10 m cells) with 36 directions,
  * its growth from 1000^2 to 2000^2 (linear in cells x directions means a
  * time ratio of 4), its speed-up over the hidden-surface reference at equal
@@ -11,11 +11,11 @@
  *                 [--repeat R] [--no-grass]
  *
  * Never fails the build. */
-#include "../../samples/gen/gen.h"
-#include "../../src/horizon.h"
-#include "../../src/imageio.h"
-#include "../../src/insolation.h"
-#include "../util/raymarch.h"
+#include "samples/gen/gen.h"
+#include "src/sun/horizon.h"
+#include "src/io/imageio.h"
+#include "src/sun/insolation.h"
+#include "tests/util/raymarch.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -8,9 +8,9 @@
  *   bench_insolation [--topodig PATH] [--dir DIR] [--size N] [--no-grass]
  *
  * Never fails the build. */
-#include "../../samples/gen/gen.h"
-#include "../../src/insolation.h"
-#include "../../src/imageio.h"
+#include "samples/gen/gen.h"
+#include "src/sun/insolation.h"
+#include "src/io/imageio.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -24,13 +24,13 @@
  * Options: --topodig PATH --dir DIR --big N --huge N --no-anchors
  * --sweeps-only (the smoothing table alone). */
 #define _POSIX_C_SOURCE 200809L
-#include "../../interp/rasterise.h"
-#include "../../samples/gen/gen.h"
-#include "../../scanner/label.h"
-#include "../../scanner/scan.h"
-#include "compare.h"
-#include "demio.h"
-#include "imageio.h"
+#include "interp/interp.h"
+#include "samples/gen/gen.h"
+#include "scanner/label.h"
+#include "scanner/scan.h"
+#include "src/compare/compare.h"
+#include "src/io/demio.h"
+#include "src/io/imageio.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -78,9 +78,9 @@ static int interp_and_compare(const td_lines *ls, const td_grid_f32 *dem,
     double t0;
     int rc;
     p.method = v->m;
-    p.peninsula = v->peninsula;
-    p.ndir = v->ndir;
-    p.weight = v->weight;
+    p.scanline.peninsula = v->peninsula;
+    p.multidir.ndir = v->ndir;
+    p.multidir.weight = v->weight;
     p.interval = I;
     t0 = td_now();
     if ((rc = td_interp_lines(ls, dem->w, dem->h, &p, &g, cx)) != 0)
@@ -465,8 +465,8 @@ static void seed_sweep(td_ctx *cx)
                 td_interp_params p = td_interp_defaults();
                 td_grid_f32 *g = NULL;
                 td_compare_stats st;
-                p.method = vv->m, p.peninsula = vv->peninsula;
-                p.ndir = vv->ndir, p.weight = vv->weight;
+                p.method = vv->m, p.scanline.peninsula = vv->peninsula;
+                p.multidir.ndir = vv->ndir, p.multidir.weight = vv->weight;
                 if (td_interp_lines(tl, 800, 800, &p, &g, cx) == 0 &&
                     td_compare_grids(g, dem, &st, cx) == 0)
                     sum[v][k] += st.rmse / td_interp_interval(tl) / 6;

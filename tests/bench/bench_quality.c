@@ -9,9 +9,9 @@
  * truth lines matched (coverage >= 99 %, mean distance <= 1.5 px), split
  * (in more than one traced piece), mixed traced lines, wrong closed flags,
  * and the total traced length coverage. */
-#include "../../samples/gen/gen.h"
-#include "../../scanner/scan.h"
-#include "../util/match.h"
+#include "samples/gen/gen.h"
+#include "scanner/scan.h"
+#include "tests/util/match.h"
 
 #include <stdio.h>
 #include <string.h>

@@ -6,10 +6,10 @@
  *
  * Prints one line per measurement; never fails the build (exit 0 unless the
  * set-up itself fails). */
-#include "../../samples/gen/gen.h"
-#include "../../scanner/scan.h"
-#include "../../src/cvshim.h"
-#include "../../src/imageio.h"
+#include "samples/gen/gen.h"
+#include "scanner/scan.h"
+#include "src/io/cvshim.h"
+#include "src/io/imageio.h"
 
 #include <stdio.h>
 #include <stdlib.h>

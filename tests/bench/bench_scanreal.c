@@ -7,11 +7,11 @@
  * docs/scanner.md.
  *
  *   bench_scanreal [--dems DIR] [--only NAME] [--log] [--out DIR] */
-#include "../../samples/gen/gen.h"
-#include "../../scanner/scan.h"
-#include "../util/hsheet.h"
-#include "../util/match.h"
-#include "../../src/imageio.h"
+#include "samples/gen/gen.h"
+#include "scanner/scan.h"
+#include "tests/util/hsheet.h"
+#include "tests/util/match.h"
+#include "src/io/imageio.h"
 
 #include <stdio.h>
 #include <stdlib.h>

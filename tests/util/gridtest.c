@@ -1,4 +1,4 @@
-#include "gridtest.h"
+#include "tests/util/gridtest.h"
 
 #include <math.h>
 #include <stdio.h>

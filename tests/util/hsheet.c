@@ -1,12 +1,12 @@
 /* hsheet.c: see hsheet.h. */
-#include "hsheet.h"
+#include "tests/util/hsheet.h"
 
-#include "../../scanner/contain.h"
-#include "../../scanner/ocr.h"
-#include "../../scanner/scan.h"
-#include "../../src/demio.h"
-#include "../../src/draw.h"
-#include "../../src/imageio.h"
+#include "src/core/contain.h"
+#include "scanner/ocr.h"
+#include "scanner/scan.h"
+#include "src/io/demio.h"
+#include "src/core/draw.h"
+#include "src/io/imageio.h"
 
 #include <math.h>
 #include <stdlib.h>

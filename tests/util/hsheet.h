@@ -4,9 +4,9 @@
 #ifndef TD_TEST_HSHEET_H
 #define TD_TEST_HSHEET_H
 
-#include "../../samples/gen/gen.h"
-#include "../../scanner/label.h"
-#include "match.h"
+#include "samples/gen/gen.h"
+#include "scanner/label.h"
+#include "tests/util/match.h"
 
 typedef struct td_hsheet {
     td_gen_params gp;           /* the sheet (terrain, dem_in, size, defects) */

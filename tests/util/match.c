@@ -1,5 +1,5 @@
 /* match.c: truth-vs-traced line comparison (definitions in match.h). */
-#include "match.h"
+#include "tests/util/match.h"
 
 #include <math.h>
 #include <stdint.h>

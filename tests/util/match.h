@@ -28,7 +28,7 @@
 
 #include <stdio.h>
 
-#include "../../src/lines.h"
+#include "src/core/lines.h"
 
 typedef struct td_match_opts {
     double cover_tol;     /* 2.0 */

@@ -1,5 +1,5 @@
 /* raymarch.c: the brute-force horizon reference of tests and benchmarks. */
-#include "raymarch.h"
+#include "tests/util/raymarch.h"
 
 #include <math.h>
 

@@ -1,9 +1,9 @@
 /* raymarch.h: brute-force horizon by marching one ray over the bilinear
- * surface of the cell centres (the reference for src/horizon.c). */
+ * surface of the cell centres (the reference for src/sun/horizon.c). */
 #ifndef TD_RAYMARCH_H
 #define TD_RAYMARCH_H
 
-#include "../../src/grid.h"
+#include "src/core/grid.h"
 
 /* Horizon elevation angle (degrees, >= 0) of cell (x, y) towards azimuth
  * az (degrees clockwise from north, north = row 0), cell size cs: the
