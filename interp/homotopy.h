@@ -21,8 +21,7 @@
 #ifndef TD_INTERP_HOMOTOPY_H
 #define TD_INTERP_HOMOTOPY_H
 
-#include "src/core/grid.h"
-#include "src/core/lines.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -4,7 +4,7 @@
 #define TD_INTERP_HOMOTOPY_INT_H
 
 #include "interp/homotopy.h"
-#include "src/core/contain.h"
+#include "src/core/core.h"
 
 #include <stdint.h>
 

@@ -27,7 +27,7 @@
 #ifndef TD_INTERP_MULTIDIR_H
 #define TD_INTERP_MULTIDIR_H
 
-#include "src/core/grid.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

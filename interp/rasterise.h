@@ -13,8 +13,7 @@
 #ifndef TD_INTERP_RASTERISE_H
 #define TD_INTERP_RASTERISE_H
 
-#include "src/core/grid.h"
-#include "src/core/lines.h"
+#include "src/core/core.h"
 
 #include <stddef.h>
 

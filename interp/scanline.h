@@ -26,7 +26,7 @@
 #ifndef TD_INTERP_SCANLINE_H
 #define TD_INTERP_SCANLINE_H
 
-#include "src/core/grid.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -18,7 +18,7 @@
 #ifndef TD_INTERP_SMOOTH_H
 #define TD_INTERP_SMOOTH_H
 
-#include "src/core/grid.h"
+#include "src/core/core.h"
 
 #include <stdint.h>
 

@@ -10,7 +10,7 @@
  * docs/binarise.md. */
 #include "scanner/binarise.h"
 
-#include "src/io/cvshim.h"
+#include "src/io/io.h"
 
 #include <ctype.h>
 #include <errno.h>

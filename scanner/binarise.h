@@ -10,7 +10,7 @@
 #ifndef TD_BINARISE_H
 #define TD_BINARISE_H
 
-#include "src/core/grid.h"
+#include "src/core/core.h"
 #include "scanner/palette.h"
 
 #ifdef __cplusplus

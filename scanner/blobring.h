@@ -11,7 +11,7 @@
 #ifndef TD_BLOBRING_H
 #define TD_BLOBRING_H
 
-#include "src/core/lines.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

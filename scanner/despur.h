@@ -3,7 +3,7 @@
 #ifndef TD_DESPUR_H
 #define TD_DESPUR_H
 
-#include "src/core/grid.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -27,7 +27,7 @@
 #ifndef TD_FACES_H
 #define TD_FACES_H
 
-#include "src/core/lines.h"
+#include "src/core/core.h"
 
 #include <stdint.h>
 

@@ -30,7 +30,7 @@
  * only with them "assumed", one decided by neither has no height. */
 #include "scanner/heights_int.h"
 
-#include "src/core/contain.h"
+#include "src/core/core.h"
 #include "scanner/faces.h"
 
 #include <limits.h>

@@ -6,7 +6,7 @@
 #ifndef TD_JOIN_H
 #define TD_JOIN_H
 
-#include "src/core/lines.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -12,7 +12,7 @@
  * border-closed lines) negates its lines' d. */
 #include "scanner/label.h"
 
-#include "src/core/contain.h"
+#include "src/core/core.h"
 #include "scanner/heights_int.h"
 
 #include <math.h>

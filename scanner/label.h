@@ -29,7 +29,7 @@
 #ifndef TD_LABEL_H
 #define TD_LABEL_H
 
-#include "src/core/lines.h"
+#include "src/core/core.h"
 #include "scanner/ocr.h"
 
 #ifdef __cplusplus

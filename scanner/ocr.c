@@ -1,10 +1,9 @@
 /* Reading printed height labels (contract and picture in ocr.h). */
 #include "scanner/ocr.h"
 
-#include "src/core/contain.h"
+#include "src/core/core.h"
 #include "scanner/join.h"
 
-#include "src/core/draw.h"
 
 #include <tesseract/capi.h>
 

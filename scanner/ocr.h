@@ -18,8 +18,7 @@
 #ifndef TD_OCR_H
 #define TD_OCR_H
 
-#include "src/core/grid.h"
-#include "src/core/lines.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

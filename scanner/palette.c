@@ -1,7 +1,7 @@
 /* palette.c: the inks of a colour scan (model and contract in palette.h). */
 #include "scanner/palette.h"
 
-#include "src/io/cvshim.h"
+#include "src/io/io.h"
 
 #include <math.h>
 #include <stdlib.h>

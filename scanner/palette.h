@@ -21,7 +21,7 @@
 #ifndef TD_PALETTE_H
 #define TD_PALETTE_H
 
-#include "src/core/grid.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -8,7 +8,7 @@
 #ifndef TD_SKEL_H
 #define TD_SKEL_H
 
-#include "src/core/grid.h"
+#include "src/core/core.h"
 
 #include <string.h>
 

@@ -3,8 +3,7 @@
 #ifndef TD_TRACE_H
 #define TD_TRACE_H
 
-#include "src/core/grid.h"
-#include "src/core/lines.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -6,8 +6,7 @@
 #ifndef TD_WIDTH_H
 #define TD_WIDTH_H
 
-#include "src/core/grid.h"
-#include "src/core/lines.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

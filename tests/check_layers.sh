@@ -7,7 +7,10 @@
 # A file may include a header of its own folder or of a folder below its
 # own; never one beside it (two stages) or above it, never another
 # folder's private *_int.h, and always spelled from the repository root
-# ("src/core/grid.h", not "grid.h" or "../grid.h").  Each folder is one
+# ("src/core/core.h", not "core.h" or "../core.h").  A folder of src/ has
+# one public header named after it (src/flow/flow.h); scanner/ and interp/
+# have one per step (scanner/thin.h) and interp/interp.h as the front door.
+# Each folder is one
 # test: "ok FOLDER" or one line per broken include.
 cd "$(dirname "$0")/.." || exit 1
 
@@ -58,6 +61,15 @@ for dir in src/core src/io scanner interp src/erode src/flow src/sun \
             fi
         done
     done
+    case "$dir" in
+    src/*)
+        for f in "$dir"/*.h; do
+            case "$f" in
+            "$dir/$(basename "$dir").h" | *_int.h) ;;
+            *) echo "FAIL $f: src/ folders have one public header, named after the folder"; bad=1 ;;
+            esac
+        done ;;
+    esac
     if [ "$bad" = 0 ]; then
         echo "ok $dir"
         pass=$((pass + 1))

@@ -3,7 +3,7 @@
 #include "tests/tt.h"
 
 #include "scanner/binarise.h"
-#include "src/io/cvshim.h"
+#include "src/io/io.h"
 
 #include <stdint.h>
 #include <stdlib.h>

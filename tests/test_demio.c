@@ -6,7 +6,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "tests/tt.h"
 
-#include "src/io/demio.h"
+#include "src/io/io.h"
 
 #include <float.h>
 #include <png.h>

@@ -1,7 +1,7 @@
 /* The traced-lines overlay (src/draw.c): lines drawn where they are, each
  * in its own colour, open ends marked, the scan faded behind. */
 #include "tests/tt.h"
-#include "src/core/draw.h"
+#include "src/core/core.h"
 
 #include <string.h>
 

@@ -5,7 +5,7 @@
 #include "scanner/despur.h"
 #include "scanner/thin.h"
 #include "scanner/skel.h"
-#include "src/io/cvshim.h"
+#include "src/io/io.h"
 
 #include <stdlib.h>
 

@@ -6,7 +6,7 @@
  * curvature, north = row 0). */
 #include "tests/tt.h"
 
-#include "src/sun/horizon.h"
+#include "src/sun/sun.h"
 #include "tests/util/raymarch.h"
 
 #include <stdlib.h>

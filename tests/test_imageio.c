@@ -6,8 +6,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "tests/tt.h"
 
-#include "src/io/cvshim.h"
-#include "src/io/imageio.h"
+#include "src/io/io.h"
 
 #include <dirent.h>
 #include <geotiff.h>

@@ -5,9 +5,8 @@
  * converging as its viewpoint count m grows. */
 #include "tests/tt.h"
 
-#include "src/sun/insolation.h"
-#include "src/io/geotiff_bands.h"
-#include "src/sun/horizon.h"
+#include "src/sun/sun.h"
+#include "src/io/io.h"
 
 #include <tiffio.h>
 

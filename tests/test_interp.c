@@ -8,7 +8,7 @@
 #include "tests/tt.h"
 
 #include "src/compare/compare.h"
-#include "src/io/imageio.h"
+#include "src/io/io.h"
 #include "interp/multidir.h"
 #include "interp/interp.h"
 #include "interp/scanline.h"

@@ -6,7 +6,7 @@
 #include "tests/util/match.h"
 
 #include "samples/gen/gen.h"
-#include "src/core/contain.h"
+#include "src/core/core.h"
 #include "scanner/label.h"
 #include "scanner/scan.h"
 

@@ -4,8 +4,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "tests/tt.h"
 
-#include "src/io/imageio.h"
-#include "src/core/lines.h"
+#include "src/io/io.h"
+#include "src/core/core.h"
 
 #include <ctype.h>
 #include <dirent.h>

@@ -7,8 +7,7 @@
 #ifndef TD_GEN_H
 #define TD_GEN_H
 
-#include "src/core/grid.h"
-#include "src/core/lines.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

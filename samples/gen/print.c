@@ -15,7 +15,7 @@
 #include "samples/gen/gen.h"
 #include "samples/gen/gen_int.h"
 
-#include "src/io/cvshim.h"
+#include "src/io/io.h"
 
 #include <math.h>
 #include <stdlib.h>

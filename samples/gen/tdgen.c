@@ -3,9 +3,8 @@
  *   tdgen -o sheet.png --truth truth.geojson [--dem truth.tif] [options]
  *
  * Errors are one line on stderr and exit status 1. */
-#include "src/io/demio.h"
+#include "src/io/io.h"
 #include "samples/gen/gen.h"
-#include "src/io/imageio.h"
 
 #include <errno.h>
 #include <stdio.h>

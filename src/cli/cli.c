@@ -1,6 +1,6 @@
 #define _POSIX_C_SOURCE 200809L
 #include "src/cli/cli.h"
-#include "src/io/imageio.h"
+#include "src/io/io.h"
 
 #include <sys/stat.h>
 

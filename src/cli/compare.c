@@ -3,8 +3,7 @@
 #include "src/cli/cli.h"
 
 #include "src/compare/compare.h"
-#include "src/io/demio.h"
-#include "src/io/imageio.h"
+#include "src/io/io.h"
 
 #include <getopt.h>
 #include <stdio.h>

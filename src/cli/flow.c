@@ -3,7 +3,7 @@
 #define _GNU_SOURCE
 #include "src/cli/cli.h"
 
-#include "src/io/demio.h"
+#include "src/io/io.h"
 #include "src/flow/flow.h"
 
 #include <getopt.h>

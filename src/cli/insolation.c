@@ -4,9 +4,8 @@
 #define _GNU_SOURCE
 #include "src/cli/cli.h"
 
-#include "src/io/demio.h"
-#include "src/io/geotiff_bands.h"
-#include "src/sun/insolation.h"
+#include "src/io/io.h"
+#include "src/sun/sun.h"
 
 #include <getopt.h>
 #include <math.h>

@@ -5,11 +5,9 @@
 #define _GNU_SOURCE
 #include "src/cli/cli.h"
 
-#include "src/core/draw.h"
-#include "src/io/imageio.h"
-#include "src/core/lines.h"
+#include "src/core/core.h"
+#include "src/io/io.h"
 #include "scanner/binarise.h"
-#include "src/core/contain.h"
 #include "scanner/label.h"
 #include "scanner/ocr.h"
 #include "scanner/scan.h"

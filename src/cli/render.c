@@ -2,8 +2,7 @@
 #define _GNU_SOURCE
 #include "src/cli/cli.h"
 
-#include "src/io/demio.h"
-#include "src/io/imageio.h"
+#include "src/io/io.h"
 #include "src/render/render.h"
 
 #include <getopt.h>

@@ -3,8 +3,8 @@
 #define _GNU_SOURCE
 #include "src/cli/cli.h"
 
-#include "src/io/imageio.h"
-#include "src/core/lines.h"
+#include "src/io/io.h"
+#include "src/core/core.h"
 #include "interp/homotopy.h"
 
 #include <getopt.h>

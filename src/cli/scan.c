@@ -2,9 +2,8 @@
 #define _GNU_SOURCE
 #include "src/cli/cli.h"
 
-#include "src/core/draw.h"
-#include "src/io/imageio.h"
-#include "src/core/lines.h"
+#include "src/core/core.h"
+#include "src/io/io.h"
 #include "scanner/scan.h"
 
 #include <errno.h>

@@ -15,7 +15,7 @@
  * Parent of a line: among the regions whose bounding box holds the line's
  * box and whose outline contains the line's middle point (even-odd ray
  * test), the one of smallest area. */
-#include "src/core/contain.h"
+#include "src/core/core.h"
 
 #include <math.h>
 #include <stdlib.h>

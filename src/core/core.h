@@ -1,5 +1,10 @@
-/* core.h: the error convention, progress reporting and size checks every
- * stage shares.
+/* core.h: the core every stage shares (one header for src/core/).
+ *
+ *   core     the error convention, progress reporting and size checks
+ *   grid     the raster types
+ *   lines    contour polylines in memory
+ *   contain  point-in-ring tests and the containment tree of lines
+ *   draw     debug and teaching pictures drawn in memory
  *
  * Every library function returns int: 0 on success, a negative TD_E* code on
  * failure, with a one-line message stored in the caller's td_ctx.  Library
@@ -84,6 +89,208 @@ void td_szvec_free(td_szvec *a);                       /* and re-zero */
 
 /* Seconds from a monotonic clock. */
 double td_now(void);
+
+/* ---- grid ---- */
+/* grid.h: the raster types every stage shares.
+ *
+ * Row-major, row 0 = top row of the scan, x = column to the right, y = row
+ * downwards.  `stride` is the distance between rows in elements (not bytes);
+ * grids made by td_grid_*_new have stride == w.  The structs are plain: read
+ * and write `data` directly.  Sizes are checked against TD_MAX_DIM and
+ * TD_MAX_PIXELS before anything is allocated. */
+
+typedef struct td_grid_u8 {
+    int w, h;
+    size_t stride;
+    uint8_t *data;
+} td_grid_u8;
+
+typedef struct td_grid_u16 {
+    int w, h;
+    size_t stride;
+    uint16_t *data;
+} td_grid_u16;
+
+typedef struct td_grid_f32 {
+    int w, h;
+    size_t stride;
+    float *data;
+    float nodata;    /* value marking cells without data */
+    int has_nodata;  /* nonzero when nodata is meaningful */
+} td_grid_f32;
+
+/* An 8-bit image of 1 (grey) or 3 (RGB, interleaved) channels, as read from
+ * a scan.  stride is in bytes (>= w * channels).  src_bits records the
+ * sample depth of the file it came from (1, 8 or 16) for messages. */
+typedef struct td_image {
+    int w, h, channels;
+    size_t stride;
+    uint8_t *data;
+    int src_bits;
+} td_image;
+
+/* Allocate a zero-filled grid of w x h.  Returns NULL (error in cx) when the
+ * size is invalid or memory runs out.  Free with the matching _free, which
+ * accepts NULL. */
+td_grid_u8 *td_grid_u8_new(int w, int h, td_ctx *cx);
+td_grid_u16 *td_grid_u16_new(int w, int h, td_ctx *cx);
+td_grid_f32 *td_grid_f32_new(int w, int h, td_ctx *cx);
+void td_grid_u8_free(td_grid_u8 *g);
+void td_grid_u16_free(td_grid_u16 *g);
+void td_grid_f32_free(td_grid_f32 *g);
+
+/* A deep copy of g, or NULL with the error in cx. */
+td_grid_u8 *td_grid_u8_dup(const td_grid_u8 *g, td_ctx *cx);
+
+/* Allocate a zero-filled image (channels 1 or 3). */
+td_image *td_image_new(int w, int h, int channels, td_ctx *cx);
+void td_image_free(td_image *im);
+
+#define TD_AT(g, x, y) ((g)->data[(size_t)(y) * (g)->stride + (size_t)(x)])
+
+/* ---- lines ---- */
+/* lines.h: contour polylines in memory (their files: src/io).
+ *
+ * Coordinates are in pixel units of the scan: x = column + 0.5, y = row + 0.5
+ * for a pixel centre (x right, y down).  A closed line does NOT repeat its
+ * first point in memory; the GeoJSON writer repeats it, as GeoJSON requires. */
+
+/* Where a line's height came from (the labeller, scanner/label.h). */
+typedef enum td_hsource {
+    TD_HS_NONE = 0, /* not labelled by the solver (input, or no height) */
+    TD_HS_KNOWN,    /* a known point (--known) lies on the line */
+    TD_HS_LABEL,    /* a height label read from the sheet */
+    TD_HS_SOLVED,   /* implied by the other evidence through the topology */
+    TD_HS_ASSUMED   /* only a default (summits rise) decided it */
+} td_hsource;
+
+typedef struct td_line {
+    double *xy;       /* x0,y0,x1,y1,...: n points */
+    size_t n, cap;
+    long id;          /* stable id, 0-based order of creation */
+    int closed;       /* first and last point are joined */
+    int edge;         /* a point lies on the sheet's border pixels */
+    int bridged;      /* gaps bridged inside this line */
+    int has_height;
+    double height;
+    long parent;      /* id of the enclosing line, -1 when none/unknown */
+    double width;     /* ink width in px measured from the mask (the scanner,
+                         scanner/width.h), 0 when not measured */
+    unsigned char junc; /* the tracer (cut): bit 0 the first point, bit 1
+                           the last ends next to a skeleton junction */
+    int hsource;       /* td_hsource */
+    double confidence; /* 0..1 that the height is right (with hsource) */
+    const char *why;   /* static text: why the height is null, or NULL */
+} td_line;
+
+typedef struct td_lines {
+    td_line *v;
+    size_t n, cap;
+} td_lines;
+
+/* An empty set; free with td_lines_free (NULL is a no-op). */
+td_lines *td_lines_new(td_ctx *cx);
+void td_lines_free(td_lines *ls);
+
+/* Append an empty line (id = its index, parent -1); returns it or NULL.
+ * The pointer is valid until the next td_lines_add. */
+td_line *td_lines_add(td_lines *ls, td_ctx *cx);
+/* Append a point to a line; 0 or TD_ENOMEM. */
+int td_line_push(td_line *l, double x, double y, td_ctx *cx);
+/* Reverse a line's point order in place. */
+void td_line_reverse(td_line *l);
+/* Remove line i (order of the others kept; ids unchanged). */
+void td_lines_remove(td_lines *ls, size_t i);
+/* Length of the polyline (closing segment included when closed). */
+double td_line_length(const td_line *l);
+
+/* Append a copy of l to ls: its points and every property (id
+ * included; td_lines_add's own id is overwritten).  0 or TD_ENOMEM. */
+int td_lines_append_copy(td_lines *ls, const td_line *l, td_ctx *cx);
+
+/* A new set with copies of every line of ls (free with td_lines_free);
+ * NULL with the error in cx. */
+td_lines *td_lines_copy(const td_lines *ls, td_ctx *cx);
+
+/* Signed area of l taken as a closed polygon (shoelace, pixel units): > 0
+ * when its points run clockwise on the screen (y down). */
+double td_line_signed_area(const td_line *l);
+
+/* Even-odd test of (x,y) against l taken as a closed polygon. */
+int td_line_encloses(const td_line *l, double x, double y);
+
+/* ---- contain ---- */
+/* contain.h: the containment tree of contour lines (ALGORITHMS.md A.5 (b)).
+ *
+ * Every line becomes a region: a closed line bounds its inside; an open line
+ * whose two ends lie on the sheet border (within TD_CONTAIN_BORDER px) is
+ * closed along the border, always the way that does NOT pass the sheet's
+ * top-left corner (0,0), so that corner lies outside every region and the
+ * nesting of border-closed lines is consistent across the sheet.  The
+ * parent of a line is the smallest region containing it.  Open lines with
+ * an end inside the sheet (unjoined breaks) bound no region. */
+
+#define TD_CONTAIN_BORDER 3.0 /* px: an open end this near the border is on it */
+
+typedef struct td_contain {
+    size_t n;         /* = number of lines */
+    long *parent;     /* index of the enclosing line, -1: none (root),
+                         -2: the line bounds no region (dangling) */
+    double *area;     /* region area in px^2 (0 when dangling) */
+    td_lines *rings;  /* the regions' outlines, closed, same order */
+} td_contain;
+
+/* Build the tree of ls on a w x h sheet.  Fills *ct (free with
+ * td_contain_free).  Returns 0, TD_EINVAL (w or h < 1) or TD_ENOMEM. */
+int td_contain_build(const td_lines *ls, int w, int h, td_contain *ct,
+                     td_ctx *cx);
+void td_contain_free(td_contain *ct);
+
+/* Index of the innermost region containing (x,y), -1 when none. */
+long td_contain_locate(const td_contain *ct, double x, double y);
+
+/* Distance from (x,y) to the nearest segment of line l (closing segment
+ * included when closed). */
+double td_contain_dist(const td_line *l, double x, double y);
+
+/* Two lines crossing (contours never do: a tracing or joining error). */
+typedef struct td_crossing {
+    long a, b;   /* the two lines' ids, a < b */
+    double x, y; /* where (the first crossing found) */
+} td_crossing;
+
+/* Every pair of different lines of ls whose segments cross, each pair once
+ * (at one of its crossings), through a bucket grid of segments.  Segments
+ * are half-open, so a line through a vertex of the other counts once; two
+ * lines touching at a vertex count too (contours do not touch either,
+ * cliffs aside).  *out (free()) and *n.  Returns 0 or TD_ENOMEM. */
+int td_contain_crossings(const td_lines *ls, td_crossing **out, size_t *n,
+                         td_ctx *cx);
+
+/* ---- draw ---- */
+/* draw.h: debug and teaching pictures drawn in memory (no file I/O). */
+
+/* A distinct, well-separated colour for index i (golden-ratio hues). */
+void td_draw_colour(size_t i, uint8_t rgb[3]);
+
+/* Draw a 1-px polyline (closing segment when l->closed) into an RGB image,
+ * clipped to it. */
+void td_draw_line(td_image *im, const td_line *l, const uint8_t rgb[3]);
+
+/* The traced-lines overlay: the scan faded towards white, every line drawn
+ * in its own colour, open line ends off the border marked with a red 3x3
+ * box.
+ * *out is a new RGB image of the scan's size (free with td_image_free). */
+int td_draw_overlay(const td_image *scan, const td_lines *ls, td_image **out,
+                    td_ctx *cx);
+
+/* The heights picture (label, run --debug-dir): the scan (NULL: white
+ * w x h) faded, every line coloured by its height (blue low .. brown
+ * high), 3 px wide when known or read from a label, solid when solved,
+ * dashed when assumed, grey dotted without a height.  *out is new (free
+ * with td_image_free).  Returns 0 or TD_ENOMEM. */
+int td_draw_heights(const td_image *scan, int w, int h, const td_lines *ls,
+                    td_image **out, td_ctx *cx);
 
 #ifdef __cplusplus
 }

@@ -1,4 +1,4 @@
-#include "src/core/draw.h"
+#include "src/core/core.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,4 +1,4 @@
-#include "src/core/grid.h"
+#include "src/core/core.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,5 +1,5 @@
 /* lines.c: contour polylines in memory. */
-#include "src/core/lines.h"
+#include "src/core/core.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -15,7 +15,7 @@
 #ifndef TD_ERODE_H
 #define TD_ERODE_H
 
-#include "src/core/grid.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -32,7 +32,7 @@
 #ifndef TD_FLOW_H
 #define TD_FLOW_H
 
-#include "src/core/grid.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -5,8 +5,7 @@
 // into a TD_E* code with a message in the caller's td_ctx.  No C++ type
 // crosses cvshim.h.  Grids and images are wrapped in cv::Mat headers over
 // their own memory wherever OpenCV allows, so nothing is copied needlessly.
-#include "src/io/cvshim.h"
-#include "src/io/imageio.h"
+#include "src/io/io.h"
 
 #include <climits>
 #include <opencv2/core.hpp>

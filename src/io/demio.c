@@ -4,8 +4,8 @@
  * (through libtiff, block by block, converted to float32 as they come) and
  * ESRI ASCII grids (a streaming tokenizer, so a grid is never held twice).
  * Writers: ESRI ASCII grid, 16-bit PNG, float32 GeoTIFF (tiffio.c). */
-#include "src/io/demio.h"
-#include "src/io/imageio_int.h"
+#include "src/io/io.h"
+#include "src/io/io_int.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -8,8 +8,8 @@
  * Numbers: a fast exact path for up to 15 significant digits with a small
  * decimal exponent (one correctly rounded multiply or divide), strtod on
  * the number's text otherwise. */
-#include "src/io/imageio.h"
-#include "src/core/lines.h"
+#include "src/io/io.h"
+#include "src/core/core.h"
 
 #include <errno.h>
 #include <limits.h>

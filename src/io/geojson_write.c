@@ -4,8 +4,8 @@
  * (snprintf per coordinate would dominate the time for millions of
  * points): pixel units get 3 decimals, map units 9 significant digits,
  * both with trailing zeros trimmed. */
-#include "src/io/imageio.h"
-#include "src/core/lines.h"
+#include "src/io/io.h"
+#include "src/core/core.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,6 +1,6 @@
 /* georef.c: the td_georef value type (geotransform, EPSG code and the
  * verbatim GeoTIFF key directory). */
-#include "src/io/imageio_int.h"
+#include "src/io/io_int.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -189,7 +189,7 @@ static void read_transform(TIFF *tif, td_georef *g)
         g->valid = 0;
 }
 
-/* See imageio_int.h.  PixelIsPoint rasters are shifted by half a pixel so
+/* See io_int.h.  PixelIsPoint rasters are shifted by half a pixel so
  * gt describes pixel corners, as GDAL does. */
 int td_georef_from_tiff(TIFF *tif, td_georef *g, td_ctx *cx)
 {
@@ -232,7 +232,7 @@ static void write_epsg_keys(TIFF *tif, int epsg)
     TIFFSetField(tif, TIFFTAG_GEOKEYDIRECTORY, (int)(4 + 4 * k[3]), k);
 }
 
-/* See imageio_int.h.  Keys are written verbatim when present; the
+/* See io_int.h.  Keys are written verbatim when present; the
  * transform as scale + tiepoint when it is north-up without rotation,
  * else as a matrix
  * (undoing the PixelIsPoint half-pixel shift of the reader). */

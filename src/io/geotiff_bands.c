@@ -1,9 +1,9 @@
 /* geotiff_bands.c: a multi-band float32 GeoTIFF writer on the core's
- * libtiff wrapper (imageio_int.h) and atomic files (imageio.h). */
+ * libtiff wrapper (io_int.h) and atomic files (imageio.h). */
 #define _POSIX_C_SOURCE 200809L
-#include "src/io/geotiff_bands.h"
+#include "src/io/io.h"
 
-#include "src/io/imageio_int.h"
+#include "src/io/io_int.h"
 
 #include <math.h>
 #include <stdio.h>

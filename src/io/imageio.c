@@ -1,9 +1,9 @@
 /* imageio.c: the scan reader's front door.  The format is found from the
  * file's first bytes (never its name) and the file handed to the TIFF, PNG
  * or JPEG (libjpeg, src/io/jpegio.c) reader. */
-#include "src/io/imageio_int.h"
+#include "src/io/io_int.h"
 
-#include "src/io/cvshim.h"
+#include "src/io/io.h"
 
 #include <errno.h>
 #include <stdio.h>

@@ -8,7 +8,7 @@
  * is checked against the file's size before any pixel memory is taken (a
  * baseline JPEG needs about 2 bits per 8 x 8 block; under 1/4 bit per
  * block the header lies). */
-#include "src/io/imageio_int.h"
+#include "src/io/io_int.h"
 
 #include <errno.h>
 #include <setjmp.h>

@@ -1,6 +1,6 @@
 /* outfile.c: write-to-temporary-then-rename, so that a failed writer never
  * leaves a half-written file and never touches an existing target. */
-#include "src/io/imageio.h"
+#include "src/io/io.h"
 
 #include <errno.h>
 #include <fcntl.h>

@@ -3,7 +3,7 @@
  * libpng.  libpng reports errors by longjmp; each setjmp lives in a small
  * static function whose resources are owned by a struct in the caller's
  * frame, so nothing it touches is an indeterminate local after a jump. */
-#include "src/io/imageio_int.h"
+#include "src/io/io_int.h"
 
 #include <errno.h>
 #include <png.h>
@@ -241,7 +241,7 @@ static void pio_job_free(pio_job *j)
     free(j);
 }
 
-/* See imageio_int.h. */
+/* See io_int.h. */
 int td_png_info(const char *path, int *w, int *h, int *channels, td_ctx *cx)
 {
     pio_job *j = td_calloc(1, sizeof *j, cx);
@@ -260,7 +260,7 @@ fail:
     return rc;
 }
 
-/* See imageio_int.h. */
+/* See io_int.h. */
 int td_png_read(const char *path, td_image **out, td_ctx *cx)
 {
     pio_job *j = td_calloc(1, sizeof *j, cx);

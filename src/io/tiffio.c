@@ -7,7 +7,7 @@
  * planes, striped or tiled, any codec libtiff decodes; YCbCr only with JPEG
  * compression (libtiff converts it to RGB).  Everything else fails with
  * "FILE: unsupported TIFF layout (...)". */
-#include "src/io/imageio_int.h"
+#include "src/io/io_int.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -52,7 +52,7 @@ static void register_geotiff_tags(void)
     XTIFFInitialize();
 }
 
-/* See imageio_int.h. */
+/* See io_int.h. */
 TIFF *td_tiff_open(const char *path, int fd, const char *mode, td_tiff_err *e)
 {
     TIFFOpenOptions *o;
@@ -79,7 +79,7 @@ TIFF *td_tiff_open(const char *path, int fd, const char *mode, td_tiff_err *e)
     return tif;
 }
 
-/* See imageio_int.h.  libtiff often starts its messages with the file name;
+/* See io_int.h.  libtiff often starts its messages with the file name;
  * that prefix is dropped so the name appears once. */
 int td_tiff_fail(td_ctx *cx, int code, const char *path, const char *what,
                  const td_tiff_err *e)
@@ -466,7 +466,7 @@ fail:
     return rc;
 }
 
-/* See imageio_int.h. */
+/* See io_int.h. */
 int td_tiff_info(const char *path, int *w, int *h, int *channels,
                  td_georef *georef, td_ctx *cx)
 {
@@ -488,7 +488,7 @@ fail:
     return rc;
 }
 
-/* See imageio_int.h.  The georef is filled only on success. */
+/* See io_int.h.  The georef is filled only on success. */
 int td_tiff_read(const char *path, td_image **out, td_georef *georef,
                  td_ctx *cx)
 {

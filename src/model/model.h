@@ -7,7 +7,7 @@
 #ifndef TD_TERRAIN_GEN_H
 #define TD_TERRAIN_GEN_H
 
-#include "src/core/grid.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

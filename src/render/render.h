@@ -4,7 +4,7 @@
 #ifndef TD_RENDER_H
 #define TD_RENDER_H
 
-#include "src/core/grid.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {

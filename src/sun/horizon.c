@@ -72,7 +72,7 @@
  * lower.  Storing Z = z - X^2/(2R) in the hull (X along the profile) makes
  * every tangent from an observer at X_o equal to (Z - Z_o)/(X - X_o) +
  * X_o/R: a constant shift, so the hull and the argmax are exact. */
-#include "src/sun/horizon.h"
+#include "src/sun/sun.h"
 
 #include <math.h>
 #include <omp.h>

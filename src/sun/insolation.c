@@ -18,9 +18,8 @@
  * h(A) the horizon interpolated between the two nearest directions, V the
  * radiative sky-view factor, B and D the clear-sky beam normal and diffuse
  * horizontal irradiance (td_clear_sky). */
-#include "src/sun/insolation.h"
+#include "src/sun/sun.h"
 
-#include "src/sun/horizon.h"
 
 #include <float.h>
 #include <omp.h>

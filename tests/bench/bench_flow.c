@@ -17,7 +17,7 @@
  * Never fails the build. */
 #include "samples/gen/gen.h"
 #include "src/flow/flow.h"
-#include "src/io/imageio.h"
+#include "src/io/io.h"
 #include "src/model/model.h"
 
 #include <stdio.h>

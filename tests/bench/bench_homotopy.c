@@ -20,8 +20,8 @@
 #include "interp/interp.h"
 #include "samples/gen/gen.h"
 #include "src/compare/compare.h"
-#include "src/core/draw.h"
-#include "src/io/imageio.h"
+#include "src/core/core.h"
+#include "src/io/io.h"
 #include "src/render/render.h"
 
 #include <math.h>

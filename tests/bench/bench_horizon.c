@@ -12,9 +12,8 @@
  *
  * Never fails the build. */
 #include "samples/gen/gen.h"
-#include "src/sun/horizon.h"
-#include "src/io/imageio.h"
-#include "src/sun/insolation.h"
+#include "src/sun/sun.h"
+#include "src/io/io.h"
 #include "tests/util/raymarch.h"
 
 #include <math.h>

@@ -9,8 +9,8 @@
  *
  * Never fails the build. */
 #include "samples/gen/gen.h"
-#include "src/sun/insolation.h"
-#include "src/io/imageio.h"
+#include "src/sun/sun.h"
+#include "src/io/io.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -29,8 +29,7 @@
 #include "scanner/label.h"
 #include "scanner/scan.h"
 #include "src/compare/compare.h"
-#include "src/io/demio.h"
-#include "src/io/imageio.h"
+#include "src/io/io.h"
 
 #include <math.h>
 #include <stdio.h>

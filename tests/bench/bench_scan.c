@@ -8,8 +8,7 @@
  * set-up itself fails). */
 #include "samples/gen/gen.h"
 #include "scanner/scan.h"
-#include "src/io/cvshim.h"
-#include "src/io/imageio.h"
+#include "src/io/io.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -11,7 +11,7 @@
 #include "scanner/scan.h"
 #include "tests/util/hsheet.h"
 #include "tests/util/match.h"
-#include "src/io/imageio.h"
+#include "src/io/io.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -11,9 +11,8 @@
  * Run with ASAN_OPTIONS=allocator_may_return_null=1 so a DEM header of
  * 2^31 cells is an allocation failure, not a report. */
 #define _POSIX_C_SOURCE 200809L
-#include "src/io/demio.h"
-#include "src/io/imageio.h"
-#include "src/core/lines.h"
+#include "src/io/io.h"
+#include "src/core/core.h"
 #include "interp/homotopy.h"
 #include "interp/interp.h"
 #include "scanner/label.h"

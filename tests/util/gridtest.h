@@ -3,7 +3,7 @@
 #ifndef TD_GRIDTEST_H
 #define TD_GRIDTEST_H
 
-#include "src/core/grid.h"
+#include "src/core/core.h"
 
 /* Grid from ASCII rows ('#' = 1, anything else 0), NULL-terminated. */
 td_grid_u8 *tg_from_ascii(const char *const *rows);

@@ -1,12 +1,10 @@
 /* hsheet.c: see hsheet.h. */
 #include "tests/util/hsheet.h"
 
-#include "src/core/contain.h"
+#include "src/core/core.h"
 #include "scanner/ocr.h"
 #include "scanner/scan.h"
-#include "src/io/demio.h"
-#include "src/core/draw.h"
-#include "src/io/imageio.h"
+#include "src/io/io.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -28,7 +28,7 @@
 
 #include <stdio.h>
 
-#include "src/core/lines.h"
+#include "src/core/core.h"
 
 typedef struct td_match_opts {
     double cover_tol;     /* 2.0 */

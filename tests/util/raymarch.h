@@ -3,7 +3,7 @@
 #ifndef TD_RAYMARCH_H
 #define TD_RAYMARCH_H
 
-#include "src/core/grid.h"
+#include "src/core/core.h"
 
 /* Horizon elevation angle (degrees, >= 0) of cell (x, y) towards azimuth
  * az (degrees clockwise from north, north = row 0), cell size cs: the

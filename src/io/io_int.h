@@ -1,9 +1,9 @@
-/* imageio_int.h: internals shared by the image I/O files (imageio.c,
+/* io_int.h: internals shared by the image I/O files (imageio.c,
  * tiffio.c, pngio.c, georef.c, outfile.c).  Not for other stages. */
 #ifndef TD_IMAGEIO_INT_H
 #define TD_IMAGEIO_INT_H
 
-#include "src/io/imageio.h"
+#include "src/io/io.h"
 
 #include <tiffio.h>
 

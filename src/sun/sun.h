@@ -1,3 +1,48 @@
+/* sun.h: horizons and insolation (one header for src/sun/).
+ *
+ *   horizon     horizon elevation angles of every DEM cell, per azimuth
+ *   insolation  daily clear-sky insolation and sky-view factor
+ */
+#ifndef TD_SUN_H
+#define TD_SUN_H
+
+#include "src/core/core.h"
+
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct td_horizon_params {
+    int directions;       /* k azimuths for td_horizon_sweep (default 36) */
+    double cell_size;     /* ground size of a cell, height units (default 1) */
+    int curvature;        /* nonzero: lower distant terrain by d^2 / (2 R)
+                             (default 0) */
+    double earth_radius;  /* R in height units (default 6371000, metres) */
+} td_horizon_params;
+
+/* Defaults as listed above. */
+td_horizon_params td_horizon_defaults(void);
+
+/* Horizon angles of every cell of dem along one azimuth (degrees, any
+ * value; see the conventions above) into out, which the caller allocates
+ * with dem's width and height (any stride).  out->nodata/has_nodata are set
+ * from dem (nodata -9999 when dem has none).  The profiles run in parallel
+ * (OpenMP).  Scratch: a padded copy of dem and 8 bytes per cell.
+ * Returns 0, or TD_EINVAL (sizes differ, bad parameters), TD_ENOMEM. */
+int td_horizon_direction(const td_grid_f32 *dem, double azimuth_deg,
+                         const td_horizon_params *p, td_grid_f32 *out,
+                         td_ctx *cx);
+
+/* All p->directions azimuths: bands[i] (caller-allocated, dem's size)
+ * receives azimuth i * 360 / k.  The directions run in parallel (OpenMP,
+ * one thread each, the scratch of td_horizon_direction per thread).
+ * Progress is reported as "horizon".  Returns 0 or an error as
+ * td_horizon_direction, or TD_ECANCEL. */
+int td_horizon_sweep(const td_grid_f32 *dem, const td_horizon_params *p,
+                     td_grid_f32 *const *bands, td_ctx *cx);
+
+/* ---- insolation ---- */
 /* insolation.h: daily clear-sky insolation, sky-view factor and horizon
  * angles of every DEM cell (paper 000 §3.2; docs/insolation.md).
  *
@@ -17,14 +62,6 @@
  * one of a horizontal surface: the fraction of isotropic diffuse sky
  * radiation a horizontal surface at the cell receives, 1 on open flat
  * ground. */
-#ifndef TD_INSOLATION_H
-#define TD_INSOLATION_H
-
-#include "src/core/grid.h"
-
-#ifdef __cplusplus
-extern "C" {
-#endif
 
 typedef enum td_insol_method {
     TD_INSOL_HORIZON = 0,
