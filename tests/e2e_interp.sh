@@ -67,15 +67,32 @@ rc=$?
 }
 
 # --- run: scan + label + interp in one process
-K=$(sed -n 's/.*"height": *320\(\.0*\)\{0,1\},.*"coordinates": *\[ *\[ *\([0-9.]*\), *\([0-9.]*\) *\].*/\2,\3,320/p' samples/hills.geojson | head -n 1)
+K=$(sed -n 's/.*"height": *320\(\.0*\)\{0,1\},.*"coordinates": *\[ *\[ *\([0-9.]*\), *-\{0,1\}\([0-9.]*\) *\].*/\2,\3,320/p' samples/hills.geojson | head -n 1)
 [ -n "$K" ] || K=213.5,205.603,320
 # three known points on the tilt's open lines (the issue's "three correct
 # known points"): one point leaves the tilt's direction open (see below)
 K3="--known 123.5,263.996,120 --known 267.5,244.206,200 --known 561.5,77.084,240"
-"$TD" run samples/hills.png -o "$T/run.tif" --interval 20 $K3 --depressions 205,336 2>"$T/err"
+"$TD" run samples/hills.png -o "$T/run.tif" --interval 20 $K3 --depressions 205,336 --save-lines "$T/run-lines.geojson" 2>"$T/err"
 rc=$?
 check "run: exit 0, two summary lines (heights by source)" \
   "[ $rc = 0 ] && [ \$(wc -l <'$T/err') = 2 ] && grep -q '^run: [0-9]* lines, [0-9]* labelled' '$T/err' && grep -q '^run: heights: 3 known' '$T/err'"
+if have_gdal; then
+  # the lines and the DEM in one frame: each line's first vertex, looked up
+  # on the DEM through its geotransform, gives the line's own height
+  tr '\n' ' ' <"$T/run-lines.geojson" | sed 's/{"type":"Feature"/\n&/g' |
+    sed -n 's/.*"height":\([-0-9.]*\),.*"coordinates":\[\[\([-0-9.]*\),\([-0-9.]*\)\].*/\1 \2 \3/p' |
+    head -n 12 >"$T/v.txt"
+  n=0; hit=0
+  while read -r hh xx yy; do
+    v=$(gdallocationinfo -valonly -geoloc "$T/run.tif" "$xx" "$yy" 2>/dev/null)
+    n=$((n + 1))
+    awk -v a="$v" -v b="$hh" 'BEGIN { d = a - b; exit !(a != "" && d * d < 1e-6) }' && hit=$((hit + 1))
+  done <"$T/v.txt"
+  check "run --save-lines: $hit of $n lines sampled on the DEM at their own vertex give their height (>= n-1)" \
+    "[ $n -ge 10 ] && [ $hit -ge $((n - 1)) ]"
+  check "run --save-lines and the DEM name the same engineering CRS (the pixel frame), never WGS 84" \
+    "ogrinfo -so -al '$T/run-lines.geojson' | grep -q 'ENGCRS\[\"topodig scan pixels\"' && gdalinfo '$T/run.tif' | grep -q 'ENGCRS\[\"topodig scan pixels\"' && ! ogrinfo -so -al '$T/run-lines.geojson' | grep -q 4326"
+fi
 "$TD" compare "$T/run.tif" samples/hills.tif --json --diff "$T/diff.png" >"$T/r.json"
 r=$(json "$T/r.json" rmse); cov=$(json "$T/r.json" coverage)
 check "run from the noisy scan: RMSE $r < 0.12 interval (2.4 m)" "lt '$r' 2.4"
@@ -87,8 +104,8 @@ check "compare text names rmse, mae, max, bias, coverage" \
 "$TD" run samples/hills.png -o "$T/run2.tif" --interval 20 --known "$K" --step 3 -q
 if have_gdal; then
   check "run --step 3: 200 x 150" "gdalinfo '$T/run2.tif' | grep -q 'Size is 200, 150'"
-  check "run --step 3 on a plain scan: 3-pixel cells over the pixel frame" \
-    "gdalinfo '$T/run2.tif' | grep -q 'Pixel Size = (3.0*,3.0*)' && gdalinfo '$T/run2.tif' | grep -q 'Origin = (0.0*,0.0*)'"
+  check "run --step 3 on a plain scan: 3-pixel cells over the pixel frame (X = column, Y = -row, as QGIS shows the scan)" \
+    "gdalinfo '$T/run2.tif' | grep -q 'Pixel Size = (3.0*,-3.0*)' && gdalinfo '$T/run2.tif' | grep -q 'Origin = (0.0*,0.0*)' && gdalinfo '$T/run2.tif' | grep -q 'ENGCRS\[\"topodig scan pixels\"'"
 fi
 rm -f "$T/x.tif"
 "$TD" run samples/hills.png -o "$T/x.tif" --interval 20 2>"$T/err"
@@ -138,7 +155,9 @@ check "render an RGB/grey picture that is not a DEM: exit 0 or 1, never a crash"
   --terrain cone --size 600 --seed 3 --index-width 4 --breaks 4 -q
 L=$(grep '"closed":true' "$T/cone.geojson" | grep -v '"height":-*[0-9]*[05]0,' | sed -n 3p)
 KH=$(printf '%s' "$L" | sed 's/.*"height":\(-*[0-9.]*\),.*/\1/')
-KP=$(printf '%s' "$L" | sed 's/.*"coordinates":\[\[\([-0-9.]*,[-0-9.]*\)\].*/\1/')
+# (the truth is in the pixel frame, X = column, Y = -row; --known takes
+# column,row)
+KP=$(printf '%s' "$L" | sed 's/.*"coordinates":\[\[\([-0-9.]*,[-0-9.]*\)\].*/\1/; s/,-/,/')
 "$TD" run "$T/cone.png" -o "$T/cone-dem.tif" --interval 10 --known "$KP,$KH" --index-every 5 -q
 "$TD" compare "$T/cone-dem.tif" "$T/cone.tif" --json >"$T/cone.json" 2>/dev/null
 check "run --index-every: a cone with corner lines from one known point, rmse < 0.2 interval" \

@@ -30,7 +30,7 @@ nv=$(grep -o '"kind":"valley"' "$T/r.geojson" | wc -l)
 ni=$(grep -o '"kind":"inflection"' "$T/r.geojson" | wc -l)
 check "ridges: $nr ridge, $nv valley, $ni inflection lines" "[ $nr -ge 3 ] && [ $nv -ge 2 ] && [ $ni -ge 3 ]"
 check "ridges: 3-D positions and heights" \
-  "grep -Eq '\"heights\":\[[0-9.]+,[0-9.]+' '$T/r.geojson' && grep -Eq '\"coordinates\":\[\[[0-9.]+,[0-9.]+,[0-9.]+\]' '$T/r.geojson'"
+  "grep -Eq '\"heights\":\[[0-9.]+,[0-9.]+' '$T/r.geojson' && grep -Eq '\"coordinates\":\[\[[0-9.]+,-[0-9.]+,[0-9.]+\]' '$T/r.geojson'"
 if command -v python3 >/dev/null 2>&1; then
   check "ridges: valid JSON, every ridge/valley has a tree id" \
     "python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert all((f[\"properties\"][\"tree\"] is None) == (f[\"properties\"][\"kind\"] == \"inflection\") for f in d[\"features\"])' '$T/r.geojson'"
@@ -66,7 +66,7 @@ check "interp homotopy --fallback multidir: RMSE $rhm below the scanline fallbac
   "lt '$rhm' '$rh' && grep -q 'multidir fallback' '$T/err'"
 
 # --- run --method homotopy from the scan
-K=$(sed -n 's/.*"height": *320\(\.0*\)\{0,1\},.*"coordinates": *\[ *\[ *\([0-9.]*\), *\([0-9.]*\) *\].*/\2,\3,320/p' samples/hills.geojson | head -n 1)
+K=$(sed -n 's/.*"height": *320\(\.0*\)\{0,1\},.*"coordinates": *\[ *\[ *\([0-9.]*\), *-\{0,1\}\([0-9.]*\) *\].*/\2,\3,320/p' samples/hills.geojson | head -n 1)
 [ -n "$K" ] || K=213.5,205.603,320
 # three known points on the tilt's open lines (the issue's "three correct
 # known points"): one point leaves the tilt's direction open (see below)

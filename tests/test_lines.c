@@ -310,7 +310,11 @@ static void test_geojson_pixel_units(void)
         goto done;
     TT_CHECK(jget(root, "type") && !strcmp(jget(root, "type")->str,
                                             "FeatureCollection"));
-    TT_CHECK(jget(root, "crs") == NULL);
+    /* no georeferencing: the pixel frame (X = col, Y = -row) in a named
+     * engineering CRS, never GeoJSON's default WGS 84 */
+    TT_CHECK(jget(root, "crs") && jget(jget(root, "crs"), "properties") &&
+             strstr(jget(jget(jget(root, "crs"), "properties"), "name")->str,
+                    TD_PIXEL_CRS));
     feats = jget(root, "features");
     TT_CHECK(feats && jcount(feats) == 3);
     f = jat(feats, 0);
@@ -323,8 +327,8 @@ static void test_geojson_pixel_units(void)
     TT_CHECK(!strcmp(jget(jget(f, "geometry"), "type")->str, "LineString"));
     coords = jget(jget(f, "geometry"), "coordinates");
     TT_CHECK(jcount(coords) == 5); /* closed: the first point repeated */
-    check_point(jat(coords, 0), 10.5, 10.5, 0);
-    check_point(jat(coords, 4), 10.5, 10.5, 0);
+    check_point(jat(coords, 0), 10.5, -10.5, 0);
+    check_point(jat(coords, 4), 10.5, -10.5, 0);
     f = jat(feats, 1);
     props = jget(f, "properties");
     TT_CHECK(jget(props, "height")->type == J_NULL);
@@ -332,12 +336,12 @@ static void test_geojson_pixel_units(void)
     TT_CHECK(jget(props, "edge")->num == 1 && jget(props, "closed")->num == 0);
     coords = jget(jget(f, "geometry"), "coordinates");
     TT_CHECK(jcount(coords) == 2);
-    check_point(jat(coords, 1), 40.125, 7.0, 1e-12); /* 3 decimals */
+    check_point(jat(coords, 1), 40.125, -7.0, 1e-12); /* 3 decimals */
     f = jat(feats, 2); /* one point: written twice */
     coords = jget(jget(f, "geometry"), "coordinates");
     TT_CHECK(jcount(coords) == 2);
-    check_point(jat(coords, 0), 5.5, 6.5, 0);
-    check_point(jat(coords, 1), 5.5, 6.5, 0);
+    check_point(jat(coords, 0), 5.5, -6.5, 0);
+    check_point(jat(coords, 1), 5.5, -6.5, 0);
     TT_CHECK(jget(jget(f, "properties"), "id")->num == 2);
 done:
     jfree(root);
@@ -375,6 +379,22 @@ static void check_ogrinfo(const char *path, int nfeat, const char *crs)
         TT_CHECKF(strstr(out, crs) != NULL, "no %s in %s", crs, out);
 }
 
+/* ogrinfo's summary of path does not contain text. */
+static void check_ogrinfo_lacks(const char *path, const char *text)
+{
+    char cmd[700], out[16384];
+    FILE *p;
+    size_t n;
+    if (!have_tool("ogrinfo"))
+        return;
+    snprintf(cmd, sizeof cmd, "ogrinfo -ro -al -so '%s' 2>&1", path);
+    p = popen(cmd, "r");
+    n = fread(out, 1, sizeof out - 1, p);
+    out[n] = 0;
+    pclose(p);
+    TT_CHECKF(strstr(out, text) == NULL, "%s in %s", text, out);
+}
+
 static void test_geojson_ogrinfo(void)
 {
     td_ctx cx;
@@ -382,7 +402,9 @@ static void test_geojson_ogrinfo(void)
     td_ctx_init(&cx);
     ls = sample_lines(&cx);
     TT_CHECK(td_geojson_write_lines(tmp("ogr.geojson"), ls, NULL, &cx) == 0);
-    check_ogrinfo(tmp("ogr.geojson"), 3, NULL);
+    /* OGR sees the engineering CRS of the pixel frame, not EPSG:4326 */
+    check_ogrinfo(tmp("ogr.geojson"), 3, "ENGCRS[\"" TD_PIXEL_CRS "\"");
+    check_ogrinfo_lacks(tmp("ogr.geojson"), "4326");
     td_lines_free(ls);
 }
 
@@ -478,8 +500,8 @@ static void test_geojson_empty_and_precision(void)
     TT_CHECK(td_geojson_write_lines(path, ls, NULL, &cx) == 0);
     root = jload(path);
     c = jget(jget(jat(jget(root, "features"), 0), "geometry"), "coordinates");
-    check_point(jat(c, 0), 0, 123456.790, 1e-9);
-    check_point(jat(c, 1), -12.25, 2e9, 1e-9);
+    check_point(jat(c, 0), 0, -123456.790, 1e-9);
+    check_point(jat(c, 1), -12.25, -2e9, 1e-9);
     jfree(root);
     td_lines_free(ls);
 }

@@ -313,7 +313,7 @@ static void cell_from_georef(erode_opts *o, const td_georef *geo,
     const double deg = 111319.49; /* metres per degree on the equator */
     double sx, sy;
     int model = 0;
-    if (o->cell_given || !geo->valid)
+    if (o->cell_given || !geo->valid || geo->pixel)
         return;
     sx = fabs(geo->gt[1]);
     sy = fabs(geo->gt[5]);

@@ -217,7 +217,7 @@ static void pick_cell_size(sun_opts *o, const td_georef *geo)
     if (o->have_cs)
         return;
     o->p.cell_size = 1.0;
-    if (geo->valid && geo->gt[2] == 0.0 && geo->gt[4] == 0.0 &&
+    if (geo->valid && !geo->pixel && geo->gt[2] == 0.0 && geo->gt[4] == 0.0 &&
         fabs(geo->gt[1]) > 0.0 && isfinite(geo->gt[1]))
         o->p.cell_size = fabs(geo->gt[1]);
 }

@@ -121,7 +121,7 @@ int td_cmd_render(int argc, char **argv)
     td_georef_init(&geo);
     if ((rc = td_dem_read(o.in, &dem, &geo, &cx)) != 0)
         goto fail;
-    if (!o.have_cell && geo.valid && fabs(geo.gt[1]) > 0)
+    if (!o.have_cell && geo.valid && !geo.pixel && fabs(geo.gt[1]) > 0)
         o.p.cellsize = fabs(geo.gt[1]);
     if ((rc = td_render_hillshade(dem, &o.p, &im, &cx)) != 0 ||
         (rc = td_png_write(o.out, im, &cx)) != 0)

@@ -158,8 +158,7 @@ static void put_path(FILE *f, const td_rv_path *q, const td_georef *g)
     fputs("]},\"geometry\":{\"type\":\"LineString\",\"coordinates\":[", f);
     for (i = 0; i < q->n; i++) {
         double x = q->xyz[3 * i], y = q->xyz[3 * i + 1];
-        if (g && g->valid)
-            td_georef_apply(g, x, y, &x, &y);
+        td_georef_apply(g, x, y, &x, &y);
         fprintf(f, "%s[%.10g,%.10g,%.10g]", i ? "," : "", x, y,
                 q->xyz[3 * i + 2]);
     }
@@ -167,7 +166,7 @@ static void put_path(FILE *f, const td_rv_path *q, const td_georef *g)
 }
 
 static int write_paths(const char *path, const td_rv_path *v, size_t n,
-                           const td_georef *georef, td_ctx *cx)
+                       const td_georef *georef, td_ctx *cx)
 {
     size_t i, tmpsize = strlen(path) + 32;
     char *tmp = td_malloc(tmpsize, cx);
@@ -178,7 +177,9 @@ static int write_paths(const char *path, const td_rv_path *v, size_t n,
         free(tmp);
         return cx && cx->code ? cx->code : TD_EIO;
     }
-    fputs("{\"type\":\"FeatureCollection\",\n\"features\":[\n", f);
+    char crs[320];
+    td_georef_crs_json(georef, crs, sizeof crs);
+    fprintf(f, "{\"type\":\"FeatureCollection\",\n%s,\n\"features\":[\n", crs);
     for (i = 0; i < n; i++) {
         for (size_t k = 0; k < 3 * v[i].n; k++)
             if (!isfinite(v[i].xyz[k])) {

@@ -275,12 +275,13 @@ static int write_labels_geojson(const char *path, const run_state *s,
     FILE *f = td_atomic_open(path, tmp, sizeof tmp, cx);
     if (!f)
         return cx->code;
-    fputs("{\"type\":\"FeatureCollection\",\"features\":[\n", f);
+    char crs[320];
+    td_georef_crs_json(&s->geo, crs, sizeof crs);
+    fprintf(f, "{\"type\":\"FeatureCollection\",%s,\"features\":[\n", crs);
     for (i = 0; i < s->nreads; i++) {
         const td_ocr_read *r = &s->reads[i];
         double x = r->x, y = r->y;
-        if (s->geo.valid)
-            td_georef_apply(&s->geo, x, y, &x, &y);
+        td_georef_apply(&s->geo, x, y, &x, &y);
         char ids[64] = "null";
         if (r->line[0] >= 0 && (size_t)r->line[0] < s->ls->n)
             snprintf(ids, sizeof ids, "%ld", s->ls->v[r->line[0]].id);

@@ -466,6 +466,9 @@ static int asc_read(FILE *f, const char *path, td_grid_f32 **out,
         georef->gt[0] = H.xll - (H.x_center ? 0.5 * H.dx : 0.0);
         georef->gt[3] = H.yll - (H.y_center ? 0.5 * H.dy : 0.0) +
                         (double)H.nrows * H.dy;
+        /* the pixel frame as td_dem_write puts it: a plain scan's DEM */
+        georef->pixel = georef->gt[0] == 0.0 && georef->gt[3] == 0.0 &&
+                        georef->gt[1] == -georef->gt[5];
     }
     *out = g;
     g = NULL;
@@ -575,7 +578,8 @@ static void fmt_double(char *p, double v)
 static void asc_put_header(FILE *f, const td_grid_f32 *g,
                            const td_georef *gr, int nd, float ndv)
 {
-    double cs = 1.0, dy = 1.0, x0 = 0.0, y0 = 0.0;
+    /* without georeferencing: the pixel frame (X = col, Y = -row) */
+    double cs = 1.0, dy = 1.0, x0 = 0.0, y0 = -(double)g->h;
     if (gr && gr->valid && gr->gt[2] == 0.0 && gr->gt[4] == 0.0 &&
         gr->gt[1] > 0.0 && gr->gt[5] < 0.0) {
         cs = gr->gt[1];

@@ -56,6 +56,7 @@ typedef struct rd {
     size_t skipped;
     const td_georef *g;
     double inv[6];      /* map -> pixel */
+    int pixel_crs;      /* the file's "crs" is the pixel frame */
     size_t next_report;
 } rd;
 
@@ -556,16 +557,8 @@ static int emit(rd *R, size_t a, size_t b, const fprops *P, long id,
         !(l->xy = td_malloc(2 * k * sizeof *l->xy, cx)))
         return cx && cx->code ? cx->code : TD_ENOMEM;
     for (i = 0; i < k; i++) {
-        double X = s[2 * i], Y = s[2 * i + 1];
-        if (R->g) {
-            X -= R->g->gt[0];
-            Y -= R->g->gt[3];
-            l->xy[2 * i] = R->inv[0] * X + R->inv[1] * Y;
-            l->xy[2 * i + 1] = R->inv[2] * X + R->inv[3] * Y;
-        } else {
-            l->xy[2 * i] = X;
-            l->xy[2 * i + 1] = Y;
-        }
+        l->xy[2 * i] = s[2 * i];
+        l->xy[2 * i + 1] = s[2 * i + 1];
     }
     l->n = l->cap = k;
     l->id = id;
@@ -670,6 +663,16 @@ static int not_fc(jp *p)
 }
 
 /* The top-level object; members in any order. */
+/* 1 when the text [s, e) contains t. */
+static int has_text(const char *s, const char *e, const char *t)
+{
+    size_t n = strlen(t);
+    for (; s + n <= e; s++)
+        if (*s == *t && memcmp(s, t, n) == 0)
+            return 1;
+    return 0;
+}
+
 static int collection(jp *p, rd *R)
 {
     int first = 1, r, type_ok = 0, has_features = 0;
@@ -687,6 +690,11 @@ static int collection(jp *p, rd *R)
             if (!is(&t, "FeatureCollection"))
                 return not_fc(p);
             type_ok = 1;
+        } else if (is(&k, "crs")) {
+            const char *c0 = p->s;
+            if ((r = jskip(p, 1)) != 0)
+                return r;
+            R->pixel_crs = has_text(c0, p->s, TD_PIXEL_CRS);
         } else if (is(&k, "features")) {
             if (*p->s != '[')
                 return not_fc(p);
@@ -769,6 +777,29 @@ static int invert(const td_georef *g, double inv[4])
     return 0;
 }
 
+/* Map coordinates as read -> pixel units: the pixel frame's (X, -Y) when
+ * the file names it, else through the inverse of the caller's georef
+ * when it is a real one, else as they are (pixel units, y down: files
+ * written before the pixel frame). */
+static void to_pixels(rd *R)
+{
+    size_t i, k;
+    for (i = 0; i < R->ls->n; i++) {
+        td_line *l = &R->ls->v[i];
+        for (k = 0; k < l->n; k++) {
+            double X = l->xy[2 * k], Y = l->xy[2 * k + 1];
+            if (R->pixel_crs) {
+                l->xy[2 * k + 1] = -Y;
+            } else if (R->g) {
+                X -= R->g->gt[0];
+                Y -= R->g->gt[3];
+                l->xy[2 * k] = R->inv[0] * X + R->inv[1] * Y;
+                l->xy[2 * k + 1] = R->inv[2] * X + R->inv[3] * Y;
+            }
+        }
+    }
+}
+
 /* See lines.h.  A MultiLineString gives one line per part with the
  * feature's properties; the first part keeps the feature's id, the others
  * get new ids after the largest in the file.  Parts and LineStrings
@@ -785,7 +816,7 @@ int td_geojson_read_lines(const char *path, const td_georef *georef,
     if (!path || !out)
         return td_seterr(cx, TD_EINVAL, "no GeoJSON file name given");
     *out = NULL;
-    if (georef && georef->valid) {
+    if (georef && georef->valid && !georef->pixel) {
         if (invert(georef, R.inv) != 0)
             return td_seterr(cx, TD_EINVAL, "%s: georeferencing is not "
                              "invertible", path);
@@ -802,6 +833,7 @@ int td_geojson_read_lines(const char *path, const td_georef *georef,
     }
     if ((rc = collection(&p, &R)) != 0)
         goto fail;
+    to_pixels(&R);
     fix_ids(R.ls);
     if (skipped)
         *skipped = R.skipped;

@@ -134,10 +134,9 @@ static int put_point(jbuf *j, const td_line *l, size_t i,
                      const td_georef *g, int first)
 {
     double x = l->xy[2 * i], y = l->xy[2 * i + 1];
-    int map = g && g->valid;
+    int map = g && g->valid && !g->pixel;
     char *p;
-    if (map)
-        td_georef_apply(g, x, y, &x, &y);
+    td_georef_apply(g, x, y, &x, &y);
     if (!isfinite(x) || !isfinite(y))
         return -1;
     p = jroom(j, 80);
@@ -168,19 +167,14 @@ static int put_line(jbuf *j, const td_line *l, const td_georef *g)
     return 0;
 }
 
-/* The collection's head, with a "crs" member when the EPSG code is known. */
+/* The collection's head with its "crs" member (td_georef_crs_json). */
 static void put_head(jbuf *j, const td_georef *g)
 {
-    char s[160];
+    char s[320];
     jputs(j, "{\"type\":\"FeatureCollection\",\n");
-    if (g && g->valid && g->epsg > 0) {
-        snprintf(s, sizeof s,
-                 "\"crs\":{\"type\":\"name\",\"properties\":{\"name\":"
-                 "\"urn:ogc:def:crs:EPSG::%d\"}},\n",
-                 g->epsg);
-        jputs(j, s);
-    }
-    jputs(j, "\"features\":[\n");
+    td_georef_crs_json(g, s, sizeof s);
+    jputs(j, s);
+    jputs(j, ",\n\"features\":[\n");
 }
 
 /* See lines.h.  Lines without points are skipped; a non-finite coordinate

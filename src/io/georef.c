@@ -9,7 +9,8 @@
 #include <unistd.h>
 #include <xtiffio.h>
 
-enum { KEY_MODELTYPE = 1024, KEY_RASTERTYPE = 1025, KEY_GEOGRAPHIC = 2048,
+enum { KEY_MODELTYPE = 1024, KEY_RASTERTYPE = 1025, KEY_CITATION = 1026,
+       KEY_GEOGRAPHIC = 2048,
        KEY_PROJECTED = 3072, RASTER_PIXELISPOINT = 2 };
 
 /* An invalid georef with no keys. */
@@ -40,6 +41,7 @@ int td_georef_copy(td_georef *dst, const td_georef *src, td_ctx *cx)
         return 0;
     td_georef_init(&t);
     t.valid = src->valid;
+    t.pixel = src->pixel;
     t.epsg = src->epsg;
     memcpy(t.gt, src->gt, sizeof t.gt);
     if (src->geokeys && src->n_geokeys) {
@@ -73,13 +75,24 @@ fail:
     return TD_ENOMEM;
 }
 
-/* Pixel corner coordinates to map coordinates (identity when invalid). */
+/* See io.h. */
+void td_georef_pixel_frame(td_georef *g)
+{
+    td_georef_clear(g);
+    g->valid = 1;
+    g->pixel = 1;
+    g->gt[1] = 1.0;
+    g->gt[5] = -1.0;
+}
+
+/* Pixel corner coordinates to map coordinates (the pixel frame when
+ * invalid). */
 void td_georef_apply(const td_georef *g, double col, double row, double *X,
                      double *Y)
 {
     if (!g || !g->valid) {
         *X = col;
-        *Y = row;
+        *Y = -row;
         return;
     }
     *X = g->gt[0] + col * g->gt[1] + row * g->gt[2];
@@ -203,6 +216,8 @@ int td_georef_from_tiff(TIFF *tif, td_georef *g, td_ctx *cx)
         g->gt[0] -= 0.5 * g->gt[1] + 0.5 * g->gt[2];
         g->gt[3] -= 0.5 * g->gt[4] + 0.5 * g->gt[5];
     }
+    if (g->valid && g->geoascii && strstr(g->geoascii, TD_PIXEL_CRS))
+        g->pixel = 1;
     if (td_georef_geokey(g, KEY_PROJECTED, &v) && v >= 1 && v <= 32766)
         g->epsg = v;
     else if (td_georef_geokey(g, KEY_GEOGRAPHIC, &v) && v >= 1 && v <= 32766)
@@ -232,6 +247,18 @@ static void write_epsg_keys(TIFF *tif, int epsg)
     TIFFSetField(tif, TIFFTAG_GEOKEYDIRECTORY, (int)(4 + 4 * k[3]), k);
 }
 
+/* The pixel frame's keys: PixelIsArea and the engineering CRS's name as
+ * the citation (GDAL reads it as ENGCRS["topodig scan pixels"]). */
+static void write_pixel_keys(TIFF *tif)
+{
+    static const char cit[] = TD_PIXEL_CRS "|";
+    uint16_t k[12] = {1, 1, 0, 2, KEY_RASTERTYPE, 0, 1, 1,
+                      KEY_CITATION, TIFFTAG_GEOASCIIPARAMS,
+                      (uint16_t)(sizeof cit - 1), 0};
+    TIFFSetField(tif, TIFFTAG_GEOKEYDIRECTORY, 12, k);
+    TIFFSetField(tif, TIFFTAG_GEOASCIIPARAMS, cit);
+}
+
 /* See io_int.h.  Keys are written verbatim when present; the
  * transform as scale + tiepoint when it is north-up without rotation,
  * else as a matrix
@@ -240,8 +267,12 @@ int td_georef_to_tiff(TIFF *tif, const td_georef *g, td_ctx *cx)
 {
     double gt[6];
     int v;
-    if (!g || (!g->valid && !g->geokeys))
-        return 0;
+    td_georef pf;
+    if (!g || !g->valid) {
+        td_georef_init(&pf);
+        td_georef_pixel_frame(&pf);
+        g = &pf;
+    }
     memcpy(gt, g->gt, sizeof gt);
     if (td_georef_geokey(g, KEY_RASTERTYPE, &v) && v == RASTER_PIXELISPOINT) {
         gt[0] += 0.5 * gt[1] + 0.5 * gt[2];
@@ -266,6 +297,8 @@ int td_georef_to_tiff(TIFF *tif, const td_georef *g, td_ctx *cx)
                          g->geodoubles);
         if (g->geoascii && *g->geoascii)
             TIFFSetField(tif, TIFFTAG_GEOASCIIPARAMS, g->geoascii);
+    } else if (g->pixel) {
+        write_pixel_keys(tif);
     } else {
         write_epsg_keys(tif, g->epsg);
     }
@@ -293,14 +326,26 @@ int td_georef_read(const char *path, td_georef *g, td_ctx *cx)
 void td_georef_scale(td_georef *g, int step)
 {
     int k;
+    if (!g->valid)
+        td_georef_pixel_frame(g);
     if (step <= 1)
         return;
-    if (!g->valid) {
-        memset(g->gt, 0, sizeof g->gt);
-        g->gt[1] = g->gt[5] = 1.0;
-        g->valid = 1;
-    }
     for (k = 1; k < 6; k++)
         if (k != 3)
             g->gt[k] *= step;
+}
+
+/* See io.h. */
+void td_georef_crs_json(const td_georef *g, char *buf, size_t n)
+{
+    static const char head[] = "\"crs\":{\"type\":\"name\",\"properties\":"
+                               "{\"name\":";
+    if (g && g->valid && !g->pixel && g->epsg > 0)
+        snprintf(buf, n, "%s\"urn:ogc:def:crs:EPSG::%d\"}}", head, g->epsg);
+    else
+        snprintf(buf, n, "%s\"LOCAL_CS[\\\"%s\\\",UNIT[\\\"%s\\\",1],"
+                 "AXIS[\\\"X\\\",EAST],AXIS[\\\"Y\\\",NORTH]]\"}}", head,
+                 g && g->valid && !g->pixel ? "the scan's CRS (not named in it)"
+                                            : TD_PIXEL_CRS,
+                 g && g->valid && !g->pixel ? "unknown" : "pixel");
 }

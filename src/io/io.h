@@ -25,9 +25,19 @@ extern "C" {
  * Pixel (col,row) corner -> map: X = gt[0] + col*gt[1] + row*gt[2],
  * Y = gt[3] + col*gt[4] + row*gt[5] (GDAL's geotransform convention, for the
  * pixel corner; a pixel centre is col+0.5,row+0.5).  The raw GeoKey
- * directory is kept so writers can copy it verbatim. */
+ * directory is kept so writers can copy it verbatim.
+ *
+ * The pixel frame.  A scan with no georeferencing has its outputs in the
+ * frame in which QGIS shows an ungeoreferenced image: X = col, Y = -row
+ * (geotransform 0, 1, 0, 0, 0, -1), in the local engineering CRS named
+ * TD_PIXEL_CRS ("topodig scan pixels").  Every writer uses it when its
+ * georef is NULL or invalid, so the DEM, the lines and the scan lie on
+ * each other in QGIS, and no file claims WGS 84 for pixel coordinates. */
+#define TD_PIXEL_CRS "topodig scan pixels"
 typedef struct td_georef {
     int valid;          /* nonzero when gt[] holds a transform */
+    int pixel;          /* gt is the pixel frame (possibly scaled by a
+                           step): no real georeferencing behind it */
     double gt[6];
     int epsg;           /* EPSG code of the CRS when known, else 0 */
     /* verbatim GeoTIFF keys, written back unchanged (may be NULL/0) */
@@ -39,15 +49,23 @@ typedef struct td_georef {
 void td_georef_init(td_georef *g);
 void td_georef_clear(td_georef *g);                    /* frees, re-inits */
 int td_georef_copy(td_georef *dst, const td_georef *src, td_ctx *cx);
+/* Make g (cleared first) the pixel frame: valid, pixel, gt (0,1,0,0,0,-1). */
+void td_georef_pixel_frame(td_georef *g);
 /* Cells step pixels wide: the transform's scale and rotation terms times
- * step.  Without georeferencing, step > 1 gives the scan's pixel frame
- * (0, step, 0, 0, step, 0) (y down, as GDAL assumes for a plain image), so
- * the DEM lies over the scan's pixel-unit lines; step 1 changes nothing. */
+ * step.  Without georeferencing, g becomes the pixel frame first, so the
+ * DEM of (0, step, 0, 0, 0, -step) lies over the scan's lines. */
 void td_georef_scale(td_georef *g, int step);
 /* Pixel coordinates (col,row as reals, 0,0 = top-left corner of the first
- * pixel) to map coordinates; identity when !g->valid. */
+ * pixel) to map coordinates; the pixel frame (X = col, Y = -row) when g is
+ * NULL or invalid. */
 void td_georef_apply(const td_georef *g, double col, double row, double *X,
                      double *Y);
+/* The "crs" member of a GeoJSON file for g (without a trailing comma):
+ * the EPSG code when known; the pixel frame's engineering CRS when g is
+ * NULL, invalid or the pixel frame; else an engineering CRS saying the
+ * scan's CRS is not named (never WGS 84, which GeoJSON without a "crs"
+ * implies).  Writes at most n bytes (256 is enough) to buf. */
+void td_georef_crs_json(const td_georef *g, char *buf, size_t n);
 /* A SHORT-valued GeoKey (e.g. 1025 GTRasterTypeGeoKey) from the verbatim
  * key directory: 1 and *val when present, else 0. */
 int td_georef_geokey(const td_georef *g, int key, int *val);
