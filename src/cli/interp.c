@@ -156,7 +156,7 @@ int td_cmd_interp(int argc, char **argv)
     td_cli_progress_init(&pr, &cx, o.quiet);
     if ((rc = td_image_info(o.like, &w, &h, &ch, &geo, &cx)) != 0)
         goto fail;
-    if ((rc = td_geojson_read_lines(o.in, &geo, &ls, NULL, &cx)) != 0)
+    if ((rc = td_vector_read_lines(o.in, &geo, &ls, NULL, NULL, &cx)) != 0)
         goto fail;
     if ((rc = td_interp_lines(ls, w, h, &o.p, &dem, &cx)) != 0) {
         name_file(&cx, o.in);

@@ -40,7 +40,8 @@ static const char help[] =
     "interval per nesting step, rings rising).\n"
     "\n"
     "options:\n"
-    "  -o, --output FILE      labelled GeoJSON (required)\n"
+    "  -o, --output FILE      the labelled lines (required): .geojson, .gpkg,\n"
+    "                         .shp or .dxf; LINES may be any of these too\n"
     "      --sheet SCAN       read the height labels printed on the scan the\n"
     "                         lines were traced from (Tesseract); with them\n"
     "                         --interval may be left out (inferred)\n"
@@ -780,6 +781,7 @@ int td_cmd_label(int argc, char **argv)
     td_ctx cx;
     td_lines *ls = NULL;
     td_label_report rep, checks;
+    td_georef frame;
     td_label_params p = td_label_defaults();
     td_ocr_read *reads = NULL;
     size_t nreads = 0;
@@ -791,10 +793,12 @@ int td_cmd_label(int argc, char **argv)
     memset(&heights, 0, sizeof heights);
     memset(&rep, 0, sizeof rep);
     memset(&checks, 0, sizeof checks);
+    td_georef_init(&frame);
     td_ctx_init(&cx);
     if ((rc = parse_args(argc, argv, &o, &heights)) != 0)
         goto done;
-    if ((rc = td_geojson_read_lines(o.in, NULL, &ls, NULL, &cx)) != 0)
+    /* the lines come back in pixel units, and go out in their own frame */
+    if ((rc = td_vector_read_lines(o.in, NULL, &ls, NULL, &frame, &cx)) != 0)
         goto fail;
     if (o.scan && !o.tree &&
         (rc = read_sheet_labels(&o, ls, &reads, &nreads, &cx)) != 0)
@@ -837,7 +841,8 @@ int td_cmd_label(int argc, char **argv)
     if ((rc = final_checks(&o, ls, &p, &checks, &cx)) != 0 ||
         (o.csv_out && (rc = export_csv(o.csv_out, ls, &cx)) != 0) ||
         (o.debug_dir && (rc = write_heights_png(&o, ls, &cx)) != 0) ||
-        (rc = td_geojson_write_lines(o.out, ls, NULL, &cx)) != 0)
+        (rc = td_vector_write_lines(o.out, ls, frame.valid ? &frame : NULL,
+                                    &cx)) != 0)
         goto fail;
     if (!o.quiet)
         summary(ls, &rep, &checks, &heights, &seen, more);
@@ -845,6 +850,7 @@ fail:
     if (rc)
         rc = td_cli_fail("label", &cx);
 done:
+    td_georef_clear(&frame);
     td_label_report_free(&rep);
     td_label_report_free(&checks);
     td_lines_free(ls);

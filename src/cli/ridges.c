@@ -230,7 +230,7 @@ int td_cmd_ridges(int argc, char **argv)
     td_cli_progress_init(&pr, &cx, o.quiet);
     if (o.like && (rc = td_image_info(o.like, &w, &h, &ch, &geo, &cx)) != 0)
         goto fail;
-    if ((rc = td_geojson_read_lines(o.in, &geo, &ls, NULL, &cx)) != 0)
+    if ((rc = td_vector_read_lines(o.in, &geo, &ls, NULL, NULL, &cx)) != 0)
         goto fail;
     if (!o.like)
         extent(ls, &w, &h);

@@ -59,7 +59,8 @@ static const char help[] =
     "                        cells the homotopy cannot reach\n"
     "      --step N          one DEM cell per N x N pixels (default 1)\n"
     "      --save-lines F    also write the labelled lines the DEM was\n"
-    "                        interpolated from (GeoJSON, with height,\n"
+    "                        interpolated from (.geojson, .gpkg, .shp or\n"
+    "                        .dxf by extension, with height,\n"
     "                        height_source, confidence)\n"
     "      --debug-dir DIR   write heights.png: every line over the scan\n"
     "                        coloured by its height (thick: known or\n"
@@ -305,7 +306,7 @@ static int write_labelled(const run_opts *o, run_state *s, td_ctx *cx)
 {
     int rc = 0;
     if (o->save_lines &&
-        (rc = td_geojson_write_lines(o->save_lines, s->ls, &s->geo, cx)) != 0)
+        (rc = td_vector_write_lines(o->save_lines, s->ls, &s->geo, cx)) != 0)
         return rc;
     if (o->debug_dir) {
         td_image *pic = NULL;

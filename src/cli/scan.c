@@ -22,7 +22,8 @@ static const char help[] =
     "striped or tiled), PNG or JPEG.\n"
     "\n"
     "options:\n"
-    "  -o, --output FILE      GeoJSON output (required)\n"
+    "  -o, --output FILE      the lines (required): .geojson, .gpkg, .shp or\n"
+    "                         .dxf (3-D polylines), by extension\n"
     "      --ink KIND         auto | dark | brown | brown-hue | R,G,B[:tol]\n"
     "                         (default auto: dark on a grey scan; on a\n"
     "                         colour scan the sheet's inks are found and\n"
@@ -372,7 +373,7 @@ int td_cmd_scan(int argc, char **argv)
     if (rc == 0 && o.debug_dir)
         rc = write_debug(&o, im, &res, &cx);
     if (rc == 0)
-        rc = td_geojson_write_lines(o.out, res.lines, &geo, &cx);
+        rc = td_vector_write_lines(o.out, res.lines, &geo, &cx);
     td_cli_progress_done(&pr);
     if (rc == 0 && !o.quiet)
         summary(&res, td_now() - t0);

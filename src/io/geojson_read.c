@@ -57,6 +57,7 @@ typedef struct rd {
     const td_georef *g;
     double inv[6];      /* map -> pixel */
     int pixel_crs;      /* the file's "crs" is the pixel frame */
+    int epsg;           /* the EPSG code its "crs" names, else 0 */
     size_t next_report;
 } rd;
 
@@ -673,6 +674,22 @@ static int has_text(const char *s, const char *e, const char *t)
     return 0;
 }
 
+/* The EPSG code named in [s, e) ("EPSG::32633", "EPSG:4326"), else 0. */
+static int epsg_in(const char *s, const char *e)
+{
+    for (; s + 5 < e; s++)
+        if (memcmp(s, "EPSG:", 5) == 0) {
+            const char *q = s + 5;
+            int v = 0;
+            if (q < e && *q == ':')
+                q++;
+            while (q < e && *q >= '0' && *q <= '9' && v < 1000000)
+                v = 10 * v + (*q++ - '0');
+            return v > 0 && v <= 32766 ? v : 0;
+        }
+    return 0;
+}
+
 static int collection(jp *p, rd *R)
 {
     int first = 1, r, type_ok = 0, has_features = 0;
@@ -695,6 +712,7 @@ static int collection(jp *p, rd *R)
             if ((r = jskip(p, 1)) != 0)
                 return r;
             R->pixel_crs = has_text(c0, p->s, TD_PIXEL_CRS);
+            R->epsg = epsg_in(c0, p->s);
         } else if (is(&k, "features")) {
             if (*p->s != '[')
                 return not_fc(p);
@@ -784,6 +802,18 @@ static int invert(const td_georef *g, double inv[4])
 static void to_pixels(rd *R)
 {
     size_t i, k;
+    if (!R->pixel_crs && !R->epsg && !R->g) {
+        /* no CRS: the pixel frame when no point has Y > 0 (pixel units y
+           down, as files before the frame, have none below 0) */
+        int neg = 0, pos = 0;
+        for (i = 0; i < R->ls->n && !pos; i++)
+            for (k = 0; k < R->ls->v[i].n; k++) {
+                double Y = R->ls->v[i].xy[2 * k + 1];
+                pos |= Y > 0;
+                neg |= Y < 0;
+            }
+        R->pixel_crs = neg && !pos;
+    }
     for (i = 0; i < R->ls->n; i++) {
         td_line *l = &R->ls->v[i];
         for (k = 0; k < l->n; k++) {
@@ -807,6 +837,14 @@ static void to_pixels(rd *R)
  * skipped. */
 int td_geojson_read_lines(const char *path, const td_georef *georef,
                           td_lines **out, size_t *skipped, td_ctx *cx)
+{
+    return td_geojson_read_lines_frame(path, georef, out, skipped, NULL, cx);
+}
+
+/* See io.h. */
+int td_geojson_read_lines_frame(const char *path, const td_georef *georef,
+                                td_lines **out, size_t *skipped,
+                                td_georef *frame, td_ctx *cx)
 {
     jp p = {NULL, NULL, NULL, path, cx};
     rd R;
@@ -835,6 +873,15 @@ int td_geojson_read_lines(const char *path, const td_georef *georef,
         goto fail;
     to_pixels(&R);
     fix_ids(R.ls);
+    if (frame) {
+        td_georef_init(frame);
+        if (R.pixel_crs) {
+            td_georef_pixel_frame(frame);
+        } else if (R.epsg > 0) {
+            frame->valid = 1; /* identity: map units as they are */
+            frame->epsg = R.epsg;
+        }
+    }
     if (skipped)
         *skipped = R.skipped;
     *out = R.ls;

@@ -156,6 +156,35 @@ int td_geojson_write_lines(const char *path, const td_lines *ls,
 int td_geojson_read_lines(const char *path, const struct td_georef *georef,
                           td_lines **out, size_t *skipped, td_ctx *cx);
 
+/* The same, and *frame (may be NULL; initialised) says how the file's
+ * coordinates map to the lines' pixel units, for writing them back the same
+ * way: the pixel frame when the file is in it, an identity transform with
+ * the EPSG code when its "crs" names one (and no georef maps it), else
+ * invalid (pixel units, y down: write back in the pixel frame). */
+int td_geojson_read_lines_frame(const char *path,
+                                const struct td_georef *georef,
+                                td_lines **out, size_t *skipped,
+                                struct td_georef *frame, td_ctx *cx);
+
+/* Lines in any vector format, by the file name's extension: .geojson /
+ * .json (topodig's own writer: fast, exact), .gpkg (GeoPackage), .shp
+ * (Shapefile: field names cut to 10 characters, as the format has them)
+ * and .dxf (3-D polylines at their heights, layer "contours", lines
+ * without a height at z 0 on layer "contours_unlabelled"; DXF carries no
+ * other property) through GDAL/OGR.  The same properties and frames as
+ * td_geojson_write_lines; written to a new private folder beside path and
+ * renamed into place.  0 or an error naming the file. */
+int td_vector_write_lines(const char *path, const td_lines *ls,
+                          const struct td_georef *georef, td_ctx *cx);
+/* Read lines back from any of those formats (other extensions: GeoJSON),
+ * as td_geojson_read_lines_frame: the first layer (or the layer named
+ * "contours"), LineString and MultiLineString features (one line per part;
+ * others counted in *skipped), properties id, height, closed, edge,
+ * parent, bridged, width when present; a DXF polyline's height is its z. */
+int td_vector_read_lines(const char *path, const struct td_georef *georef,
+                         td_lines **out, size_t *skipped,
+                         struct td_georef *frame, td_ctx *cx);
+
 /* ---- demio ---- */
 /* demio.h: reading and writing DEM grids (float32 in memory).
  *

@@ -303,18 +303,13 @@ static void anchor_gdal_grid(const opts *o, const td_lines *tl,
                              const td_grid_f32 *dem, double I, td_ctx *cx)
 {
     char path[1024], out[1024], cmd[4096];
-    td_georef flip;
     double t0;
     int rc;
-    /* gdal_grid writes north-up rasters: give it y = -row so its first
-     * row is the sheet's top row */
-    td_georef_init(&flip);
-    flip.valid = 1;
-    flip.gt[5] = -1;
+    /* gdal_grid writes north-up rasters: the lines in the pixel frame
+     * (Y = -row) make its first row the sheet's top row */
     snprintf(path, sizeof path, "%s/lines.geojson", o->dir);
     snprintf(out, sizeof out, "%s/gdal_grid.tif", o->dir);
-    rc = td_geojson_write_lines(path, tl, &flip, cx);
-    td_georef_clear(&flip);
+    rc = td_geojson_write_lines(path, tl, NULL, cx);
     if (rc != 0)
         return;
     snprintf(cmd, sizeof cmd,
