@@ -506,6 +506,66 @@ static void test_geojson_empty_and_precision(void)
     td_lines_free(ls);
 }
 
+/* Distance of (x,y) from the polyline l (closing segment included when
+ * closed). */
+static double dist_to_line(const td_line *l, double x, double y)
+{
+    double best = 1e300;
+    size_t i, n = l->n + (l->closed ? 1 : 0);
+    for (i = 0; i + 1 < n; i++) {
+        const double *a = l->xy + 2 * i, *b = l->xy + 2 * ((i + 1) % l->n);
+        double dx = b[0] - a[0], dy = b[1] - a[1], L = dx * dx + dy * dy;
+        double t = L > 0 ? ((x - a[0]) * dx + (y - a[1]) * dy) / L : 0;
+        t = t < 0 ? 0 : t > 1 ? 1 : t;
+        dx = a[0] + t * dx - x;
+        dy = a[1] + t * dy - y;
+        best = fmin(best, sqrt(dx * dx + dy * dy));
+    }
+    return best;
+}
+
+/* Douglas-Peucker on a traced-looking ring and an open staircase: every
+ * traced point within the tolerance of the simplified line, far fewer
+ * vertices, ends and closure kept, tol 0 a no-op. */
+static void test_simplify(void)
+{
+    td_ctx cx;
+    td_lines *ls, *orig;
+    size_t i, k;
+    td_ctx_init(&cx);
+    ls = td_lines_new(&cx);
+    td_line *l = td_lines_add(ls, &cx);
+    for (i = 0; i < 400; i++) { /* a ring of radius 60 on pixel centres */
+        double a = 2 * M_PI * i / 400.0;
+        td_line_push(l, floor(100 + 60 * cos(a)) + 0.5,
+                     floor(100 + 60 * sin(a)) + 0.5, &cx);
+    }
+    l->closed = 1;
+    l = td_lines_add(ls, &cx);
+    for (i = 0; i < 300; i++) /* a staircase: a line of slope 1/3 */
+        td_line_push(l, i + 0.5, floor(i / 3.0) + 0.5, &cx);
+    orig = td_lines_copy(ls, &cx);
+    TT_CHECK(td_lines_simplify(ls, 0, &cx) == 0 && ls->v[0].n == 400 &&
+             ls->v[1].n == 300);
+    TT_CHECK(td_lines_simplify(ls, 0.25, &cx) == 0);
+    for (k = 0; k < 2; k++) {
+        double worst = 0;
+        for (i = 0; i < orig->v[k].n; i++)
+            worst = fmax(worst, dist_to_line(&ls->v[k], orig->v[k].xy[2 * i],
+                                             orig->v[k].xy[2 * i + 1]));
+        TT_CHECKF(worst <= 0.25 + 1e-9, "line %zu: %g px off", k, worst);
+        TT_CHECKF(ls->v[k].n < orig->v[k].n * 3 / 4 && ls->v[k].n >= 3,
+                  "line %zu: %zu of %zu points", k, ls->v[k].n,
+                  orig->v[k].n);
+    }
+    TT_CHECK(ls->v[0].closed && ls->v[0].xy[0] == orig->v[0].xy[0]);
+    TT_CHECK(ls->v[1].xy[0] == 0.5 && ls->v[1].xy[2 * ls->v[1].n - 2] ==
+                                           299.5);
+    TT_CHECK(td_lines_simplify(ls, 5, &cx) == 0 && ls->v[0].n >= 3);
+    td_lines_free(ls);
+    td_lines_free(orig);
+}
+
 int main(void)
 {
     TT_RUN(test_lines_basic);
@@ -515,5 +575,6 @@ int main(void)
     TT_RUN(test_geojson_georef);
     TT_RUN(test_geojson_failures);
     TT_RUN(test_geojson_empty_and_precision);
+    TT_RUN(test_simplify);
     return tt_summary();
 }

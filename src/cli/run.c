@@ -61,7 +61,8 @@ static const char help[] =
     "      --save-lines F    also write the labelled lines the DEM was\n"
     "                        interpolated from (.geojson, .gpkg, .shp or\n"
     "                        .dxf by extension, with height,\n"
-    "                        height_source, confidence)\n"
+    "                        height_source, confidence; within 0.25 px\n"
+    "                        of the traced path, as scan writes them)\n"
     "      --debug-dir DIR   write heights.png: every line over the scan\n"
     "                        coloured by its height (thick: known or\n"
     "                        labelled, dashed: assumed, grey dots: no\n"
@@ -305,9 +306,15 @@ static int write_labels_geojson(const char *path, const run_state *s,
 static int write_labelled(const run_opts *o, run_state *s, td_ctx *cx)
 {
     int rc = 0;
-    if (o->save_lines &&
-        (rc = td_vector_write_lines(o->save_lines, s->ls, &s->geo, cx)) != 0)
-        return rc;
+    if (o->save_lines) { /* simplified as scan writes them (0.25 px) */
+        td_lines *c = td_lines_copy(s->ls, cx);
+        rc = !c ? TD_ENOMEM : td_lines_simplify(c, 0.25, cx);
+        if (rc == 0)
+            rc = td_vector_write_lines(o->save_lines, c, &s->geo, cx);
+        td_lines_free(c);
+        if (rc != 0)
+            return rc;
+    }
     if (o->debug_dir) {
         td_image *pic = NULL;
         char path[4096];

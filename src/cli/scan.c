@@ -58,6 +58,9 @@ static const char help[] =
     "                         shorter than PX or fitting in a PX box,\n"
     "                         unless both ends continue lines (default 25;\n"
     "                         0: off)\n"
+    "      --simplify PX      write the lines within PX of the traced path\n"
+    "                         (Douglas-Peucker; default 0.25, 0: one vertex\n"
+    "                         per skeleton pixel)\n"
     "      --debug-dir DIR    write mask.png, skeleton.png, despurred.png,\n"
     "                         overlay.png (label-gap joins in magenta) into DIR;\n"
     "                         colour scans: palette.png (the inks found, the\n"
@@ -74,11 +77,13 @@ static const char help[] =
 typedef struct scan_opts {
     const char *in, *out, *debug_dir;
     int quiet;
+    double simplify; /* Douglas-Peucker tolerance of the written lines */
     td_scan_params p;
 } scan_opts;
 
 enum { O_INK = 256, O_THR, O_SPECK, O_HOLE, O_SPUR, O_SPURMAX, O_NOBRIDGE, O_NOJOIN,
-       O_MAXGAP, O_DEBUG, O_SMALLGAP, O_MINLEN, O_NOCURVES, O_JUNC, O_SEAMS };
+       O_MAXGAP, O_DEBUG, O_SMALLGAP, O_MINLEN, O_NOCURVES, O_JUNC, O_SEAMS,
+       O_SIMPLIFY };
 
 static int parse_opt(int c, const char *arg, scan_opts *o, td_ctx *cx)
 {
@@ -117,6 +122,11 @@ static int parse_opt(int c, const char *arg, scan_opts *o, td_ctx *cx)
         else
             o->p.bin.min_hole = (int)v;
         return 0;
+    case O_SIMPLIFY:
+        if (td_cli_parse_double(arg, 0, 100, &o->simplify) != 0)
+            return td_seterr(cx, TD_EINVAL, "--simplify: '%s' is not a "
+                             "number 0..100 (px)", arg);
+        return 0;
     case O_SPURMAX:
     case O_MAXGAP:
     case O_SMALLGAP:
@@ -151,6 +161,7 @@ static int parse_args(int argc, char **argv, scan_opts *o)
         {"debug-dir", 1, 0, O_DEBUG}, {"small-gap", 1, 0, O_SMALLGAP},
         {"min-length", 1, 0, O_MINLEN}, {"no-curves", 0, 0, O_NOCURVES},
         {"junctions", 1, 0, O_JUNC}, {"seams", 1, 0, O_SEAMS},
+        {"simplify", 1, 0, O_SIMPLIFY},
         {0, 0, 0, 0}};
     td_ctx cx;
     int c;
@@ -354,6 +365,7 @@ int td_cmd_scan(int argc, char **argv)
     memset(&o, 0, sizeof o);
     memset(&res, 0, sizeof res);
     o.p = td_scan_defaults();
+    o.simplify = 0.25;
     if ((rc = parse_args(argc, argv, &o)) != 0)
         return rc == 2 ? 0 : 1;
     td_ctx_init(&cx);
@@ -372,6 +384,8 @@ int td_cmd_scan(int argc, char **argv)
        is left as it was */
     if (rc == 0 && o.debug_dir)
         rc = write_debug(&o, im, &res, &cx);
+    if (rc == 0)
+        rc = td_lines_simplify(res.lines, o.simplify, &cx);
     if (rc == 0)
         rc = td_vector_write_lines(o.out, res.lines, &geo, &cx);
     td_cli_progress_done(&pr);

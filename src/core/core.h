@@ -212,6 +212,16 @@ int td_lines_append_copy(td_lines *ls, const td_line *l, td_ctx *cx);
  * NULL with the error in cx. */
 td_lines *td_lines_copy(const td_lines *ls, td_ctx *cx);
 
+/* Douglas-Peucker (1973) on l in place: drop the points whose removal
+ * keeps every dropped point within tol (pixel units) of the segment that
+ * replaces it, so the line stays within tol of its traced path.  The
+ * first and last points stay; a closed line is split at its first point
+ * and the point farthest from it, so it keeps at least 3 points.  tol <= 0
+ * changes nothing.  Returns 0 or TD_ENOMEM (l unchanged). */
+int td_line_simplify(td_line *l, double tol, td_ctx *cx);
+/* td_line_simplify on every line; 0 or TD_ENOMEM. */
+int td_lines_simplify(td_lines *ls, double tol, td_ctx *cx);
+
 /* Signed area of l taken as a closed polygon (shoelace, pixel units): > 0
  * when its points run clockwise on the screen (y down). */
 double td_line_signed_area(const td_line *l);

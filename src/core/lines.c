@@ -170,3 +170,97 @@ int td_line_encloses(const td_line *l, double x, double y)
     }
     return in;
 }
+
+/* Squared distance of point p from the segment a-b. */
+static double seg_dist2(const double *a, const double *b, const double *p)
+{
+    double dx = b[0] - a[0], dy = b[1] - a[1], t = 0.0;
+    double L = dx * dx + dy * dy, ex, ey;
+    if (L > 0.0) {
+        t = ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / L;
+        t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+    }
+    ex = a[0] + t * dx - p[0];
+    ey = a[1] + t * dy - p[1];
+    return ex * ex + ey * ey;
+}
+
+/* Mark the points of xy[i0..i1] that Douglas-Peucker keeps (keep[i0] and
+ * keep[i1] set by the caller), with an explicit stack of spans. */
+static void dp_span(const double *xy, size_t i0, size_t i1, double tol2,
+                    unsigned char *keep, size_t *stack)
+{
+    size_t top = 0;
+    stack[top++] = i0;
+    stack[top++] = i1;
+    while (top) {
+        size_t b = stack[--top], a = stack[--top], i, far = a;
+        double dmax = -1.0;
+        for (i = a + 1; i < b; i++) {
+            double d = seg_dist2(xy + 2 * a, xy + 2 * b, xy + 2 * i);
+            if (d > dmax) {
+                dmax = d;
+                far = i;
+            }
+        }
+        if (far > a && dmax > tol2) {
+            keep[far] = 1;
+            stack[top++] = a;
+            stack[top++] = far;
+            stack[top++] = far;
+            stack[top++] = b;
+        }
+    }
+}
+
+/* See core.h. */
+int td_line_simplify(td_line *l, double tol, td_ctx *cx)
+{
+    unsigned char *keep;
+    size_t *stack, i, k, n = l->n, split = n - 1;
+    if (!(tol > 0.0) || n < 3)
+        return 0;
+    keep = td_calloc(n, 1, cx);
+    stack = td_malloc(2 * (n + 1) * sizeof *stack, cx);
+    if (!keep || !stack) {
+        free(keep);
+        free(stack);
+        return TD_ENOMEM;
+    }
+    if (l->closed) { /* the point farthest from the first */
+        double dmax = -1.0;
+        for (i = 1; i < n; i++) {
+            double dx = l->xy[2 * i] - l->xy[0], dy = l->xy[2 * i + 1] - l->xy[1];
+            if (dx * dx + dy * dy > dmax) {
+                dmax = dx * dx + dy * dy;
+                split = i;
+            }
+        }
+    }
+    keep[0] = keep[split] = keep[n - 1] = 1;
+    dp_span(l->xy, 0, split, tol * tol, keep, stack);
+    /* a ring's second half runs split .. n-1; its last point stays, so
+       the closing segment back to the first is the traced one */
+    if (l->closed && split < n - 1)
+        dp_span(l->xy, split, n - 1, tol * tol, keep, stack);
+    for (i = 0, k = 0; i < n; i++)
+        if (keep[i]) {
+            l->xy[2 * k] = l->xy[2 * i];
+            l->xy[2 * k + 1] = l->xy[2 * i + 1];
+            k++;
+        }
+    l->n = k;
+    free(keep);
+    free(stack);
+    return 0;
+}
+
+/* See core.h. */
+int td_lines_simplify(td_lines *ls, double tol, td_ctx *cx)
+{
+    size_t i;
+    int rc = 0;
+    for (i = 0; ls && rc == 0 && i < ls->n; i++)
+        rc = td_line_simplify(&ls->v[i], tol, cx);
+    return rc;
+}
