@@ -5,6 +5,8 @@
 
 #include "src/core/core.h"
 
+#include <stddef.h>
+
 #define TD_VERSION "0.1.0"
 
 typedef struct td_cli_progress {
@@ -70,5 +72,84 @@ int td_cli_parse_nums(const char *s, double *v, int n);
  * neither in nor out (an error deep in a stage: "z-buffer too big"). */
 int td_cli_fail_on(const char *cmd, const char *in, const char *out,
                    const td_ctx *cx);
+
+/* ---- the option layer (opt.c) -------------------------------------
+ * Every subcommand is a table of options, each with a kind, a target, a
+ * range and its help (as GRASS's G_parser, without its globals).
+ * td_opt_parse checks every value (finite numbers in range, whole numbers,
+ * choices, points), the input and output files, and prints --help
+ * generated from the table, with each default read from the target as the
+ * library's *_defaults() constructors set it: defaults are written once. */
+
+typedef enum td_opt_kind {
+    TD_OPT_FLAG,   /* int *: set to `n` (1 when n is 0) */
+    TD_OPT_INT,    /* int *: a whole number lo..hi */
+    TD_OPT_LONG,   /* long *: a whole number lo..hi */
+    TD_OPT_DOUBLE, /* double *: a finite number lo..hi */
+    TD_OPT_FLOAT,  /* float *: a finite number lo..hi */
+    TD_OPT_STRING, /* const char **: the argument as given */
+    TD_OPT_OUTPUT, /* const char **: a secondary output file (checked as -o) */
+    TD_OPT_CHOICE, /* int *: the index of the argument in `choices`
+                      ("a|b|c"); `n` != 0: its value is choices' index + n */
+    TD_OPT_POINTS, /* td_opt_points *: n comma-separated finite numbers,
+                      repeatable ("--known X,Y,H" n = 3) */
+    TD_OPT_FUNC    /* fn(arg, target, message, size): 0 or -1 with the
+                      message (without the option's name) */
+} td_opt_kind;
+
+typedef struct td_opt {
+    const char *name;  /* long name without "--"; NULL ends a table */
+    char letter;       /* short option, 0: none */
+    td_opt_kind kind;
+    void *target;
+    double lo, hi;     /* range of INT, DOUBLE, FLOAT */
+    const char *meta;  /* the argument's name in the help ("PX") */
+    const char *help;  /* may hold '\n' for more lines */
+    const char *choices;
+    int n;
+    int (*fn)(const char *arg, void *target, char *msg, size_t size);
+    int no_default;    /* 1: print no "(default ...)" */
+} td_opt;
+
+/* Points given with a TD_OPT_POINTS option: v holds n x dim numbers. */
+typedef struct td_opt_points {
+    double *v;
+    size_t n;
+} td_opt_points;
+
+/* A subcommand: its name, usage line, paragraph, options, the files. */
+typedef struct td_cmd {
+    const char *name;   /* "scan" */
+    const char *usage;  /* after "topodig NAME ": "SCAN -o LINES [options]" */
+    const char *about;  /* what it does (paragraphs) */
+    const char *after;  /* text after the options (may be NULL) */
+    const td_opt *opts; /* ends with {NULL} */
+    const char *inputs; /* what the positional arguments are ("SCAN") */
+    int min_in, max_in; /* how many positional arguments */
+    const char **in;    /* out: the positional arguments (max_in slots) */
+    const char **out;   /* -o target (NULL: the command has no -o) */
+    const char *out_meta; /* "LINES.geojson" */
+    int *quiet;         /* -q target (NULL: no -q) */
+} td_cmd;
+
+/* The interpolation options of interp and run (--method, --epsilon,
+ * --fallback, --step, --summit, --peninsula, --weight, --dirs,
+ * --interval, --nodata, --smooth) into v (room for TD_CLI_INTERP_OPTS
+ * entries), targets in p; returns how many.  td_cli_interp_check after
+ * parsing: --summit to both methods, --dirs 2 or 4; 0 or 1 (printed). */
+enum { TD_CLI_INTERP_OPTS = 11 };
+struct td_interp_params;
+size_t td_cli_interp_opts(td_opt *v, struct td_interp_params *p);
+int td_cli_interp_check(const char *cmd, struct td_interp_params *p);
+
+/* Parse argv (argv[0] is the command's name) against c.  Returns 0 to
+ * run, 2 when --help was printed (exit 0), 1 when an error was printed
+ * (one line "topodig NAME: ..."; exit 1). */
+int td_opt_parse(const td_cmd *c, int argc, char **argv);
+
+/* Print c's generated help on stdout. */
+void td_opt_help(const td_cmd *c);
+
+void td_opt_points_free(td_opt_points *p);
 
 #endif

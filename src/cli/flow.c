@@ -1,47 +1,14 @@
 /* topodig flow: DEM -> rain-flow pass counts (paper 000 §3.1) and a
  * ridge / slope / valley class raster. */
-#define _GNU_SOURCE
 #include "src/cli/cli.h"
 
 #include "src/io/io.h"
 #include "src/flow/flow.h"
 
-#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-int td_cmd_flow(int argc, char **argv);
-
-static const char help[] =
-    "usage: topodig flow DEM -o PASSES.tif [options]\n"
-    "\n"
-    "Rain falls evenly on every cell and flows downhill; PASSES.tif (float32\n"
-    "GeoTIFF) holds how many cells' rain passes each cell (its own included,\n"
-    "so >= 1).  Frequently passed cells are valleys, rarely passed ridges.\n"
-    "Nodata cells get no rain and act like the grid edge: water may leave\n"
-    "the grid there.  DEM: GeoTIFF/TIFF or ESRI ASCII grid.\n"
-    "\n"
-    "options (defaults in brackets; see docs/flow.md):\n"
-    "  -o, --output FILE     pass counts, float32 GeoTIFF\n"
-    "      --method M        sobel: the paper's method, every drop traced\n"
-    "                        along the Sobel gradient of the raw DEM (stops\n"
-    "                        in pits); d8: depression-filled (priority-flood)\n"
-    "                        steepest descent, linear time; dinf: as d8 with\n"
-    "                        Tarboton's D-infinity split [sobel]\n"
-    "      --log             write log10(count) instead of the count\n"
-    "      --classes FILE    uint8 GeoTIFF: 1 ridge, 2 slope, 3 valley,\n"
-    "                        0 nodata\n"
-    "      --ridge-q Q       ridge: count <= the Q-quantile of counts [0.2]\n"
-    "      --valley-q Q      valley: count >= the Q-quantile [0.9]\n"
-    "      --max-steps N     sobel: moves per drop, 0 = 4 (w + h) [0]\n"
-    "      --threads N       d8, dinf: threads, 0 = all cores; the result\n"
-    "                        is the same for any count [0]\n"
-    "  -q, --quiet           no progress and no summary\n"
-    "  -h, --help            this help\n"
-    "\n"
-    "Summary on stderr: method, cells, outflow, pits (sobel), seconds.\n";
 
 typedef struct flow_opts {
     const char *in, *out, *classes;
@@ -50,84 +17,44 @@ typedef struct flow_opts {
     td_flow_params p;
 } flow_opts;
 
-enum { O_METHOD = 256, O_LOG, O_CLASSES, O_RQ, O_VQ, O_MAXSTEPS, O_THREADS };
-
-static int parse_opt(int c, const char *arg, flow_opts *o, td_ctx *cx)
-{
-    long v;
-    switch (c) {
-    case 'o': o->out = arg; return 0;
-    case 'q': o->quiet = 1; return 0;
-    case O_LOG: o->log = 1; return 0;
-    case O_CLASSES: o->classes = arg; return 0;
-    case O_METHOD:
-        if (!strcmp(arg, "sobel")) o->p.method = TD_FLOW_SOBEL;
-        else if (!strcmp(arg, "d8")) o->p.method = TD_FLOW_D8;
-        else if (!strcmp(arg, "dinf")) o->p.method = TD_FLOW_DINF;
-        else return td_seterr(cx, TD_EINVAL, "--method: '%s' is not sobel, "
-                              "d8 or dinf", arg);
-        return 0;
-    case O_RQ: case O_VQ:
-        if (td_cli_parse_double(arg, 0, 1, c == O_RQ ? &o->ridge_q
-                                                     : &o->valley_q) != 0)
-            return td_seterr(cx, TD_EINVAL, "%s: '%s' is not a number in "
-                             "0..1", c == O_RQ ? "--ridge-q" : "--valley-q",
-                             arg);
-        return 0;
-    case O_MAXSTEPS:
-        if (td_cli_parse_int(arg, 0, 2147483647L, &v) != 0)
-            return td_seterr(cx, TD_EINVAL, "--max-steps: '%s' is not a "
-                             "whole number >= 0", arg);
-        o->p.max_steps = v;
-        return 0;
-    case O_THREADS:
-        if (td_cli_parse_int(arg, 0, 1024, &v) != 0)
-            return td_seterr(cx, TD_EINVAL, "--threads: '%s' is not a "
-                             "whole number in 0..1024", arg);
-        o->p.threads = (int)v;
-        return 0;
-    }
-    return td_seterr(cx, TD_EINVAL, "unknown option (see topodig flow "
-                     "--help)");
-}
-
 /* 0: run, 1: error (printed), 2: --help shown. */
 static int parse_args(int argc, char **argv, flow_opts *o)
 {
-    static const struct option lo[] = {
-        {"output", 1, 0, 'o'}, {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'},
-        {"method", 1, 0, O_METHOD}, {"log", 0, 0, O_LOG},
-        {"classes", 1, 0, O_CLASSES}, {"ridge-q", 1, 0, O_RQ},
-        {"valley-q", 1, 0, O_VQ}, {"max-steps", 1, 0, O_MAXSTEPS},
-        {"threads", 1, 0, O_THREADS}, {0, 0, 0, 0}};
-    td_ctx cx;
-    int c;
-    td_ctx_init(&cx);
-    opterr = 0;
-    optind = 1;
-    while ((c = getopt_long(argc, argv, "o:qh", lo, NULL)) != -1) {
-        if (c == 'h') {
-            fputs(help, stdout);
-            return 2;
-        }
-        if (c == '?' || c == ':')
-            return td_cli_failf("flow", "bad or incomplete option '%s' (see "
-                                "topodig flow --help)", argv[optind - 1]);
-        if (parse_opt(c, optarg, o, &cx) != 0)
-            return td_cli_fail("flow", &cx);
-    }
-    if (optind != argc - 1)
-        return td_cli_failf("flow", "expected one DEM file (see topodig "
-                            "flow --help)");
-    o->in = argv[optind];
-    if (!o->out)
-        return td_cli_failf("flow", "no output: give -o PASSES.tif");
-    if (td_cli_check_output("flow", o->out, o->in) != 0)
-        return 1;
-    if (!(o->ridge_q < o->valley_q))
-        return td_cli_failf("flow", "--ridge-q %g must be below --valley-q "
-                            "%g", o->ridge_q, o->valley_q);
-    return 0;
+    const td_opt opts[] = {
+        {"method", 0, TD_OPT_CHOICE, &o->p.method, .choices = "sobel|d8|dinf",
+         .meta = "M", .help = "sobel: the paper's method, every drop traced\n"
+         "along the Sobel gradient of the raw DEM (stops\nin pits); d8: "
+         "depression-filled (priority-flood)\nsteepest descent, linear time; "
+         "dinf: as d8 with\nTarboton's D-infinity split"},
+        {"log", 0, TD_OPT_FLAG, &o->log, .help = "write log10(count) instead "
+         "of the count"},
+        {"classes", 0, TD_OPT_OUTPUT, &o->classes, .meta = "FILE",
+         .help = "uint8 GeoTIFF: 1 ridge, 2 slope, 3 valley,\n0 nodata"},
+        {"ridge-q", 0, TD_OPT_DOUBLE, &o->ridge_q, 0, 1, .meta = "Q",
+         .help = "ridge: count <= the Q-quantile of counts"},
+        {"valley-q", 0, TD_OPT_DOUBLE, &o->valley_q, 0, 1, .meta = "Q",
+         .help = "valley: count >= the Q-quantile"},
+        {"max-steps", 0, TD_OPT_LONG, &o->p.max_steps, 0, 2147483647.0,
+         .meta = "N", .help = "sobel: moves per drop, 0 = 4 (w + h)"},
+        {"threads", 0, TD_OPT_INT, &o->p.threads, 0, 1024, .meta = "N",
+         .help = "d8, dinf: threads, 0 = all cores; the result\nis the same "
+         "for any count"},
+        {NULL}};
+    const td_cmd c = {
+        "flow", "DEM -o PASSES.tif [options]",
+        "Rain falls evenly on every cell and flows downhill; PASSES.tif "
+        "(float32\nGeoTIFF) holds how many cells' rain passes each cell (its "
+        "own included,\nso >= 1).  Frequently passed cells are valleys, rarely "
+        "passed ridges.\nNodata cells get no rain and act like the grid edge: "
+        "water may leave\nthe grid there.  DEM: GeoTIFF/TIFF or ESRI ASCII "
+        "grid (docs/flow.md).\n",
+        "Summary on stderr: method, cells, outflow, pits (sobel), seconds.\n",
+        opts, "one DEM file", 1, 1, &o->in, &o->out, "PASSES.tif", &o->quiet};
+    int rc = td_opt_parse(&c, argc, argv);
+    if (rc == 0 && !(o->ridge_q < o->valley_q))
+        rc = td_cli_failf("flow", "--ridge-q %g must be below --valley-q %g",
+                          o->ridge_q, o->valley_q);
+    return rc;
 }
 
 static void to_log10(td_grid_f32 *g)

@@ -1,5 +1,4 @@
 /* topodig interp: labelled contour lines -> DEM (GeoTIFF, .asc, .png). */
-#define _GNU_SOURCE
 #include "src/cli/cli.h"
 
 #include "src/io/io.h"
@@ -7,48 +6,8 @@
 #include "interp/homotopy.h"
 #include "interp/interp.h"
 
-#include <getopt.h>
 #include <stdio.h>
 #include <string.h>
-
-static const char help[] =
-    "usage: topodig interp LABELLED.geojson -o DEM.tif --like SCAN\n"
-    "                      [--method multidir|scanline|homotopy] [--step N]\n"
-    "\n"
-    "Rasterise the labelled contour lines onto the scan's grid and\n"
-    "interpolate the heights between them.  The DEM has the scan's size\n"
-    "(one cell per pixel; --step N: one per N x N pixels) and its\n"
-    "georeferencing; cells no contour pair determines are nodata.\n"
-    "Output by extension: .tif float32 GeoTIFF (nodata tag), .asc ESRI\n"
-    "ASCII grid, .png 16-bit grey.\n"
-    "\n"
-    "options:\n"
-    "  -o, --output FILE     DEM output (required)\n"
-    "      --like SCAN       the scan the lines were traced from (required:\n"
-    "                        size and georeferencing)\n"
-    "      --method M        multidir (default): 4 scan directions blended;\n"
-    "                        scanline: the paper's x then y pass (001 §2.4);\n"
-    "                        homotopy: along ridge and valley lines found\n"
-    "                        from contour curvature (003), scanline where\n"
-    "                        it cannot reach\n"
-    "      --epsilon DEG     homotopy: turning-angle threshold (default 20)\n"
-    "      --fallback M      homotopy: scanline (default) | multidir for the\n"
-    "                        cells the homotopy cannot reach\n"
-    "      --step N          one DEM cell per N x N scan pixels (default 1)\n"
-    "      --summit S        extrapolate (default, paper §2.5) | flat\n"
-    "      --peninsula P     scanline only: diagonal (default) | flat (paper)\n"
-    "      --weight W        multidir only: span (default) | prod | span2\n"
-    "      --dirs N          multidir only: 4 (default) or 2 directions\n"
-    "      --interval I      contour interval for the summit cap (default:\n"
-    "                        the smallest step between line heights)\n"
-    "      --nodata V        nodata value (default -9999)\n"
-    "      --smooth N        N sweeps of smoothing within the contour bands\n"
-    "                        (default 0; ours: removes the creases of the\n"
-    "                        linear blend, see docs/interp.md)\n"
-    "  -q, --quiet           no progress and no summary\n"
-    "  -h, --help            this help\n"
-    "\n"
-    "Summary on stderr: cells, determined fraction, method, seconds.\n";
 
 typedef struct ip_opts {
     const char *in, *out, *like;
@@ -56,53 +15,33 @@ typedef struct ip_opts {
     td_interp_params p;
 } ip_opts;
 
-enum { O_LIKE = 256, O_PASS };
-
 static int parse_args(int argc, char **argv, ip_opts *o)
 {
-    static const struct option lo[] = {
-        {"output", 1, 0, 'o'}, {"like", 1, 0, O_LIKE},
-        {"method", 1, 0, O_PASS}, {"step", 1, 0, O_PASS},
-        {"summit", 1, 0, O_PASS}, {"peninsula", 1, 0, O_PASS},
-        {"weight", 1, 0, O_PASS}, {"dirs", 1, 0, O_PASS},
-        {"interval", 1, 0, O_PASS}, {"nodata", 1, 0, O_PASS},
-        {"smooth", 1, 0, O_PASS},
-        {"epsilon", 1, 0, O_PASS}, {"fallback", 1, 0, O_PASS},
-        {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
-    td_ctx cx;
-    int c, li = -1;
-    td_ctx_init(&cx);
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, "o:qh", lo, &li)) != -1) {
-        if (c == 'h') {
-            fputs(help, stdout);
-            return 2;
-        } else if (c == 'o')
-            o->out = optarg;
-        else if (c == 'q')
-            o->quiet = 1;
-        else if (c == O_LIKE)
-            o->like = optarg;
-        else if (c == O_PASS) {
-            if (td_interp_set(&o->p, lo[li].name, optarg, &cx) != 0)
-                return td_cli_fail("interp", &cx);
-        } else
-            return td_cli_failf("interp", "bad or incomplete option '%s' "
-                                "(see topodig interp --help)",
-                                argv[optind - 1]);
-    }
-    if (optind != argc - 1)
-        return td_cli_failf("interp", "expected one LABELLED.geojson file "
-                            "(see topodig interp --help)");
-    o->in = argv[optind];
-    if (!o->out)
-        return td_cli_failf("interp", "no output: give -o DEM.tif");
-    if (td_cli_check_output("interp", o->out, o->in) != 0)
-        return 1;
+    td_opt opts[TD_CLI_INTERP_OPTS + 2] = {
+        {"like", 0, TD_OPT_STRING, &o->like, .meta = "SCAN", .help = "the "
+         "scan the lines were traced from (required:\nsize and "
+         "georeferencing)"}};
+    size_t n = 1 + td_cli_interp_opts(opts + 1, &o->p);
+    const td_cmd c = {
+        "interp", "LABELLED.geojson -o DEM.tif --like SCAN\n"
+        "                      [--method multidir|scanline|homotopy] [--step N]",
+        "Rasterise the labelled contour lines onto the scan's grid and\n"
+        "interpolate the heights between them.  The DEM has the scan's size\n"
+        "(one cell per pixel; --step N: one per N x N pixels) and its\n"
+        "georeferencing; cells no contour pair determines are nodata.\n"
+        "Lines: .geojson, .gpkg, .shp or .dxf.  DEM by extension: .tif\n"
+        "float32 GeoTIFF (nodata tag), .asc ESRI ASCII grid, .png 16-bit grey.\n",
+        "Summary on stderr: cells, determined fraction, method, seconds.\n",
+        opts, "one LABELLED.geojson file", 1, 1, &o->in, &o->out, "DEM.tif",
+        &o->quiet};
+    int rc;
+    opts[n].name = NULL;
+    if ((rc = td_opt_parse(&c, argc, argv)) != 0)
+        return rc;
     if (!o->like)
         return td_cli_failf("interp", "no grid: give --like SCAN (the scan "
                             "the lines come from)");
-    return 0;
+    return td_cli_interp_check("interp", &o->p);
 }
 
 static void summary(const td_grid_f32 *g, const td_interp_params *p,

@@ -349,3 +349,29 @@ void td_georef_crs_json(const td_georef *g, char *buf, size_t n)
                                             : TD_PIXEL_CRS,
                  g && g->valid && !g->pixel ? "unknown" : "pixel");
 }
+
+/* See io.h. */
+double td_georef_cell_size(const td_georef *g, int w, int h, int *geographic)
+{
+    const double deg = 111319.49; /* metres per degree on the equator */
+    double sx, sy, X, lat;
+    int model = 0;
+    if (geographic)
+        *geographic = 0;
+    if (!g || !g->valid || g->pixel)
+        return 0.0;
+    sx = hypot(g->gt[1], g->gt[4]);
+    sy = hypot(g->gt[2], g->gt[5]);
+    if (!(sx > 0) || !(sy > 0) || !isfinite(sx) || !isfinite(sy))
+        return 0.0;
+    if (td_georef_geokey(g, KEY_MODELTYPE, &model) && model == 2) {
+        td_georef_apply(g, 0.5 * w, 0.5 * h, &X, &lat);
+        if (!(fabs(lat) < 90.0))
+            return 0.0;
+        sx *= deg * cos(lat * M_PI / 180.0);
+        sy *= deg;
+        if (geographic)
+            *geographic = 1;
+    }
+    return 0.5 * (sx + sy);
+}

@@ -66,6 +66,14 @@ void td_georef_apply(const td_georef *g, double col, double row, double *X,
  * scan's CRS is not named (never WGS 84, which GeoJSON without a "crs"
  * implies).  Writes at most n bytes (256 is enough) to buf. */
 void td_georef_crs_json(const td_georef *g, char *buf, size_t n);
+/* The one cell-size rule of every command: the size of a w x h grid's
+ * cells in metres from its georeferencing, the mean of |gt[1]| and |gt[5]|
+ * (square cells expected); for a geographic CRS (GTModelTypeGeoKey 2,
+ * degrees) converted to metres at the grid's centre latitude.  0 when g is
+ * NULL, invalid or the pixel frame (no real cell size: the caller's
+ * default).  *geographic (may be NULL) says whether degrees were
+ * converted. */
+double td_georef_cell_size(const td_georef *g, int w, int h, int *geographic);
 /* A SHORT-valued GeoKey (e.g. 1025 GTRasterTypeGeoKey) from the verbatim
  * key directory: 1 and *val when present, else 0. */
 int td_georef_geokey(const td_georef *g, int key, int *val);
