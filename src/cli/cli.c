@@ -158,6 +158,32 @@ void td_cli_print_palette(const char *prog, const td_palette *pal)
     fputc('\n', stderr);
 }
 
+/* Fail before any long computation when the output's folder does not
+ * exist or is not writable. */
+static int check_folder(const char *cmd, const char *path)
+{
+    char dir[4096];
+    const char *slash = strrchr(path, '/');
+    struct stat st;
+    size_t n = slash ? (size_t)(slash - path) : 0;
+    if (!slash)
+        return access(".", W_OK) == 0 ? 0 : td_cli_failf(cmd,
+                      "%s: cannot create: folder not writable", path);
+    if (n == 0)
+        n = 1; /* "/file" */
+    if (n >= sizeof dir)
+        return td_cli_failf(cmd, "%s: file name too long", path);
+    memcpy(dir, path, n);
+    dir[n] = 0;
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
+        return td_cli_failf(cmd, "%s: cannot create: no folder '%s'", path,
+                            dir);
+    if (access(dir, W_OK) != 0)
+        return td_cli_failf(cmd, "%s: cannot create: folder not writable",
+                            path);
+    return 0;
+}
+
 /* Contract in cli.h. */
 int td_cli_check_output(const char *cmd, const char *out, const char *in)
 {
@@ -170,7 +196,7 @@ int td_cli_check_output(const char *cmd, const char *out, const char *in)
                             "file name", out);
     if (td_atomic_check_target(out, &cx) != 0)
         return td_cli_fail(cmd, &cx);
-    return 0;
+    return check_folder(cmd, out);
 }
 
 /* Contract in cli.h. */

@@ -60,8 +60,9 @@ struct td_palette;
 void td_cli_print_palette(const char *prog, const struct td_palette *pal);
 
 /* Refuse an output that would destroy an input or is no file: out the
- * same file as in (in may be NULL), or an existing folder, device or
- * FIFO.  Prints one line naming the file; returns 0 or 1. */
+ * same file as in (in may be NULL), an existing folder, device or FIFO,
+ * or in a folder that does not exist or is not writable (found before any
+ * long work).  Prints one line naming the file; returns 0 or 1. */
 int td_cli_check_output(const char *cmd, const char *out, const char *in);
 
 /* n comma-separated finite numbers within +-1e12 ("X,Y,H"; blanks around

@@ -296,26 +296,6 @@ static int parse_args(int argc, char **argv, label_opts *o, pts *heights)
     return 0;
 }
 
-/* The sheet size when --size is not given: the lines' extent (traced
- * lines ending on the border reach the border pixels' centres). */
-static int extent(const td_lines *ls, int *w, int *h, td_ctx *cx)
-{
-    double mx = 1, my = 1;
-    size_t i, k;
-    for (i = 0; i < ls->n; i++)
-        for (k = 0; k < ls->v[i].n; k++) {
-            mx = fmax(mx, ls->v[i].xy[2 * k]);
-            my = fmax(my, ls->v[i].xy[2 * k + 1]);
-        }
-    if (!(mx < TD_MAX_DIM) || !(my < TD_MAX_DIM))
-        return td_seterr(cx, TD_ETOOBIG,
-                         "the lines reach x = %g, y = %g, beyond any sheet "
-                         "(%d px a side at most)", mx, my, TD_MAX_DIM);
-    *w = (int)ceil(mx + 0.5 - 1e-9);
-    *h = (int)ceil(my + 0.5 - 1e-9);
-    return 0;
-}
-
 /* --heights rows: the operator's heights win over the automatic ones;
  * rows off base + k * interval are warned about into checks (may be NULL)
  * and kept. */
@@ -805,7 +785,7 @@ int td_cmd_label(int argc, char **argv)
         goto fail;
     if (o.scan && !o.like)
         o.like = o.scan; /* widths and pictures from the same scan */
-    if (o.w == 0 && (rc = extent(ls, &o.w, &o.h, &cx)) != 0)
+    if (o.w == 0 && (rc = td_lines_extent(ls, &o.w, &o.h, &cx)) != 0)
         goto fail;
     p.base = o.base, p.interval = o.interval, p.w = o.w, p.h = o.h;
     p.known = o.known.v, p.nknown = o.known.n;

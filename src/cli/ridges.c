@@ -1,49 +1,15 @@
 /* topodig ridges: labelled contour lines -> ridge, valley and inflection
  * lines (GeoJSON), optionally the signed curvature per contour sample. */
-#define _GNU_SOURCE
 #include "src/cli/cli.h"
 
 #include "src/io/io.h"
 #include "src/core/core.h"
 #include "interp/homotopy.h"
 
-#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static const char help[] =
-    "usage: topodig ridges LABELLED.geojson -o RIDGES.geojson\n"
-    "                      [--curvature-csv FILE] [--epsilon DEG]\n"
-    "                      [--like SCAN]\n"
-    "\n"
-    "Ridge and valley lines from the curvature of the labelled contours\n"
-    "(the homotopy paper, 003 §4-5): each contour is oriented with higher\n"
-    "ground on the left, smoothed and fitted with a C2 spline; ridge points\n"
-    "sit at the curvature maxima of convex stretches, valley points at the\n"
-    "minima of concave ones; points of one kind on adjacent contours are\n"
-    "linked, and ridges (valleys) that merge form one tree.\n"
-    "Output: LineStrings with [x, y, height] positions and properties\n"
-    "kind (ridge, valley, inflection), tree (null for inflections) and\n"
-    "heights.  Coordinates as the input's (pixels, or map units through\n"
-    "--like's georeferencing).\n"
-    "\n"
-    "options:\n"
-    "  -o, --output FILE       ridge/valley GeoJSON (required)\n"
-    "      --curvature-csv F   signed curvature per contour sample: line,\n"
-    "                          i, x, y, s, kappa (1/px, > 0 convex)\n"
-    "      --epsilon DEG       turning-angle threshold: a stretch between\n"
-    "                          inflections that turns less is dropped\n"
-    "                          (default 20)\n"
-    "      --smooth PX         Gaussian smoothing along contours (default 3)\n"
-    "      --like SCAN         the scan: sheet size and georeferencing\n"
-    "                          (default: the lines' extent, pixel units)\n"
-    "  -q, --quiet             no progress and no summary\n"
-    "  -h, --help              this help\n"
-    "\n"
-    "Summary on stderr: contours, ridge/valley points and trees, links,\n"
-    "suspended points, seconds.\n";
 
 typedef struct rg_opts {
     const char *in, *out, *csv, *like;
@@ -51,65 +17,39 @@ typedef struct rg_opts {
     td_homotopy_params p;
 } rg_opts;
 
-enum { O_CSV = 256, O_EPS, O_SMOOTH, O_LIKE };
-
 static int parse_args(int argc, char **argv, rg_opts *o)
 {
-    static const struct option lo[] = {
-        {"output", 1, 0, 'o'}, {"curvature-csv", 1, 0, O_CSV},
-        {"epsilon", 1, 0, O_EPS}, {"smooth", 1, 0, O_SMOOTH},
-        {"like", 1, 0, O_LIKE}, {"quiet", 0, 0, 'q'}, {"help", 0, 0, 'h'},
-        {0, 0, 0, 0}};
-    int c;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, "o:qh", lo, NULL)) != -1) {
-        if (c == 'h') {
-            fputs(help, stdout);
-            return 2;
-        } else if (c == 'o')
-            o->out = optarg;
-        else if (c == 'q')
-            o->quiet = 1;
-        else if (c == O_CSV)
-            o->csv = optarg;
-        else if (c == O_LIKE)
-            o->like = optarg;
-        else if (c == O_EPS) {
-            if (td_cli_parse_double(optarg, 0, 180, &o->p.epsilon) != 0)
-                return td_cli_failf("ridges", "--epsilon: '%s' is not a "
-                                    "number 0..180 (degrees)", optarg);
-        } else if (c == O_SMOOTH) {
-            if (td_cli_parse_double(optarg, 0, 100, &o->p.smooth) != 0)
-                return td_cli_failf("ridges", "--smooth: '%s' is not a "
-                                    "number 0..100 (px)", optarg);
-        } else
-            return td_cli_failf("ridges", "bad or incomplete option '%s' "
-                                "(see topodig ridges --help)",
-                                argv[optind - 1]);
-    }
-    if (optind != argc - 1)
-        return td_cli_failf("ridges", "expected one LABELLED.geojson file "
-                            "(see topodig ridges --help)");
-    o->in = argv[optind];
-    if (!o->out)
-        return td_cli_failf("ridges", "no output: give -o RIDGES.geojson");
-    if (td_cli_check_output("ridges", o->out, o->in) != 0)
-        return 1;
-    return 0;
-}
-
-/* The sheet size from the lines' extent (pixel centres are at +0.5). */
-static void extent(const td_lines *ls, int *w, int *h)
-{
-    double mx = 1, my = 1;
-    size_t i, k;
-    for (i = 0; i < ls->n; i++)
-        for (k = 0; k < ls->v[i].n; k++) {
-            mx = fmax(mx, ls->v[i].xy[2 * k]);
-            my = fmax(my, ls->v[i].xy[2 * k + 1]);
-        }
-    *w = (int)fmin(ceil(mx + 0.5), TD_MAX_DIM);
-    *h = (int)fmin(ceil(my + 0.5), TD_MAX_DIM);
+    const td_opt opts[] = {
+        {"curvature-csv", 0, TD_OPT_OUTPUT, &o->csv, .meta = "F", .help =
+         "signed curvature per contour sample: line,\ni, x, y, s, kappa "
+         "(1/px, > 0 convex)"},
+        {"epsilon", 0, TD_OPT_DOUBLE, &o->p.epsilon, 0, 180, .meta = "DEG",
+         .help = "turning-angle threshold: a stretch between\ninflections "
+         "that turns less is dropped"},
+        {"smooth", 0, TD_OPT_DOUBLE, &o->p.smooth, 0, 100, .meta = "PX",
+         .help = "Gaussian smoothing along contours"},
+        {"like", 0, TD_OPT_STRING, &o->like, .meta = "SCAN", .help = "the "
+         "scan: sheet size and georeferencing\n(default: the lines' extent, "
+         "the pixel frame)"},
+        {NULL}};
+    const td_cmd c = {
+        "ridges", "LABELLED.geojson -o RIDGES.geojson\n"
+        "                      [--curvature-csv FILE] [--epsilon DEG]\n"
+        "                      [--like SCAN]",
+        "Ridge and valley lines from the curvature of the labelled contours\n"
+        "(the homotopy paper, 003 §4-5): each contour is oriented with higher\n"
+        "ground on the left, smoothed and fitted with a C2 spline; ridge points\n"
+        "sit at the curvature maxima of convex stretches, valley points at the\n"
+        "minima of concave ones; points of one kind on adjacent contours are\n"
+        "linked, and ridges (valleys) that merge form one tree.\n"
+        "Output (GeoJSON): LineStrings with [x, y, height] positions and\n"
+        "properties kind (ridge, valley, inflection), tree (null for\n"
+        "inflections) and heights, in the frame of the scan (README, Frames).\n",
+        "Summary on stderr: contours, ridge/valley points and trees, links,\n"
+        "suspended points, seconds.\n",
+        opts, "one LABELLED.geojson file", 1, 1, &o->in, &o->out,
+        "RIDGES.geojson", &o->quiet};
+    return td_opt_parse(&c, argc, argv);
 }
 
 static int write_csv(const char *path, const td_ridges *r,
@@ -232,8 +172,8 @@ int td_cmd_ridges(int argc, char **argv)
         goto fail;
     if ((rc = td_vector_read_lines(o.in, &geo, &ls, NULL, NULL, &cx)) != 0)
         goto fail;
-    if (!o.like)
-        extent(ls, &w, &h);
+    if (!o.like && (rc = td_lines_extent(ls, &w, &h, &cx)) != 0)
+        goto fail;
     if ((rc = td_ridges_find(ls, w, h, &o.p, &r, &cx)) != 0 ||
         (rc = td_ridges_paths(r, &paths, &np, &cx)) != 0 ||
         (o.csv && (rc = write_csv(o.csv, r, ls, &cx)) != 0) ||

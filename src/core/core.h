@@ -219,6 +219,10 @@ td_lines *td_lines_copy(const td_lines *ls, td_ctx *cx);
  * and the point farthest from it, so it keeps at least 3 points.  tol <= 0
  * changes nothing.  Returns 0 or TD_ENOMEM (l unchanged). */
 int td_line_simplify(td_line *l, double tol, td_ctx *cx);
+/* The sheet size the lines imply when none is given: their extent (traced
+ * lines ending on the border reach the border pixels' centres, +0.5).
+ * 0, or TD_ETOOBIG when they reach beyond TD_MAX_DIM. */
+int td_lines_extent(const td_lines *ls, int *w, int *h, td_ctx *cx);
 /* td_line_simplify on every line; 0 or TD_ENOMEM. */
 int td_lines_simplify(td_lines *ls, double tol, td_ctx *cx);
 

@@ -264,3 +264,22 @@ int td_lines_simplify(td_lines *ls, double tol, td_ctx *cx)
         rc = td_line_simplify(&ls->v[i], tol, cx);
     return rc;
 }
+
+/* See core.h. */
+int td_lines_extent(const td_lines *ls, int *w, int *h, td_ctx *cx)
+{
+    double mx = 1, my = 1;
+    size_t i, k;
+    for (i = 0; i < ls->n; i++)
+        for (k = 0; k < ls->v[i].n; k++) {
+            mx = fmax(mx, ls->v[i].xy[2 * k]);
+            my = fmax(my, ls->v[i].xy[2 * k + 1]);
+        }
+    if (!(mx < TD_MAX_DIM) || !(my < TD_MAX_DIM))
+        return td_seterr(cx, TD_ETOOBIG,
+                         "the lines reach x = %g, y = %g, beyond any sheet "
+                         "(%d px a side at most)", mx, my, TD_MAX_DIM);
+    *w = (int)ceil(mx + 0.5 - 1e-9);
+    *h = (int)ceil(my + 0.5 - 1e-9);
+    return 0;
+}
