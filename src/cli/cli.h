@@ -84,6 +84,7 @@ int td_cli_fail_on(const char *cmd, const char *in, const char *out,
 
 typedef enum td_opt_kind {
     TD_OPT_FLAG,   /* int *: set to `n` (1 when n is 0) */
+    TD_OPT_OFF,    /* int *: set to 0 (--no-... options) */
     TD_OPT_INT,    /* int *: a whole number lo..hi */
     TD_OPT_LONG,   /* long *: a whole number lo..hi */
     TD_OPT_DOUBLE, /* double *: a finite number lo..hi */
@@ -94,8 +95,8 @@ typedef enum td_opt_kind {
                       ("a|b|c"); `n` != 0: its value is choices' index + n */
     TD_OPT_POINTS, /* td_opt_points *: n comma-separated finite numbers,
                       repeatable ("--known X,Y,H" n = 3) */
-    TD_OPT_FUNC    /* fn(arg, target, message, size): 0 or -1 with the
-                      message (without the option's name) */
+    TD_OPT_FUNC    /* fn(arg, target, cx): 0, or an error whose message
+                      (in cx) names the option */
 } td_opt_kind;
 
 typedef struct td_opt {
@@ -108,7 +109,7 @@ typedef struct td_opt {
     const char *help;  /* may hold '\n' for more lines */
     const char *choices;
     int n;
-    int (*fn)(const char *arg, void *target, char *msg, size_t size);
+    int (*fn)(const char *arg, void *target, td_ctx *cx);
     int no_default;    /* 1: print no "(default ...)" */
 } td_opt;
 

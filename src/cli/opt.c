@@ -119,7 +119,7 @@ void td_opt_help(const td_cmd *c)
         char m[40] = "";
         if (o->kind == TD_OPT_CHOICE && !o->meta)
             snprintf(m, sizeof m, " %s", o->choices);
-        else if (o->kind != TD_OPT_FLAG)
+        else if (o->kind != TD_OPT_FLAG && o->kind != TD_OPT_OFF)
             snprintf(m, sizeof m, " %s", o->meta ? o->meta : "X");
         if (o->letter)
             snprintf(flags, sizeof flags, "-%c, --%s%s", o->letter, o->name, m);
@@ -155,10 +155,13 @@ static int set_value(const td_cmd *c, const td_opt *o, const char *arg)
     long l;
     double d;
     int k;
-    char msg[200];
+    td_ctx cx;
     switch (o->kind) {
     case TD_OPT_FLAG:
         *(int *)o->target = o->n ? o->n : 1;
+        return 0;
+    case TD_OPT_OFF:
+        *(int *)o->target = 0;
         return 0;
     case TD_OPT_INT:
     case TD_OPT_LONG:
@@ -201,10 +204,11 @@ static int set_value(const td_cmd *c, const td_opt *o, const char *arg)
                                 o->meta ? o->meta : "");
         return 0;
     case TD_OPT_FUNC:
-        msg[0] = '\0';
-        if (o->fn(arg, o->target, msg, sizeof msg) != 0)
-            return td_cli_failf(c->name, "--%s: %s", o->name,
-                                msg[0] ? msg : "bad value");
+        td_ctx_init(&cx);
+        if (o->fn(arg, o->target, &cx) != 0)
+            return cx.msg[0] ? td_cli_fail(c->name, &cx)
+                             : td_cli_failf(c->name, "--%s: '%s' is not "
+                                            "allowed", o->name, arg);
         return 0;
     }
     return td_cli_failf(c->name, "--%s: unknown option kind", o->name);
@@ -216,7 +220,7 @@ static void tables(const td_cmd *c, size_t n, struct option *lo, char *sh)
     size_t i, k = 0, s = 0;
     for (i = 0; i < n; i++) {
         const td_opt *o = &c->opts[i];
-        int arg = o->kind != TD_OPT_FLAG;
+        int arg = o->kind != TD_OPT_FLAG && o->kind != TD_OPT_OFF;
         lo[k++] = (struct option){o->name, arg, 0, (int)(O_BASE + i)};
         if (o->letter) {
             sh[s++] = o->letter;

@@ -14,7 +14,7 @@ typedef struct rd_opts {
     td_render_params p;
 } rd_opts;
 
-static int parse_zfactor(const char *arg, void *t, char *msg, size_t n)
+static int parse_zfactor(const char *arg, void *t, td_ctx *cx)
 {
     if (!strcmp(arg, "auto")) {
         *(double *)t = 0;
@@ -22,8 +22,8 @@ static int parse_zfactor(const char *arg, void *t, char *msg, size_t n)
     }
     if (td_cli_parse_double(arg, 1e-9, 1e6, t) == 0)
         return 0;
-    snprintf(msg, n, "'%s' is neither auto nor a number 1e-09..1e+06", arg);
-    return -1;
+    return td_seterr(cx, TD_EINVAL, "--zfactor: '%s' is neither auto nor a "
+                     "number 1e-09..1e+06", arg);
 }
 
 static int parse_args(int argc, char **argv, rd_opts *o)
