@@ -199,9 +199,9 @@ static int set_value(const td_cmd *c, const td_opt *o, const char *arg)
         if ((k = add_point(o->target, arg, o->n)) == -2)
             return td_cli_failf(c->name, "--%s: out of memory", o->name);
         if (k != 0)
-            return td_cli_failf(c->name, "--%s: '%s' is not %d comma-"
-                                "separated numbers (%s)", o->name, arg, o->n,
-                                o->meta ? o->meta : "");
+            return td_cli_failf(c->name, "--%s: '%s' is not %s (%d finite "
+                                "numbers)", o->name, arg,
+                                o->meta ? o->meta : "X,Y", o->n);
         return 0;
     case TD_OPT_FUNC:
         td_ctx_init(&cx);

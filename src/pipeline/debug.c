@@ -151,3 +151,62 @@ int td_pipeline_scan_debug(const char *dir, const td_image *im,
     return rc;
 }
 
+
+/* --debug-dir labels.geojson: one point per label read. */
+static int write_labels_geojson(const char *path, const td_lines *ls,
+                                const td_ocr_read *reads, size_t nreads,
+                                const td_georef *geo, td_ctx *cx)
+{
+    char tmp[4200];
+    size_t i;
+    FILE *f = td_atomic_open(path, tmp, sizeof tmp, cx);
+    if (!f)
+        return cx->code;
+    char crs[320];
+    td_georef_crs_json(geo, crs, sizeof crs);
+    fprintf(f, "{\"type\":\"FeatureCollection\",%s,\"features\":[\n", crs);
+    for (i = 0; i < nreads; i++) {
+        const td_ocr_read *r = &reads[i];
+        double x = r->x, y = r->y;
+        td_georef_apply(geo, x, y, &x, &y);
+        char ids[64] = "null";
+        if (r->line[0] >= 0 && (size_t)r->line[0] < ls->n)
+            snprintf(ids, sizeof ids, "%ld", ls->v[r->line[0]].id);
+        fprintf(f, "%s{\"type\":\"Feature\",\"properties\":{\"text\":\"%s\","
+                "\"value\":%.10g,\"angle\":%.1f,\"confidence\":%.3f,"
+                "\"digit_px\":%.1f,\"line\":%s,\"used\":%s,\"why\":%s%s%s},"
+                "\"geometry\":{\"type\":\"Point\",\"coordinates\":[%.3f,"
+                "%.3f]}}", i ? ",\n" : "", r->text, r->value,
+                atan2(-r->uy, r->ux) * 180.0 / 3.14159265358979323846,
+                r->conf, r->digit_px, ids, r->used ? "true" : "false",
+                r->why ? "\"" : "", r->why ? r->why : "null",
+                r->why ? "\"" : "", x, y);
+    }
+    fputs("\n]}\n", f);
+    return td_atomic_commit(f, tmp, path, cx);
+}
+
+/* See pipeline.h. */
+int td_pipeline_heights_debug(const char *dir, const td_image *scan, int w,
+                              int h, const td_lines *ls,
+                              const td_ocr_read *reads, size_t nreads,
+                              const td_georef *geo, td_ctx *cx)
+{
+    td_image *pic = NULL;
+    char path[4096];
+    int rc;
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+        return td_seterr(cx, TD_EIO, "%s: cannot make the folder: %s", dir,
+                         strerror(errno));
+    snprintf(path, sizeof path, "%s/heights.png", dir);
+    if ((rc = td_draw_heights(scan, w, h, ls, &pic, cx)) == 0) {
+        if (reads)
+            td_ocr_draw(pic, reads, nreads);
+        rc = td_png_write(path, pic, cx);
+    }
+    td_image_free(pic);
+    snprintf(path, sizeof path, "%s/labels.geojson", dir);
+    if (rc == 0 && reads)
+        rc = write_labels_geojson(path, ls, reads, nreads, geo, cx);
+    return rc;
+}

@@ -9,6 +9,10 @@
 #include "src/io/io.h"
 #include "scanner/scan.h"
 #include "src/erode/erode.h"
+#include "scanner/label.h"
+#include "scanner/ocr.h"
+#include "scanner/palette.h"
+#include "interp/interp.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -20,6 +24,66 @@ extern "C" {
  * inks.txt.  0 or an error naming the file. */
 int td_pipeline_scan_debug(const char *dir, const td_image *im,
                            const td_scan_result *r, td_ctx *cx);
+
+/* --debug-dir DIR of label and run (made when missing): heights.png,
+ * every line over the scan (NULL: white, w x h) coloured by its height,
+ * and when reads is not NULL the labels read boxed on it and
+ * labels.geojson, one point per label read (text, value, angle,
+ * confidence, line, used, why), through geo.  0 or an error. */
+int td_pipeline_heights_debug(const char *dir, const td_image *scan, int w,
+                              int h, const td_lines *ls,
+                              const td_ocr_read *reads, size_t nreads,
+                              const td_georef *geo, td_ctx *cx);
+
+/* ---- run: a sheet -> lines -> heights -> DEM ---- */
+
+struct td_run_result;
+
+/* What td_pipeline_run does.  label: the hints (interval, base, known
+ * points, depressions, index_every, method); its w, h and labels are
+ * filled in.  on_labelled (may be NULL) is called once every line has its
+ * height or null, before the lines without one are dropped: the place to
+ * write the labelled lines and the debug pictures (r->scan is kept for it
+ * when keep_scan).  A nonzero return stops the run with that code. */
+typedef struct td_run_params {
+    td_scan_params scan;
+    int read_labels;       /* read the printed labels (default 1) */
+    td_label_params label;
+    td_interp_params interp;
+    int keep_scan;         /* keep the image until on_labelled (debug) */
+    int (*on_labelled)(const struct td_run_result *r, void *user);
+    void *user;
+} td_run_params;
+
+td_run_params td_run_defaults(void);
+
+typedef struct td_run_result {
+    td_georef geo;         /* the scan's, scaled to the DEM's cells */
+    int w, h;              /* the scan's size */
+    td_lines *lines;       /* the lines (labelled, then the kept ones);
+                              NULL once interpolated */
+    td_grid_f32 *dem;
+    size_t traced, dropped, ncross;
+    double secs[3];        /* read + scan, label, interpolate */
+    double ocr_secs;
+    td_label_report rep, checks; /* the labeller's; crossings aside, the
+                                    index width check's */
+    td_homotopy_stats hs;
+    td_ocr_read *reads;    /* printed labels read */
+    size_t nreads;
+    td_palette pal;        /* the inks of a colour scan (n = 0: none) */
+    td_image *scan;        /* keep_scan: until on_labelled returns */
+} td_run_result;
+
+/* Read the scan at path, trace, read its labels, label every line (with
+ * the crossing and index-width checks of topodig label), drop the lines
+ * left without a height and interpolate the DEM; r (initialised here) holds
+ * everything; free with td_run_result_free.  Nothing is written.  0 or an
+ * error (no heights to start from, no interval, no line labelled, any
+ * stage's). */
+int td_pipeline_run(const char *path, const td_run_params *p,
+                    td_run_result *r, td_ctx *cx);
+void td_run_result_free(td_run_result *r);
 
 /* The files of an erosion run: out (the eroded DEM; required), and each
  * of the others when not NULL: the W, E and deposited-sediment fields of
