@@ -306,6 +306,14 @@ int td_draw_overlay(const td_image *scan, const td_lines *ls, td_image **out,
 int td_draw_heights(const td_image *scan, int w, int h, const td_lines *ls,
                     td_image **out, td_ctx *cx);
 
+/* Where each line's id goes on a label sheet: near its middle, or the
+ * first of eight places along it whose box overlaps no earlier id.  x,y
+ * pairs in *out (free()); 0 or TD_ENOMEM. */
+int td_line_id_places(const td_lines *ls, double **out, td_ctx *cx);
+/* Each line's id in small digits on a white box framed in the line's
+ * colour (td_draw_colour of its index) at xy[2i], xy[2i+1]. */
+void td_draw_ids(td_image *im, const td_lines *ls, const double *xy);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,6 +1,7 @@
 #include "src/core/core.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 void td_draw_colour(size_t i, uint8_t rgb[3])
@@ -200,3 +201,101 @@ int td_draw_heights(const td_image *scan, int w, int h, const td_lines *ls,
     return 0;
 }
 
+/* ---- line ids: the label sheet of the paper's operator entry ---- */
+
+/* 3x5 digits, rows top to bottom, 3 bits per row (4 = left column). */
+static const unsigned char font3x5[10][5] = {
+    {7, 5, 5, 5, 7}, {2, 6, 2, 2, 7}, {7, 1, 7, 4, 7}, {7, 1, 7, 1, 7},
+    {5, 5, 7, 1, 1}, {7, 4, 7, 1, 7}, {7, 4, 7, 5, 7}, {7, 1, 1, 1, 1},
+    {7, 5, 7, 5, 7}, {7, 5, 7, 1, 7}};
+
+static void put_px(td_image *im, int x, int y, const uint8_t c[3])
+{
+    uint8_t *p;
+    if (x < 0 || y < 0 || x >= im->w || y >= im->h)
+        return;
+    p = im->data + ((size_t)y * im->w + x) * 3;
+    p[0] = c[0], p[1] = c[1], p[2] = c[2];
+}
+
+/* The id in 2x-scaled 3x5 digits centred at (cx,cy) on a white box with
+ * a border in the line's colour. */
+static void draw_id(td_image *im, double cx, double cy, long id,
+                    const uint8_t c[3])
+{
+    static const uint8_t white[3] = {255, 255, 255};
+    char t[24];
+    int n = snprintf(t, sizeof t, "%ld", id), bw = n * 8 + 2, bh = 14;
+    int x0 = (int)cx - bw / 2, y0 = (int)cy - bh / 2, x, y, g;
+    for (y = -1; y <= bh; y++)
+        for (x = -1; x <= bw; x++)
+            put_px(im, x0 + x, y0 + y,
+                   y < 0 || x < 0 || y == bh || x == bw ? c : white);
+    for (g = 0; g < n; g++)
+        for (y = 0; y < 10; y++)
+            for (x = 0; x < 6; x++)
+                if (t[g] >= '0' && t[g] <= '9' &&
+                    font3x5[t[g] - '0'][y / 2] >> (2 - x / 2) & 1)
+                    put_px(im, x0 + 2 + 8 * g + x, y0 + 2 + y, c);
+}
+
+/* The point at fraction f of l's length. */
+static void line_at(const td_line *l, double f, double *x, double *y)
+{
+    double want = f * td_line_length(l), s = 0;
+    size_t k;
+    *x = l->n ? l->xy[0] : 0, *y = l->n ? l->xy[1] : 0;
+    for (k = 1; k < l->n; k++) {
+        double d = hypot(l->xy[2 * k] - l->xy[2 * k - 2],
+                         l->xy[2 * k + 1] - l->xy[2 * k - 1]);
+        if (s + d >= want) {
+            *x = l->xy[2 * k], *y = l->xy[2 * k + 1];
+            return;
+        }
+        s += d;
+    }
+}
+
+/* Where line i's id goes: near its middle, or the first of eight places
+ * along it whose box (bw x 16 px) overlaps no earlier id box (xy[2j]). */
+static void id_place(const td_lines *ls, size_t i, const double *xy,
+                     double *x, double *y)
+{
+    static const double f[8] = {.5, .25, .75, .125, .375, .625, .875, 0};
+    char t[24];
+    double bw = 8.0 * snprintf(t, sizeof t, "%ld", ls->v[i].id) + 4;
+    size_t j;
+    int k;
+    for (k = 0; k < 8; k++) {
+        int clash = 0;
+        line_at(&ls->v[i], f[k], x, y);
+        for (j = 0; j < i && !clash; j++)
+            clash = fabs(xy[2 * j] - *x) < bw + 6 &&
+                    fabs(xy[2 * j + 1] - *y) < 18;
+        if (!clash)
+            return;
+    }
+    line_at(&ls->v[i], 0.5, x, y);
+}
+
+/* See core.h. */
+int td_line_id_places(const td_lines *ls, double **out, td_ctx *cx)
+{
+    size_t i;
+    if (!(*out = malloc((2 * ls->n + 2) * sizeof **out)))
+        return td_seterr(cx, TD_ENOMEM, "out of memory");
+    for (i = 0; i < ls->n; i++)
+        id_place(ls, i, *out, &(*out)[2 * i], &(*out)[2 * i + 1]);
+    return 0;
+}
+
+/* See core.h. */
+void td_draw_ids(td_image *im, const td_lines *ls, const double *xy)
+{
+    size_t i;
+    for (i = 0; i < ls->n; i++) {
+        uint8_t c[3];
+        td_draw_colour(i, c);
+        draw_id(im, xy[2 * i], xy[2 * i + 1], ls->v[i].id, c);
+    }
+}

@@ -193,6 +193,18 @@ int td_vector_read_lines(const char *path, const struct td_georef *georef,
                          td_lines **out, size_t *skipped,
                          struct td_georef *frame, td_ctx *cx);
 
+/* ---- CSV (csv.c) ---- */
+
+/* Rows of ncols (1..8) finite numbers from a CSV file (x,y,height: 3;
+ * id,height: 2): blank lines and '#' lines skipped, a first line with
+ * letters taken as a header.  With allow_empty_last, a row "A," gives NaN
+ * in the other columns (an id without a height).  *v: n x ncols numbers
+ * (free()).  Errors name the file and the line. */
+int td_csv_read_rows(const char *path, int ncols, int allow_empty_last,
+                     double **v, size_t *n, td_ctx *cx);
+/* "id,height" of every line ("id," when it has none), atomically. */
+int td_csv_write_heights(const char *path, const td_lines *ls, td_ctx *cx);
+
 /* ---- demio ---- */
 /* demio.h: reading and writing DEM grids (float32 in memory).
  *

@@ -35,6 +35,31 @@ int td_pipeline_heights_debug(const char *dir, const td_image *scan, int w,
                               const td_ocr_read *reads, size_t nreads,
                               const td_georef *geo, td_ctx *cx);
 
+/* ---- around the labeller (label.c) ---- */
+
+/* The printed height labels of the scan the lines ls were traced from:
+ * the scan traced again for where the labels are, read (Tesseract) and
+ * tied to ls's lines.  *reads (free()), *n.  0 or an error. */
+int td_pipeline_sheet_labels(const char *scan, const td_lines *ls,
+                             td_ocr_read **reads, size_t *n, td_ctx *cx);
+/* Ink widths of lines that carry none (a file not written by topodig
+ * scan), measured on the scan binarised with the scanner's defaults.
+ * Nothing happens when any line has a width.  0 or an error. */
+int td_pipeline_scan_widths(const char *scan, td_lines *ls, td_ctx *cx);
+/* The operator's heights (rows of id,height; a NaN height: none given)
+ * onto the lines with those ids; a height off base + k * interval is a
+ * warning in checks (may be NULL), and kept.  0 or TD_EINVAL (bad id,
+ * no such line). */
+int td_pipeline_apply_heights(td_lines *ls, const double *rows, size_t n,
+                              td_label_report *checks,
+                              const td_label_params *p, td_ctx *cx);
+/* The label sheet of the paper's operator entry (001 §2.3): every line in
+ * its own colour, its id at idxy (td_line_id_places), over the scan like
+ * (may be NULL: white, w x h).  PNG at path; 0 or an error. */
+int td_pipeline_label_sheet(const char *path, const char *like, int w, int h,
+                            const td_lines *ls, const double *idxy,
+                            td_ctx *cx);
+
 /* ---- run: a sheet -> lines -> heights -> DEM ---- */
 
 struct td_run_result;
