@@ -9,6 +9,56 @@
 #include <stdio.h>
 #include <string.h>
 
+/* See cli.h. */
+size_t td_cli_interp_opts(td_opt *v, td_interp_params *p)
+{
+    const td_opt o[TD_CLI_INTERP_OPTS] = {
+        {"method", 0, TD_OPT_CHOICE, &p->method,
+         .choices = "scanline|multidir|homotopy", .meta = "M",
+         .help = "multidir: 4 scan directions blended;\nscanline: the "
+         "paper's x then y pass (001 §2.4);\nhomotopy: along ridge and "
+         "valley lines found\nfrom contour curvature (003), scanline where\n"
+         "it cannot reach"},
+        {"epsilon", 0, TD_OPT_DOUBLE, &p->homotopy.epsilon, 0, 180,
+         .meta = "DEG", .help = "homotopy: turning-angle threshold"},
+        {"fallback", 0, TD_OPT_CHOICE, &p->homotopy.fallback,
+         .choices = "scanline|multidir", .meta = "M",
+         .help = "homotopy: who fills the cells the homotopy\ncannot reach"},
+        {"step", 0, TD_OPT_INT, &p->step, 1, 4096, .meta = "N",
+         .help = "one DEM cell per N x N scan pixels"},
+        {"summit", 0, TD_OPT_CHOICE, &p->scanline.summit,
+         .choices = "flat|extrapolate", .meta = "S",
+         .help = "extrapolate (paper §2.5) | flat"},
+        {"peninsula", 0, TD_OPT_CHOICE, &p->scanline.peninsula,
+         .choices = "flat|diagonal", .meta = "P",
+         .help = "scanline: diagonal (ours) | flat (paper)"},
+        {"weight", 0, TD_OPT_CHOICE, &p->multidir.weight,
+         .choices = "prod|span|span2", .meta = "W",
+         .help = "multidir: span | prod | span2"},
+        {"dirs", 0, TD_OPT_INT, &p->multidir.ndir, 2, 4, .meta = "N",
+         .help = "multidir: 4 or 2 directions"},
+        {"interval", 0, TD_OPT_DOUBLE, &p->interval, 1e-9, 1e9, .meta = "I",
+         .help = "contour interval for the summit cap (default:\nthe "
+         "smallest step between line heights)", .no_default = 1},
+        {"nodata", 0, TD_OPT_FLOAT, &p->nodata, -3e38, 3e38, .meta = "V",
+         .help = "nodata value"},
+        {"smooth", 0, TD_OPT_INT, &p->smooth, 0, 10000, .meta = "N",
+         .help = "N sweeps of smoothing within the contour bands\n(ours: "
+         "removes the creases of the linear blend,\nsee docs/interp.md)"},
+    };
+    memcpy(v, o, sizeof o);
+    return TD_CLI_INTERP_OPTS;
+}
+
+/* See cli.h. */
+int td_cli_interp_check(const char *cmd, td_interp_params *p)
+{
+    if (p->multidir.ndir == 3)
+        return td_cli_failf(cmd, "--dirs: 2 or 4");
+    p->multidir.summit = p->scanline.summit;
+    return 0;
+}
+
 typedef struct ip_opts {
     const char *in, *out, *like;
     int quiet;

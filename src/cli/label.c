@@ -8,16 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct label_opts {
-    const char *in, *out, *csv_out, *label_sheet, *like, *scan, *debug_dir;
-    const char *known_file, *heights;
-    int quiet, w, h, interactive, no_missing;
-    td_opt_points known, dep;
-    td_label_params p;
-    td_pts pts;        /* --known and --known-file */
-    double *rows;      /* --heights: id,height */
-    size_t nrows;
-} label_opts;
 
 static int parse_size(const char *arg, void *t, td_ctx *cx)
 {
@@ -140,110 +130,6 @@ static int hints(label_opts *o, td_ctx *cx)
     return rc;
 }
 
-/* Each line of a report's text as "label: warning: ...". */
-static void put_warnings(const char *text)
-{
-    while (text && *text) {
-        size_t n = strcspn(text, "\n");
-        fprintf(stderr, "label: warning: %.*s\n", (int)n, text);
-        text += n + (text[n] == '\n');
-    }
-}
-
-/* Whether id is among the points' ids or the rows' (with a height). */
-static int has_id(const td_pts *a, const double *rows, size_t nrows, long id)
-{
-    size_t j;
-    for (j = 0; a && j < a->n; j++)
-        if (a->v[j].id == id)
-            return 1;
-    for (j = 0; j < nrows; j++)
-        if (rows[2 * j] == (double)id && rows[2 * j + 1] == rows[2 * j + 1])
-            return 1;
-    return 0;
-}
-
-/* The lines whose up/down is only assumed (a note, not a warning); lines
- * given by --heights or answered in --interactive are not guesses. */
-static void put_assumed(td_label_report *rep, const label_opts *o,
-                        const td_pts *seen)
-{
-    size_t i, m = 0;
-    for (i = 0; i < rep->assumed; i++)
-        if (!has_id(NULL, o->rows, o->nrows, rep->assumed_ids[i]) &&
-            !has_id(seen, NULL, 0, rep->assumed_ids[i]))
-            rep->assumed_ids[m++] = rep->assumed_ids[i];
-    rep->assumed = m;
-    if (rep->assumed == 0)
-        return;
-    fprintf(stderr, "label: note: %zu lines are higher or lower than their "
-            "surroundings by assumption only (no two known points or "
-            "--depressions fix it; rings taken as rising), ids ",
-            rep->assumed);
-    for (i = 0; i < rep->assumed && i < 20; i++)
-        fprintf(stderr, "%s%ld", i ? "," : "", rep->assumed_ids[i]);
-    fputs(rep->assumed > 20 ? ",...\n" : "\n", stderr);
-}
-
-static void summary(const td_lines *ls, td_label_report *rep,
-                    const td_label_report *checks, const label_opts *o,
-                    const td_pts *seen, size_t more)
-{
-    size_t i, lab = 0, shown = 0;
-    for (i = 0; i < ls->n; i++)
-        lab += ls->v[i].has_height != 0;
-    put_warnings(rep->text);
-    put_warnings(checks->text);
-    put_assumed(rep, o, seen);
-    fprintf(stderr, "label: %zu lines, %zu labelled, %zu undetermined, %zu "
-            "warnings", ls->n, lab, ls->n - lab,
-            rep->warnings + checks->warnings + more);
-    for (i = 0; i < ls->n && shown < 20; i++)
-        if (!ls->v[i].has_height)
-            fprintf(stderr, "%s%ld", shown++ ? "," : " (undetermined ids: ",
-                    ls->v[i].id);
-    fputs(shown ? (shown < ls->n - lab ? ",...)\n" : ")\n") : "\n", stderr);
-    td_cli_heights_summary("label", rep);
-}
-
-/* Warn about lines that cross (one line each, before the summary);
- * returns the number of warnings, or -1 (out of memory). */
-static long warn_crossings(const td_lines *ls, int quiet, td_ctx *cx)
-{
-    td_crossing *v = NULL;
-    size_t n = 0, i;
-    if (td_contain_crossings(ls, &v, &n, cx) != 0)
-        return -1;
-    for (i = 0; i < n && !quiet; i++)
-        fprintf(stderr, "label: warning: lines %ld and %ld cross at "
-                "(%.1f,%.1f)\n", v[i].a, v[i].b, v[i].x, v[i].y);
-    free(v);
-    return (long)n;
-}
-
-/* --interactive: the label sheet, then the questions. */
-static int entry(label_opts *o, td_lines *ls, td_label_report *rep,
-                 td_pts *seen, size_t *more, td_ctx *cx)
-{
-    char path[4200];
-    double *idxy = NULL;
-    size_t asked = 0, i;
-    int rc;
-    snprintf(path, sizeof path, "%s%s", o->label_sheet ? o->label_sheet
-             : o->out, o->label_sheet ? "" : ".png");
-    if ((rc = td_line_id_places(ls, &idxy, cx)) == 0 &&
-        (rc = td_pipeline_label_sheet(path, o->like, o->w, o->h, ls, idxy,
-                                      cx)) == 0) {
-        fprintf(stderr, "label: label sheet %s\n", path);
-        *more += td_label_interact(ls, &o->p, &o->pts, o->rows, o->nrows,
-                                   idxy, rep, stdin, &asked);
-        for (i = 0; i < asked && rc == 0; i++) /* seen: not "assumed" */
-            rc = td_pts_push(seen, 0, 0, ls->v[i].height, ls->v[i].id, cx);
-    }
-    free(idxy);
-    return rc;
-}
-
 /* Label ls and write every output, the secondary ones first: when one
  * fails, the main output (new or old) is left as it was. */
 static int label(label_opts *o, td_lines *ls, const td_georef *frame,
@@ -258,7 +144,7 @@ static int label(label_opts *o, td_lines *ls, const td_georef *frame,
         rc = td_pipeline_sheet_labels(o->scan, ls, &reads, &nreads, cx);
     o->p.labels = reads, o->p.nlabels = nreads;
     o->p.w = o->w, o->p.h = o->h;
-    if (rc == 0 && (ncross = warn_crossings(ls, o->quiet, cx)) < 0)
+    if (rc == 0 && (ncross = td_label_warn_crossings(ls, o->quiet, cx)) < 0)
         rc = TD_ENOMEM;
     if (rc == 0 && (rc = td_label_auto(ls, &o->p, rep, cx)) == 0) {
         *more += (size_t)ncross;
@@ -268,7 +154,7 @@ static int label(label_opts *o, td_lines *ls, const td_georef *frame,
                                        cx);
     }
     if (rc == 0 && o->interactive)
-        rc = entry(o, ls, rep, seen, more, cx);
+        rc = td_label_entry(o, ls, rep, seen, more, cx);
     if (rc == 0 && o->p.index_every > 0 && o->like)
         rc = td_pipeline_scan_widths(o->like, ls, cx);
     if (rc == 0)
@@ -312,7 +198,7 @@ int td_cmd_label(int argc, char **argv)
         (rc = label(&o, ls, &frame, &rep, &checks, &seen, &more, &cx)) != 0)
         rc = td_cli_fail("label", &cx);
     else if (!o.quiet)
-        summary(ls, &rep, &checks, &o, &seen, more);
+        td_label_summary(ls, &rep, &checks, &o, &seen, more);
 done:
     td_georef_clear(&frame);
     td_label_report_free(&rep);

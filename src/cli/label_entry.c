@@ -138,3 +138,26 @@ size_t td_label_interact(td_lines *ls, td_label_params *p,
     return warnings;
 }
 
+/* See label_int.h. */
+int td_label_entry(label_opts *o, td_lines *ls, td_label_report *rep,
+                 td_pts *seen, size_t *more, td_ctx *cx)
+{
+    char path[4200];
+    double *idxy = NULL;
+    size_t asked = 0, i;
+    int rc;
+    snprintf(path, sizeof path, "%s%s", o->label_sheet ? o->label_sheet
+             : o->out, o->label_sheet ? "" : ".png");
+    if ((rc = td_line_id_places(ls, &idxy, cx)) == 0 &&
+        (rc = td_pipeline_label_sheet(path, o->like, o->w, o->h, ls, idxy,
+                                      cx)) == 0) {
+        fprintf(stderr, "label: label sheet %s\n", path);
+        *more += td_label_interact(ls, &o->p, &o->pts, o->rows, o->nrows,
+                                   idxy, rep, stdin, &asked);
+        for (i = 0; i < asked && rc == 0; i++) /* seen: not "assumed" */
+            rc = td_pts_push(seen, 0, 0, ls->v[i].height, ls->v[i].id, cx);
+    }
+    free(idxy);
+    return rc;
+}
+
