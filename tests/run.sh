@@ -1,8 +1,8 @@
 #!/bin/sh
 # Run the source checks (tests/check_*.sh: the include layers), every
 # test binary (build/tests/test_*), every end-to-end script
-# (tests/e2e_*.sh) and the binaries named in EXTRA_TESTS (make test: the
-# flow tests built with -march=native); each prints "N passed, N failed"
+# (tests/e2e_*.sh) and the binaries named in EXTRA_TESTS; each prints
+# "N passed, N failed"
 # as its last line.  Prints the totals the same way, once, and exits 1
 # when anything failed.
 BUILD=${BUILD:-build}
