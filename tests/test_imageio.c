@@ -1066,6 +1066,17 @@ static void craft_grey(const char *path, uint32_t w, uint32_t h,
     craft_tiff(path, e, 8, data, ndata);
 }
 
+/* An 8-bit grey TIFF of w x h claiming Deflate, with 200 bytes of data. */
+static void craft_deflate(const char *path, uint32_t w, uint32_t h)
+{
+    uint8_t data[256] = {0x78, 0x9c};
+    ifd_ent e[] = {{256, 4, 1, w},      {257, 4, 1, h},
+                   {258, 3, 1, 8},      {259, 3, 1, 8},
+                   {262, 3, 1, 1},      {273, 4, 1, 0xFFFFFFFFu},
+                   {278, 4, 1, h},      {279, 4, 1, 200}};
+    craft_tiff(path, e, 8, data, 200);
+}
+
 /* Read path: must fail with a message naming the file (and containing
  * `want` when given), leaving the output pointer NULL. */
 static void expect_fail(const char *path, int code, const char *want)
@@ -1159,7 +1170,14 @@ static void test_bad_inputs(void)
     truncate_copy(tmpfile_path("big.tif"), tmpfile_path("trunc.tif"), 0.6);
     expect_fail(tmpfile_path("trunc.tif"), TD_EFORMAT, NULL);
     craft_grey(tmpfile_path("short_strip.tif"), 64, 64, 4096, 100);
-    expect_fail(tmpfile_path("short_strip.tif"), TD_EFORMAT, NULL);
+    expect_fail(tmpfile_path("short_strip.tif"), TD_EFORMAT, "file ends");
+    /* headers under the pixel limit whose data cannot fill them: refused
+       before the frame is allocated (no 900 MB for a 300-byte file) */
+    craft_grey(tmpfile_path("claims.tif"), 30000, 30000, 900000000u, 100);
+    expect_fail(tmpfile_path("claims.tif"), TD_EFORMAT, "file ends before");
+    craft_deflate(tmpfile_path("claims_deflate.tif"), 30000, 30000);
+    expect_fail(tmpfile_path("claims_deflate.tif"), TD_EFORMAT,
+                "cannot hold");
     craft_grey(tmpfile_path("huge.tif"), 100000, 100000, 16, 16);
     expect_fail(tmpfile_path("huge.tif"), TD_ETOOBIG, "larger than");
     craft_grey(tmpfile_path("zero.tif"), 0, 64, 16, 16);

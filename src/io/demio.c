@@ -252,7 +252,8 @@ static int tiff_dem_read(const char *path, td_grid_f32 **out,
                             &e);
     if ((rc = dem_layout(tif, &D, path, cx)) != 0)
         goto fail;
-    if (georef && (rc = td_georef_from_tiff(tif, &gr, cx)) != 0)
+    if ((georef && (rc = td_georef_from_tiff(tif, &gr, cx)) != 0) ||
+        (rc = td_tiff_check_data(tif, path, cx)) != 0)
         goto fail;
     if (!(g = td_grid_f32_new((int)D.w, (int)D.h, cx))) {
         rc = cx && cx->code ? cx->code : TD_ENOMEM;

@@ -20,6 +20,14 @@ typedef struct td_tiff_err {
 TIFF *td_tiff_open(const char *path, int fd, const char *mode, td_tiff_err *e);
 
 /* Set an error "PATH: what: libtiff's message" in cx; returns code. */
+/* Before the frame is allocated: every strip or tile of tif's current
+ * directory lies inside the file (a truncated file is refused up front,
+ * not after allocating its frame), and the data could decode to the frame
+ * (the decoded size at most the compression's largest ratio times the
+ * compressed bytes: 2 uncompressed, 130 PackBits, 1100 Deflate, 5000 LZW;
+ * the others unbounded), so a tiny file claiming a huge frame is refused.
+ * 0 or TD_EFORMAT naming path. */
+int td_tiff_check_data(TIFF *tif, const char *path, td_ctx *cx);
 int td_tiff_fail(td_ctx *cx, int code, const char *path, const char *what,
                  const td_tiff_err *e);
 

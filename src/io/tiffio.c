@@ -15,6 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <xtiffio.h>
 
@@ -34,8 +35,19 @@ static int on_tiff_error(TIFF *tif, void *user, const char *module,
                          const char *fmt, va_list ap)
 {
     td_tiff_err *e = user;
-    if (e && e->count++ == 0)
+    if (e && e->count++ == 0) {
+        unsigned long got, want;
+        char *p;
         vsnprintf(e->msg, sizeof e->msg, fmt, ap);
+        /* a short strip: libtiff says "Read error at scanline 4294967295"
+           (no row known); say what it means */
+        if ((p = strstr(e->msg, "scanline 4294967295")) != NULL &&
+            sscanf(p, "scanline 4294967295; got %lu bytes, expected %lu",
+                   &got, &want) == 2)
+            snprintf(e->msg, sizeof e->msg, "the file ends inside the image "
+                     "data (a strip or tile has %lu of its %lu bytes)", got,
+                     want);
+    }
     return 1; /* handled: libtiff's global handler must not print */
 }
 
@@ -91,6 +103,58 @@ int td_tiff_fail(td_ctx *cx, int code, const char *path, const char *what,
     if (*m)
         return td_seterr(cx, code, "%s: %s: %s", path, what, m);
     return td_seterr(cx, code, "%s: %s", path, what);
+}
+
+/* The largest decoded / compressed ratio of a compression, 0: unbounded. */
+static double max_ratio(uint16_t comp)
+{
+    switch (comp) {
+    case COMPRESSION_NONE: return 2.0;
+    case COMPRESSION_PACKBITS: return 130.0;
+    case COMPRESSION_ADOBE_DEFLATE:
+    case COMPRESSION_DEFLATE: return 1100.0;
+    case COMPRESSION_LZW: return 5000.0;
+    default: return 0.0;
+    }
+}
+
+/* See io_int.h. */
+int td_tiff_check_data(TIFF *tif, const char *path, td_ctx *cx)
+{
+    struct stat st;
+    uint32_t i, n = TIFFNumberOfStrips(tif);
+    uint64_t sum = 0, raw;
+    uint16_t comp = COMPRESSION_NONE;
+    double ratio;
+    if (TIFFIsTiled(tif)) {
+        n = TIFFNumberOfTiles(tif);
+        raw = (uint64_t)TIFFTileSize64(tif) * n;
+    } else {
+        raw = (uint64_t)TIFFStripSize64(tif) * n;
+    }
+    if (stat(path, &st) != 0)
+        return td_seterr(cx, TD_EIO, "%s: cannot read its size", path);
+    for (i = 0; i < n; i++) {
+        int err = 0;
+        uint64_t off = TIFFGetStrileOffsetWithErr(tif, i, &err);
+        uint64_t bc = TIFFGetStrileByteCountWithErr(tif, i, &err);
+        if (err || (bc > 0 && (off > (uint64_t)st.st_size ||
+                               bc > (uint64_t)st.st_size - off)))
+            return td_seterr(cx, TD_EFORMAT, "%s: corrupt or truncated image "
+                             "data: the file ends before %s %u of %u", path,
+                             TIFFIsTiled(tif) ? "tile" : "strip", i + 1, n);
+        sum += bc;
+    }
+    TIFFGetFieldDefaulted(tif, TIFFTAG_COMPRESSION, &comp);
+    ratio = max_ratio(comp);
+    if (ratio > 0 && (double)raw > ratio * (double)sum + 65536.0)
+        return td_seterr(cx, TD_EFORMAT, "%s: corrupt TIFF: %llu bytes of "
+                         "image data cannot hold the %u x %u frame it "
+                         "claims", path, (unsigned long long)sum,
+                         (unsigned)TIFFScanlineSize64(tif),
+                         (unsigned)(raw / (TIFFScanlineSize64(tif) ?
+                                           TIFFScanlineSize64(tif) : 1)));
+    return 0;
 }
 
 static int unsupported(td_ctx *cx, const char *path, const char *why)
@@ -501,7 +565,8 @@ int td_tiff_read(const char *path, td_image **out, td_georef *georef,
     td_georef_init(&g);
     if (!L)
         return rc;
-    if ((rc = open_layout(path, L, georef ? &g : NULL, &e, &tif, cx)) != 0)
+    if ((rc = open_layout(path, L, georef ? &g : NULL, &e, &tif, cx)) != 0 ||
+        (rc = td_tiff_check_data(tif, path, cx)) != 0)
         goto fail;
     im = td_image_new((int)L->w, (int)L->h, L->channels, cx);
     if (!im) {

@@ -2,7 +2,8 @@
  * written to a private temporary file (the readers take paths) and read
  * with td_image_info, then td_image_read when the header's size is modest,
  * so legitimate huge headers do not trip the fuzzer's allocation limit;
- * then as a DEM (td_dem_read) and as GeoJSON lines (td_geojson_read_lines);
+ * then as a DEM (td_dem_read), as GeoJSON lines (td_geojson_read_lines)
+ * and as the labeller's CSV files (td_csv_read_rows);
  * lines that read, with every point within a 512 x 512 sheet (a margin
  * outside allowed), go on through the homotopy stage (td_ridges_find,
  * td_ridges_paths, td_interp_lines --method homotopy) and the faces
@@ -130,6 +131,29 @@ static void fuzz_heights(const td_lines *ls)
     }
 }
 
+/* The file as the labeller's CSV files (x,y,height points; id,height rows
+ * with empty heights): every row read is finite, or the read says why. */
+static void fuzz_csv(void)
+{
+    static const int cols[2] = {3, 2};
+    int k;
+    for (k = 0; k < 2; k++) {
+        td_ctx cx;
+        double *v = NULL;
+        size_t n = 0, i;
+        td_ctx_init(&cx);
+        if (td_csv_read_rows(fuzz_path, cols[k], k, &v, &n, &cx) != 0) {
+            if (!cx.msg[0] || v || n)
+                abort();
+            continue;
+        }
+        for (i = 0; i < n * (size_t)cols[k]; i++)
+            if (!isfinite(v[i]) && !(k == 1 && i % 2 == 1 && v[i] != v[i]))
+                abort();
+        free(v);
+    }
+}
+
 /* The same file as a DEM and as GeoJSON lines: either reads it or fails
  * with a message. */
 static void fuzz_dem_and_lines(void)
@@ -152,6 +176,7 @@ static void fuzz_dem_and_lines(void)
         fuzz_heights(ls);
     }
     td_lines_free(ls);
+    fuzz_csv();
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
