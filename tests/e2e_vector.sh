@@ -48,6 +48,12 @@ done
 check "DXF: 3-D polylines at their heights (z of a vertex = a contour height)" \
     "ogrinfo -ro -al '$T/lab.dxf' 2>/dev/null | grep -m1 'LINESTRING Z' | grep -Eq '\\(-?[0-9.]+ -[0-9.]+ [0-9]+0,'"
 
+# ridges by extension: the same paths in GeoPackage (3-D) and GeoJSON
+"$TD" ridges "$T/lab.geojson" -o "$T/r.geojson" -q
+"$TD" ridges "$T/lab.geojson" -o "$T/r.gpkg" -q
+check "ridges -o .gpkg: the GeoJSON's $(count "$T/r.geojson") paths as 3-D lines with kind and tree" \
+    "[ '$(count "$T/r.gpkg")' = '$(count "$T/r.geojson")' ] && [ '$(count "$T/r.geojson")' -gt 2 ] && ogrinfo -ro -so -al '$T/r.gpkg' | grep -q '3D Line String' && ogrinfo -ro -so -al '$T/r.gpkg' | grep -q '^kind: String'"
+
 # run --save-lines LINES.gpkg: the vertices sampled on the DEM give their heights
 "$TD" run samples/hills.png -o "$T/run.tif" --interval 20 $K3 --save-lines "$T/run.gpkg" -q
 ogrinfo -ro -al "$T/run.gpkg" 2>/dev/null | awk '

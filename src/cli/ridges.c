@@ -42,7 +42,8 @@ static int parse_args(int argc, char **argv, rg_opts *o)
         "sit at the curvature maxima of convex stretches, valley points at the\n"
         "minima of concave ones; points of one kind on adjacent contours are\n"
         "linked, and ridges (valleys) that merge form one tree.\n"
-        "Output (GeoJSON): LineStrings with [x, y, height] positions and\n"
+        "Output by extension: GeoJSON LineStrings with [x, y, height]\n"
+        "positions (.gpkg, .shp: 3-D lines; .dxf: 3-D polylines) and\n"
         "properties kind (ridge, valley, inflection), tree (null for\n"
         "inflections) and heights, in the frame of the scan (README, Frames).\n",
         "Summary on stderr: contours, ridge/valley points and trees, links,\n"
@@ -83,59 +84,25 @@ static const char *kind_name(int k)
                                                           : "inflection";
 }
 
-static void put_path(FILE *f, const td_rv_path *q, const td_georef *g)
-{
-    size_t i;
-    fprintf(f, "{\"type\":\"Feature\",\"properties\":{\"kind\":\"%s\","
-            "\"tree\":", kind_name(q->kind));
-    if (q->tree >= 0)
-        fprintf(f, "%ld", q->tree);
-    else
-        fputs("null", f);
-    fputs(",\"heights\":[", f);
-    for (i = 0; i < q->n; i++)
-        fprintf(f, "%s%.10g", i ? "," : "", q->xyz[3 * i + 2]);
-    fputs("]},\"geometry\":{\"type\":\"LineString\",\"coordinates\":[", f);
-    for (i = 0; i < q->n; i++) {
-        double x = q->xyz[3 * i], y = q->xyz[3 * i + 1];
-        td_georef_apply(g, x, y, &x, &y);
-        fprintf(f, "%s[%.10g,%.10g,%.10g]", i ? "," : "", x, y,
-                q->xyz[3 * i + 2]);
-    }
-    fputs("]}}", f);
-}
-
+/* The paths as io's 3-D paths, written by the output's extension. */
 static int write_paths(const char *path, const td_rv_path *v, size_t n,
                        const td_georef *georef, td_ctx *cx)
 {
-    size_t i, tmpsize = strlen(path) + 32;
-    char *tmp = td_malloc(tmpsize, cx);
-    FILE *f;
-    if (!tmp)
-        return TD_ENOMEM;
-    if (!(f = td_atomic_open(path, tmp, tmpsize, cx))) {
-        free(tmp);
-        return cx && cx->code ? cx->code : TD_EIO;
-    }
-    char crs[320];
-    td_georef_crs_json(georef, crs, sizeof crs);
-    fprintf(f, "{\"type\":\"FeatureCollection\",\n%s,\n\"features\":[\n", crs);
+    td_path3 *q = calloc(n + 1, sizeof *q);
+    td_paths3 P = {q, n};
+    size_t i;
+    int rc;
+    if (!q)
+        return td_seterr(cx, TD_ENOMEM, "out of memory");
     for (i = 0; i < n; i++) {
-        for (size_t k = 0; k < 3 * v[i].n; k++)
-            if (!isfinite(v[i].xyz[k])) {
-                td_atomic_abort(f, tmp);
-                free(tmp);
-                return td_seterr(cx, TD_EINVAL, "%s: a path has a "
-                                 "non-finite coordinate", path);
-            }
-        if (i)
-            fputs(",\n", f);
-        put_path(f, &v[i], georef);
+        q[i].xyz = v[i].xyz;
+        q[i].n = v[i].n;
+        q[i].kind = kind_name(v[i].kind);
+        q[i].tree = v[i].tree;
     }
-    fputs("\n]}\n", f);
-    i = (size_t)td_atomic_commit(f, tmp, path, cx);
-    free(tmp);
-    return (int)i;
+    rc = td_vector_write_paths(path, &P, georef, cx);
+    free(q);
+    return rc;
 }
 
 static void summary(const td_ridges *r, double secs)

@@ -184,6 +184,26 @@ int td_geojson_read_lines_frame(const char *path,
  * renamed into place.  0 or an error naming the file. */
 int td_vector_write_lines(const char *path, const td_lines *ls,
                           const struct td_georef *georef, td_ctx *cx);
+/* 3-D paths (ridge and valley lines): xyz holds n points x, y (pixel
+ * units), z; kind and tree become properties (tree -1: null). */
+typedef struct td_path3 {
+    const double *xyz;
+    size_t n;
+    const char *kind;
+    long tree;
+} td_path3;
+typedef struct td_paths3 {
+    const td_path3 *v;
+    size_t n;
+} td_paths3;
+/* Write paths by extension, as td_vector_write_lines: GeoJSON with
+ * [x, y, z] positions and the properties kind, tree and heights (the z of
+ * each vertex); GeoPackage and Shapefile 3-D LineStrings with kind and
+ * tree; DXF 3-D polylines on a layer named after the kind.  0, TD_EINVAL
+ * (a non-finite coordinate, an unknown extension) or an error naming the
+ * file. */
+int td_vector_write_paths(const char *path, const td_paths3 *P,
+                          const struct td_georef *georef, td_ctx *cx);
 /* Read lines back from any of those formats (other extensions: GeoJSON),
  * as td_geojson_read_lines_frame: the first layer (or the layer named
  * "contours"), LineString and MultiLineString features (one line per part;

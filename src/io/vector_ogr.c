@@ -189,10 +189,11 @@ static OGRGeometryH make_geometry(const td_line *l, const td_georef *g,
     return geo;
 }
 
-static int write_features(OGRLayerH lyr, const td_lines *ls,
+static int write_features(OGRLayerH lyr, const void *data,
                           const td_georef *g, vformat fmt, const char *path,
                           td_ctx *cx)
 {
+    const td_lines *ls = data;
     OGRFeatureDefnH d = OGR_L_GetLayerDefn(lyr);
     int layer = OGR_FD_GetFieldIndex(d, "Layer");
     size_t i;
@@ -276,8 +277,19 @@ static void remove_tmpdir(const char *dir, const char *base)
     rmdir(dir);
 }
 
-static int write_ogr(const char *path, const td_lines *ls, const td_georef *g,
-                     vformat fmt, td_ctx *cx)
+/* What one layer holds: its name and geometry type, its fields, its
+ * features. */
+typedef struct layer_spec {
+    const char *name;
+    OGRwkbGeometryType type;
+    int (*fields)(OGRLayerH lyr);   /* NULL: none */
+    int (*features)(OGRLayerH lyr, const void *data, const td_georef *g,
+                    vformat fmt, const char *path, td_ctx *cx);
+    const void *data;
+} layer_spec;
+
+static int write_ogr(const char *path, const layer_spec *L,
+                     const td_georef *g, vformat fmt, td_ctx *cx)
 {
     char dir[PATH_MAX], file[PATH_MAX];
     const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
@@ -311,14 +323,12 @@ static int write_ogr(const char *path, const td_lines *ls, const td_georef *g,
         goto done;
     }
     srs = make_srs(g);
-    lyr = GDALDatasetCreateLayer(ds, "contours", srs,
-                                 fmt == VF_DXF ? wkbLineString25D
-                                               : wkbLineString, NULL);
-    if (!lyr || (fmt != VF_DXF && make_fields(lyr) != 0)) {
+    lyr = GDALDatasetCreateLayer(ds, L->name, srs, L->type, NULL);
+    if (!lyr || (fmt != VF_DXF && L->fields && L->fields(lyr) != 0)) {
         rc = gdal_fail(cx, path, "cannot make the layer");
         goto done;
     }
-    if ((rc = write_features(lyr, ls, g, fmt, path, cx)) != 0)
+    if ((rc = L->features(lyr, L->data, g, fmt, path, cx)) != 0)
         goto done;
     CPLErrorReset();
     GDALClose(ds); /* flushes: a full disk shows here */
@@ -351,7 +361,130 @@ int td_vector_write_lines(const char *path, const td_lines *ls,
     if (f == VF_OTHER)
         return td_seterr(cx, TD_EINVAL, "%s: unknown vector format (use "
                          ".geojson, .gpkg, .shp or .dxf)", path);
-    return write_ogr(path, ls, georef, f, cx);
+    {
+        const layer_spec L = {"contours", f == VF_DXF ? wkbLineString25D
+                                                      : wkbLineString,
+                              make_fields, write_features, ls};
+        return write_ogr(path, &L, georef, f, cx);
+    }
+}
+
+/* ---- 3-D paths (ridge and valley lines) ------------------------------ */
+
+static int path_fields(OGRLayerH lyr)
+{
+    OGRFieldDefnH k = OGR_Fld_Create("kind", OFTString);
+    OGRFieldDefnH t = OGR_Fld_Create("tree", OFTInteger64);
+    OGRErr e1 = OGR_L_CreateField(lyr, k, TRUE);
+    OGRErr e2 = OGR_L_CreateField(lyr, t, TRUE);
+    OGR_Fld_Destroy(k);
+    OGR_Fld_Destroy(t);
+    return e1 == OGRERR_NONE && e2 == OGRERR_NONE ? 0 : -1;
+}
+
+static int path_features(OGRLayerH lyr, const void *data, const td_georef *g,
+                         vformat fmt, const char *path, td_ctx *cx)
+{
+    const td_paths3 *P = data;
+    OGRFeatureDefnH d = OGR_L_GetLayerDefn(lyr);
+    int fk = OGR_FD_GetFieldIndex(d, fmt == VF_DXF ? "Layer" : "kind");
+    int ft = OGR_FD_GetFieldIndex(d, "tree");
+    size_t i, k;
+    for (i = 0; i < P->n; i++) {
+        const td_path3 *q = &P->v[i];
+        OGRGeometryH geo = OGR_G_CreateGeometry(wkbLineString25D);
+        OGRFeatureH f;
+        OGRErr e;
+        for (k = 0; k < q->n; k++) {
+            double X, Y;
+            td_georef_apply(g, q->xyz[3 * k], q->xyz[3 * k + 1], &X, &Y);
+            OGR_G_AddPoint(geo, X, Y, q->xyz[3 * k + 2]);
+        }
+        f = OGR_F_Create(d);
+        if (fk >= 0 && q->kind)
+            OGR_F_SetFieldString(f, fk, q->kind);
+        if (ft >= 0 && q->tree >= 0)
+            OGR_F_SetFieldInteger64(f, ft, q->tree);
+        OGR_F_SetGeometryDirectly(f, geo);
+        e = OGR_L_CreateFeature(lyr, f);
+        OGR_F_Destroy(f);
+        if (e != OGRERR_NONE)
+            return gdal_fail(cx, path, "cannot write a path");
+    }
+    return 0;
+}
+
+/* One path as a GeoJSON feature: [x, y, z] positions and the properties
+ * kind, tree and heights. */
+static void put_path(FILE *f, const td_path3 *q, const td_georef *g)
+{
+    size_t i;
+    fprintf(f, "{\"type\":\"Feature\",\"properties\":{\"kind\":\"%s\","
+            "\"tree\":", q->kind ? q->kind : "");
+    if (q->tree >= 0)
+        fprintf(f, "%ld", q->tree);
+    else
+        fputs("null", f);
+    fputs(",\"heights\":[", f);
+    for (i = 0; i < q->n; i++)
+        fprintf(f, "%s%.10g", i ? "," : "", q->xyz[3 * i + 2]);
+    fputs("]},\"geometry\":{\"type\":\"LineString\",\"coordinates\":[", f);
+    for (i = 0; i < q->n; i++) {
+        double x, y;
+        td_georef_apply(g, q->xyz[3 * i], q->xyz[3 * i + 1], &x, &y);
+        fprintf(f, "%s[%.10g,%.10g,%.10g]", i ? "," : "", x, y,
+                q->xyz[3 * i + 2]);
+    }
+    fputs("]}}", f);
+}
+
+static int write_paths_geojson(const char *path, const td_paths3 *P,
+                               const td_georef *g, td_ctx *cx)
+{
+    size_t i, tmpsize = strlen(path) + 32;
+    char *tmp = td_malloc(tmpsize, cx), crs[320];
+    FILE *f;
+    int rc;
+    if (!tmp)
+        return TD_ENOMEM;
+    if (!(f = td_atomic_open(path, tmp, tmpsize, cx))) {
+        free(tmp);
+        return cx && cx->code ? cx->code : TD_EIO;
+    }
+    td_georef_crs_json(g, crs, sizeof crs);
+    fprintf(f, "{\"type\":\"FeatureCollection\",\n%s,\n\"features\":[\n", crs);
+    for (i = 0; i < P->n; i++) {
+        if (i)
+            fputs(",\n", f);
+        put_path(f, &P->v[i], g);
+    }
+    fputs("\n]}\n", f);
+    rc = td_atomic_commit(f, tmp, path, cx);
+    free(tmp);
+    return rc;
+}
+
+/* See io.h. */
+int td_vector_write_paths(const char *path, const td_paths3 *P,
+                          const td_georef *georef, td_ctx *cx)
+{
+    size_t i, k;
+    vformat f = format_of(path);
+    for (i = 0; i < P->n; i++)
+        for (k = 0; k < 3 * P->v[i].n; k++)
+            if (!isfinite(P->v[i].xyz[k]))
+                return td_seterr(cx, TD_EINVAL, "%s: a path has a "
+                                 "non-finite coordinate", path);
+    if (f == VF_GEOJSON)
+        return write_paths_geojson(path, P, georef, cx);
+    if (f == VF_OTHER)
+        return td_seterr(cx, TD_EINVAL, "%s: unknown vector format (use "
+                         ".geojson, .gpkg, .shp or .dxf)", path);
+    {
+        const layer_spec L = {"paths", wkbLineString25D, path_fields,
+                              path_features, P};
+        return write_ogr(path, &L, georef, f, cx);
+    }
 }
 
 /* ---- reading ---------------------------------------------------------- */
