@@ -18,6 +18,7 @@ td_scan_params td_scan_defaults(void)
     p.do_join = 1;
     p.measure_width = 1;
     p.blob_rings = 1;
+    p.straight = td_straight_defaults();
     return p;
 }
 
@@ -43,7 +44,9 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     if (!(g = td_grid_u8_new(im->w, im->h, cx)))
         return cx ? cx->code : TD_ENOMEM;
     t0 = td_now();
-    if ((rc = td_binarise_pal(im, &p->bin, g, &res->palette, cx)) != 0)
+    if ((rc = td_binarise_pal(im, &p->bin, g, &res->palette, cx)) != 0 ||
+        (rc = td_straight_remove(g, &p->straight, &res->straight_lines,
+                                 cx)) != 0)
         goto fail;
     res->seconds[0] = td_now() - t0;
     rc = TD_ENOMEM;

@@ -16,6 +16,7 @@
 #include "scanner/join.h"
 #include "scanner/thin.h"
 #include "scanner/trace.h"
+#include "scanner/straight.h"
 #include "scanner/width.h"
 
 #ifdef __cplusplus
@@ -28,6 +29,7 @@ typedef struct td_scan_params {
     td_trace_params trace;
     td_join_params join;  /* w,h filled in by td_scan */
     int do_join;          /* default 1 */
+    td_straight_params straight; /* grid lines erased (straight.h, ours) */
     int measure_width;    /* set each line's width (width.h), default 1 */
     int blob_rings;       /* tiny rings that printed as dots of ink get
                              back their circle (blobring.h; ours; needs
@@ -45,6 +47,7 @@ typedef struct td_scan_result {
     td_trace_stats trace;
     td_join_stats join;
     size_t blob_rings;     /* tiny rings redrawn from their dots */
+    size_t straight_lines; /* grid lines erased from the mask */
     td_palette palette;    /* the inks found on a colour scan (--ink auto
                               or brown; n = 0 otherwise) */
     double seconds[5];     /* binarise, thin, despur, trace, join */

@@ -74,6 +74,9 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          "the join\nfollowing the curve"},
         {"no-curves", 0, TD_OPT_OFF, &p->join.curves, .help = "label-gap "
          "stage: straight rule and chords only"},
+        {"no-grid", 0, TD_OPT_OFF, &p->straight.on, .help = "keep long "
+         "straight lines (by default the map\ngrid's lines across the sheet "
+         "are erased\nfrom the ink, ours: docs/scanner.md)"},
         {"min-length", 0, TD_OPT_DOUBLE, &p->join.min_length, 0, 10000,
          .meta = "PX", .help = "remove open fragments (label digits, text)\n"
          "shorter than PX or fitting in a PX box,\nunless both ends continue "

@@ -84,19 +84,22 @@ int main(int argc, char **argv)
                 td_ctx_clear(&cx);
                 continue;
             }
-            for (v = 0; v < 5; v++) {
+            for (v = 0; v < 6; v++) {
                 /* paper junctions, cut without seams, the default; colour:
-                   --ink brown, and the first brown selection (hue window) */
-                static const char *const vname[5] = {
+                   --ink brown, and the first brown selection (hue window);
+                   the default without the grid-line removal */
+                static const char *const vname[6] = {
                     "paper", "cut,noseam", "default", "ink brown",
-                    "brown-hue"};
+                    "brown-hue", "nogrid"};
                 int paper = v == 0;
                 td_scan_params sp = td_scan_defaults();
                 td_scan_result res;
                 td_scanscore sc;
                 struct timespec t0, t1;
-                if (v >= 3 && kind < 2)
+                if (v >= 3 && v <= 4 && kind < 2)
                     continue;
+                if (v == 5)
+                    sp.straight.on = 0;
                 if (v == 3)
                     sp.bin.ink = TD_INK_BROWN;
                 if (v == 4)

@@ -1,0 +1,147 @@
+/* test_straight.c: the map grid's straight lines out of the ink mask
+ * (scanner/straight.c): a dense field of wavy contours crossed by a grid
+ * line tilted by a scan's skew, one straight along each axis, and one
+ * broken into pieces by a poor colour classification; the grid goes, the
+ * contours stay, and a mask without a grid is left as it was. */
+#include "tests/tt.h"
+#include "scanner/straight.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { W = 1200, H = 1100 };
+
+/* Wavy 2-px contours every 14 px, running mostly across the sheet at 20
+ * degrees, so a column meets one every ~15 rows. */
+static void contours(td_grid_u8 *g)
+{
+    int x, y;
+    for (y = 0; y < H; y++)
+        for (x = 0; x < W; x++) {
+            double t = y + 0.36 * x + 6.0 * sin(x / 47.0) + 4.0 * sin(y / 31.0);
+            TD_AT(g, x, y) = fmod(t + 1000.0, 14.0) < 2.0;
+        }
+}
+
+/* A 1-px line x = x0 + slope * y (vertical) or y = y0 + slope * x, ink
+ * only where keep() says (a grid classified in part). */
+static void grid_line(td_grid_u8 *g, int vertical, double c0, double slope,
+                      int broken)
+{
+    int t, n = vertical ? H : W;
+    for (t = 0; t < n; t++) {
+        int c = (int)lround(c0 + slope * t);
+        if (broken && (t / 7) % 3 == 0)
+            continue; /* a third missing, in 7-px pieces */
+        if (vertical && c >= 0 && c < W)
+            TD_AT(g, c, t) = 1;
+        else if (!vertical && c >= 0 && c < H)
+            TD_AT(g, t, c) = 1;
+    }
+}
+
+static size_t ink(const td_grid_u8 *g)
+{
+    size_t n = 0, i;
+    for (i = 0; i < (size_t)g->w * g->h; i++)
+        n += g->data[i] != 0;
+    return n;
+}
+
+/* Contour pixels of field no longer inked in g. */
+static size_t lost(const td_grid_u8 *field, const td_grid_u8 *g)
+{
+    size_t n = 0, i;
+    for (i = 0; i < (size_t)W * H; i++)
+        n += field->data[i] && !g->data[i];
+    return n;
+}
+
+/* Share of the line's pixels (away from contour ink in the clean field)
+ * still inked after the removal. */
+static double left_on_line(const td_grid_u8 *g, const td_grid_u8 *field,
+                           int vertical, double c0, double slope)
+{
+    int t, n = vertical ? H : W, on = 0, all = 0;
+    for (t = 0; t < n; t++) {
+        int c = (int)lround(c0 + slope * t), x = vertical ? c : t,
+            y = vertical ? t : c;
+        if (x < 0 || x >= W || y < 0 || y >= H || TD_AT(field, x, y))
+            continue;
+        all++;
+        on += TD_AT(g, x, y) != 0;
+    }
+    return all ? (double)on / all : 1.0;
+}
+
+static void test_grid_removed(void)
+{
+    td_ctx cx;
+    td_grid_u8 *field = td_grid_u8_new(W, H, NULL), *g;
+    td_straight_params p = td_straight_defaults();
+    size_t found = 0, before, after, field_ink;
+    td_ctx_init(&cx);
+    contours(field);
+    field_ink = ink(field);
+    g = td_grid_u8_dup(field, NULL);
+    grid_line(g, 1, 400.0, 0.012, 0);  /* skewed 0.7 degrees */
+    grid_line(g, 1, 801.0, 0.0, 1);    /* straight, a third missing */
+    grid_line(g, 0, 550.0, -0.010, 0); /* horizontal, skewed */
+    before = ink(g);
+    TT_CHECK(td_straight_remove(g, &p, &found, &cx) == 0);
+    after = ink(g);
+    TT_CHECKF(found == 3, "%zu lines found, want 3", found);
+    /* what stays of the grid touches the contours it crossed (stubs the
+       thinning absorbs) */
+    TT_CHECKF(left_on_line(g, field, 1, 400.0, 0.012) < 0.08 &&
+                  left_on_line(g, field, 1, 801.0, 0.0) < 0.08 &&
+                  left_on_line(g, field, 0, 550.0, -0.010) < 0.08,
+              "grid left: %.3f %.3f %.3f",
+              left_on_line(g, field, 1, 400.0, 0.012),
+              left_on_line(g, field, 1, 801.0, 0.0),
+              left_on_line(g, field, 0, 550.0, -0.010));
+    /* the contours keep their ink where the grid crossed them (but where
+       one crosses it at a shallow angle, its run across the grid is short:
+       the horizontal line meets these at 20 degrees) */
+    TT_CHECKF(lost(field, g) < field_ink / 200 && after < before,
+              "%zu of the contours' %zu ink pixels erased (ink %zu, before "
+              "%zu)", lost(field, g), field_ink, after, before);
+    td_grid_u8_free(g);
+    td_grid_u8_free(field);
+}
+
+static void test_no_grid_untouched(void)
+{
+    td_ctx cx;
+    td_grid_u8 *g = td_grid_u8_new(W, H, NULL), *copy;
+    td_straight_params p = td_straight_defaults();
+    size_t found = 9;
+    td_ctx_init(&cx);
+    contours(g);
+    copy = td_grid_u8_dup(g, NULL);
+    TT_CHECK(td_straight_remove(g, &p, &found, &cx) == 0);
+    TT_CHECKF(found == 0, "%zu lines found in contours alone", found);
+    TT_CHECK(memcmp(g->data, copy->data, (size_t)W * H) == 0);
+    /* a sheet too short to tell (fewer than 6 strips) and the option off */
+    td_grid_u8_free(g);
+    g = td_grid_u8_new(300, 300, NULL);
+    grid_line(g, 1, 150.0, 0.0, 0);
+    TT_CHECK(td_straight_remove(g, &p, &found, &cx) == 0 && found == 0 &&
+             ink(g) == 300);
+    p.on = 0;
+    td_grid_u8_free(copy);
+    copy = td_grid_u8_new(W, H, NULL);
+    grid_line(copy, 1, 500.0, 0.0, 0);
+    TT_CHECK(td_straight_remove(copy, &p, &found, &cx) == 0 && found == 0 &&
+             ink(copy) == H);
+    td_grid_u8_free(g);
+    td_grid_u8_free(copy);
+}
+
+int main(void)
+{
+    TT_RUN(test_grid_removed);
+    TT_RUN(test_no_grid_untouched);
+    return tt_summary();
+}
