@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { SIDE = 6, NSLOPE = 27, MAX_LINES = 64, MAX_RUN = 3 };
+enum { SIDE = 6, NSLOPE = 27, MAX_LINES = 64, MAX_RUN = 3, MIN_PEAKS = 6 };
 #define RATIO 1.4          /* a peak at least this many times its sides */
 #define SLOPE_STEP 0.002   /* Hough slope bins (px per px) */
 #define MAX_SLOPE 0.0262   /* tan 1.5 degrees: a scan's skew at most */
@@ -284,6 +284,8 @@ static int one_direction(td_grid_u8 *g, int vertical,
     size_t n = 0, i;
     if (ns < 6)
         return 0; /* too short a sheet to tell a line */
+    if (need < MIN_PEAKS)
+        need = MIN_PEAKS;
     if (!(c = td_calloc((size_t)ns * nu, sizeof *c, cx)) ||
         !(acc = td_malloc((size_t)NSLOPE * nb * sizeof *acc, cx)) ||
         !(last = td_malloc((size_t)NSLOPE * nb * sizeof *last, cx)) ||
