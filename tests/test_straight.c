@@ -29,14 +29,14 @@ static void contours(td_grid_u8 *g)
 static void grid_line(td_grid_u8 *g, int vertical, double c0, double slope,
                       int broken)
 {
-    int t, n = vertical ? H : W;
+    int t, n = vertical ? g->h : g->w;
     for (t = 0; t < n; t++) {
         int c = (int)lround(c0 + slope * t);
         if (broken && (t / 7) % 3 == 0)
             continue; /* a third missing, in 7-px pieces */
-        if (vertical && c >= 0 && c < W)
+        if (vertical && c >= 0 && c < g->w)
             TD_AT(g, c, t) = 1;
-        else if (!vertical && c >= 0 && c < H)
+        else if (!vertical && c >= 0 && c < g->h)
             TD_AT(g, t, c) = 1;
     }
 }
