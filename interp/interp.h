@@ -48,19 +48,6 @@ typedef struct td_interp_params {
 
 td_interp_params td_interp_defaults(void);
 
-/* Parse a --method value ("scanline", "multidir", "homotopy"); 0 or TD_EINVAL with a
- * message listing the choices. */
-int td_interp_parse_method(const char *s, td_interp_method *m, td_ctx *cx);
-
-/* Set one option of p from its command-line form (key without "--"):
- * method scanline|multidir|homotopy, epsilon DEG (0..180), fallback
- * scanline|multidir (homotopy), step N (1..4096), interval I (> 0), summit
- * extrapolate|flat, peninsula diagonal|flat, weight prod|span|span2,
- * dirs 2|4, nodata V, smooth N (0..10000).  Returns 0, 1 when key is not one of these, or
- * TD_EINVAL with a message naming the option and the choices. */
-int td_interp_set(td_interp_params *p, const char *key, const char *val,
-                  td_ctx *cx);
-
 /* Labelled lines on a w x h pixel scan -> a new DEM of ceil(w/step) x
  * ceil(h/step) cells (*out, free with td_grid_f32_free), has_nodata set.
  * Errors as td_rasterise_lines, TD_ENOMEM, TD_ECANCEL. */

@@ -127,17 +127,6 @@ void td_cli_heights_summary(const char *cmd, const td_label_report *rep)
             b[TD_HS_LABEL], b[TD_HS_SOLVED], b[TD_HS_ASSUMED],
             rep->undetermined, rep->conflicts, rep->split, rep->known_broken);
 }
-
-/* Contract in cli.h. */
-int td_cli_parse_labeller(const char *arg, int *tree, td_ctx *cx)
-{
-    if (strcmp(arg, "faces") && strcmp(arg, "tree"))
-        return td_seterr(cx, TD_EINVAL, "--labeller: '%s' is not faces or "
-                         "tree", arg);
-    *tree = !strcmp(arg, "tree");
-    return 0;
-}
-
 /* Contract in cli.h. */
 void td_cli_print_palette(const char *prog, const td_palette *pal)
 {

@@ -36,10 +36,6 @@ int td_cli_failf(const char *cmd, const char *fmt, ...)
 int td_cli_parse_int(const char *s, long lo, long hi, long *out);
 int td_cli_parse_double(const char *s, double lo, double hi, double *out);
 
-/* --labeller faces|tree: *tree set to 1 for tree, 0 for faces; 0 or
- * TD_EINVAL with the message in cx. */
-int td_cli_parse_labeller(const char *arg, int *tree, td_ctx *cx);
-
 struct td_label_report;
 /* One line "CMD: heights: N known, N solved, N assumed, N without; ..."
  * from a faces labeller's report (nothing for the tree labeller's). */

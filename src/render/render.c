@@ -17,18 +17,6 @@ td_render_params td_render_defaults(void)
     return p;
 }
 
-int td_render_parse_style(const char *s, td_render_style *st, td_ctx *cx)
-{
-    if (!strcmp(s, "hillshade"))
-        *st = TD_RENDER_HILLSHADE;
-    else if (!strcmp(s, "tint"))
-        *st = TD_RENDER_TINT;
-    else
-        return td_seterr(cx, TD_EINVAL, "--style: '%s' is not one of "
-                         "hillshade, tint", s);
-    return 0;
-}
-
 static int valid(const td_grid_f32 *g, float v)
 {
     return isfinite(v) && !(g->has_nodata && v == g->nodata);

@@ -27,9 +27,6 @@ typedef struct td_render_params {
 
 td_render_params td_render_defaults(void);
 
-/* Parse a --style value ("hillshade", "tint"); 0 or TD_EINVAL. */
-int td_render_parse_style(const char *s, td_render_style *st, td_ctx *cx);
-
 /* Shade dem (Horn's 3x3 gradient, the formula gdaldem hillshade uses):
  *
  *     a b c      dz/dx = ((c + 2f + i) - (a + 2d + g)) / (8 cellsize)
