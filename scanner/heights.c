@@ -326,6 +326,38 @@ static void label_on(hs *s, const td_ocr_read *r, size_t l, long level,
     s->up_cost[2 * c + (top > 0 ? 1 : 0)] += W_UP * r->conf;
 }
 
+/* Printed spot heights (td_ocr_find_spots): the band holding the value
+ * on the sides of the face around the dot, weighted as a label read with
+ * that confidence (a misread costs, it does not rule). */
+static int setup_spots(hs *s, td_ctx *cx)
+{
+    size_t i;
+    for (i = 0; i < s->p->nlabels; i++) {
+        td_ocr_read *r = &s->p->labels[i];
+        long nodes[16], lo;
+        double f;
+        int k, hits;
+        if (!r->spot)
+            continue;
+        f = (r->value - s->p->base) / s->p->interval;
+        hits = td_faces_around(s->fx, r->sx, r->sy, nodes);
+        r->used = 0;
+        r->why = hits ? NULL : "spot height: no line around it";
+        if (!hits)
+            continue;
+        lo = (long)floor(f + 1e-9);
+        for (k = 0; k < 16; k++)
+            if (nodes[k] >= 0 &&
+                add_unary(s, nodes[k], fabs(f - lround(f)) < 1e-9
+                                           ? lround(f) - 1 : lo, lo,
+                          W_LABEL * r->conf / hits, cx) != 0)
+                return TD_ENOMEM;
+        r->used = 1;
+        s->rep->labels_used++;
+    }
+    return 0;
+}
+
 /* Printed labels: reads off base + k * interval are refused. */
 static void setup_labels(hs *s)
 {
@@ -336,6 +368,8 @@ static void setup_labels(hs *s)
         double f = (r->value - s->p->base) / s->p->interval, f2;
         long lev2;
         int any = 0;
+        if (r->spot)
+            continue; /* setup_spots */
         r->used = 0;
         r->why = NULL;
         if (fabs(f - lround(f)) > 1e-6) {
@@ -365,7 +399,7 @@ static void judge_labels(hs *s)
     for (i = 0; i < s->p->nlabels; i++) {
         td_ocr_read *r = &s->p->labels[i];
         double f = (r->value - s->p->base) / s->p->interval;
-        if (r->why)
+        if (r->why || r->spot)
             continue;
         for (j = 0; j < 2; j++) {
             long l = r->line[j], c;
@@ -1307,11 +1341,15 @@ static int is_nice(double v)
 static double share_on(const td_label_params *p, double S)
 {
     size_t i, fit = 0;
+    size_t m = 0;
     for (i = 0; i < p->nlabels; i++) {
         double f = (p->labels[i].value - p->base) / S;
+        if (p->labels[i].spot)
+            continue; /* spot heights are any value */
         fit += fabs(f - lround(f)) < 1e-6;
+        m++;
     }
-    return p->nlabels ? (double)fit / (double)p->nlabels : 0.0;
+    return m ? (double)fit / (double)m : 0.0;
 }
 
 /* With no interval given.  Labels sit on index contours, every Nth line
@@ -1370,7 +1408,7 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
                 continue;
             for (i = 0; i < p->nlabels; i++) {
                 double f = (p->labels[i].value - p->base) / I;
-                if (fabs(f - lround(f)) > 1e-6)
+                if (!p->labels[i].spot && fabs(f - lround(f)) > 1e-6)
                     cost += W_LABEL * p->labels[i].conf;
             }
             q.interval = I;
@@ -1442,7 +1480,7 @@ static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
     s.V = 2 * s.C;
     if ((rc = alloc_all(&s, cx)) != 0 ||
         (rc = touched_nodes(&s, &touched, cx)) != 0 ||
-        (rc = setup_known(&s, cx)) != 0)
+        (rc = setup_known(&s, cx)) != 0 || (rc = setup_spots(&s, cx)) != 0)
         goto fail;
     setup_directions(&s, touched);
     setup_labels(&s);

@@ -567,8 +567,106 @@ int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
             rc = td_lines_append_copy(pc, &ls->v[i], cx);
     if (!rc)
         rc = td_ocr_labels(im, assoc ? assoc : ls, pc, p, out, n, cx);
+    if (!rc)
+        td_ocr_find_spots(im, *out, *n);
     td_lines_free(pc);
     return rc;
+}
+
+/* The region around read r: the text box grown by 14 px, in the text's
+ * frame; a pixel's (u, v) along and across the text. */
+enum { DOT_REACH = 14, DOT_MAX = 7, DOT_MIN_AREA = 5, DOT_MAX_AREA = 40 };
+
+/* A dot beside read r: see td_ocr_find_spots. */
+static int find_dot(const td_image *im, const td_ocr_read *r, double *dx,
+                    double *dy)
+{
+    double hu = 0.5 * r->len + DOT_REACH, hv = 0.5 * r->digit_px + DOT_REACH;
+    double R = hypot(hu, hv), best = 1e30, t;
+    int x0 = (int)floor(r->x - R), y0 = (int)floor(r->y - R);
+    int W = (int)ceil(2 * R) + 1, x, y, found = 0;
+    uint8_t *m = calloc((size_t)W * W, 1);
+    int *st = malloc((size_t)W * W * sizeof *st);
+    if (!m || !st || W > 400) {
+        free(m);
+        free(st);
+        return 0;
+    }
+    /* dark: below the middle of paper (255) and the digits' ink */
+    t = 150.0;
+    for (y = 0; y < W; y++)
+        for (x = 0; x < W; x++) {
+            double px = x0 + x + 0.5 - r->x, py = y0 + y + 0.5 - r->y;
+            double u = px * r->ux + py * r->uy, v = -px * r->uy + py * r->ux;
+            if (fabs(u) > hu || fabs(v) > hv) { /* out of reach, dark: 2 */
+                m[(size_t)y * W + x] =
+                    lum_at(im, x0 + x + 0.5, y0 + y + 0.5) < t ? 2 : 0;
+                continue;
+            }
+            m[(size_t)y * W + x] =
+                fabs(u) <= 0.5 * r->len && fabs(v) <= 0.4 * r->digit_px
+                    ? 3 /* the text's core */
+                    : lum_at(im, x0 + x + 0.5, y0 + y + 0.5) < t ? 1 : 0;
+        }
+    for (y = 0; y < W; y++)
+        for (x = 0; x < W; x++) {
+            int n = 0, top = 0, bx0 = x, bx1 = x, by0 = y, by1 = y, edge = 0;
+            double sx = 0, sy = 0;
+            if (m[(size_t)y * W + x] != 1)
+                continue;
+            m[(size_t)y * W + x] = 4;
+            st[top++] = y * W + x;
+            while (top) {
+                int q = st[--top], qx = q % W, qy = q / W, ax, ay;
+                n++, sx += qx, sy += qy;
+                bx0 = qx < bx0 ? qx : bx0, bx1 = qx > bx1 ? qx : bx1;
+                by0 = qy < by0 ? qy : by0, by1 = qy > by1 ? qy : by1;
+                for (ay = qy - 1; ay <= qy + 1; ay++)
+                    for (ax = qx - 1; ax <= qx + 1; ax++) {
+                        uint8_t *v;
+                        if (ax < 0 || ay < 0 || ax >= W || ay >= W) {
+                            edge = 1;
+                            continue;
+                        }
+                        v = &m[(size_t)ay * W + ax];
+                        /* touches the text (a digit) or runs out of
+                           reach (a line) */
+                        edge |= *v == 3 || *v == 2;
+                        if (*v == 1) {
+                            *v = 4;
+                            st[top++] = ay * W + ax;
+                        }
+                    }
+            }
+            if (edge || n < DOT_MIN_AREA || n > DOT_MAX_AREA ||
+                bx1 - bx0 + 1 > DOT_MAX || by1 - by0 + 1 > DOT_MAX ||
+                n < 0.5 * (bx1 - bx0 + 1) * (by1 - by0 + 1))
+                continue;
+            sx = x0 + sx / n + 0.5, sy = y0 + sy / n + 0.5;
+            if (hypot(sx - r->x, sy - r->y) < best) {
+                best = hypot(sx - r->x, sy - r->y);
+                *dx = sx, *dy = sy;
+                found = 1;
+            }
+        }
+    free(m);
+    free(st);
+    return found;
+}
+
+/* Contract in ocr.h. */
+size_t td_ocr_find_spots(const td_image *im, td_ocr_read *r, size_t n)
+{
+    size_t i, m = 0;
+    for (i = 0; i < n; i++) {
+        r[i].spot = 0;
+        if (r[i].line[0] >= 0 || r[i].line[1] >= 0 ||
+            !find_dot(im, &r[i], &r[i].sx, &r[i].sy))
+            continue;
+        r[i].spot = 1;
+        m++;
+    }
+    return m;
 }
 
 /* Contract in ocr.h. */
@@ -581,13 +679,19 @@ size_t td_ocr_drop_digits(td_lines *ls, td_ocr_read *r, size_t n)
         if (!compact_ring(l, 25.0))
             continue;
         for (j = 0; j < n && !in; j++) {
-            in = 1;
-            for (k = 0; k < l->n && in; k++) {
+            /* inside the read's box (a digit), or within 5 px of a spot
+               height's dot (the dot traced as a tiny ring) */
+            int inbox = 1, atdot = r[j].spot;
+            for (k = 0; k < l->n && (inbox || atdot); k++) {
                 double x = l->xy[2 * k] - r[j].x, y = l->xy[2 * k + 1] - r[j].y;
-                in =
-                    fabs(x * r[j].ux + y * r[j].uy) <= 0.5 * r[j].len + 3 &&
-                    fabs(-x * r[j].uy + y * r[j].ux) <= 0.5 * r[j].digit_px + 3;
+                inbox = inbox &&
+                        fabs(x * r[j].ux + y * r[j].uy) <= 0.5 * r[j].len + 3 &&
+                        fabs(-x * r[j].uy + y * r[j].ux) <=
+                            0.5 * r[j].digit_px + 3;
+                atdot = atdot && hypot(l->xy[2 * k] - r[j].sx,
+                                       l->xy[2 * k + 1] - r[j].sy) <= 5.0;
             }
+            in = inbox || atdot;
         }
         if (in) { /* the reads' line indexes follow the removal */
             td_lines_remove(ls, i);

@@ -39,6 +39,9 @@ typedef struct td_ocr_read {
                          label (a joined gap), or the one or two lines
                          ending at it (a gap left open); -1: none */
     char text[24];    /* the text read */
+    int spot;         /* a spot height: no line through the text and a
+                         dot beside it (the summit, at sx, sy) */
+    double sx, sy;
     int used;         /* the labeller took it (set by td_label_auto) */
     const char *why;  /* static: why it was not used, or NULL */
 } td_ocr_read;
@@ -75,6 +78,12 @@ int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
                        const struct td_join_stats *join, const td_lines *assoc,
                        const td_ocr_params *p, td_ocr_read **out, size_t *n,
                        td_ctx *cx);
+
+/* Spot heights among the reads: a read no line runs through whose text
+ * has a dot beside it (a dark compact blob of 5-40 px, at most 7 px
+ * across, within 14 px of the text's box and outside it) gets spot = 1 and
+ * the dot's centre in sx, sy.  Returns how many. */
+size_t td_ocr_find_spots(const td_image *im, td_ocr_read *r, size_t n);
 
 /* Box every label read on the RGB picture im (src/draw.h): a box along
  * the text, dark blue when the labeller used it, grey when not. */

@@ -59,6 +59,10 @@ typedef struct td_gen_params {
                           1: DejaVu Sans digits through FreeType, the top
                           of the text towards higher ground (printed maps'
                           convention), as td_gen_sheet draws them */
+    int spots;         /* spot heights: up to this many summits marked with
+                          a dot and their height (rounded) beside it,
+                          horizontal, as printed maps do (0: none, the
+                          default; needs labels' font settings) */
     double label_bend; /* labels only where the line stays within this many
                           px of the chord over the label and 25 px either
                           side; 0: 2.5 (straight stretches, the default);
@@ -185,6 +189,18 @@ int td_gen_labels(const td_lines *truth, const td_gen_params *p,
 int td_gen_labels_dem(const td_lines *truth, const td_gen_params *p,
                       double interval, const td_grid_f32 *dem, td_image *im,
                       double **out, size_t *nout, td_ctx *cx);
+
+/* Spot heights on the sheet im drawn from dem (the truth surface at the
+ * sheet's size): up to p->spots summits (the highest point within 20 px,
+ * at least half an interval above the ground 30 px around, 40 px from the
+ * border, 120 px from each other; the highest first), each a dot of 2 px
+ * radius at the summit and its height rounded to whole units in the label
+ * font, horizontal, beside it where it covers the least ink (right, left,
+ * above, below), the contours under the text cut as under a label.
+ * *out (may be NULL; free()) gets x, y, height per spot, *nout how many.
+ * Returns 0, TD_EINVAL (dem not the sheet's size) or TD_ENOMEM. */
+int td_gen_spots(const td_gen_params *p, const td_grid_f32 *dem,
+                 td_image *im, double **out, size_t *nout, td_ctx *cx);
 
 #ifdef __cplusplus
 }

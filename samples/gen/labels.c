@@ -504,3 +504,200 @@ fail:
     free(lay);
     return rc;
 }
+
+/* ---- spot heights ---------------------------------------------------- */
+
+enum { SPOT_WIN = 20, SPOT_RING = 30, SPOT_EDGE = 40, SPOT_APART = 120 };
+
+typedef struct spot {
+    int x, y;
+    double z;
+} spot;
+
+static int spot_cmp(const void *a, const void *b)
+{
+    double za = ((const spot *)a)->z, zb = ((const spot *)b)->z;
+    return za < zb ? 1 : za > zb ? -1 : 0;
+}
+
+/* Whether (x, y) is the highest cell within SPOT_WIN and at least drop
+ * above the lowest of 16 points SPOT_RING away. */
+static int is_summit(const td_grid_f32 *g, int x, int y, double drop)
+{
+    double z = TD_AT(g, x, y), lo = z;
+    int dx, dy, k;
+    for (dy = -SPOT_WIN; dy <= SPOT_WIN; dy++)
+        for (dx = -SPOT_WIN; dx <= SPOT_WIN; dx++)
+            if ((dx || dy) && (TD_AT(g, x + dx, y + dy) > z ||
+                               (TD_AT(g, x + dx, y + dy) == z &&
+                                (dy < 0 || (dy == 0 && dx < 0)))))
+                return 0;
+    for (k = 0; k < 16; k++) {
+        double a = k * M_PI / 8;
+        int px = x + (int)lround(SPOT_RING * cos(a));
+        int py = y + (int)lround(SPOT_RING * sin(a));
+        lo = fmin(lo, TD_AT(g, px, py));
+    }
+    return z - lo >= drop;
+}
+
+/* Summits, highest first, SPOT_APART from each other; at most max. */
+static int find_summits(const td_grid_f32 *g, double drop, int max,
+                        spot **out, size_t *n)
+{
+    size_t cap = 64, m = 0, i, k;
+    spot *v = malloc(cap * sizeof *v);
+    int x, y;
+    *out = NULL;
+    *n = 0;
+    if (!v)
+        return TD_ENOMEM;
+    for (y = SPOT_EDGE; y < g->h - SPOT_EDGE; y++)
+        for (x = SPOT_EDGE; x < g->w - SPOT_EDGE; x++) {
+            if (!is_summit(g, x, y, drop))
+                continue;
+            if (m == cap) {
+                spot *nv = realloc(v, (cap *= 2) * sizeof *nv);
+                if (!nv) {
+                    free(v);
+                    return TD_ENOMEM;
+                }
+                v = nv;
+            }
+            v[m++] = (spot){x, y, TD_AT(g, x, y)};
+        }
+    qsort(v, m, sizeof *v, spot_cmp);
+    for (i = 0; i < m && (int)*n < max; i++) {
+        int far = 1;
+        for (k = 0; k < *n && far; k++)
+            far = hypot(v[k].x - v[i].x, v[k].y - v[i].y) >= SPOT_APART;
+        if (far)
+            v[(*n)++] = v[i];
+    }
+    *out = v;
+    return 0;
+}
+
+/* Dark pixels of im in the box of q's text (its chord +- H/2 + 2). */
+static long ink_under(const td_image *im, const place *q)
+{
+    int x, y, c, ch = im->channels;
+    long n = 0;
+    double R = 0.5 * q->H + 2;
+    for (y = (int)(fmin(q->y0, q->y1) - R); y <= (int)(fmax(q->y0, q->y1) + R); y++)
+        for (x = (int)(fmin(q->x0, q->x1)); x <= (int)(fmax(q->x0, q->x1)); x++) {
+            int sum = 0;
+            if (x < 0 || y < 0 || x >= im->w || y >= im->h)
+                return 1L << 30; /* off the sheet */
+            for (c = 0; c < ch; c++)
+                sum += im->data[((size_t)y * im->w + x) * ch + c];
+            n += sum < 160 * ch;
+        }
+    return n;
+}
+
+/* The text's place beside the dot at (x, y): right, left, above, below,
+ * whichever covers the least ink. */
+static void spot_place(const td_image *im, int x, int y, place *q)
+{
+    static const int side[4][2] = {{1, 0}, {-1, 0}, {0, -1}, {0, 1}};
+    double tw = text_width(q), best = -1, bx0 = 0, by = 0;
+    int k;
+    for (k = 0; k < 4; k++) {
+        double cx = x + 0.5 + side[k][0] * (0.5 * tw + 5),
+               cy = y + 0.5 + side[k][1] * (0.5 * q->H + 5);
+        long ink;
+        q->x0 = cx - 0.5 * tw, q->x1 = cx + 0.5 * tw, q->y0 = q->y1 = cy;
+        ink = ink_under(im, q);
+        if (best < 0 || ink < best)
+            best = (double)ink, bx0 = q->x0, by = cy;
+    }
+    q->x0 = bx0, q->x1 = bx0 + tw, q->y0 = q->y1 = by;
+}
+
+/* A filled dot of radius r at (x + 0.5, y + 0.5) into lay. */
+static void draw_dot(uint8_t *lay, int w, int h, int x, int y, double r)
+{
+    int dx, dy, R = (int)ceil(r) + 1;
+    for (dy = -R; dy <= R; dy++)
+        for (dx = -R; dx <= R; dx++) {
+            double d = hypot(dx, dy), c = fmin(1.0, fmax(0.0, r + 0.5 - d));
+            int px = x + dx, py = y + dy;
+            if (px < 0 || py < 0 || px >= w || py >= h || c <= 0)
+                continue;
+            if (255 * c > lay[(size_t)py * w + px])
+                lay[(size_t)py * w + px] = (uint8_t)(255 * c + 0.5);
+        }
+}
+
+/* Contract in gen.h. */
+int td_gen_spots(const td_gen_params *p, const td_grid_f32 *dem,
+                 td_image *im, double **out, size_t *nout, td_ctx *cx)
+{
+    static const uint8_t brown[3] = {160, 90, 40}, black[3] = {0, 0, 0};
+    spot *s = NULL;
+    size_t n = 0, i;
+    uint8_t *lay = NULL;
+    FT_Library lib = NULL;
+    FT_Face face = NULL;
+    double interval = td_gen_auto_interval(p, dem);
+    int rc;
+    if (out)
+        *out = NULL;
+    if (nout)
+        *nout = 0;
+    if (p->spots <= 0)
+        return 0;
+    if (!dem || dem->w != im->w || dem->h != im->h)
+        return td_seterr(cx, TD_EINVAL, "spot heights: the surface is not "
+                         "the sheet's size");
+    if (p->label_font && (rc = open_font(&lib, &face, cx)) != 0)
+        return rc;
+    rc = TD_ENOMEM;
+    if (find_summits(dem, 0.5 * interval, p->spots, &s, &n) != 0 ||
+        !(lay = td_calloc((size_t)im->w * im->h, 1, cx)) ||
+        (out && !(*out = malloc((3 * n + 1) * sizeof **out))))
+        goto fail;
+    for (i = 0; i < n; i++) {
+        place q;
+        memset(&q, 0, sizeof q);
+        q.font = p->label_font;
+        q.H = 10.0;
+        q.stroke = 1.4;
+        snprintf(q.text, sizeof q.text, "%ld", lround(s[i].z));
+        spot_place(im, s[i].x, s[i].y, &q);
+        erase_rect(im, q.x0 - 1, q.y0, q.x1 + 1, q.y1, 0.5 * q.H + 2,
+                   im->channels == 3);
+        draw_dot(lay, im->w, im->h, s[i].x, s[i].y, 2.0);
+        if (face) {
+            if (draw_text_ft(lay, im->w, im->h, &q, face, 1.0, 0.0) != 0)
+                goto fail;
+        } else {
+            draw_text(lay, im->w, im->h, &q, 1.0, 0.0);
+        }
+        if (out) {
+            (*out)[3 * i] = s[i].x + 0.5;
+            (*out)[3 * i + 1] = s[i].y + 0.5;
+            (*out)[3 * i + 2] = s[i].z;
+        }
+    }
+    td_gen_composite(im, lay, im->channels == 3 ? brown : black);
+    if (nout)
+        *nout = n;
+    rc = 0;
+fail:
+    if (rc) {
+        td_seterr(cx, TD_ENOMEM, "spot heights: out of memory");
+        if (out) {
+            free(*out);
+            *out = NULL;
+        }
+    }
+    if (face)
+        FT_Done_Face(face);
+    if (lib)
+        FT_Done_FreeType(lib);
+    free(s);
+    free(lay);
+    return rc;
+}

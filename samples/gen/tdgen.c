@@ -18,6 +18,7 @@ static const char usage[] =
     "             [--base B] [--interval I] [--width PX] [--blur SIGMA]\n"
     "             [--noise SD] [--specks N] [--breaks N] [--break-len A,B]\n"
     "             [--index-width PX] [--labels N] [--label-bend PX]\n"
+    "             [--spot-heights N]\n"
     "             [--label-font segments|dejavu]\n"
     "             [--colour] [--distractors] [--print]\n"
     "             [--dem-in REAL.tif [--scale S]] [--tiff] [-q|--quiet]\n"
@@ -32,7 +33,9 @@ static const char usage[] =
     "250 px) where the line stays within --label-bend px (default 2.5) of\n"
     "the label's chord; --label-font dejavu draws them in DejaVu Sans with\n"
     "their tops uphill (as printed maps do), segments (the default) as\n"
-    "stroke digits reading left to right.  --colour: brown ink on cream (RGB, PNG only);\n"
+    "stroke digits reading left to right.  --spot-heights N: up to N\n"
+    "summits marked with a dot and their height beside it (horizontal).\n"
+    "  --colour: brown ink on cream (RGB, PNG only);\n"
     "--distractors adds a blue river and black lettering to a colour\n"
     "sheet.  --print (implies --colour): a printed map as a flatbed scanner\n"
     "gives it: green woodland tint, faded brown contours, red roads (one\n"
@@ -121,7 +124,7 @@ static int value_opt(const char *o, const char *v, opts *op)
 {
     td_gen_params *p = &op->p;
     double seed = p->seed, specks = p->specks, breaks = p->breaks,
-           labels = p->labels;
+           labels = p->labels, spots = p->spots;
     const struct {
         const char *name;
         double lo, hi, *dst;
@@ -136,6 +139,7 @@ static int value_opt(const char *o, const char *v, opts *op)
         {"--breaks", 0, 1e7, &breaks},
         {"--index-width", 0, 50, &p->index_width},
         {"--labels", 0, 1000, &labels},
+        {"--spot-heights", 0, 10000, &spots},
         {"--label-bend", 0, 1000, &p->label_bend},
         {"--scale", 0.01, 1000, &op->scale},
     };
@@ -148,6 +152,7 @@ static int value_opt(const char *o, const char *v, opts *op)
             p->specks = (int)specks;
             p->breaks = (int)breaks;
             p->labels = (int)labels;
+            p->spots = (int)spots;
             return 0;
         }
     if (!strcmp(o, "-o"))

@@ -1,0 +1,155 @@
+/* test_spots.c: spot heights, the dot-and-number marks printed at summits:
+ * the generator draws them at the summits with their heights
+ * (samples/gen/labels.c, td_gen_spots), the reader tells a read with a dot
+ * beside it from other reads (scanner/ocr.c, td_ocr_find_spots), and the
+ * labeller lets a spot height decide which way a ring goes
+ * (scanner/heights.c, setup_spots). */
+#include "tests/tt.h"
+#include "samples/gen/gen.h"
+#include "scanner/label.h"
+#include "scanner/ocr.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Two round hills on a 600 x 400 sheet, peaks 312.4 at (150,200) and
+ * 207.6 at (450,200). */
+static td_grid_f32 *two_hills(void)
+{
+    td_grid_f32 *g = td_grid_f32_new(600, 400, NULL);
+    int x, y;
+    for (y = 0; y < 400; y++)
+        for (x = 0; x < 600; x++) {
+            double a = hypot(x - 150, y - 200), b = hypot(x - 450, y - 200);
+            TD_AT(g, x, y) = (float)(12.4 + 300 * exp(-a * a / 8000.0) +
+                                     195.2 * exp(-b * b / 8000.0));
+        }
+    return g;
+}
+
+static void test_generator_marks_summits(void)
+{
+    td_ctx cx;
+    td_gen_params p = td_gen_defaults();
+    td_grid_f32 *g = two_hills();
+    td_image *im = td_image_new(600, 400, 1, NULL);
+    double *out = NULL;
+    size_t n = 0;
+    td_ctx_init(&cx);
+    memset(im->data, 255, 600 * 400);
+    p.w = 600, p.h = 400, p.spots = 5, p.interval = 20;
+    TT_CHECKF(td_gen_spots(&p, g, im, &out, &n, &cx) == 0, "%s",
+              td_errmsg(&cx));
+    TT_CHECKF(n == 2, "%zu spots, want the 2 summits", n);
+    if (n == 2) {
+        TT_NEAR(out[0], 150.5, 1.0);
+        TT_NEAR(out[1], 200.5, 1.0);
+        TT_NEAR(out[2], 312.4, 0.5);
+        TT_NEAR(out[3], 450.5, 1.0);
+        TT_NEAR(out[5], 207.6, 0.5);
+        /* the dot is inked at each summit */
+        TT_CHECK(im->data[200 * 600 + 150] < 100 &&
+                 im->data[200 * 600 + 450] < 100);
+    }
+    free(out);
+    td_image_free(im);
+    td_grid_f32_free(g);
+}
+
+/* A read as the OCR gives it: horizontal text centred at (x, y). */
+static td_ocr_read read_at(double x, double y, double value)
+{
+    td_ocr_read r;
+    memset(&r, 0, sizeof r);
+    r.x = x, r.y = y, r.ux = 1, r.uy = 0;
+    r.digit_px = 10, r.len = 30, r.value = value, r.conf = 0.9;
+    r.line[0] = r.line[1] = -1;
+    return r;
+}
+
+static void dot(td_image *im, double cx, double cy, double rad)
+{
+    int x, y;
+    for (y = 0; y < im->h; y++)
+        for (x = 0; x < im->w; x++)
+            if (hypot(x + 0.5 - cx, y + 0.5 - cy) <= rad)
+                im->data[(size_t)y * im->w + x] = 0;
+}
+
+static void test_reader_finds_the_dot(void)
+{
+    td_image *im = td_image_new(300, 200, 1, NULL);
+    td_ocr_read r[4];
+    int x;
+    memset(im->data, 255, 300 * 200);
+    r[0] = read_at(100, 50, 2786); /* dot 8 px left of the text */
+    dot(im, 77, 50, 2);
+    r[1] = read_at(100, 150, 2790); /* a line runs through it: a label */
+    r[1].line[0] = 3;
+    dot(im, 77, 150, 2);
+    r[2] = read_at(220, 50, 2500); /* no dot, but a long line nearby */
+    for (x = 180; x < 260; x++)
+        im->data[62 * 300 + x] = 0;
+    r[3] = read_at(220, 150, 2400); /* a blob too big to be a dot */
+    dot(im, 197, 150, 5);
+    TT_CHECK(td_ocr_find_spots(im, r, 4) == 1);
+    TT_CHECK(r[0].spot == 1 && !r[1].spot && !r[2].spot && !r[3].spot);
+    TT_NEAR(r[0].sx, 77, 0.6);
+    TT_NEAR(r[0].sy, 50, 0.6);
+    td_image_free(im);
+}
+
+static void circle(td_lines *ls, double cx0, double cy0, double r)
+{
+    td_line *l = td_lines_add(ls, NULL);
+    int k;
+    for (k = 0; k < 360; k++) {
+        double a = k * M_PI / 180;
+        td_line_push(l, cx0 + r * cos(a), cy0 + r * sin(a), NULL);
+    }
+    l->closed = 1;
+}
+
+/* Two nested rings, the outer known at 100: the inner one rises by the
+ * summit prior (110), unless a spot height inside says the ground there
+ * is 84 (a pit: 90). */
+static void test_spot_decides_a_ring(void)
+{
+    int k;
+    for (k = 0; k < 2; k++) {
+        td_lines *ls = td_lines_new(NULL);
+        td_label_params p = td_label_defaults();
+        td_label_report rep;
+        td_label_point kp = {250, 150, 100, -1};
+        td_ocr_read r = read_at(160, 150, 84);
+        td_ctx cx;
+        td_ctx_init(&cx);
+        circle(ls, 150, 150, 100);
+        circle(ls, 150, 150, 40);
+        p.w = 300, p.h = 300, p.interval = 10;
+        p.known = &kp, p.nknown = 1;
+        r.spot = 1, r.sx = 150, r.sy = 150;
+        if (k) {
+            p.labels = &r;
+            p.nlabels = 1;
+        }
+        TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == 0);
+        TT_CHECKF(ls->v[1].has_height &&
+                      ls->v[1].height == (k ? 90.0 : 110.0),
+                  "%s spot: inner ring %g", k ? "with" : "without",
+                  ls->v[1].height);
+        if (k)
+            TT_CHECK(r.used == 1 && rep.labels_used == 1);
+        td_label_report_free(&rep);
+        td_lines_free(ls);
+    }
+}
+
+int main(void)
+{
+    TT_RUN(test_generator_marks_summits);
+    TT_RUN(test_reader_finds_the_dot);
+    TT_RUN(test_spot_decides_a_ring);
+    return tt_summary();
+}
