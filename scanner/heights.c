@@ -54,6 +54,7 @@
 #define W_RING 0.25
 #define W_DEPR 50.0
 #define W_LABEL 40.0 /* a printed label read with confidence 1 */
+#define SPOT_CONF 0.7 /* spot heights read with less are not used */
 #define W_UP 3.0     /* its top towards higher ground, confidence 1 */
 #define WFOLD 1.0
 #define GAP_EPS 1e-3
@@ -332,6 +333,18 @@ static void label_on(hs *s, const td_ocr_read *r, size_t l, long level,
 static int setup_spots(hs *s, td_ctx *cx)
 {
     size_t i;
+    double lo_v = HUGE_VAL, hi_v = -HUGE_VAL, I = s->p->interval;
+    /* the range the line labels span, widened by 20 intervals: a spot
+       read outside it lost digits (2748 read as 274) */
+    for (i = 0; i < s->p->nlabels; i++) {
+        const td_ocr_read *r = &s->p->labels[i];
+        double f = (r->value - s->p->base) / I;
+        if (!r->spot && fabs(f - lround(f)) < 1e-6)
+            lo_v = fmin(lo_v, r->value), hi_v = fmax(hi_v, r->value);
+    }
+    for (i = 0; i < s->p->nknown; i++)
+        lo_v = fmin(lo_v, s->p->known[i].height),
+        hi_v = fmax(hi_v, s->p->known[i].height);
     for (i = 0; i < s->p->nlabels; i++) {
         td_ocr_read *r = &s->p->labels[i];
         long nodes[16], lo;
@@ -340,8 +353,17 @@ static int setup_spots(hs *s, td_ctx *cx)
         if (!r->spot)
             continue;
         f = (r->value - s->p->base) / s->p->interval;
-        hits = td_faces_around(s->fx, r->sx, r->sy, nodes);
         r->used = 0;
+        if (r->conf < SPOT_CONF) {
+            r->why = "spot height read with too little confidence";
+            continue;
+        }
+        if (lo_v <= hi_v &&
+            (r->value < lo_v - 20 * I || r->value > hi_v + 20 * I)) {
+            r->why = "spot height far outside the heights of the labels";
+            continue;
+        }
+        hits = td_faces_around(s->fx, r->sx, r->sy, nodes);
         r->why = hits ? NULL : "spot height: no line around it";
         if (!hits)
             continue;

@@ -195,8 +195,9 @@ int td_gen_labels_dem(const td_lines *truth, const td_gen_params *p,
  * at least half an interval above the ground 30 px around, 40 px from the
  * border, 120 px from each other; the highest first), each a dot of 2 px
  * radius at the summit and its height rounded to whole units in the label
- * font, horizontal, beside it where it covers the least ink (right, left,
- * above, below), the contours under the text cut as under a label.
+ * font, horizontal, beside it (right, left, above or below) where it
+ * covers no ink; a summit with no clear place is left out, as a
+ * cartographer would.
  * *out (may be NULL; free()) gets x, y, height per spot, *nout how many.
  * Returns 0, TD_EINVAL (dem not the sheet's size) or TD_ENOMEM. */
 int td_gen_spots(const td_gen_params *p, const td_grid_f32 *dem,

@@ -597,8 +597,8 @@ static long ink_under(const td_image *im, const place *q)
 }
 
 /* The text's place beside the dot at (x, y): right, left, above, below,
- * whichever covers the least ink. */
-static void spot_place(const td_image *im, int x, int y, place *q)
+ * whichever covers the least ink; returns that ink (pixels). */
+static long spot_place(const td_image *im, int x, int y, place *q)
 {
     static const int side[4][2] = {{1, 0}, {-1, 0}, {0, -1}, {0, 1}};
     double tw = text_width(q), best = -1, bx0 = 0, by = 0;
@@ -613,6 +613,24 @@ static void spot_place(const td_image *im, int x, int y, place *q)
             best = (double)ink, bx0 = q->x0, by = cy;
     }
     q->x0 = bx0, q->x1 = bx0 + tw, q->y0 = q->y1 = by;
+    return (long)best;
+}
+
+/* Whether im has dark pixels within r of (x, y). */
+static int ink_near(const td_image *im, int x, int y, int r)
+{
+    int dx, dy, c, ch = im->channels;
+    for (dy = -r; dy <= r; dy++)
+        for (dx = -r; dx <= r; dx++) {
+            int px = x + dx, py = y + dy, sum = 0;
+            if (px < 0 || py < 0 || px >= im->w || py >= im->h)
+                continue;
+            for (c = 0; c < ch; c++)
+                sum += im->data[((size_t)py * im->w + px) * ch + c];
+            if (sum < 160 * ch)
+                return 1;
+        }
+    return 0;
 }
 
 /* A filled dot of radius r at (x + 0.5, y + 0.5) into lay. */
@@ -636,7 +654,7 @@ int td_gen_spots(const td_gen_params *p, const td_grid_f32 *dem,
 {
     static const uint8_t brown[3] = {160, 90, 40}, black[3] = {0, 0, 0};
     spot *s = NULL;
-    size_t n = 0, i;
+    size_t n = 0, i, drawn = 0;
     uint8_t *lay = NULL;
     FT_Library lib = NULL;
     FT_Face face = NULL;
@@ -665,9 +683,9 @@ int td_gen_spots(const td_gen_params *p, const td_grid_f32 *dem,
         q.H = 10.0;
         q.stroke = 1.4;
         snprintf(q.text, sizeof q.text, "%ld", lround(s[i].z));
-        spot_place(im, s[i].x, s[i].y, &q);
-        erase_rect(im, q.x0 - 1, q.y0, q.x1 + 1, q.y1, 0.5 * q.H + 2,
-                   im->channels == 3);
+        if (spot_place(im, s[i].x, s[i].y, &q) > 0 ||
+            ink_near(im, s[i].x, s[i].y, 4))
+            continue; /* no clear place: cartographers leave it out */
         draw_dot(lay, im->w, im->h, s[i].x, s[i].y, 2.0);
         if (face) {
             if (draw_text_ft(lay, im->w, im->h, &q, face, 1.0, 0.0) != 0)
@@ -676,14 +694,15 @@ int td_gen_spots(const td_gen_params *p, const td_grid_f32 *dem,
             draw_text(lay, im->w, im->h, &q, 1.0, 0.0);
         }
         if (out) {
-            (*out)[3 * i] = s[i].x + 0.5;
-            (*out)[3 * i + 1] = s[i].y + 0.5;
-            (*out)[3 * i + 2] = s[i].z;
+            (*out)[3 * drawn] = s[i].x + 0.5;
+            (*out)[3 * drawn + 1] = s[i].y + 0.5;
+            (*out)[3 * drawn + 2] = s[i].z;
         }
+        drawn++;
     }
     td_gen_composite(im, lay, im->channels == 3 ? brown : black);
     if (nout)
-        *nout = n;
+        *nout = drawn;
     rc = 0;
 fail:
     if (rc) {
