@@ -604,8 +604,8 @@ static long spot_place(const td_image *im, int x, int y, place *q)
     double tw = text_width(q), best = -1, bx0 = 0, by = 0;
     int k;
     for (k = 0; k < 4; k++) {
-        double cx = x + 0.5 + side[k][0] * (0.5 * tw + 5),
-               cy = y + 0.5 + side[k][1] * (0.5 * q->H + 5);
+        double cx = x + 0.5 + side[k][0] * (0.5 * tw + 8),
+               cy = y + 0.5 + side[k][1] * (0.5 * q->H + 8);
         long ink;
         q->x0 = cx - 0.5 * tw, q->x1 = cx + 0.5 * tw, q->y0 = q->y1 = cy;
         ink = ink_under(im, q);
