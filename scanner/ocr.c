@@ -25,6 +25,10 @@ td_ocr_params td_ocr_defaults(void)
     return p;
 }
 
+/* A spot height's dot: 5-40 px of ink, at most 7 px across, within 14 px
+ * of its text. */
+enum { DOT_REACH = 14, DOT_MAX = 7, DOT_MIN_AREA = 5, DOT_MAX_AREA = 40 };
+
 /* Luminance of im at (x, y), bilinear; paper outside. */
 static double lum_at(const td_image *im, double x, double y)
 {
@@ -431,9 +435,15 @@ static long clusters(const td_lines *pc, cand **out)
             box[4 * i + 3] = fmax(box[4 * i + 3], l->xy[2 * k + 1]);
         }
     }
+    for (i = 0; i < n; i++) /* a dot (a spot height's, a speck) is no
+                                digit: it joins nothing */
+        if (box[4 * i + 2] - box[4 * i] <= DOT_MAX - 3 &&
+            box[4 * i + 3] - box[4 * i + 1] <= DOT_MAX - 3)
+            box[4 * i] = HUGE_VAL;
     for (i = 0; i < n; i++)
         for (j = i + 1; j < n; j++)
-            if (pc->v[i].n && pc->v[j].n && box[4 * i] - 6 <= box[4 * j + 2] &&
+            if (pc->v[i].n && pc->v[j].n && box[4 * i] < HUGE_VAL &&
+                box[4 * j] < HUGE_VAL && box[4 * i] - 6 <= box[4 * j + 2] &&
                 box[4 * j] - 6 <= box[4 * i + 2] &&
                 box[4 * i + 1] - 6 <= box[4 * j + 3] &&
                 box[4 * j + 1] - 6 <= box[4 * i + 3])
@@ -441,7 +451,7 @@ static long clusters(const td_lines *pc, cand **out)
     for (i = 0; i < n; i++) {
         double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0, cnt = 0, a, b;
         double lo = HUGE_VAL, hi = -HUGE_VAL, lo2 = HUGE_VAL, hi2 = -HUGE_VAL;
-        if (ufind(uf, i) != i)
+        if (ufind(uf, i) != i || box[4 * i] == HUGE_VAL)
             continue;
         for (j = 0; j < n; j++)
             for (k = 0; ufind(uf, j) == i && k < pc->v[j].n; k++) {
@@ -575,7 +585,6 @@ int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
 
 /* The region around read r: the text box grown by 14 px, in the text's
  * frame; a pixel's (u, v) along and across the text. */
-enum { DOT_REACH = 14, DOT_MAX = 7, DOT_MIN_AREA = 5, DOT_MAX_AREA = 40 };
 
 /* A dot beside read r: see td_ocr_find_spots. */
 static int find_dot(const td_image *im, const td_ocr_read *r, double *dx,
