@@ -107,9 +107,34 @@ static void strip_xy(const strip *s, double i, double j, double *x, double *y)
 /* Label 8-connected ink components; keep those touching no side of the
  * strip, at least 4 px tall, near the middle row.  Returns how many were
  * kept and their box in *b (x0, y0, x1, y1), or 0. */
+/* Keep the digits of the kept components (cb: their boxes and labels):
+ * a round one much lower than the tallest (a spot height's dot, a speck)
+ * is no digit, a flat one (a minus sign) is; b gets the digits' box.
+ * Returns how many stay. */
+static int drop_dots(strip *s, int kept, int cb[64][5], int *b)
+{
+    int i, n = kept < 64 ? kept : 64, tallest = 0, m = 0;
+    for (i = 0; i < n; i++)
+        tallest = s->ch[i] > tallest ? s->ch[i] : tallest;
+    b[0] = s->w, b[1] = s->h, b[2] = -1, b[3] = -1;
+    for (i = 0; i < n; i++) {
+        int wd = cb[i][2] - cb[i][0] + 1, ht = s->ch[i];
+        if (ht < 0.6 * tallest && wd < 1.5 * ht) {
+            s->keep[cb[i][4]] = 0;
+            continue;
+        }
+        s->ch[m++] = ht;
+        b[0] = cb[i][0] < b[0] ? cb[i][0] : b[0];
+        b[1] = cb[i][1] < b[1] ? cb[i][1] : b[1];
+        b[2] = cb[i][2] > b[2] ? cb[i][2] : b[2];
+        b[3] = cb[i][3] > b[3] ? cb[i][3] : b[3];
+    }
+    return m + (kept > 64 ? kept - 64 : 0);
+}
+
 static int components(strip *s, double t, int *b)
 {
-    int n = s->w * s->h, next = 0, kept = 0, i;
+    int n = s->w * s->h, next = 0, kept = 0, i, cb[64][5];
     int *stack = malloc((size_t)n * sizeof *stack);
     if (!stack)
         return -1;
@@ -143,14 +168,15 @@ static int components(strip *s, double t, int *b)
             fabs(0.5 * (y0 + y1) - 0.5 * s->h) > s->h / 4.0)
             continue;
         s->keep[next] = 1;
-        if (kept < 64)
+        if (kept < 64) {
             s->ch[kept] = y1 - y0 + 1;
+            cb[kept][0] = x0, cb[kept][1] = y0, cb[kept][2] = x1;
+            cb[kept][3] = y1, cb[kept][4] = next;
+        }
         kept++;
-        b[0] = x0 < b[0] ? x0 : b[0], b[1] = y0 < b[1] ? y0 : b[1];
-        b[2] = x1 > b[2] ? x1 : b[2], b[3] = y1 > b[3] ? y1 : b[3];
     }
     free(stack);
-    return kept;
+    return drop_dots(s, kept, cb, b);
 }
 
 /* A text candidate: where the pieces of one cluster lie. */

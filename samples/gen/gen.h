@@ -191,9 +191,10 @@ int td_gen_labels_dem(const td_lines *truth, const td_gen_params *p,
                       double **out, size_t *nout, td_ctx *cx);
 
 /* Spot heights on the sheet im drawn from dem (the truth surface at the
- * sheet's size): up to p->spots summits (the highest point within 20 px,
- * at least half an interval above the ground 30 px around, 40 px from the
- * border, 120 px from each other; the highest first), each a dot of 2 px
+ * sheet's size): up to p->spots summits and pits (the highest or lowest
+ * point within 20 px, at least half an interval above or below the ground
+ * 30 px around, 40 px from the border, 120 px from each other; summits
+ * first, the highest first, then pits), each a dot of 2 px
  * radius at the summit and its height rounded to whole units in the label
  * font, horizontal, beside it (right, left, above or below) where it
  * covers no ink; a summit with no clear place is left out, as a

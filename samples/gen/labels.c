@@ -512,36 +512,43 @@ enum { SPOT_WIN = 20, SPOT_RING = 30, SPOT_EDGE = 40, SPOT_APART = 120 };
 typedef struct spot {
     int x, y;
     double z;
+    int sg; /* 1 summit, -1 pit */
 } spot;
 
+/* Summits first, the highest first; then pits, the lowest first. */
 static int spot_cmp(const void *a, const void *b)
 {
-    double za = ((const spot *)a)->z, zb = ((const spot *)b)->z;
+    const spot *p = a, *q = b;
+    double za = p->sg * p->z, zb = q->sg * q->z;
+    if (p->sg != q->sg)
+        return p->sg > q->sg ? -1 : 1;
     return za < zb ? 1 : za > zb ? -1 : 0;
 }
 
-/* Whether (x, y) is the highest cell within SPOT_WIN and at least drop
- * above the lowest of 16 points SPOT_RING away. */
-static int is_summit(const td_grid_f32 *g, int x, int y, double drop)
+/* Whether (x, y) is the highest (sg 1) or lowest (sg -1) cell within
+ * SPOT_WIN and at least drop above (below) the lowest (highest) of 16
+ * points SPOT_RING away. */
+static int is_summit(const td_grid_f32 *g, int x, int y, double drop, int sg)
 {
-    double z = TD_AT(g, x, y), lo = z;
+    double z = sg * TD_AT(g, x, y), lo = z;
     int dx, dy, k;
     for (dy = -SPOT_WIN; dy <= SPOT_WIN; dy++)
-        for (dx = -SPOT_WIN; dx <= SPOT_WIN; dx++)
-            if ((dx || dy) && (TD_AT(g, x + dx, y + dy) > z ||
-                               (TD_AT(g, x + dx, y + dy) == z &&
-                                (dy < 0 || (dy == 0 && dx < 0)))))
+        for (dx = -SPOT_WIN; dx <= SPOT_WIN; dx++) {
+            double v = sg * TD_AT(g, x + dx, y + dy);
+            if ((dx || dy) && (v > z || (v == z && (dy < 0 || (dy == 0 && dx < 0)))))
                 return 0;
+        }
     for (k = 0; k < 16; k++) {
         double a = k * M_PI / 8;
         int px = x + (int)lround(SPOT_RING * cos(a));
         int py = y + (int)lround(SPOT_RING * sin(a));
-        lo = fmin(lo, TD_AT(g, px, py));
+        lo = fmin(lo, sg * TD_AT(g, px, py));
     }
     return z - lo >= drop;
 }
 
-/* Summits, highest first, SPOT_APART from each other; at most max. */
+/* Summits and pits (summits first), SPOT_APART from each other; at most
+ * max. */
 static int find_summits(const td_grid_f32 *g, double drop, int max,
                         spot **out, size_t *n)
 {
@@ -554,7 +561,9 @@ static int find_summits(const td_grid_f32 *g, double drop, int max,
         return TD_ENOMEM;
     for (y = SPOT_EDGE; y < g->h - SPOT_EDGE; y++)
         for (x = SPOT_EDGE; x < g->w - SPOT_EDGE; x++) {
-            if (!is_summit(g, x, y, drop))
+            int sg = is_summit(g, x, y, drop, 1) ? 1
+                     : is_summit(g, x, y, drop, -1) ? -1 : 0;
+            if (!sg)
                 continue;
             if (m == cap) {
                 spot *nv = realloc(v, (cap *= 2) * sizeof *nv);
@@ -564,7 +573,7 @@ static int find_summits(const td_grid_f32 *g, double drop, int max,
                 }
                 v = nv;
             }
-            v[m++] = (spot){x, y, TD_AT(g, x, y)};
+            v[m++] = (spot){x, y, TD_AT(g, x, y), sg};
         }
     qsort(v, m, sizeof *v, spot_cmp);
     for (i = 0; i < m && (int)*n < max; i++) {

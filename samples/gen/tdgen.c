@@ -34,7 +34,7 @@ static const char usage[] =
     "the label's chord; --label-font dejavu draws them in DejaVu Sans with\n"
     "their tops uphill (as printed maps do), segments (the default) as\n"
     "stroke digits reading left to right.  --spot-heights N: up to N\n"
-    "summits marked with a dot and their height beside it (horizontal).\n"
+    "summits and pits marked with a dot and their height beside it.\n"
     "  --colour: brown ink on cream (RGB, PNG only);\n"
     "--distractors adds a blue river and black lettering to a colour\n"
     "sheet.  --print (implies --colour): a printed map as a flatbed scanner\n"
