@@ -108,18 +108,28 @@ static void strip_xy(const strip *s, double i, double j, double *x, double *y)
  * strip, at least 4 px tall, near the middle row.  Returns how many were
  * kept and their box in *b (x0, y0, x1, y1), or 0. */
 /* Keep the digits of the kept components (cb: their boxes and labels):
- * a round one much lower than the tallest (a spot height's dot, a speck)
- * is no digit, a flat one (a minus sign) is; b gets the digits' box.
+ * a round one much lower than the tallest and beside the others (a spot
+ * height's dot, a speck) is no digit, a flat one (a minus sign) is; b gets
+ * the digits' box.
  * Returns how many stay. */
 static int drop_dots(strip *s, int kept, int cb[64][5], int *b)
 {
     int i, n = kept < 64 ? kept : 64, tallest = 0, m = 0;
+    int x0 = s->w, x1 = -1; /* the tall components' span */
     for (i = 0; i < n; i++)
         tallest = s->ch[i] > tallest ? s->ch[i] : tallest;
+    for (i = 0; i < n; i++)
+        if (s->ch[i] >= 0.6 * tallest) {
+            x0 = cb[i][0] < x0 ? cb[i][0] : x0;
+            x1 = cb[i][2] > x1 ? cb[i][2] : x1;
+        }
     b[0] = s->w, b[1] = s->h, b[2] = -1, b[3] = -1;
     for (i = 0; i < n; i++) {
         int wd = cb[i][2] - cb[i][0] + 1, ht = s->ch[i];
-        if (ht < 0.6 * tallest && wd < 1.5 * ht) {
+        /* beside the digits, not between them (a digit broken by noise
+           leaves a low piece among the others) */
+        if (ht < 0.6 * tallest && wd < 1.5 * ht &&
+            (cb[i][2] < x0 || cb[i][0] > x1)) {
             s->keep[cb[i][4]] = 0;
             continue;
         }
@@ -461,15 +471,9 @@ static long clusters(const td_lines *pc, cand **out)
             box[4 * i + 3] = fmax(box[4 * i + 3], l->xy[2 * k + 1]);
         }
     }
-    for (i = 0; i < n; i++) /* a dot (a spot height's, a speck) is no
-                                digit: it joins nothing */
-        if (box[4 * i + 2] - box[4 * i] <= DOT_MAX - 3 &&
-            box[4 * i + 3] - box[4 * i + 1] <= DOT_MAX - 3)
-            box[4 * i] = HUGE_VAL;
     for (i = 0; i < n; i++)
         for (j = i + 1; j < n; j++)
-            if (pc->v[i].n && pc->v[j].n && box[4 * i] < HUGE_VAL &&
-                box[4 * j] < HUGE_VAL && box[4 * i] - 6 <= box[4 * j + 2] &&
+            if (pc->v[i].n && pc->v[j].n && box[4 * i] - 6 <= box[4 * j + 2] &&
                 box[4 * j] - 6 <= box[4 * i + 2] &&
                 box[4 * i + 1] - 6 <= box[4 * j + 3] &&
                 box[4 * j + 1] - 6 <= box[4 * i + 3])
@@ -477,7 +481,7 @@ static long clusters(const td_lines *pc, cand **out)
     for (i = 0; i < n; i++) {
         double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0, cnt = 0, a, b;
         double lo = HUGE_VAL, hi = -HUGE_VAL, lo2 = HUGE_VAL, hi2 = -HUGE_VAL;
-        if (ufind(uf, i) != i || box[4 * i] == HUGE_VAL)
+        if (ufind(uf, i) != i)
             continue;
         for (j = 0; j < n; j++)
             for (k = 0; ufind(uf, j) == i && k < pc->v[j].n; k++) {
