@@ -748,6 +748,51 @@ size_t td_ocr_drop_digits(td_lines *ls, td_ocr_read *r, size_t n)
     return m;
 }
 
+/* Line i is removed: the reads' indexes follow. */
+static void reads_follow(td_ocr_read *r, size_t n, size_t i)
+{
+    size_t j;
+    int e;
+    for (j = 0; j < n; j++)
+        for (e = 0; e < 2; e++)
+            if (r[j].line[e] == (long)i)
+                r[j].line[e] = -1;
+            else if (r[j].line[e] > (long)i)
+                r[j].line[e]--;
+}
+
+/* Contract in ocr.h. */
+size_t td_ocr_drop_dots(td_lines *ls, const td_lines *text, td_ocr_read *r,
+                        size_t n)
+{
+    size_t i, j, k, m = 0;
+    for (i = ls->n; text && i-- > 0;) {
+        const td_line *l = &ls->v[i];
+        double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
+        double cx, cy;
+        int near = 0;
+        if (!l->closed || l->n == 0)
+            continue;
+        for (k = 0; k < l->n; k++) {
+            x0 = fmin(x0, l->xy[2 * k]), x1 = fmax(x1, l->xy[2 * k]);
+            y0 = fmin(y0, l->xy[2 * k + 1]), y1 = fmax(y1, l->xy[2 * k + 1]);
+        }
+        if (x1 - x0 > DOT_MAX + 2 || y1 - y0 > DOT_MAX + 2)
+            continue;
+        cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+        for (j = 0; j < text->n && !near; j++)
+            for (k = 0; k < text->v[j].n && !near; k++)
+                near = hypot(text->v[j].xy[2 * k] - cx,
+                             text->v[j].xy[2 * k + 1] - cy) <= DOT_REACH;
+        if (!near)
+            continue;
+        td_lines_remove(ls, i);
+        reads_follow(r, n, i);
+        m++;
+    }
+    return m;
+}
+
 /* Contract in ocr.h. */
 void td_ocr_draw(td_image *im, const td_ocr_read *r, size_t n)
 {

@@ -85,6 +85,14 @@ int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
  * the dot's centre in sx, sy.  Returns how many. */
 size_t td_ocr_find_spots(const td_image *im, td_ocr_read *r, size_t n);
 
+/* Remove the tiny closed lines of ls (at most 9 px across: a dot traced
+ * as a ring, or redrawn from a dot by scanner/blobring.h) that have text
+ * beside them: a piece of text (the joiner's removed text, td_join_stats
+ * .text) within 14 px: a spot height's dot whose digits were not read.
+ * The reads' line indexes follow.  Returns how many. */
+size_t td_ocr_drop_dots(td_lines *ls, const td_lines *text, td_ocr_read *r,
+                        size_t n);
+
 /* Box every label read on the RGB picture im (src/draw.h): a box along
  * the text, dark blue when the labeller used it, grey when not. */
 void td_ocr_draw(td_image *im, const td_ocr_read *r, size_t n);

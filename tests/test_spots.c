@@ -100,6 +100,29 @@ static void test_reader_finds_the_dot(void)
     td_image_free(im);
 }
 
+static void circle(td_lines *ls, double cx0, double cy0, double r);
+
+/* A dot traced as a tiny ring with digits beside it goes, with or without
+ * a read; a tiny ring alone and a larger ring by text stay. */
+static void test_dot_rings_dropped(void)
+{
+    td_lines *ls = td_lines_new(NULL), *text = td_lines_new(NULL);
+    td_line *t = td_lines_add(text, NULL);
+    td_ocr_read r = read_at(70, 50, 2786);
+    int k;
+    for (k = 0; k < 8; k++) /* a digit's stroke, removed as text */
+        td_line_push(t, 62 + k, 46 + k, NULL);
+    circle(ls, 50, 50, 2);   /* the dot: goes */
+    circle(ls, 150, 150, 2); /* a tiny summit ring, no text: stays */
+    circle(ls, 60, 80, 12);  /* a ring by the text: stays */
+    r.line[0] = 2;           /* pointing at the last line */
+    TT_CHECK(td_ocr_drop_dots(ls, text, &r, 1) == 1);
+    TT_CHECK(ls->n == 2 && fabs(ls->v[0].xy[0] - 152) < 0.1);
+    TT_CHECK(r.line[0] == 1); /* followed the removal */
+    td_lines_free(ls);
+    td_lines_free(text);
+}
+
 static void circle(td_lines *ls, double cx0, double cy0, double r)
 {
     td_line *l = td_lines_add(ls, NULL);
@@ -151,5 +174,6 @@ int main(void)
     TT_RUN(test_generator_marks_summits);
     TT_RUN(test_reader_finds_the_dot);
     TT_RUN(test_spot_decides_a_ring);
+    TT_RUN(test_dot_rings_dropped);
     return tt_summary();
 }

@@ -38,8 +38,10 @@ static int do_scan(const char *path, const td_run_params *p, td_run_result *r,
         double t1 = td_now();
         rc = td_ocr_scan_labels(im, res.lines, &res.join, NULL, NULL,
                                 &r->reads, &r->nreads, cx);
-        if (rc == 0)
+        if (rc == 0) {
             td_ocr_drop_digits(res.lines, r->reads, r->nreads);
+            td_ocr_drop_dots(res.lines, res.join.text, r->reads, r->nreads);
+        }
         r->ocr_secs = td_now() - t1;
     }
     if (rc == 0) {
