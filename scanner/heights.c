@@ -55,6 +55,7 @@
 #define W_DEPR 50.0
 #define W_LABEL 40.0 /* a printed label read with confidence 1 */
 #define SPOT_CONF 0.7 /* spot heights read with less are not used */
+#define MIN_INFER_LABELS 3 /* fewer labels read: no interval inferred */
 #define W_UP 3.0     /* its top towards higher ground, confidence 1 */
 #define WFOLD 1.0
 #define GAP_EPS 1e-3
@@ -1462,10 +1463,18 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
     td_label_params q = *p;
     double I;
     int rc, N = 0;
-    if (p->nlabels == 0)
+    size_t i, nl = 0;
+    for (i = 0; i < p->nlabels; i++)
+        nl += !p->labels[i].spot;
+    if (nl == 0)
         return td_seterr(cx, TD_EINVAL,
                          "no interval: give --interval I "
                          "(no printed labels were read to infer it from)");
+    if (nl < MIN_INFER_LABELS) /* two values fit too many intervals */
+        return td_seterr(cx, TD_EINVAL,
+                         "no interval: only %zu printed label%s read, too "
+                         "few to infer it from; give --interval I", nl,
+                         nl == 1 ? " was" : "s were");
     if ((rc = infer_interval(ls, p, &I, &N, cx)) != 0)
         return rc;
     if (!(I > 0))

@@ -169,11 +169,37 @@ static void test_spot_decides_a_ring(void)
     }
 }
 
+/* Two printed labels fit too many intervals (1000 and 1100: 10, 20, 25,
+ * 50, 100...): no interval is guessed, the error asks for --interval. */
+static void test_two_labels_no_interval(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_ocr_read r[2];
+    td_ctx cx;
+    td_ctx_init(&cx);
+    memset(&rep, 0, sizeof rep);
+    circle(ls, 150, 150, 100);
+    circle(ls, 150, 150, 60);
+    r[0] = read_at(250, 150, 1000), r[0].line[0] = 0;
+    r[1] = read_at(210, 150, 1100), r[1].line[0] = 1;
+    p.w = 300, p.h = 300;
+    p.labels = r, p.nlabels = 2;
+    TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == TD_EINVAL);
+    TT_CHECKF(strstr(td_errmsg(&cx), "too few") &&
+                  strstr(td_errmsg(&cx), "--interval"),
+              "%s", td_errmsg(&cx));
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+}
+
 int main(void)
 {
     TT_RUN(test_generator_marks_summits);
     TT_RUN(test_reader_finds_the_dot);
     TT_RUN(test_spot_decides_a_ring);
     TT_RUN(test_dot_rings_dropped);
+    TT_RUN(test_two_labels_no_interval);
     return tt_summary();
 }
