@@ -1,7 +1,8 @@
 #!/bin/sh
 # End-to-end checks of the CLI contract through build/topodig: help,
 # summary line, outputs other tools open, and bad input (one error line,
-# exit 1, no output left, an existing output untouched).
+# exit 1, no output left, an existing output untouched).  Covers the option
+# layer (src/cli/opt.c, src/cli/opt_help.c) and src/cli/cli.c.
 BUILD=${BUILD:-build}
 TD="$BUILD/topodig"
 T=$(mktemp -d "${TMPDIR:-/tmp}/tde2e.XXXXXX")

@@ -2,7 +2,7 @@
 # End-to-end checks of `topodig generate mound` and `topodig erode`: the
 # paper's experiment from the command line, snapshots, field rasters, mass
 # log, same bytes for any thread count, bad input (one line, exit 1, no
-# output left).
+# output left).  Covers src/pipeline/erode.c (the run with its files).
 BUILD=${BUILD:-build}
 TD="$BUILD/topodig"
 T=$(mktemp -d "${TMPDIR:-/tmp}/tderode.XXXXXX")

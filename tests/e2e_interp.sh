@@ -2,7 +2,8 @@
 # End-to-end checks of interp, compare, render and run through the CLI on
 # the sample sheet and its truth (samples/hills.*): outputs GDAL opens,
 # accuracy against the true DEM, bad input (one error line, exit 1, no
-# output written, an existing output untouched).
+# output written, an existing output untouched).  Covers the run pipeline
+# (src/pipeline/run.c, its debug pictures src/pipeline/debug.c).
 BUILD=${BUILD:-build}
 TD="$BUILD/topodig"
 T=$(mktemp -d "${TMPDIR:-/tmp}/tdinterp.XXXXXX")

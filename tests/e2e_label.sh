@@ -2,7 +2,9 @@
 # End-to-end checks of `topodig label`: help, bad input (one error line,
 # exit 1, no output), and, once the GeoJSON reader is in the library, a run
 # on the scanned sample with two known points, the summary line, the CSV
-# round trip and a contradictory pair of points.
+# round trip and a contradictory pair of points.  Covers src/cli/label.c,
+# label_entry.c (--interactive), label_report.c, src/pipeline/label.c and
+# the CSV files (src/io/csv.c).
 BUILD=${BUILD:-build}
 TD="$BUILD/topodig"
 T=$(mktemp -d "${TMPDIR:-/tmp}/tdlabel.XXXXXX")

@@ -1,5 +1,5 @@
-/* test_interp.c: rasterising labelled lines and the two interpolation
- * methods (the paper's scanline, multidir) on surfaces with a known truth:
+/* test_interp.c: the driver (interp/interp.c), rasterising labelled lines
+ * and the two interpolation methods (the paper's scanline, multidir) on surfaces with a known truth:
  * planes, a cone, Gaussian hills, a saddle; summit extrapolation against
  * flat filling; multidir's one-pass sweep (interp/multidir_sweep.c) and walk
  * against a brute force; band smoothing (interp/smooth.c); GeoTIFF round
