@@ -5,6 +5,7 @@
 # output written, an existing output untouched).  Covers the run pipeline
 # (src/pipeline/run.c, its debug pictures src/pipeline/debug.c).
 BUILD=${BUILD:-build}
+. tests/util/e2e.sh
 TD="$BUILD/topodig"
 T=$(mktemp -d "${TMPDIR:-/tmp}/tdinterp.XXXXXX")
 trap 'rm -rf "$T"' EXIT
@@ -80,15 +81,7 @@ check "run: exit 0, two summary lines (heights by source)" \
 if have_gdal; then
   # the lines and the DEM in one frame: each line's first vertex, looked up
   # on the DEM through its geotransform, gives the line's own height
-  tr '\n' ' ' <"$T/run-lines.geojson" | sed 's/{"type":"Feature"/\n&/g' |
-    sed -n 's/.*"height":\([-0-9.]*\),.*"coordinates":\[\[\([-0-9.]*\),\([-0-9.]*\)\].*/\1 \2 \3/p' |
-    head -n 12 >"$T/v.txt"
-  n=0; hit=0
-  while read -r hh xx yy; do
-    v=$(gdallocationinfo -valonly -geoloc "$T/run.tif" "$xx" "$yy" 2>/dev/null)
-    n=$((n + 1))
-    awk -v a="$v" -v b="$hh" 'BEGIN { d = a - b; exit !(a != "" && d * d < 1e-6) }' && hit=$((hit + 1))
-  done <"$T/v.txt"
+  set -- $(heights_on_dem "$T/run-lines.geojson" "$T/run.tif"); hit=$1; n=$2
   check "run --save-lines: $hit of $n lines sampled on the DEM at their own vertex give their height (>= n-1)" \
     "[ $n -ge 10 ] && [ $hit -ge $((n - 1)) ]"
   check "run --save-lines and the DEM name the same engineering CRS (the pixel frame), never WGS 84" \

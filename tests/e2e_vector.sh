@@ -6,6 +6,7 @@
 # and bad vector input or output gets one error line and no file.
 # Covers src/io/vector_ogr.c and the frames of src/io/georef.c.
 BUILD=${BUILD:-build}
+. tests/util/e2e.sh
 TD="$BUILD/topodig"
 T=$(mktemp -d "${TMPDIR:-/tmp}/tdvector.XXXXXX")
 trap 'rm -rf "$T"' EXIT
@@ -56,16 +57,7 @@ check "ridges -o .gpkg: the GeoJSON's $(count "$T/r.geojson") paths as 3-D lines
 
 # run --save-lines LINES.gpkg: the vertices sampled on the DEM give their heights
 "$TD" run samples/hills.png -o "$T/run.tif" --interval 20 $K3 --save-lines "$T/run.gpkg" -q
-ogrinfo -ro -al "$T/run.gpkg" 2>/dev/null | awk '
-    /^  height \(Real\) = / { h = $NF }
-    /LINESTRING \(/ { sub(/.*LINESTRING \(/, ""); split($0, a, /[ ,]/); if (h != "(null)") print h, a[1], a[2] }' |
-    head -n 12 >"$T/v.txt"
-nv=0; hit=0
-while read -r hh xx yy; do
-    v=$(gdallocationinfo -valonly -geoloc "$T/run.tif" "$xx" "$yy" 2>/dev/null)
-    nv=$((nv + 1))
-    awk -v a="$v" -v b="$hh" 'BEGIN { d = a - b; exit !(a != "" && d * d < 1e-6) }' && hit=$((hit + 1))
-done <"$T/v.txt"
+set -- $(heights_on_dem "$T/run.gpkg" "$T/run.tif"); hit=$1; nv=$2
 check "run --save-lines .gpkg: $hit of $nv lines sampled on the DEM through its geotransform give their own height" \
     "[ $nv -ge 10 ] && [ $hit -ge $((nv - 1)) ]"
 

@@ -435,6 +435,15 @@ static int open_font(FT_Library *lib, FT_Face *face, td_ctx *cx)
     return 0;
 }
 
+/* Undo open_font (either may be NULL). */
+static void close_font(FT_Library lib, FT_Face face)
+{
+    if (face)
+        FT_Done_Face(face);
+    if (lib)
+        FT_Done_FreeType(lib);
+}
+
 /* Contract in gen.h. */
 int td_gen_labels_dem(const td_lines *truth, const td_gen_params *p,
                       double interval, const td_grid_f32 *dem, td_image *im,
@@ -496,10 +505,7 @@ fail:
             *out = NULL;
         }
     }
-    if (face)
-        FT_Done_Face(face);
-    if (lib)
-        FT_Done_FreeType(lib);
+    close_font(lib, face);
     free(pl);
     free(lay);
     return rc;
@@ -721,10 +727,7 @@ fail:
             *out = NULL;
         }
     }
-    if (face)
-        FT_Done_Face(face);
-    if (lib)
-        FT_Done_FreeType(lib);
+    close_font(lib, face);
     free(s);
     free(lay);
     return rc;
