@@ -1463,7 +1463,7 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
     td_label_params q = *p;
     double I;
     int rc, N = 0;
-    size_t i, nl = 0;
+    size_t i, nl = 0, agree;
     for (i = 0; i < p->nlabels; i++)
         nl += !p->labels[i].spot;
     if (nl == 0)
@@ -1487,6 +1487,15 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
     q.index_auto = p->index_every <= 0;
     if ((rc = td_heights_solve(ls, &q, rep, cx)) != 0)
         return rc;
+    for (i = 0, agree = 0; i < p->nlabels; i++)
+        agree += !p->labels[i].spot && p->labels[i].used;
+    if (agree < MIN_INFER_LABELS || 2 * agree <= nl)
+        /* misreads and the solve agree on an interval: not enough */
+        return td_seterr(cx, TD_EINVAL,
+                         "no interval: only %zu of the %zu printed labels "
+                         "read agree with the interval %g they suggest; "
+                         "give --interval I",
+                         agree, nl, I);
     td_label_warn(rep,
                   "interval %g inferred from %zu printed labels, index "
                   "contours every %d (give --interval to set it)",

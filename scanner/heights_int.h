@@ -12,7 +12,9 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
 
 /* The same with p->interval <= 0: the interval inferred from the printed
  * labels (p->labels) first (rep->interval; one warning says so).
- * TD_EINVAL when there are no labels or they fit no interval. */
+ * TD_EINVAL when fewer than three labels were read, they fit no interval,
+ * or fewer than three (or only half) of them agree with the solve at the
+ * interval inferred (misreads that happen to fit an interval). */
 int td_heights_infer(td_lines *ls, const td_label_params *p,
                      td_label_report *rep, td_ctx *cx);
 

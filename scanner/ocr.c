@@ -27,6 +27,9 @@ td_ocr_params td_ocr_defaults(void)
 
 /* A spot height's dot: 5-40 px of ink, at most 7 px across, within 14 px
  * of its text. */
+/* A read this confident is taken without trying other thresholds. */
+#define SURE_READ 0.9
+
 enum { DOT_REACH = 14, DOT_MAX = 7, DOT_MIN_AREA = 5, DOT_MAX_AREA = 40 };
 
 /* Luminance of im at (x, y), bilinear; paper outside. */
@@ -363,43 +366,48 @@ static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
     r->line[1] = end[0] >= 0 && end[1] != end[0] ? end[1] : -1;
 }
 
-/* Read the label in one gap into *r; 1: nothing read, -1: no memory. */
-static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
-                    const td_ocr_params *p, td_ocr_read *r)
+/* Smooth the strip's grey with the 3 x 3 binomial kernel: the noise of a
+ * scan breaks faint digits into specks at any threshold. */
+static int smooth_strip(strip *s)
 {
-    strip s;
-    int b[4], rc = 1, w, h, turn, k = 0;
-    uint8_t *img = NULL;
-    double t, best = -1;
-    size_t i, n;
-    if ((rc = sample_strip(im, gap, &s)) != 0)
-        goto done;
-    n = (size_t)s.w * s.h;
-    t = otsu(s.g, n);
-    s.ink = 255, s.paper = 0;
-    for (i = 0; i < n; i++) { /* ink and paper levels: darkest, lightest */
-        s.ink = s.g[i] < s.ink ? s.g[i] : s.ink;
-        s.paper = s.g[i] > s.paper ? s.g[i] : s.paper;
-    }
-    rc = 1;
-    if (s.paper - s.ink < 40 || (k = components(&s, t, b)) < 0) {
-        rc = k < 0 ? -1 : 1;
-        goto done;
-    }
-    if ((k == 0 || !text_like(&s, k, b)) && t > 0.5 * (s.ink + s.paper)) {
-        /* Otsu's rule, pulled towards the paper by the few ink pixels,
-         * can merge blurred brown digits on cream into one blob: again
-         * halfway between ink and paper */
-        memset(s.keep, 0, (size_t)s.w * s.h + 1);
-        if ((k = components(&s, 0.5 * (s.ink + s.paper), b)) < 0) {
-            rc = -1;
-            goto done;
+    int w = s->w, h = s->h, i, j;
+    double *t = malloc((size_t)w * h * sizeof *t);
+    if (!t)
+        return -1;
+    for (j = 0; j < h; j++)
+        for (i = 0; i < w; i++) {
+            double a = 0, wt = 0;
+            int di, dj;
+            for (dj = -1; dj <= 1; dj++)
+                for (di = -1; di <= 1; di++) {
+                    int x = i + di, y = j + dj;
+                    double k = (2 - abs(di)) * (2 - abs(dj));
+                    if (x < 0 || y < 0 || x >= w || y >= h)
+                        continue;
+                    a += k * s->g[y * w + x], wt += k;
+                }
+            t[j * w + i] = a / wt;
         }
-    }
-    if (k == 0 || !text_like(&s, k, b))
-        goto done;
-    if (digits_image(&s, b, p->digit_px, &img, &w, &h) != 0)
-        goto done;
+    free(s->g);
+    s->g = t;
+    return 0;
+}
+
+/* Read the digits kept at threshold t (both ways round) into *r when more
+ * confident than *best; 1: nothing better read, -1: no memory. */
+static int read_at(TessBaseAPI *api, strip *s, double t,
+                   const td_ocr_params *p, td_ocr_read *r, double *best)
+{
+    int b[4], w, h, turn, k, rc = 1;
+    uint8_t *img = NULL;
+    size_t i;
+    memset(s->keep, 0, (size_t)s->w * s->h + 1);
+    if ((k = components(s, t, b)) < 0)
+        return -1;
+    if (k == 0 || !text_like(s, k, b))
+        return 1;
+    if (digits_image(s, b, p->digit_px, &img, &w, &h) != 0)
+        return 1;
     for (turn = 0; turn < 2; turn++) {
         char text[24];
         double conf;
@@ -411,21 +419,24 @@ static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
             }
         if (read_number(api, img, w, h, text, sizeof text, &conf) != 0)
             continue;
-        if (conf <= best) { /* the other way round read worse */
-            r->alt_value = atof(text);
-            r->alt_conf = conf;
+        if (conf <= *best) { /* read worse than the best so far */
+            if (conf > r->alt_conf && atof(text) != r->value)
+                r->alt_value = atof(text), r->alt_conf = conf;
             continue;
         }
-        if (best >= 0) { /* the first read becomes the alternative */
+        if (*best >= 0 && atof(text) != r->value) {
+            /* the best read so far becomes the alternative */
             double v = r->value, c = r->conf;
             memset(r, 0, sizeof *r);
             r->alt_value = v, r->alt_conf = c;
         } else {
+            double v = r->alt_value, c = r->alt_conf;
             memset(r, 0, sizeof *r);
+            r->alt_value = v, r->alt_conf = c;
         }
-        best = conf;
-        strip_xy(&s, 0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3]), &r->x, &r->y);
-        r->ux = turn ? -s.ux : s.ux, r->uy = turn ? -s.uy : s.uy;
+        *best = conf;
+        strip_xy(s, 0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3]), &r->x, &r->y);
+        r->ux = turn ? -s->ux : s->ux, r->uy = turn ? -s->uy : s->uy;
         r->digit_px = b[3] - b[1] + 1;
         r->len = b[2] - b[0] + 1;
         r->value = atof(text);
@@ -433,8 +444,57 @@ static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
         snprintf(r->text, sizeof r->text, "%s", text);
         rc = 0;
     }
-done:
     free(img);
+    return rc;
+}
+
+/* Read the label in one gap into *r; 1: nothing read, -1: no memory.
+ * The digits are cut from the strip at Otsu's threshold.  When that reads
+ * nothing sure (confidence under SURE_READ), faint or blurred print is
+ * tried too: Otsu's rule, pulled towards the paper by the few ink pixels,
+ * merges blurred digits into one blob, and the lighter label ink of a
+ * colour sheet falls apart at it; halfway between ink and paper and a
+ * third of the way from paper, on the strip smoothed against the noise.
+ * The most confident read wins. */
+static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
+                    const td_ocr_params *p, td_ocr_read *r)
+{
+    strip s;
+    int rc, k, any;
+    double t[3], best = -1;
+    size_t i, n;
+    memset(r, 0, sizeof *r);
+    if ((rc = sample_strip(im, gap, &s)) != 0)
+        goto done;
+    n = (size_t)s.w * s.h;
+    s.ink = 255, s.paper = 0;
+    for (i = 0; i < n; i++) { /* ink and paper levels: darkest, lightest */
+        s.ink = s.g[i] < s.ink ? s.g[i] : s.ink;
+        s.paper = s.g[i] > s.paper ? s.g[i] : s.paper;
+    }
+    rc = 1;
+    if (s.paper - s.ink < 40)
+        goto done;
+    t[0] = otsu(s.g, n);
+    if ((any = read_at(api, &s, t[0], p, r, &best)) < 0 || best >= SURE_READ)
+        goto found;
+    if (smooth_strip(&s) != 0) {
+        any = -1;
+        goto found;
+    }
+    t[1] = 0.5 * (s.ink + s.paper);
+    t[2] = s.paper - 0.3 * (s.paper - s.ink);
+    for (k = 1; k < 3; k++) {
+        int q = read_at(api, &s, t[k], p, r, &best);
+        if (q < 0) {
+            any = -1;
+            break;
+        }
+        any &= q;
+    }
+found:
+    rc = any;
+done:
     strip_free(&s);
     return rc;
 }

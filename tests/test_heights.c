@@ -169,9 +169,10 @@ static void real_sheet(const char *dem, double scale, int scanned, int index,
 
 /* A scanned sheet with printed labels (DejaVu digits, tops uphill) and no
  * hint at all: the labels are read, the interval inferred, the lines
- * labelled. */
-static void labelled_sheet(const char *dem, double scale, double want_i,
-                           double min_acc)
+ * labelled.  colour: brown ink (the labels lighter than the lines) on
+ * cream, a blue river, black lettering. */
+static void labelled_sheet(const char *dem, double scale, int colour,
+                           double want_i, double min_acc)
 {
     td_hsheet hs;
     td_grid_f32 *src = dem_sheet(&hs, dem, scale, 1, 1);
@@ -179,12 +180,13 @@ static void labelled_sheet(const char *dem, double scale, double want_i,
     td_ctx_init(&cx);
     if (!src)
         return;
+    hs.gp.colour = hs.gp.distractors = colour;
     hs.read_labels = 1;
     hs.no_interval = 1;
     TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
     TT_CHECKF(hs.nreads >= 5 && hs.reads_right >= 0.8 * hs.nreads,
-              "%s: %zu of %zu labels read right", dem, hs.reads_right,
-              hs.nreads);
+              "%s%s: %zu of %zu labels read right", dem,
+              colour ? " colour" : "", hs.reads_right, hs.nreads);
     TT_CHECKF(hs.interval == want_i, "%s: interval %g inferred, not %g", dem,
               hs.interval, want_i);
     TT_CHECKF(hs.score.accuracy >= min_acc,
@@ -199,8 +201,9 @@ static void labelled_sheet(const char *dem, double scale, double want_i,
 
 static void test_labels_only(void)
 {
-    labelled_sheet("frontrange_srtm3.tif", 10, 50, 0.98);
-    labelled_sheet("orkhon_92m.tif", 10, 25, 0.95);
+    labelled_sheet("frontrange_srtm3.tif", 10, 0, 50, 0.98);
+    labelled_sheet("orkhon_92m.tif", 10, 0, 25, 0.95);
+    labelled_sheet("orkhon_92m.tif", 10, 1, 25, 0.95);
 }
 
 /* Real terrain: a valley with dissected hills and steep mountains. */

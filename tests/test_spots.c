@@ -3,7 +3,8 @@
  * (samples/gen/labels.c, td_gen_spots), the reader tells a read with a dot
  * beside it from other reads (scanner/ocr.c, td_ocr_find_spots), and the
  * labeller lets a spot height decide which way a ring goes
- * (scanner/heights.c, setup_spots). */
+ * (scanner/heights.c, setup_spots); too few labels, or too few that
+ * agree, infer no interval (td_heights_infer). */
 #include "tests/tt.h"
 #include "samples/gen/gen.h"
 #include "scanner/label.h"
@@ -194,6 +195,34 @@ static void test_two_labels_no_interval(void)
     td_lines_free(ls);
 }
 
+/* Three reads, one of them garbage (81): the two that fit an interval
+ * are as few as two reads, so the interval they suggest is not taken;
+ * the error says how many agree and asks for --interval. */
+static void test_misread_no_interval(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_ocr_read r[3];
+    td_ctx cx;
+    int k;
+    td_ctx_init(&cx);
+    memset(&rep, 0, sizeof rep);
+    for (k = 0; k < 4; k++)
+        circle(ls, 150, 150, 130 - 30 * k);
+    r[0] = read_at(280, 150, 1000), r[0].line[0] = 0;
+    r[1] = read_at(210, 150, 1100), r[1].line[0] = 2;
+    r[2] = read_at(250, 150, 81), r[2].line[0] = 1;
+    p.w = 300, p.h = 300;
+    p.labels = r, p.nlabels = 3;
+    TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == TD_EINVAL);
+    TT_CHECKF(strstr(td_errmsg(&cx), "only 2 of the 3") &&
+                  strstr(td_errmsg(&cx), "--interval"),
+              "%s", td_errmsg(&cx));
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+}
+
 int main(void)
 {
     TT_RUN(test_generator_marks_summits);
@@ -201,5 +230,6 @@ int main(void)
     TT_RUN(test_spot_decides_a_ring);
     TT_RUN(test_dot_rings_dropped);
     TT_RUN(test_two_labels_no_interval);
+    TT_RUN(test_misread_no_interval);
     return tt_summary();
 }
