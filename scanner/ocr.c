@@ -317,11 +317,48 @@ static int compact_ring(const td_line *l, double side)
     return x1 - x0 < side && y1 - y0 < side;
 }
 
+/* Where a line bends at its label (printed maps place labels on bends
+ * too), its ends meet the text's ends from aside: open ends within one
+ * digit height of the text's ends, heading towards the text, the nearest
+ * on each side, taken only when there is one on each side (e, end as in
+ * lines_of). */
+static void near_ends(const td_lines *ls, const td_ocr_read *r, double along,
+                      double e[2], long end[2])
+{
+    double reach = 0.5 * along + r->digit_px, e2[2] = {HUGE_VAL, HUGE_VAL};
+    long end2[2] = {-1, -1};
+    size_t i;
+    int k;
+    for (i = 0; ls && i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        if (l->closed || l->n < 2)
+            continue;
+        for (k = 0; k < 2; k++) {
+            size_t e0 = k ? l->n - 1 : 0, e1 = k ? (l->n > 6 ? l->n - 7 : 0)
+                                                 : (l->n > 6 ? 6 : l->n - 1);
+            double x = l->xy[2 * e0] - r->x, y = l->xy[2 * e0 + 1] - r->y;
+            double tx = l->xy[2 * e0] - l->xy[2 * e1];
+            double ty = l->xy[2 * e0 + 1] - l->xy[2 * e1 + 1];
+            double u = x * r->ux + y * r->uy, d = hypot(x, y);
+            int side = u < 0;
+            if (d > reach || fabs(u) < 0.3 * along ||
+                tx * -x + ty * -y <= 0)
+                continue;
+            if (d < e2[side])
+                e2[side] = d, end2[side] = (long)i;
+        }
+    }
+    if (end2[0] >= 0 && end2[1] >= 0) /* the line cut on both sides */
+        for (k = 0; k < 2; k++)
+            e[k] = e2[k], end[k] = end2[k];
+}
+
 /* The lines of a read: the line through the label (within 0.3 digit
  * heights of its middle: a neighbour runs beside the text, not through
  * it), else the lines with an open end at either end of the text (within
  * 24 px beyond it along the text, 0.6 digit heights across, the line's
- * end heading along the text towards it): the nearest on each side. */
+ * end heading along the text towards it): the nearest on each side;
+ * else near_ends. */
 static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
 {
     size_t i;
@@ -362,6 +399,8 @@ static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
                 e[side] = fabs(u), end[side] = (long)i;
         }
     }
+    if (end[0] < 0 && end[1] < 0)
+        near_ends(ls, r, along, e, end);
     r->line[0] = end[0] >= 0 ? end[0] : end[1];
     r->line[1] = end[0] >= 0 && end[1] != end[0] ? end[1] : -1;
 }
