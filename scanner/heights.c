@@ -56,6 +56,9 @@
 #define W_LABEL 40.0 /* a printed label read with confidence 1 */
 #define SPOT_CONF 0.7 /* spot heights read with less are not used */
 #define MIN_INFER_LABELS 3 /* fewer labels read: no interval inferred */
+#define INFER_MARGIN 20.0  /* the runner-up interval costs at least this
+                              (and 10 %) more, or none is inferred: half a
+                              label read for sure */
 #define W_UP 3.0     /* its top towards higher ground, confidence 1 */
 #define WFOLD 1.0
 #define GAP_EPS 1e-3
@@ -1389,7 +1392,8 @@ static int faces_of(const td_lines *ls, const td_label_params *p, td_faces **fx,
                     td_face_edge **fe, size_t *nfe, td_ctx *cx);
 
 static int infer_interval(td_lines *ls, const td_label_params *p,
-                          double *best_i, int *best_n, td_ctx *cx)
+                          double *best_i, int *best_n, double *best_c,
+                          double *second, double *second_i, td_ctx *cx)
 {
     td_faces *fx = NULL;
     td_face_edge *fe = NULL;
@@ -1402,6 +1406,7 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
     size_t i;
     int k, rc = 0, si;
     *best_i = 0;
+    *second = HUGE_VAL, *second_i = 0;
     /* the steps S = N x a nice interval: the largest that 80% of the
      * values fit, and the two largest that half of them fit (a few
      * misreads) */
@@ -1446,9 +1451,17 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
             td_label_report_free(&r);
             if (rc)
                 goto done;
-            if (cost < best - 1e-9)
+            if (getenv("TD_IDBG"))
+                fprintf(stderr, "interval %g every %d: cost %g\n", I, N, cost);
+            if (cost < best - 1e-9) {
+                if (I != *best_i)
+                    *second = best, *second_i = *best_i;
                 best = cost, *best_i = I, *best_n = N;
+            } else if (I != *best_i && cost < *second) {
+                *second = cost, *second_i = I;
+            }
         }
+    *best_c = best;
     rc = 0;
 done:
     free(fe);
@@ -1461,7 +1474,7 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
                      td_label_report *rep, td_ctx *cx)
 {
     td_label_params q = *p;
-    double I;
+    double I, I2, c1, c2;
     int rc, N = 0;
     size_t i, nl = 0, agree;
     for (i = 0; i < p->nlabels; i++)
@@ -1475,8 +1488,15 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
                          "no interval: only %zu printed label%s read, too "
                          "few to infer it from; give --interval I", nl,
                          nl == 1 ? " was" : "s were");
-    if ((rc = infer_interval(ls, p, &I, &N, cx)) != 0)
+    if ((rc = infer_interval(ls, p, &I, &N, &c1, &c2, &I2, cx)) != 0)
         return rc;
+    if (I > 0 && c2 - c1 < fmax(INFER_MARGIN, 0.1 * c1))
+        /* a broken or crowded trace: the topology cannot tell */
+        return td_seterr(cx, TD_EINVAL,
+                         "no interval: the %zu printed labels read fit "
+                         "intervals %g and %g about equally well; give "
+                         "--interval I",
+                         nl, I, I2);
     if (!(I > 0))
         return td_seterr(cx, TD_EINVAL,
                          "no interval: the %zu labels read "

@@ -65,6 +65,7 @@ td_join_params td_join_defaults(int w, int h)
     p.tangent = 8.0;
     p.min_length = 25.0;
     p.bridge_max = 12.0;
+    p.junc_ratio = 1.5;
     p.long_gap = 70.0;
     p.long_tangent = 20.0;
     p.curves = 1;
@@ -861,6 +862,37 @@ static void zone_search(zsearch *z, double sofar)
     z->mate[i] = -2;
 }
 
+/* Where two contours run into one stretch of ink, both come in nearly
+ * straight and either could go on along it: a pair (a, b) of the best
+ * pairing whose end has another partner, on another line than its mate,
+ * costing under `ratio` times as much is undone (both ends left open).
+ * A ring closing on itself where it touches a line stays closed. */
+static void zone_ambiguous(zsearch *z, double ratio)
+{
+    int keep[JUNC_MAX];
+    size_t a, c;
+    for (a = 0; a < z->n; a++) {
+        int b = z->best_mate[a];
+        keep[a] = 1;
+        if (b < 0 || z->e[z->ends[a]].line == z->e[z->ends[b]].line)
+            continue;
+        for (c = 0; c < z->n; c++) {
+            double cab = fmax(z->cost[a * z->n + (size_t)b], 1.0);
+            double cac = z->cost[a * z->n + c];
+            if (c == a || (int)c == b || cac < 0 ||
+                z->e[z->ends[c]].line == z->e[z->ends[b]].line)
+                continue;
+            if (cac < ratio * cab)
+                keep[a] = 0;
+        }
+    }
+    for (a = 0; a < z->n; a++) {
+        int b = z->best_mate[a];
+        if (b > (int)a && (!keep[a] || !keep[b]))
+            z->best_mate[a] = z->best_mate[b] = -1;
+    }
+}
+
 static size_t zfind(size_t *uf, size_t a)
 {
     while (uf[a] != a)
@@ -870,7 +902,8 @@ static size_t zfind(size_t *uf, size_t a)
 
 /* Choose each junction zone's pairing: its pairs get cost -1 (accepted
  * first), the zone's other junction-to-junction pairs are dropped. */
-static int junction_zones(const jend *e, size_t ne, jpair *pairs, size_t *np,
+static int junction_zones(const jend *e, size_t ne, const td_join_params *p,
+                          jpair *pairs, size_t *np,
                           td_join_stats *st, td_ctx *cx)
 {
     size_t *uf = td_malloc((ne + 1) * sizeof *uf, cx), i, j, n = *np, m = 0;
@@ -909,6 +942,8 @@ static int junction_zones(const jend *e, size_t ne, jpair *pairs, size_t *np,
         for (a = 0; a < JUNC_MAX; a++)
             z.mate[a] = -2, z.best_mate[a] = -1;
         zone_search(&z, 0.0);
+        if (p->junc_ratio > 1)
+            zone_ambiguous(&z, p->junc_ratio);
         st->merges++;
         for (a = 0; a < z.n && z.best_mate[a] >= 0; a++)
             ;
@@ -1012,7 +1047,7 @@ static int join_pass(td_lines **lsp, const td_join_params *p, int stage,
     if ((rc = collect_ends(ls, p, stage == 2 ? p->long_tangent : p->tangent,
                            stage, &e, &ne, &eol, cx)) != 0 ||
         (rc = find_pairs(ls, e, ne, p, stage, &pairs, &np, cx)) != 0 ||
-        (stage == 1 && (rc = junction_zones(e, ne, pairs, &np, st, cx)) != 0) ||
+        (stage == 1 && (rc = junction_zones(e, ne, p, pairs, &np, st, cx)) != 0) ||
         (rc = accept_pairs(ls, p, stage, e, pairs, np, &acc, &nacc, paths,
                            st, cx)) != 0)
         goto fail;

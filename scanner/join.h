@@ -38,6 +38,11 @@ typedef struct td_join_params {
                           tracer's cut, td_line.junc) are removed: a
                           stretch two touching contours share (default
                           12; 0: off) */
+    double junc_ratio; /* junction zones: a pair whose end has another
+                          partner (on another line) costing under this
+                          many times as much is left open: two contours
+                          running into one stretch of ink, either could
+                          go on along it (default 1.5; <= 1: off) */
 } td_join_params;
 
 typedef struct td_join_stats {

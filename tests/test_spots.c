@@ -223,6 +223,35 @@ static void test_misread_no_interval(void)
     td_lines_free(ls);
 }
 
+/* Three separate hills, each ring labelled (2600, 2800, 2900): the values
+ * fit an interval of 20 (every 5th labelled), 25 (every 4th), 10 or 50
+ * alike and no line lies between them to count: no interval is guessed. */
+static void test_isolated_labels_no_interval(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_ocr_read r[3];
+    static const double v[3] = {2600, 2800, 2900};
+    td_ctx cx;
+    int k;
+    td_ctx_init(&cx);
+    memset(&rep, 0, sizeof rep);
+    for (k = 0; k < 3; k++) {
+        circle(ls, 80 + 150 * k, 100, 50);
+        r[k] = read_at(130 + 150 * k, 100, v[k]);
+        r[k].line[0] = k;
+    }
+    p.w = 460, p.h = 200;
+    p.labels = r, p.nlabels = 3;
+    TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == TD_EINVAL);
+    TT_CHECKF(strstr(td_errmsg(&cx), "about equally well") &&
+                  strstr(td_errmsg(&cx), "--interval"),
+              "%s", td_errmsg(&cx));
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+}
+
 int main(void)
 {
     TT_RUN(test_generator_marks_summits);
@@ -231,5 +260,6 @@ int main(void)
     TT_RUN(test_dot_rings_dropped);
     TT_RUN(test_two_labels_no_interval);
     TT_RUN(test_misread_no_interval);
+    TT_RUN(test_isolated_labels_no_interval);
     return tt_summary();
 }

@@ -273,6 +273,54 @@ static void test_small_ring_touching(void)
     td_grid_u8_free(g);
 }
 
+/* Two contours that run into one stretch of ink and part again (crowded
+ * slopes): both come in straight, either could go on along the shared
+ * stretch, so the join leaves their ends open there instead of guessing
+ * (td_join_params.junc_ratio); with the rule off the zone pairs an end
+ * with the stretch and the line runs from one contour's side onward. */
+static void test_merge_left_open(void)
+{
+    int k;
+    for (k = 0; k < 2; k++) {
+        td_grid_u8 *g = td_grid_u8_new(160, 44, NULL);
+        td_trace_params p = td_trace_defaults();
+        td_join_params jp = td_join_defaults(160, 44);
+        td_trace_stats st;
+        td_lines *ls = NULL;
+        size_t i, j, through = 0;
+        int x;
+        for (x = 2; x < 158; x++) {
+            /* y = 14 and y = 30 outside, meeting at y = 22 over x 60-100 */
+            double t = x < 45 ? 0 : x < 60 ? (x - 45) / 15.0
+                     : x <= 100 ? 1 : x < 115 ? (115 - x) / 15.0 : 0;
+            int a = (int)lround(14 + 8 * t), b = (int)lround(30 - 8 * t);
+            TD_AT(g, x, a) = 1;
+            TD_AT(g, x, b) = 1;
+        }
+        td_thin_hilditch(g, NULL, NULL);
+        p.edge_dist = 0;
+        TT_CHECK(td_trace(g, &p, &ls, &st, NULL) == 0 && st.junctions > 0);
+        jp.min_length = 0;
+        jp.junc_ratio = k ? 0.0 : jp.junc_ratio;
+        TT_CHECK(ls && td_join(&ls, &jp, NULL, NULL) == 0);
+        for (i = 0; ls && i < ls->n; i++) {
+            int left = 0, right = 0;
+            for (j = 0; j < ls->v[i].n; j++) {
+                left += ls->v[i].xy[2 * j] < 40.0;
+                right += ls->v[i].xy[2 * j] > 120.0;
+            }
+            through += left > 2 && right > 2;
+        }
+        if (k == 0)
+            TT_CHECKF(through == 0, "%zu lines run through the merge",
+                      through);
+        else
+            TT_CHECKF(through > 0, "rule off: %zu lines through", through);
+        td_lines_free(ls);
+        td_grid_u8_free(g);
+    }
+}
+
 int main(void)
 {
     TT_RUN(test_ring_order);
@@ -285,5 +333,6 @@ int main(void)
     TT_RUN(test_touching_rings_cut);
     TT_RUN(test_join);
     TT_RUN(test_small_ring_touching);
+    TT_RUN(test_merge_left_open);
     return tt_summary();
 }

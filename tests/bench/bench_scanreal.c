@@ -84,13 +84,14 @@ int main(int argc, char **argv)
                 td_ctx_clear(&cx);
                 continue;
             }
-            for (v = 0; v < 6; v++) {
+            for (v = 0; v < 7; v++) {
                 /* paper junctions, cut without seams, the default; colour:
                    --ink brown, and the first brown selection (hue window);
-                   the default without the grid-line removal */
-                static const char *const vname[6] = {
+                   the default without the grid-line removal; the default
+                   pairing every junction zone's ends (no ambiguity rule) */
+                static const char *const vname[7] = {
                     "paper", "cut,noseam", "default", "ink brown",
-                    "brown-hue", "nogrid"};
+                    "brown-hue", "nogrid", "junc any"};
                 int paper = v == 0;
                 td_scan_params sp = td_scan_defaults();
                 td_scan_result res;
@@ -100,6 +101,8 @@ int main(int argc, char **argv)
                     continue;
                 if (v == 5)
                     sp.straight.on = 0;
+                if (v == 6)
+                    sp.join.junc_ratio = 0; /* every zone paired */
                 if (v == 3)
                     sp.bin.ink = TD_INK_BROWN;
                 if (v == 4)
