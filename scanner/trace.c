@@ -14,7 +14,9 @@
  *                          10 11 12 13 14
  *
  *  3. With no such pixel in the 3x3, search the 5x5 ring the same way: a
- *     pixel found there is a break in the line; bridge it and go on.
+ *     pixel found there is a break in the line; bridge it and go on
+ *     (TD_BRIDGE_PAPER; ours, TD_BRIDGE_AHEAD, the default: the ring's
+ *     pixel most nearly straight ahead, within 50 degrees, or none).
  *  4. With none in the 5x5 either, the line ends.
  *
  * Decisions where the paper is silent (ALGORITHMS.md A.4):
@@ -53,7 +55,7 @@ static const int R5Y[16] = {0, -1, -2, -2, -2, -2, -2, -1, 0, 1, 2, 2, 2, 2, 2, 
 td_trace_params td_trace_defaults(void)
 {
     td_trace_params p;
-    p.bridge = 1;
+    p.bridge = TD_BRIDGE_AHEAD;
     p.edge_dist = 3;
     p.min_closed = 4;
     p.cut = 1;
@@ -130,6 +132,33 @@ static int at_junction(const td_grid_u8 *g, int x, int y)
     return 0;
 }
 
+/* Ours (TD_BRIDGE_AHEAD): the unvisited pixel of the 5x5 ring that goes
+ * on most nearly straight along the line's last AHEAD_BACK px, within
+ * AHEAD_TURN degrees; 0 when none does.  The paper takes the first one
+ * counter-clockwise, which where contours run 3-5 px apart is as often
+ * the neighbouring contour beside the break as the line's own far side. */
+#define AHEAD_BACK 6
+#define AHEAD_TURN 50.0
+static int bridge_ahead(const td_grid_u8 *g, const td_line *l, int *nx,
+                        int *ny)
+{
+    size_t last = l->n - 1, back = last >= AHEAD_BACK ? last - AHEAD_BACK : 0;
+    double dx = l->xy[2 * last] - l->xy[2 * back];
+    double dy = l->xy[2 * last + 1] - l->xy[2 * back + 1];
+    double d = hypot(dx, dy), best = cos(AHEAD_TURN * M_PI / 180.0);
+    int x = (int)l->xy[2 * last], y = (int)l->xy[2 * last + 1], k, found = 0;
+    if (last < 2 || !(d > 0))
+        return 0; /* no direction yet */
+    for (k = 0; k < 16; k++) {
+        double c = (R5X[k] * dx + R5Y[k] * dy) / (d * hypot(R5X[k], R5Y[k]));
+        if (c >= best && unvisited(g, x + R5X[k], y + R5Y[k])) {
+            best = c, found = 1;
+            *nx = x + R5X[k], *ny = y + R5Y[k];
+        }
+    }
+    return found;
+}
+
 /* Follow the line from its last point (already visited) until it ends or
  * closes on its first point.  Returns 0 or an error. */
 static int follow(td_grid_u8 *g, td_line *l, const td_trace_params *p,
@@ -144,8 +173,12 @@ static int follow(td_grid_u8 *g, td_line *l, const td_trace_params *p,
                 l->closed = 1;
                 return 0;
             }
-            found = search_next(g, x, y, p->bridge && !at_junction(g, x, y),
-                                &nx, &ny);
+            if (p->bridge == TD_BRIDGE_AHEAD)
+                found = !at_junction(g, x, y) && bridge_ahead(g, l, &nx, &ny);
+            else
+                found = search_next(g, x, y,
+                                    p->bridge && !at_junction(g, x, y), &nx,
+                                    &ny);
             if (!found)
                 return 0;
             l->bridged++;

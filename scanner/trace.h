@@ -9,8 +9,13 @@
 extern "C" {
 #endif
 
+/* 5x5 gap bridging: none, the paper's (the ring's first pixel
+ * counter-clockwise), ours (the ring's pixel straight ahead, within 50
+ * degrees of the line's last 6 px; the default). */
+enum { TD_BRIDGE_NONE = 0, TD_BRIDGE_PAPER = 1, TD_BRIDGE_AHEAD = 2 };
+
 typedef struct td_trace_params {
-    int bridge;     /* nonzero: the paper's 5x5 gap bridging (default 1) */
+    int bridge;     /* TD_BRIDGE_*: 5x5 gap bridging (default AHEAD) */
     int edge_dist;  /* an open line ending within this many px of the sheet
                        border is extended to the border and flagged edge
                        (thinning pulls line ends back from the border by

@@ -321,6 +321,38 @@ static void test_merge_left_open(void)
     }
 }
 
+/* A 1-px break in a line with another contour 2 px beside it, starting
+ * level with the break: the paper's bridge takes the ring's first pixel
+ * counter-clockwise, the neighbour's; ours goes on straight ahead. */
+static void test_bridge_ahead(void)
+{
+    int mode;
+    for (mode = TD_BRIDGE_PAPER; mode <= TD_BRIDGE_AHEAD; mode++) {
+        td_grid_u8 *g = td_grid_u8_new(40, 70, NULL);
+        td_trace_params p = td_trace_defaults();
+        td_lines *ls = NULL;
+        size_t k, onb = 0, own = 0;
+        int y;
+        for (y = 5; y < 62; y++) {
+            TD_AT(g, 20, y) = y != 31; /* the line, broken at y = 31 */
+            TD_AT(g, 18, y) = y >= 31; /* its neighbour, from y = 31 on */
+        }
+        p.bridge = mode;
+        TT_CHECK(td_trace(g, &p, &ls, NULL, NULL) == 0 && ls && ls->n > 0);
+        for (k = 0; ls && k < ls->v[0].n; k++) {
+            onb += ls->v[0].xy[2 * k] < 19;
+            own += ls->v[0].xy[2 * k] > 20 && ls->v[0].xy[2 * k + 1] > 40;
+        }
+        if (mode == TD_BRIDGE_AHEAD)
+            TT_CHECKF(onb == 0 && own > 15, "ahead: %zu px on the neighbour, "
+                      "%zu on its own far side", onb, own);
+        else
+            TT_CHECKF(onb > 0, "paper: %zu px on the neighbour", onb);
+        td_lines_free(ls);
+        td_grid_u8_free(g);
+    }
+}
+
 int main(void)
 {
     TT_RUN(test_ring_order);
@@ -334,5 +366,6 @@ int main(void)
     TT_RUN(test_join);
     TT_RUN(test_small_ring_touching);
     TT_RUN(test_merge_left_open);
+    TT_RUN(test_bridge_ahead);
     return tt_summary();
 }

@@ -56,8 +56,13 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          .help = "length | paper | none (default length)"},
         {"spur-max", 0, TD_OPT_DOUBLE, &p->spur.max_len, 0, 10000,
          .meta = "PX", .help = "longest spur, px along the skeleton"},
-        {"no-bridge", 0, TD_OPT_OFF, &p->trace.bridge, .help = "no 5x5 gap "
-         "bridging while tracing"},
+        {"bridge", 0, TD_OPT_CHOICE, &p->trace.bridge,
+         .choices = "none|paper|ahead", .meta = "MODE", .help = "5x5 gap "
+         "bridging while tracing: ahead (ours):\nthe ring's pixel most "
+         "nearly straight ahead\n(within 50 degrees) | paper: the first "
+         "one\ncounter-clockwise | none"},
+        {"no-bridge", 0, TD_OPT_OFF, &p->trace.bridge, .help = "the same as "
+         "--bridge none"},
         {"junctions", 0, TD_OPT_CHOICE, &p->trace.cut, .choices = "paper|cut",
          .meta = "MODE", .help = "cut (ours): lines stop where contours "
          "touch\nand the joiner pairs the ends there by\ndirection, never "
