@@ -204,3 +204,18 @@ int td_cli_parse_nums(const char *s, double *v, int n)
     }
     return k == n ? 0 : -1;
 }
+
+/* See cli.h. */
+int td_cli_parse_size(const char *arg, void *t, td_ctx *cx)
+{
+    long w, h;
+    char buf[64], *x;
+    int *wh = t;
+    snprintf(buf, sizeof buf, "%s", arg);
+    if (!(x = strchr(buf, 'x')) || (*x = '\0', 0) ||
+        td_cli_parse_int(buf, 1, TD_MAX_DIM, &w) != 0 ||
+        td_cli_parse_int(x + 1, 1, TD_MAX_DIM, &h) != 0)
+        return td_seterr(cx, TD_EINVAL, "--size: '%s' is not WxH", arg);
+    wh[0] = (int)w, wh[1] = (int)h;
+    return 0;
+}

@@ -61,6 +61,10 @@ void td_cli_print_palette(const char *prog, const struct td_palette *pal);
  * long work).  Prints one line naming the file; returns 0 or 1. */
 int td_cli_check_output(const char *cmd, const char *out, const char *in);
 
+/* An option's "WxH" (1..TD_MAX_DIM each) into t, two ints (a TD_OPT_FUNC
+ * target). */
+int td_cli_parse_size(const char *arg, void *t, td_ctx *cx);
+
 /* n comma-separated finite numbers within +-1e12 ("X,Y,H"; blanks around
  * each allowed) into v; 0, or -1 when s is anything else. */
 int td_cli_parse_nums(const char *s, double *v, int n);

@@ -9,20 +9,6 @@
 #include <string.h>
 
 
-static int parse_size(const char *arg, void *t, td_ctx *cx)
-{
-    long w, h;
-    char buf[64], *x;
-    int *wh = t;
-    snprintf(buf, sizeof buf, "%s", arg);
-    if (!(x = strchr(buf, 'x')) || (*x = '\0', 0) ||
-        td_cli_parse_int(buf, 1, TD_MAX_DIM, &w) != 0 ||
-        td_cli_parse_int(x + 1, 1, TD_MAX_DIM, &h) != 0)
-        return td_seterr(cx, TD_EINVAL, "--size: '%s' is not WxH", arg);
-    wh[0] = (int)w, wh[1] = (int)h;
-    return 0;
-}
-
 static const char about[] =
     "Give every traced line its height from a few known points and the\n"
     "interval.  The default labeller (--labeller faces) finds which lines\n"
@@ -62,7 +48,7 @@ static int parse_args(int argc, char **argv, label_opts *o)
          "file; an empty height:\nnone given)"},
         {"export-csv", 0, TD_OPT_OUTPUT, &o->csv_out, .meta = "FILE",
          .help = "write id,height of every line"},
-        {"size", 0, TD_OPT_FUNC, &o->w, .fn = parse_size, .meta = "WxH",
+        {"size", 0, TD_OPT_FUNC, &o->w, .fn = td_cli_parse_size, .meta = "WxH",
          .help = "sheet size in px (default: the lines' extent)"},
         {"interactive", 0, TD_OPT_FLAG, &o->interactive, .help = "the paper's "
          "way: write a label sheet PNG, then\nask each line's height on "

@@ -213,6 +213,20 @@ int td_vector_read_lines(const char *path, const struct td_georef *georef,
                          td_lines **out, size_t *skipped,
                          struct td_georef *frame, td_ctx *cx);
 
+/* Lines with a height per vertex (ridge lines), any format GDAL/OGR reads:
+ * LineString and MultiLineString features of the first layer (others
+ * counted in *skipped), in pixel units as td_vector_read_lines; *z (free())
+ * gets one height per vertex of every line in order: the geometry's z when
+ * 3-D, else the "heights" list property (one per vertex, as
+ * td_vector_write_paths writes), else the "height" property, else NaN.
+ * kind (may be NULL): features whose "kind" property is another string
+ * (valley and inflection lines beside ridge lines) are skipped too.
+ * 0 or an error naming the file. */
+int td_vector_read_lines_z(const char *path, const struct td_georef *georef,
+                           const char *kind, td_lines **out, double **z,
+                           size_t *skipped, struct td_georef *frame,
+                           td_ctx *cx);
+
 /* ---- CSV (csv.c) ---- */
 
 /* Rows of ncols (1..8) finite numbers from a CSV file (x,y,height: 3;

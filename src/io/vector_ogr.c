@@ -697,3 +697,144 @@ int td_vector_read_lines(const char *path, const td_georef *georef,
                                            cx);
     return read_ogr(path, georef, out, skipped, frame, cx);
 }
+
+/* ---- 3-D lines --------------------------------------------------------- */
+
+/* Part `part` of feature f appended to *ls with a height per vertex in *z:
+ * the geometry's z when it is 3-D, else the feature's "heights" list (one
+ * per vertex), else its "height", else NaN. */
+static int add_part_z(td_lines *ls, double **z, size_t *nz, size_t *cz,
+                      OGRGeometryH part, OGRFeatureH f, long id,
+                      const td_georef *frame, const td_georef *g,
+                      const char *path, td_ctx *cx)
+{
+    OGRFeatureDefnH d = OGR_F_GetDefnRef(f);
+    int n = OGR_G_GetPointCount(part), i, k, nl = 0;
+    const double *list = NULL;
+    double one = NAN;
+    td_line *l;
+    if (n <= 0)
+        return 0;
+    if ((k = field_index(d, "heights")) >= 0 &&
+        OGR_F_IsFieldSetAndNotNull(f, k))
+        list = OGR_F_GetFieldAsDoubleList(f, k, &nl);
+    if ((k = field_index(d, "height")) >= 0 &&
+        OGR_F_IsFieldSetAndNotNull(f, k))
+        one = OGR_F_GetFieldAsDouble(f, k);
+    if (!(l = td_lines_add(ls, cx)))
+        return TD_ENOMEM;
+    l->id = id;
+    if (*nz + (size_t)n > *cz) {
+        size_t nc = *cz ? 2 * *cz : 1024;
+        double *t;
+        while (nc < *nz + (size_t)n)
+            nc *= 2;
+        if (!(t = realloc(*z, nc * sizeof *t)))
+            return td_seterr(cx, TD_ENOMEM, "out of memory");
+        *z = t, *cz = nc;
+    }
+    for (i = 0; i < n; i++) {
+        double x, y, h = OGR_G_Is3D(part) ? OGR_G_GetZ(part, i)
+                         : list && nl == n ? list[i] : one;
+        if (to_pixels(frame, g, OGR_G_GetX(part, i), OGR_G_GetY(part, i),
+                      &x, &y) != 0 || isinf(h) || fabs(h) > 1e12)
+            return td_seterr(cx, TD_EFORMAT, "%s: feature %ld has a "
+                             "coordinate or height out of range", path, id);
+        if (td_line_push(l, x, y, cx) != 0)
+            return TD_ENOMEM;
+        (*z)[(*nz)++] = h;
+    }
+    return 0;
+}
+
+/* Does the GeoJSON file name a CRS (a "crs" member in its first 64 KB,
+ * where writers put it)? */
+static int names_crs(const char *path)
+{
+    char buf[65536];
+    size_t n;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return 0;
+    n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    return strstr(buf, "\"crs\"") != NULL;
+}
+
+/* See io.h. */
+int td_vector_read_lines_z(const char *path, const td_georef *georef,
+                           const char *kind, td_lines **out, double **z,
+                           size_t *skipped, td_georef *frame, td_ctx *cx)
+{
+    GDALDatasetH ds;
+    OGRLayerH lyr;
+    OGRFeatureH f;
+    td_georef fr;
+    size_t sk = 0, nz = 0, cz = 0;
+    long serial = 0;
+    int rc = 0;
+    *out = NULL, *z = NULL;
+    if ((rc = td_check_input(path, cx)) != 0)
+        return rc;
+    gdal_init();
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    CPLErrorReset();
+    td_georef_init(&fr);
+    ds = GDALOpenEx(path, GDAL_OF_VECTOR | GDAL_OF_READONLY, NULL, NULL, NULL);
+    if (!ds) {
+        rc = gdal_fail(cx, path, "not a readable vector file");
+        goto done;
+    }
+    if (!(lyr = GDALDatasetGetLayer(ds, 0))) {
+        rc = td_seterr(cx, TD_EFORMAT, "%s: no layer", path);
+        goto done;
+    }
+    layer_frame(lyr, &fr);
+    if (format_of(path) == VF_GEOJSON && !names_crs(path))
+        td_georef_init(&fr); /* OGR says WGS 84 for GeoJSON without one */
+    if (!fr.valid && !(georef && georef->valid && !georef->pixel) &&
+        all_y_negative(lyr))
+        td_georef_pixel_frame(&fr);
+    if (!(*out = td_lines_new(cx))) {
+        rc = TD_ENOMEM;
+        goto done;
+    }
+    OGR_L_ResetReading(lyr);
+    while (rc == 0 && (f = OGR_L_GetNextFeature(lyr)) != NULL) {
+        OGRGeometryH geo = OGR_F_GetGeometryRef(f);
+        OGRwkbGeometryType t = geo ? wkbFlatten(OGR_G_GetGeometryType(geo))
+                                   : wkbUnknown;
+        int i, k = kind ? field_index(OGR_F_GetDefnRef(f), "kind") : -1;
+        if (k >= 0 && OGR_F_IsFieldSetAndNotNull(f, k) &&
+            strcmp(OGR_F_GetFieldAsString(f, k), kind))
+            t = wkbUnknown; /* another kind of line: skipped */
+        if (t == wkbLineString)
+            rc = add_part_z(*out, z, &nz, &cz, geo, f, serial, &fr, georef,
+                            path, cx);
+        else if (t == wkbMultiLineString)
+            for (i = 0; rc == 0 && i < OGR_G_GetGeometryCount(geo); i++)
+                rc = add_part_z(*out, z, &nz, &cz, OGR_G_GetGeometryRef(geo, i),
+                                f, serial, &fr, georef, path, cx);
+        else
+            sk++;
+        serial++;
+        OGR_F_Destroy(f);
+    }
+    if (rc) {
+        td_lines_free(*out);
+        free(*z);
+        *out = NULL, *z = NULL;
+    }
+done:
+    if (ds)
+        GDALClose(ds);
+    CPLPopErrorHandler();
+    if (skipped)
+        *skipped = sk;
+    if (frame)
+        *frame = fr;
+    else
+        td_georef_clear(&fr);
+    return rc;
+}
