@@ -33,6 +33,7 @@
 #include <string.h>
 
 #define FAN_STEP (M_PI / 4.0) /* widest triangle of a gap's fan */
+#define PBLOCK 64             /* cells per side of a polygon index block */
 
 typedef struct rnode {
     double x, y, z;    /* cells; z NaN: not known yet */
@@ -70,6 +71,14 @@ struct td_ridgemodel {
     size_t np, cp;
     int32_t *bucket;    /* node hash: cells of HASH_CELL x snap */
     size_t nbucket;
+    /* polygons by grid block (PBLOCK x PBLOCK cells): the ones whose box
+       meets it, to find those overlapping a deleted polygon (2.3) */
+    int32_t **pb;
+    size_t *pbn, *pbc;
+    int pbw, pbh;
+    uint32_t *stamp, tick;
+    size_t nstamp;
+    int dx0, dy0, dx1, dy1; /* the box of the cells marked dirty */
     td_grid_f32 *z;     /* the z-buffer M */
     int rendered;
     /* 2.2 */
@@ -126,8 +135,14 @@ td_ridgemodel *td_ridgemodel_new(int w, int h, const td_ridge_params *p,
             m->head[i] = -1;
         m->free_cell = -1;
     } else {
+        m->pbw = (w + PBLOCK - 1) / PBLOCK, m->pbh = (h + PBLOCK - 1) / PBLOCK;
         if (!(m->win = td_malloc(n * sizeof *m->win, cx)) ||
-            !(m->dirty = td_calloc(n, 1, cx)))
+            !(m->dirty = td_calloc(n, 1, cx)) ||
+            !(m->pb = td_calloc((size_t)m->pbw * m->pbh, sizeof *m->pb, cx)) ||
+            !(m->pbn = td_calloc((size_t)m->pbw * m->pbh, sizeof *m->pbn,
+                                 cx)) ||
+            !(m->pbc = td_calloc((size_t)m->pbw * m->pbh, sizeof *m->pbc,
+                                 cx)))
             goto fail;
         for (i = 0; i < n; i++)
             m->win[i] = -1;
@@ -146,6 +161,10 @@ void td_ridgemodel_free(td_ridgemodel *m)
     if (m->nd)
         for (i = 0; i < m->nn; i++)
             free(m->nd[i].seg);
+    if (m->pb)
+        for (i = 0; i < (size_t)m->pbw * m->pbh; i++)
+            free(m->pb[i]);
+    free(m->pb), free(m->pbn), free(m->pbc), free(m->stamp);
     free(m->nd), free(m->sg), free(m->pl), free(m->bucket);
     td_grid_f32_free(m->z);
     free(m->head), free(m->pool), free(m->win), free(m->dirty);
@@ -302,6 +321,17 @@ static long new_poly(td_ridgemodel *m, const double *x, const double *y,
     q->bx0 = q->bx0 < 0 ? 0 : q->bx0, q->by0 = q->by0 < 0 ? 0 : q->by0;
     q->bx1 = q->bx1 >= m->w ? m->w - 1 : q->bx1;
     q->by1 = q->by1 >= m->h ? m->h - 1 : q->by1;
+    if (m->pb && q->bx0 <= q->bx1 && q->by0 <= q->by1) {
+        int kx, ky;
+        for (ky = q->by0 / PBLOCK; ky <= q->by1 / PBLOCK; ky++)
+            for (kx = q->bx0 / PBLOCK; kx <= q->bx1 / PBLOCK; kx++) {
+                size_t b = (size_t)ky * m->pbw + kx;
+                if (grow((void **)&m->pb[b], &m->pbc[b], m->pbn[b] + 1,
+                         sizeof **m->pb, cx) != 0)
+                    return -2;
+                m->pb[b][m->pbn[b]++] = (int32_t)m->np;
+            }
+    }
     return (long)m->np++;
 }
 
@@ -346,11 +376,13 @@ static void list_remove(td_ridgemodel *m, size_t c, int32_t poly)
 
 /* Visit the cells whose centres lie in polygon i (rows by the crossings
  * of the centre line with its edges) and apply `mode`; -1: no memory. */
-static int raster(td_ridgemodel *m, size_t i, int mode)
+static int raster_in(td_ridgemodel *m, size_t i, int mode, int cx0, int cy0,
+                     int cx1, int cy1)
 {
     const rpoly *q = &m->pl[i];
-    int row, col, e;
-    for (row = q->by0; row <= q->by1; row++) {
+    int row, col, e, r0 = q->by0 > cy0 ? q->by0 : cy0;
+    int r1 = q->by1 < cy1 ? q->by1 : cy1;
+    for (row = r0; row <= r1; row++) {
         double yc = row + 0.5, lo = HUGE_VAL, hi = -HUGE_VAL;
         int c0, c1;
         for (e = 0; e < q->nv; e++) {
@@ -367,6 +399,7 @@ static int raster(td_ridgemodel *m, size_t i, int mode)
             continue;
         c0 = (int)ceil(lo - 0.5), c1 = (int)floor(hi - 0.5);
         c0 = c0 < q->bx0 ? q->bx0 : c0, c1 = c1 > q->bx1 ? q->bx1 : c1;
+        c0 = c0 < cx0 ? cx0 : c0, c1 = c1 > cx1 ? cx1 : c1;
         for (col = c0; col <= c1; col++) {
             size_t c = (size_t)row * m->w + col;
             double hv = q->c0 + q->c1 * (col + 0.5) + q->c2 * yc;
@@ -389,6 +422,10 @@ static int raster(td_ridgemodel *m, size_t i, int mode)
                 if (m->win[c] == (int32_t)i) {
                     m->dirty[c] = 1;
                     *z = (float)m->p.base, m->win[c] = -1;
+                    m->dx0 = col < m->dx0 ? col : m->dx0;
+                    m->dx1 = col > m->dx1 ? col : m->dx1;
+                    m->dy0 = row < m->dy0 ? row : m->dy0;
+                    m->dy1 = row > m->dy1 ? row : m->dy1;
                 }
                 break;
             case R_REDO:
@@ -400,6 +437,11 @@ static int raster(td_ridgemodel *m, size_t i, int mode)
         }
     }
     return 0;
+}
+
+static int raster(td_ridgemodel *m, size_t i, int mode)
+{
+    return raster_in(m, i, mode, 0, 0, m->w - 1, m->h - 1);
 }
 
 /* Take polygons [from, to) off the grid (they are no longer alive):
@@ -418,18 +460,36 @@ static int take_off(td_ridgemodel *m, const long *ids, size_t n)
             raster(m, (size_t)ids[i], R_UNLIST);
         return 0;
     }
-    for (i = 0; i < n; i++) {
-        const rpoly *q = &m->pl[ids[i]];
+    m->dx0 = m->w, m->dy0 = m->h, m->dx1 = -1, m->dy1 = -1;
+    for (i = 0; i < n; i++) /* the box of the cells they won */
         raster(m, (size_t)ids[i], R_MARK);
-        x0 = q->bx0 < x0 ? q->bx0 : x0, y0 = q->by0 < y0 ? q->by0 : y0;
-        x1 = q->bx1 > x1 ? q->bx1 : x1, y1 = q->by1 > y1 ? q->by1 : y1;
+    x0 = m->dx0, y0 = m->dy0, x1 = m->dx1, y1 = m->dy1;
+    if (x0 > x1)
+        return 0;
+    if (m->nstamp < m->np || m->tick == UINT32_MAX) { /* one visit each */
+        free(m->stamp);
+        m->nstamp = m->cp + 1;
+        if (!(m->stamp = calloc(m->nstamp, sizeof *m->stamp))) {
+            m->nstamp = 0;
+            return -1;
+        }
+        m->tick = 0;
     }
-    for (i = 0; i < m->np; i++) {
-        const rpoly *q = &m->pl[i];
-        if (q->alive && q->bx0 <= x1 && q->bx1 >= x0 && q->by0 <= y1 &&
-            q->by1 >= y0)
-            raster(m, i, R_REDO);
-    }
+    m->tick++;
+    for (row = y0 / PBLOCK; row <= y1 / PBLOCK; row++)
+        for (col = x0 / PBLOCK; col <= x1 / PBLOCK; col++) {
+            size_t b = (size_t)row * m->pbw + col, j;
+            for (j = 0; j < m->pbn[b]; j++) {
+                int32_t k = m->pb[b][j];
+                const rpoly *q = &m->pl[k];
+                if (m->stamp[k] == m->tick || !q->alive)
+                    continue;
+                m->stamp[k] = m->tick;
+                if (q->bx0 <= x1 && q->bx1 >= x0 && q->by0 <= y1 &&
+                    q->by1 >= y0)
+                    raster_in(m, (size_t)k, R_REDO, x0, y0, x1, y1);
+            }
+        }
     for (row = y0; row <= y1; row++)
         for (col = x0; col <= x1; col++)
             m->dirty[(size_t)row * m->w + col] = 0;
@@ -534,16 +594,30 @@ static int render_from(td_ridgemodel *m, size_t from, td_ctx *cx)
     return 0;
 }
 
-/* Replace node v's fan: the old triangles off the grid, new ones on. */
-static int refan(td_ridgemodel *m, size_t v, long *tmp, td_ctx *cx)
+/* The triangles of nodes a and b and polygons extra[0..nx) off the grid
+ * at once (one re-render of the cells they won), then new fans for a and
+ * b drawn. */
+static int refan(td_ridgemodel *m, size_t a, size_t b, const long *extra,
+                 size_t nx, td_ctx *cx)
 {
-    rnode *V = &m->nd[v];
-    size_t i, from;
-    for (i = 0; i < V->ntri; i++)
-        tmp[i] = (long)(V->tri0 + i);
-    take_off(m, tmp, V->ntri);
+    size_t n = m->nd[a].ntri + (b != a ? m->nd[b].ntri : 0) + nx, i, k = 0;
+    size_t from;
+    long *ids = malloc((n + 1) * sizeof *ids);
+    if (!ids)
+        return td_seterr(cx, TD_ENOMEM, "ridgemodel: out of memory");
+    for (i = 0; i < nx; i++)
+        ids[k++] = extra[i];
+    for (i = 0; i < m->nd[a].ntri; i++)
+        ids[k++] = (long)(m->nd[a].tri0 + i);
+    for (i = 0; b != a && i < m->nd[b].ntri; i++)
+        ids[k++] = (long)(m->nd[b].tri0 + i);
+    if (take_off(m, ids, k) != 0) {
+        free(ids);
+        return td_seterr(cx, TD_ENOMEM, "ridgemodel: out of memory");
+    }
+    free(ids);
     from = m->np;
-    if (make_fan(m, v, cx) != 0)
+    if (make_fan(m, a, cx) != 0 || (b != a && make_fan(m, b, cx) != 0))
         return TD_ENOMEM;
     return m->rendered ? render_from(m, from, cx) : 0;
 }
@@ -553,9 +627,8 @@ static int refan(td_ridgemodel *m, size_t v, long *tmp, td_ctx *cx)
 long td_ridgemodel_add(td_ridgemodel *m, double x0, double y0, double z0,
                        double x1, double y1, double z1, td_ctx *cx)
 {
-    long a, b, *tmp = NULL;
-    size_t s, from, i;
-    int rc = 0;
+    long a, b;
+    size_t s, from;
     if (!isfinite(x0) || !isfinite(y0) || !isfinite(x1) || !isfinite(y1) ||
         fabs(x0) > 1e8 || fabs(y0) > 1e8 || fabs(x1) > 1e8 ||
         fabs(y1) > 1e8 || isinf(z0) || isinf(z1)) {
@@ -582,27 +655,18 @@ long td_ridgemodel_add(td_ridgemodel *m, double x0, double y0, double z0,
         return -1;
     }
     from = m->np;
-    if ((rc = make_skirt(m, s, 1, cx)) != 0 ||
-        (rc = make_skirt(m, s, -1, cx)) != 0 ||
-        (rc = render_from(m, from, cx)) != 0)
+    if (make_skirt(m, s, 1, cx) != 0 || make_skirt(m, s, -1, cx) != 0 ||
+        render_from(m, from, cx) != 0 ||
+        refan(m, (size_t)a, (size_t)b, NULL, 0, cx) != 0)
         return -1;
-    i = m->nd[a].ntri > m->nd[b].ntri ? m->nd[a].ntri : m->nd[b].ntri;
-    if (!(tmp = malloc((i + 1) * sizeof *tmp))) {
-        td_seterr(cx, TD_ENOMEM, "ridgemodel: out of memory");
-        return -1;
-    }
-    if (refan(m, (size_t)a, tmp, cx) != 0 || refan(m, (size_t)b, tmp, cx) != 0)
-        rc = -1;
-    free(tmp);
-    return rc ? -1 : (long)s;
+    return (long)s;
 }
 
 int td_ridgemodel_delete(td_ridgemodel *m, long s, td_ctx *cx)
 {
     rseg *g;
-    long ids[2], *tmp;
+    long ids[2];
     size_t n = 0, i;
-    int rc = 0;
     if (s < 0 || (size_t)s >= m->ns || !m->sg[s].alive)
         return td_seterr(cx, TD_EINVAL, "ridgemodel: no segment %ld", s);
     g = &m->sg[s];
@@ -614,15 +678,7 @@ int td_ridgemodel_delete(td_ridgemodel *m, long s, td_ctx *cx)
     for (i = 0; i < 2; i++)
         if (g->q[i] >= 0)
             ids[n++] = g->q[i];
-    take_off(m, ids, n);
-    i = m->nd[g->a].ntri > m->nd[g->b].ntri ? m->nd[g->a].ntri
-                                             : m->nd[g->b].ntri;
-    if (!(tmp = malloc((i + 1) * sizeof *tmp)))
-        return td_seterr(cx, TD_ENOMEM, "ridgemodel: out of memory");
-    if (refan(m, g->a, tmp, cx) != 0 || refan(m, g->b, tmp, cx) != 0)
-        rc = TD_ENOMEM;
-    free(tmp);
-    return rc;
+    return refan(m, g->a, g->b, ids, n, cx);
 }
 
 long td_ridgemodel_find(const td_ridgemodel *m, double x0, double y0,
