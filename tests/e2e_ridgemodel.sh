@@ -3,6 +3,7 @@
 # ridgeline model, paper 000 §2.1-2.4): heights of a 3-D ridge read back
 # from the DEM at known cells, a 2-D tree's node heights (Algorithm 2.4),
 # the ridge lines of 'topodig ridges' taken as they are (valleys skipped),
+# the recursive generation (2.5) repeatable by its seed,
 # edits applied by both deletion algorithms equal to a model of the final
 # segments, and bad input (one error line, exit 1, no output written).
 BUILD=${BUILD:-build}
@@ -48,6 +49,16 @@ check "2-D tree: the fork at 150, the leaves at 50" \
 "$TD" ridgemodel "$T/t.geojson" -o "$T/t0.tif" --size 240x240 2>"$T/err"
 check "2-D lines without --leaf-height: one error naming the file" \
   "[ $? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 't.geojson.*without a height.*--leaf-height' '$T/err' && [ ! -e '$T/t0.tif' ]"
+
+# --- Algorithm 2.5: rounds of generated ridges, the same for the same seed
+"$TD" ridgemodel "$T/t.geojson" -o "$T/g1.tif" --size 240x240 --leaf-height 50 --generate 2 --seed 5 2>"$T/err"
+rc=$?
+check "--generate 2: exit 0, more segments, final slope 50" \
+  "[ $rc = 0 ] && grep -Eq '^ridgemodel: [0-9]{2,} segments.*2 rounds generated, final slope 50' '$T/err'"
+"$TD" ridgemodel "$T/t.geojson" -o "$T/g2.tif" --size 240x240 --leaf-height 50 --generate 2 --seed 5 -q
+"$TD" ridgemodel "$T/t.geojson" -o "$T/g3.tif" --size 240x240 --leaf-height 50 --generate 2 --seed 6 -q
+check "--generate: the same seed, the same DEM; another seed, another" \
+  "cmp -s '$T/g1.tif' '$T/g2.tif' && ! cmp -s '$T/g1.tif' '$T/g3.tif'"
 
 # --- the ridges of the sample sheet, taken as they are
 "$TD" ridges samples/hills.geojson -o "$T/hr.geojson" -q

@@ -1,9 +1,10 @@
 /* test_ridgemodel.c: the ridgeline model (src/model/ridgemodel.c, paper
  * 000 §2.1-2.4): heights inside the skirts of a level and a sloping
  * segment and at a bend (the highest surface wins), a free end's cap,
- * Algorithm 2.4's heights on hand-made trees, a cycle refused, and the two
+ * Algorithm 2.4's heights on hand-made trees, a cycle refused, the two
  * deletion algorithms (2.2 lists, 2.3 winners) equal to a full render bit
- * for bit after random adds and deletes. */
+ * for bit after random adds and deletes, and the recursive generation
+ * (2.5, src/model/ridgegen.c). */
 #include "tests/tt.h"
 #include "src/model/model.h"
 
@@ -196,6 +197,42 @@ static void test_edits_equal_render(void)
     }
 }
 
+/* Algorithm 2.5 from one main ridge: new ridges grow from it round by
+ * round, every one falling away from where it starts and none above the
+ * main ridge; the same seed gives the same ridges, another seed others. */
+static void test_generate(void)
+{
+    td_ridge_params rp = td_ridge_defaults();
+    td_ridgegen_params gp = td_ridgegen_defaults();
+    double *v[3], slope = 0;
+    size_t n[3], i;
+    int k;
+    rp.slope = 25, rp.smooth = 0;
+    for (k = 0; k < 3; k++) {
+        v[k] = malloc(12 * sizeof *v[k]);
+        n[k] = 2;
+        memcpy(v[k], (double[12]){60, 150, 120, 200, 120, 150,
+                                  200, 120, 150, 340, 160, 110},
+               12 * sizeof(double));
+        gp.seed = k == 2 ? 7 : 3;
+        TT_CHECK(td_ridgegen(&v[k], &n[k], 400, 300, &rp, &gp, &slope,
+                             NULL) == 0);
+    }
+    TT_CHECKF(n[0] > 20, "%zu segments after 2 rounds", n[0]);
+    TT_NEAR(slope, 45, 1e-9);
+    TT_CHECK(n[0] == n[1] && !memcmp(v[0], v[1], 6 * n[0] * sizeof(double)));
+    TT_CHECK(n[2] != n[0] || memcmp(v[0], v[2], 6 * n[0] * sizeof(double)));
+    for (i = 2; i < n[0]; i++) {
+        const double *q = v[0] + 6 * i;
+        TT_CHECKF(q[5] <= q[2] && q[2] <= 150,
+                  "segment %zu rises: %g -> %g", i, q[2], q[5]);
+        if (q[5] > q[2] || q[2] > 150)
+            break;
+    }
+    for (k = 0; k < 3; k++)
+        free(v[k]);
+}
+
 static void test_bad_params(void)
 {
     td_ridge_params p = td_ridge_defaults();
@@ -221,6 +258,7 @@ int main(void)
     TT_RUN(test_tree_heights);
     TT_RUN(test_cycle_refused);
     TT_RUN(test_edits_equal_render);
+    TT_RUN(test_generate);
     TT_RUN(test_bad_params);
     return tt_summary();
 }

@@ -16,8 +16,10 @@
 typedef struct rm_opts {
     const char *in, *out, *like, *nodes_out, *edits;
     int wh[2], quiet;
+    long seed;
     double leaf, cell;
     td_ridge_params p;
+    td_ridgegen_params g;
 } rm_opts;
 
 static int parse_args(int argc, char **argv, rm_opts *o)
@@ -49,6 +51,20 @@ static int parse_args(int argc, char **argv, rm_opts *o)
         {"edits", 0, TD_OPT_STRING, &o->edits, .meta = "FILE", .help =
          "apply 'add X0 Y0 Z0 X1 Y1 Z1' and 'delete X0 Y0\nX1 Y1' lines "
          "(map coordinates) after the\nfirst render, in place"},
+        {"generate", 0, TD_OPT_INT, &o->g.rounds, 1, 10, .meta = "ROUNDS",
+         .help = "recursive ridge generation (Algorithm 2.5):\neach round, "
+         "drops every --spacing cells on a\nrandom side of every ridge run "
+         "down the DEM\nand their paths become new ridges; the slope\nrises "
+         "by --slope-step, the spacing shrinks\nby --spacing-factor",
+         .no_default = 1},
+        {"seed", 0, TD_OPT_LONG, &o->seed, 0, 2147483647.0, .meta = "N",
+         .help = "--generate's random choices"},
+        {"spacing", 0, TD_OPT_DOUBLE, &o->g.spacing, 1, 1e6, .meta = "D",
+         .help = "--generate: cells between drops, first round"},
+        {"spacing-factor", 0, TD_OPT_DOUBLE, &o->g.spacing_factor, 0.01, 1,
+         .meta = "F", .help = "--generate: the spacing times F each round"},
+        {"slope-step", 0, TD_OPT_DOUBLE, &o->g.slope_step, 0, 60,
+         .meta = "DEG", .help = "--generate: the slope's rise each round"},
         {"delete-method", 0, TD_OPT_CHOICE, &o->p.method,
          .choices = "lists|winners", .meta = "M", .help = "how edits delete: "
          "lists (Algorithm 2.2: every\ncell's polygons sorted by height) | "
@@ -58,6 +74,7 @@ static int parse_args(int argc, char **argv, rm_opts *o)
     const td_cmd c = {
         "ridgemodel", "RIDGES.geojson -o DEM.tif (--like SHEET | --size WxH)\n"
         "                      [--slope DEG] [--smooth N] [--leaf-height H]\n"
+        "                      [--generate ROUNDS [--seed N] [--spacing D]]\n"
         "                      [--edits FILE [--delete-method lists|winners]]",
         "A DEM from ridge lines by the ridgeline model (Yaegashi & Chiba,\n"
         "Algorithm 2.1): two skirts sloping away at --slope from every\n"
@@ -241,6 +258,42 @@ static int add_lines(td_ridgemodel *m, const td_lines *ls, const double *z,
     return 0;
 }
 
+/* Algorithm 2.5 on the model's segments: *m replaced by a model of them
+ * and the generated ones at the final round's slope. */
+static int generate(td_ridgemodel **m, rm_opts *o, int w, int h,
+                    size_t *nseg, td_ctx *cx)
+{
+    size_t n = td_ridgemodel_segments(*m, NULL, 0), i;
+    double *v = malloc((6 * n + 6) * sizeof *v), slope;
+    td_ridge_params q = o->p;
+    int rc;
+    if (!v)
+        return td_seterr(cx, TD_ENOMEM, "out of memory");
+    td_ridgemodel_segments(*m, v, n);
+    o->g.seed = (uint64_t)o->seed;
+    if ((rc = td_ridgegen(&v, &n, w, h, &o->p, &o->g, &slope, cx)) != 0) {
+        free(v);
+        return rc;
+    }
+    td_ridgemodel_free(*m);
+    q.slope = slope;
+    if (!(*m = td_ridgemodel_new(w, h, &q, cx))) {
+        free(v);
+        return cx->code ? cx->code : TD_ENOMEM;
+    }
+    for (i = 0; i < n; i++)
+        if (td_ridgemodel_add(*m, v[6 * i], v[6 * i + 1], v[6 * i + 2],
+                              v[6 * i + 3], v[6 * i + 4], v[6 * i + 5],
+                              cx) < 0) {
+            free(v);
+            return cx->code ? cx->code : TD_EINVAL;
+        }
+    free(v);
+    *nseg = n;
+    o->p.slope = slope;
+    return 0;
+}
+
 int td_cmd_ridgemodel(int argc, char **argv)
 {
     rm_opts o;
@@ -256,6 +309,9 @@ int td_cmd_ridgemodel(int argc, char **argv)
     int rc, w, h;
     memset(&o, 0, sizeof o);
     o.p = td_ridge_defaults();
+    o.g = td_ridgegen_defaults();
+    o.g.rounds = 0;
+    o.seed = (long)o.g.seed;
     o.leaf = NAN;
     if ((rc = parse_args(argc, argv, &o)) != 0)
         return rc == 2 ? 0 : 1;
@@ -286,8 +342,11 @@ int td_cmd_ridgemodel(int argc, char **argv)
     }
     if ((rc = add_lines(m, ls, z, isfinite(o.leaf), o.in, &nseg, &cx)) != 0 ||
         (isfinite(o.leaf) &&
-         (rc = td_ridgemodel_tree_heights(m, o.leaf, &cx)) != 0) ||
-        (rc = td_ridgemodel_render(m, &cx)) != 0)
+         (rc = td_ridgemodel_tree_heights(m, o.leaf, &cx)) != 0))
+        goto fail;
+    if (o.g.rounds > 0 && (rc = generate(&m, &o, w, h, &nseg, &cx)) != 0)
+        goto fail;
+    if ((rc = td_ridgemodel_render(m, &cx)) != 0)
         goto fail;
     if (o.edits && (rc = apply_edits(m, o.edits, &geo, &nadd, &ndel,
                                      &del_secs, &cx)) != 0)
@@ -309,6 +368,9 @@ int td_cmd_ridgemodel(int argc, char **argv)
         fprintf(stderr, "ridgemodel: %zu segments, %zu nodes, %d x %d cells, "
                 "heights %.6g to %.6g", nseg, td_ridgemodel_nodes(m, NULL, 0),
                 w, h, lo, hi);
+        if (o.g.rounds > 0)
+            fprintf(stderr, "; %d rounds generated, final slope %g", o.g.rounds,
+                    o.p.slope);
         if (o.edits)
             fprintf(stderr, "; edits: %zu added, %zu deleted (%s, %.3g ms "
                     "per delete)", nadd, ndel,

@@ -1,6 +1,6 @@
 /* model.h: terrain models built another way than from a sheet, to compare
  * reconstructions with: the ridgeline model (paper 000 §2.1-2.4,
- * ridgemodel.c) and synthetic initial terrains for the erosion
+ * ridgemodel.c; recursive ridge generation, 2.5, ridgegen.c) and synthetic initial terrains for the erosion
  * experiments (mound.c).
  *
  * The paper's initial terrain (Fujita, Muraoka, Chiba §3, Fig. 2a): a
@@ -98,6 +98,29 @@ td_grid_f32 *td_ridgemodel_dem(const td_ridgemodel *m, td_ctx *cx);
 /* The nodes with segments: x, y, z of up to cap of them into xyz (3 per
  * node); returns how many there are. */
 size_t td_ridgemodel_nodes(const td_ridgemodel *m, double *xyz, size_t cap);
+/* The live segments: x0 y0 z0 x1 y1 z1 (their nodes') of up to cap of them
+ * into v; returns how many there are. */
+size_t td_ridgemodel_segments(const td_ridgemodel *m, double *v, size_t cap);
+
+/* ---- recursive ridge generation (ridgegen.c; Algorithm 2.5) ---- */
+typedef struct td_ridgegen_params {
+    int rounds;            /* rounds of generation (2) */
+    uint64_t seed;         /* every random choice (1) */
+    double spacing;        /* d of the first round: cells between drops (40) */
+    double spacing_factor; /* d times this each round (0.5) */
+    double slope_step;     /* degrees the slope rises each round (10) */
+    double max_path;       /* longest path of a drop, cells (400) */
+} td_ridgegen_params;
+
+td_ridgegen_params td_ridgegen_defaults(void);
+/* Grow the ridge segments *segs (*n of them, 6 numbers each: x0 y0 z0 x1
+ * y1 z1, cells and heights; realloc'ed) on a w x h grid by p->rounds of
+ * Algorithm 2.5, starting at rp->slope; *final_slope (may be NULL) gets
+ * the slope of the round after the last, for the final render.  0, or
+ * TD_EINVAL / TD_ENOMEM with *segs still valid. */
+int td_ridgegen(double **segs, size_t *n, int w, int h,
+                const td_ridge_params *rp, const td_ridgegen_params *p,
+                double *final_slope, td_ctx *cx);
 
 #ifdef __cplusplus
 }

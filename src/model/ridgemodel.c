@@ -775,6 +775,23 @@ size_t td_ridgemodel_nodes(const td_ridgemodel *m, double *xyz, size_t cap)
     return n;
 }
 
+size_t td_ridgemodel_segments(const td_ridgemodel *m, double *v, size_t cap)
+{
+    size_t s, n = 0;
+    for (s = 0; s < m->ns; s++) {
+        const rseg *g = &m->sg[s];
+        if (!g->alive || g->a == g->b)
+            continue;
+        if (n < cap) {
+            double *q = v + 6 * n;
+            q[0] = m->nd[g->a].x, q[1] = m->nd[g->a].y, q[2] = m->nd[g->a].z;
+            q[3] = m->nd[g->b].x, q[4] = m->nd[g->b].y, q[5] = m->nd[g->b].z;
+        }
+        n++;
+    }
+    return n;
+}
+
 /* ---- Algorithm 2.4: heights for 2-D ridge trees ---- */
 
 static double seg_len(const td_ridgemodel *m, size_t u, size_t q)
