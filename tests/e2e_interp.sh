@@ -30,6 +30,11 @@ rc=$?
   check "interp: exit 0, one summary line" \
     "[ $rc = 0 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -Eq '^interp: 600 x 450 cells, [0-9.]+% determined, method multidir, [0-9.]+ s$' '$T/err'"
   "$TD" compare "$T/dem.tif" samples/hills.tif --json >"$T/c.json"
+  "$TD" compare "$T/dem.tif" samples/hills.tif --profile 20,-225,580,-225 -o "$T/prof.png" >"$T/p.txt" 2>&1
+  check "compare --profile: exit 0, the picture, its line in the summary" \
+    "[ \$? = 0 ] && [ -s '$T/prof.png' ] && grep -Eq '^profile   length 560, [0-9]+ samples with data in both, rmse' '$T/p.txt'"
+  "$TD" compare "$T/dem.tif" samples/hills.tif --profile 20,-225,580,-225 >/dev/null 2>"$T/err"
+  check "compare --profile without -o: one error line, exit 1" "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ]"
   r=$(json "$T/c.json" rmse); cov=$(json "$T/c.json" coverage)
   check "interp multidir: RMSE $r < 0.12 interval (2.4 m)" "lt '$r' 2.4"
   check "interp: coverage $cov > 0.9" "lt 0.9 '$cov'"

@@ -1,5 +1,5 @@
-/* test_compare.c: DEM comparison statistics and the difference picture on
- * hand-made grids with known answers; the shaded-relief renderer (flat and
+/* test_compare.c: DEM comparison statistics, the difference picture and
+ * the profile (cross-section) on hand-made grids with known answers; the shaded-relief renderer (flat and
  * tilted planes, contour overlay, nodata). */
 #include "tests/tt.h"
 
@@ -183,9 +183,45 @@ done:
     td_grid_f32_free(g);
 }
 
+static double ramp_x(int x, int y) { (void)y; return 10.0 * x; }
+static double ramp_2x(int x, int y) { (void)y; return 20.0 * x; }
+
+/* A profile across two planes (10 x and 20 x per cell): samples at the
+ * heights of the cell centres they pass; the picture draws B black and A
+ * red where the plot's axes put them; no data along the line: refused. */
+static void test_profile(void)
+{
+    td_grid_f32 *a = grid(50, 20, ramp_x), *b = grid(50, 20, ramp_2x);
+    double va[11], vb[11];
+    td_image *im = NULL;
+    int red = 0, black = 0;
+    size_t i;
+    TT_CHECK(td_compare_profile(a, b, 5.5, 10.5, 45.5, 10.5, 11, va, vb,
+                                NULL) == 0);
+    TT_NEAR(va[0], 50, 1e-4);
+    TT_NEAR(vb[10], 900, 1e-4);
+    TT_NEAR(va[5], 250, 1e-4); /* halfway, x = 25.5: the centre of 25 */
+    TT_CHECK(td_compare_profile_image(va, vb, 11, 40, 400, 200, &im, NULL) ==
+             0);
+    for (i = 0; im && i < (size_t)im->w * im->h; i++) {
+        const uint8_t *q = im->data + 3 * i;
+        red += q[0] == 200 && q[1] == 30;
+        black += q[0] == 0 && q[1] == 0 && q[2] == 0;
+    }
+    TT_CHECK(red > 300 && black > 300);
+    td_image_free(im);
+    for (i = 0; i < 11; i++)
+        va[i] = vb[i] = NAN;
+    TT_CHECK(td_compare_profile_image(va, vb, 11, 40, 400, 200, &im, NULL) ==
+             TD_EINVAL);
+    td_grid_f32_free(a);
+    td_grid_f32_free(b);
+}
+
 int main(void)
 {
     TT_RUN(test_stats_known);
+    TT_RUN(test_profile);
     TT_RUN(test_nodata_and_coverage);
     TT_RUN(test_size_mismatch);
     TT_RUN(test_diff_colours);

@@ -1,5 +1,6 @@
 /* compare.h: differences between two DEMs of the same size (a result and a
- * reference) and a colour picture of them.  Pure stages: no file I/O. */
+ * reference), a colour picture of them, and a cross-section of both along
+ * a line (profile.c).  Pure stages: no file I/O. */
 #ifndef TD_COMPARE_H
 #define TD_COMPARE_H
 
@@ -34,6 +35,22 @@ int td_compare_grids(const td_grid_f32 *a, const td_grid_f32 *b,
  * size (free with td_image_free).  Returns 0, TD_EINVAL (sizes), TD_ENOMEM. */
 int td_compare_diff_image(const td_grid_f32 *a, const td_grid_f32 *b,
                           double range, td_image **out, td_ctx *cx);
+
+/* ---- profile.c: a cross-section of both along one line ---- */
+
+/* n samples (bilinear, NaN without data) of a and b along the line from
+ * (x0,y0) to (x1,y1) in cells (0,0 the top-left corner), ends included,
+ * into va and vb.  0, or TD_EINVAL (sizes differ, n < 2). */
+int td_compare_profile(const td_grid_f32 *a, const td_grid_f32 *b,
+                       double x0, double y0, double x1, double y1, size_t n,
+                       double *va, double *vb, td_ctx *cx);
+/* The cross-section plot, w x h RGB: b (the reference) in black, a in
+ * red on top, heights and distances (length: the line's length in map
+ * units, 0: none) on round ticks.  *out new; 0, TD_EINVAL (no data, too
+ * small), TD_ENOMEM. */
+int td_compare_profile_image(const double *va, const double *vb, size_t n,
+                             double length, int w, int h, td_image **out,
+                             td_ctx *cx);
 
 #ifdef __cplusplus
 }

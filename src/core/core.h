@@ -313,6 +313,10 @@ int td_line_id_places(const td_lines *ls, double **out, td_ctx *cx);
 /* Each line's id in small digits on a white box framed in the line's
  * colour (td_draw_colour of its index) at xy[2i], xy[2i+1]. */
 void td_draw_ids(td_image *im, const td_lines *ls, const double *xy);
+/* Digits, '-' and '.' of t (other characters: a blank) in the 3x5 font
+ * scaled by `scale`, top-left at (x0, y0), into an RGB image (clipped). */
+void td_draw_text(td_image *im, int x0, int y0, const char *t, int scale,
+                  const uint8_t c[3]);
 
 #ifdef __cplusplus
 }

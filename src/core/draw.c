@@ -218,6 +218,26 @@ static void put_px(td_image *im, int x, int y, const uint8_t c[3])
     p[0] = c[0], p[1] = c[1], p[2] = c[2];
 }
 
+/* See core.h. */
+void td_draw_text(td_image *im, int x0, int y0, const char *t, int scale,
+                  const uint8_t c[3])
+{
+    int g, x, y;
+    for (g = 0; t[g]; g++)
+        for (y = 0; y < 5 * scale; y++)
+            for (x = 0; x < 3 * scale; x++) {
+                int on = 0;
+                if (t[g] >= '0' && t[g] <= '9')
+                    on = font3x5[t[g] - '0'][y / scale] >> (2 - x / scale) & 1;
+                else if (t[g] == '-')
+                    on = y / scale == 2;
+                else if (t[g] == '.')
+                    on = y / scale == 4 && x / scale == 1;
+                if (on)
+                    put_px(im, x0 + (4 * scale) * g + x, y0 + y, c);
+            }
+}
+
 /* The id in 2x-scaled 3x5 digits centred at (cx,cy) on a white box with
  * a border in the line's colour. */
 static void draw_id(td_image *im, double cx, double cy, long id,
