@@ -122,6 +122,30 @@ int td_ridgegen(double **segs, size_t *n, int w, int h,
                 const td_ridge_params *rp, const td_ridgegen_params *p,
                 double *final_slope, td_ctx *cx);
 
+/* ---- the straight skeleton of a key outline (skeleton.c; paper 004) ---- */
+typedef struct td_skeleton_params {
+    double contour_step; /* time (distance shrunk, cells) between contours;
+                            0: none (0) */
+    size_t max_events;   /* give up after this many events (1000000) */
+} td_skeleton_params;
+
+typedef struct td_skeleton_stats {
+    size_t events, splits; /* steps taken; split events among them */
+    double max_time;       /* when the last polygon shrank away (cells) */
+} td_skeleton_stats;
+
+td_skeleton_params td_skeleton_defaults(void);
+/* Shrink the outline xy (n points x, y in cells, a ring, either way
+ * round; not crossing itself) by the paper's construction.  dem (may be
+ * NULL; cells set to nodata first by the caller) gets the roof: the time
+ * (distance, cells) at which the front passed each cell inside; contours
+ * (may be NULL) gets the shrunk polygons every p->contour_step, closed,
+ * with height = their time.  0, TD_EINVAL (fewer than 3 points, a
+ * crossing, no area, non-finite), TD_ENOMEM. */
+int td_skeleton(const double *xy, size_t n, const td_skeleton_params *p,
+                td_grid_f32 *dem, td_lines *contours, td_skeleton_stats *st,
+                td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

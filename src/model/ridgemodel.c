@@ -27,6 +27,7 @@
  * convex polygon, the height from its plane), so an edited model and a
  * full render of the same segments agree bit for bit. */
 #include "src/model/model.h"
+#include "src/model/model_int.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -380,26 +381,14 @@ static int raster_in(td_ridgemodel *m, size_t i, int mode, int cx0, int cy0,
                      int cx1, int cy1)
 {
     const rpoly *q = &m->pl[i];
-    int row, col, e, r0 = q->by0 > cy0 ? q->by0 : cy0;
+    int row, col, r0 = q->by0 > cy0 ? q->by0 : cy0;
     int r1 = q->by1 < cy1 ? q->by1 : cy1;
     for (row = r0; row <= r1; row++) {
-        double yc = row + 0.5, lo = HUGE_VAL, hi = -HUGE_VAL;
+        double yc = row + 0.5;
         int c0, c1;
-        for (e = 0; e < q->nv; e++) {
-            double x0 = q->vx[e], y0 = q->vy[e];
-            double x1 = q->vx[(e + 1) % q->nv], y1 = q->vy[(e + 1) % q->nv];
-            double t, x;
-            if ((y0 > yc) == (y1 > yc))
-                continue; /* the centre line misses this edge */
-            t = (yc - y0) / (y1 - y0);
-            x = x0 + t * (x1 - x0);
-            lo = x < lo ? x : lo, hi = x > hi ? x : hi;
-        }
-        if (!(lo <= hi))
+        if (!td_convex_span(q->vx, q->vy, q->nv, row, q->bx0 > cx0 ? q->bx0 : cx0,
+                            q->bx1 < cx1 ? q->bx1 : cx1, &c0, &c1))
             continue;
-        c0 = (int)ceil(lo - 0.5), c1 = (int)floor(hi - 0.5);
-        c0 = c0 < q->bx0 ? q->bx0 : c0, c1 = c1 > q->bx1 ? q->bx1 : c1;
-        c0 = c0 < cx0 ? cx0 : c0, c1 = c1 > cx1 ? cx1 : c1;
         for (col = c0; col <= c1; col++) {
             size_t c = (size_t)row * m->w + col;
             double hv = q->c0 + q->c1 * (col + 0.5) + q->c2 * yc;

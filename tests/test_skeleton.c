@@ -1,0 +1,192 @@
+/* test_skeleton.c: the straight skeleton of a key outline
+ * (src/model/skeleton.c, paper 004 §3) against roofs known exactly: a
+ * rectangle (the hip roof) and convex polygons, where the time the front
+ * passes a point is its distance to the nearest edge's line; orthogonal
+ * outlines with reflex corners, edge and split events, where the straight
+ * skeleton is the L-infinity medial axis and the time is the L-infinity
+ * distance to the outline; the contours at equal steps; bad outlines. */
+#include "tests/tt.h"
+#include "src/model/model.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static int inside(const double *xy, int n, double x, double y)
+{
+    int i, j, c = 0;
+    for (i = 0, j = n - 1; i < n; j = i++)
+        if ((xy[2 * i + 1] > y) != (xy[2 * j + 1] > y) &&
+            x < (xy[2 * j] - xy[2 * i]) * (y - xy[2 * i + 1]) /
+                        (xy[2 * j + 1] - xy[2 * i + 1]) +
+                    xy[2 * i])
+            c = !c;
+    return c;
+}
+
+/* Distance from (x, y) to the line through a, b (Euclid). */
+static double line_dist(double x, double y, const double *a, const double *b)
+{
+    double dx = b[0] - a[0], dy = b[1] - a[1];
+    return fabs((x - a[0]) * dy - (y - a[1]) * dx) / hypot(dx, dy);
+}
+
+/* L-infinity distance from (x, y) to the axis-parallel segment a-b. */
+static double linf(double x, double y, const double *a, const double *b)
+{
+    double x0 = fmin(a[0], b[0]), x1 = fmax(a[0], b[0]);
+    double y0 = fmin(a[1], b[1]), y1 = fmax(a[1], b[1]);
+    double dx = x < x0 ? x0 - x : x > x1 ? x - x1 : 0;
+    double dy = y < y0 ? y0 - y : y > y1 ? y - y1 : 0;
+    return fmax(dx, dy);
+}
+
+/* Roof of outline xy on a W x H grid against the expected time at every
+ * cell centre inside (metric 0: nearest edge line, 1: L-infinity to the
+ * outline); no cell outside may be set.  Returns the largest error. */
+static double roof_error(const char *name, const double *xy, int n, int W,
+                         int H, int metric, size_t *splits)
+{
+    td_grid_f32 *g = td_grid_f32_new(W, H, NULL);
+    td_skeleton_params p = td_skeleton_defaults();
+    td_skeleton_stats st;
+    double err = 0;
+    long wrong = 0;
+    int x, y, i;
+    g->has_nodata = 1, g->nodata = -9999;
+    for (i = 0; i < W * H; i++)
+        g->data[i] = -9999;
+    TT_CHECKF(td_skeleton(xy, (size_t)n, &p, g, NULL, &st, NULL) == 0, "%s",
+              name);
+    for (y = 0; y < H; y++)
+        for (x = 0; x < W; x++) {
+            double px = x + 0.5, py = y + 0.5, d = HUGE_VAL;
+            float v = g->data[(size_t)y * W + x];
+            if (!inside(xy, n, px, py)) {
+                wrong += v != -9999;
+                continue;
+            }
+            for (i = 0; i < n; i++)
+                d = fmin(d, metric ? linf(px, py, xy + 2 * i,
+                                          xy + 2 * ((i + 1) % n))
+                                   : line_dist(px, py, xy + 2 * i,
+                                               xy + 2 * ((i + 1) % n)));
+            if (v == -9999)
+                wrong++;
+            else
+                err = fmax(err, fabs(v - d));
+        }
+    TT_CHECKF(wrong == 0, "%s: %ld cells on the wrong side of the outline",
+              name, wrong);
+    if (splits)
+        *splits = st.splits;
+    td_grid_f32_free(g);
+    return err;
+}
+
+static void test_hip_roof(void)
+{
+    static const double rect[] = {10, 10, 90, 10, 90, 50, 10, 50};
+    double e = roof_error("rectangle", rect, 4, 100, 60, 0, NULL);
+    TT_CHECKF(e < 1e-4, "rectangle: error %g", e);
+}
+
+/* Random convex polygons (points on an ellipse at random angles), either
+ * way round. */
+static void test_convex(void)
+{
+    uint64_t r = 12345;
+    int k;
+    for (k = 0; k < 20; k++) {
+        double a[24], xy[48];
+        int n = 3 + k % 10, i, j;
+        for (i = 0; i < n; i++) {
+            r ^= r << 13, r ^= r >> 7, r ^= r << 17;
+            a[i] = (double)(r >> 11) / 9007199254740992.0 * 2 * M_PI;
+        }
+        for (i = 1; i < n; i++) /* sort the angles */
+            for (j = i; j > 0 && a[j - 1] > a[j]; j--) {
+                double t = a[j];
+                a[j] = a[j - 1], a[j - 1] = t;
+            }
+        for (i = 0; i < n; i++) {
+            int q = k & 1 ? n - 1 - i : i;
+            xy[2 * i] = 60 + 50 * cos(a[q]);
+            xy[2 * i + 1] = 45 + 35 * sin(a[q]);
+        }
+        {
+            double e = roof_error("convex", xy, n, 120, 90, 0, NULL);
+            TT_CHECKF(e < 1e-3, "convex polygon %d (%d corners): error %g",
+                      k, n, e);
+        }
+    }
+}
+
+/* Orthogonal outlines with reflex corners: edge events, arms that shrink
+ * to nothing, and split events (a slot cut from one side). */
+static void test_orthogonal(void)
+{
+    static const double L[] = {10, 10, 90, 10, 90, 40, 50, 40, 50, 90, 10, 90};
+    static const double comb[] = {10, 10, 110, 10, 110, 90, 95, 90, 95, 40,
+                                  80, 40, 80, 90, 60, 90, 60, 50, 45, 50,
+                                  45, 90, 30, 90, 30, 30, 20, 30, 20, 90,
+                                  10, 90};
+    static const double slot[] = {10, 10, 55, 10, 55, 40, 65, 40,
+                                  65, 10, 110, 10, 110, 50, 10, 50};
+    static const double slot2[] = {10, 10, 40, 10, 40, 45, 48, 45,
+                                   48, 10, 110, 10, 110, 70, 80, 70,
+                                   80, 30, 72, 30, 72, 70, 10, 70};
+    size_t sp = 0, sp2 = 0;
+    TT_CHECK(roof_error("L", L, 6, 100, 100, 1, NULL) < 1e-4);
+    TT_CHECK(roof_error("comb", comb, 16, 120, 100, 1, NULL) < 1e-4);
+    TT_CHECK(roof_error("slot", slot, 8, 120, 60, 1, &sp) < 1e-4);
+    TT_CHECK(roof_error("slot2", slot2, 12, 120, 80, 1, &sp2) < 1e-4);
+    TT_CHECKF(sp >= 1 && sp2 >= 1, "split events: %zu, %zu", sp, sp2);
+}
+
+/* Contours every 5: the rectangle's rings at 5, 10, 15 (its roof ends at
+ * 20), each the outline shrunk by its time. */
+static void test_contours(void)
+{
+    static const double rect[] = {10, 10, 90, 10, 90, 50, 10, 50};
+    td_skeleton_params p = td_skeleton_defaults();
+    td_lines *c = td_lines_new(NULL);
+    size_t i, k;
+    p.contour_step = 5;
+    TT_CHECK(td_skeleton(rect, 4, &p, NULL, c, NULL, NULL) == 0);
+    TT_CHECKF(c->n >= 3 && c->n <= 4, "%zu contours", c->n);
+    for (i = 0; i < c->n && i < 3; i++) {
+        const td_line *l = &c->v[i];
+        double t = l->height, x0 = HUGE_VAL, x1 = -HUGE_VAL;
+        TT_NEAR(t, 5.0 * (double)(i + 1), 1e-9);
+        TT_CHECK(l->closed && l->n == 4);
+        for (k = 0; k < l->n; k++)
+            x0 = fmin(x0, l->xy[2 * k]), x1 = fmax(x1, l->xy[2 * k]);
+        TT_NEAR(x0, 10 + t, 1e-6);
+        TT_NEAR(x1, 90 - t, 1e-6);
+    }
+    td_lines_free(c);
+}
+
+static void test_bad_outlines(void)
+{
+    static const double bow[] = {10, 10, 50, 50, 50, 10, 10, 50};
+    static const double flat[] = {10, 10, 50, 10, 90, 10};
+    td_skeleton_params p = td_skeleton_defaults();
+    td_ctx cx;
+    td_ctx_init(&cx);
+    TT_CHECK(td_skeleton(bow, 4, &p, NULL, NULL, NULL, &cx) == TD_EINVAL);
+    TT_CHECKF(strstr(td_errmsg(&cx), "crosses itself") != NULL, "%s",
+              td_errmsg(&cx));
+    TT_CHECK(td_skeleton(bow, 2, &p, NULL, NULL, NULL, NULL) == TD_EINVAL);
+    TT_CHECK(td_skeleton(flat, 3, &p, NULL, NULL, NULL, NULL) == TD_EINVAL);
+}
+
+int main(void)
+{
+    TT_RUN(test_hip_roof);
+    TT_RUN(test_convex);
+    TT_RUN(test_orthogonal);
+    TT_RUN(test_contours);
+    TT_RUN(test_bad_outlines);
+    return tt_summary();
+}
