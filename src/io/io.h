@@ -214,8 +214,8 @@ int td_vector_read_lines(const char *path, const struct td_georef *georef,
                          struct td_georef *frame, td_ctx *cx);
 
 /* Lines with a height per vertex (ridge lines), any format GDAL/OGR reads:
- * LineString and MultiLineString features of the first layer (others
- * counted in *skipped), in pixel units as td_vector_read_lines; *z (free())
+ * LineString and MultiLineString features of the first layer, and the
+ * outer ring of a Polygon as a closed line (others counted in *skipped), in pixel units as td_vector_read_lines; *z (free())
  * gets one height per vertex of every line in order: the geometry's z when
  * 3-D, else the "heights" list property (one per vertex, as
  * td_vector_write_paths writes), else the "height" property, else NaN.

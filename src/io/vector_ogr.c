@@ -809,15 +809,27 @@ int td_vector_read_lines_z(const char *path, const td_georef *georef,
         if (k >= 0 && OGR_F_IsFieldSetAndNotNull(f, k) &&
             strcmp(OGR_F_GetFieldAsString(f, k), kind))
             t = wkbUnknown; /* another kind of line: skipped */
-        if (t == wkbLineString)
+        if (t == wkbLineString) {
             rc = add_part_z(*out, z, &nz, &cz, geo, f, serial, &fr, georef,
                             path, cx);
-        else if (t == wkbMultiLineString)
+        } else if (t == wkbPolygon && OGR_G_GetGeometryCount(geo) > 0) {
+            /* the outer ring, as a closed line (holes: not read) */
+            rc = add_part_z(*out, z, &nz, &cz, OGR_G_GetGeometryRef(geo, 0),
+                            f, serial, &fr, georef, path, cx);
+            if (rc == 0) {
+                td_line *l = &(*out)->v[(*out)->n - 1];
+                if (l->n >= 2 && l->xy[0] == l->xy[2 * l->n - 2] &&
+                    l->xy[1] == l->xy[2 * l->n - 1])
+                    l->n--, nz--;
+                l->closed = 1;
+            }
+        } else if (t == wkbMultiLineString) {
             for (i = 0; rc == 0 && i < OGR_G_GetGeometryCount(geo); i++)
                 rc = add_part_z(*out, z, &nz, &cz, OGR_G_GetGeometryRef(geo, i),
                                 f, serial, &fr, georef, path, cx);
-        else
+        } else {
             sk++;
+        }
         serial++;
         OGR_F_Destroy(f);
     }

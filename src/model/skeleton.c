@@ -183,6 +183,18 @@ static int emit_contours(sk *s, double T, td_ctx *cx)
             if (td_line_push(l, P->v[k].x + (T - s->t) * P->v[k].vx,
                              P->v[k].y + (T - s->t) * P->v[k].vy, cx) != 0)
                 return TD_ENOMEM;
+        {
+            double a = 0; /* a ring shrunk to a point or a line: none */
+            for (k = 0; k < l->n; k++) {
+                size_t q = (k + 1) % l->n;
+                a += l->xy[2 * k] * l->xy[2 * q + 1] -
+                     l->xy[2 * q] * l->xy[2 * k + 1];
+            }
+            if (fabs(0.5 * a) <= 1e6 * s->eps * s->eps) {
+                td_lines_remove(s->contours, s->contours->n - 1);
+                continue;
+            }
+        }
         l->closed = 1;
         l->has_height = 1;
         l->height = T; /* a time: the caller maps it to a height */

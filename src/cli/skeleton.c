@@ -1,0 +1,187 @@
+/* topodig skeleton: a key outline -> DEM and contours by the straight
+ * skeleton (paper 004; src/model/skeleton.c). */
+#include "src/cli/cli.h"
+
+#include "src/io/io.h"
+#include "src/model/model.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct sk_opts {
+    const char *in, *out, *like, *contours;
+    int wh[2], quiet;
+    double height, slope, interval, base, cell;
+} sk_opts;
+
+static int parse_args(int argc, char **argv, sk_opts *o)
+{
+    const td_opt opts[] = {
+        {"like", 0, TD_OPT_STRING, &o->like, .meta = "SHEET", .help = "the "
+         "grid: the size and georeferencing of a\nscan or DEM"},
+        {"size", 0, TD_OPT_FUNC, o->wh, .fn = td_cli_parse_size,
+         .meta = "WxH", .help = "the grid without a sheet (the pixel frame)",
+         .no_default = 1},
+        {"height", 0, TD_OPT_DOUBLE, &o->height, 1e-9, 1e7, .meta = "H",
+         .help = "the summit's height above --base (the last\npoint to "
+         "shrink away)", .no_default = 1},
+        {"slope", 0, TD_OPT_DOUBLE, &o->slope, 0.01, 89.99, .meta = "DEG",
+         .help = "or: every side rises at this slope", .no_default = 1},
+        {"interval", 0, TD_OPT_DOUBLE, &o->interval, 1e-9, 1e7, .meta = "I",
+         .help = "contour interval (heights)", .no_default = 1},
+        {"base", 0, TD_OPT_DOUBLE, &o->base, -1e6, 1e6, .meta = "B",
+         .help = "the outline's height"},
+        {"cell", 0, TD_OPT_DOUBLE, &o->cell, 1e-9, 1e9, .meta = "M",
+         .help = "horizontal size of a cell in the heights'\nunits, for "
+         "--slope (default: from --like's\ngeoreferencing, else 1)",
+         .no_default = 1},
+        {"contours-out", 0, TD_OPT_OUTPUT, &o->contours, .meta = "C.geojson",
+         .help = "the shrunk outlines every --interval, with\ntheir heights "
+         "(.geojson, .gpkg, .shp, .dxf)"},
+        {NULL}};
+    const td_cmd c = {
+        "skeleton", "OUTLINE.geojson -o DEM.tif (--like SHEET | --size WxH)\n"
+        "                      (--height H | --slope DEG) --interval I\n"
+        "                      [--contours-out C.geojson]",
+        "A terrain from one key outline by the straight skeleton (Murase &\n"
+        "Sugihara): every side of the outline moves inward at one speed,\n"
+        "edges vanish (edge events) and reflex corners split the polygon\n"
+        "(split events) until it has shrunk away; the height of a point is\n"
+        "how far the front had moved when it passed (the outline's roof),\n"
+        "scaled by --slope or to --height.  The shrunk outlines every\n"
+        "--interval are the contours.  OUTLINE: the first Polygon (its\n"
+        "outer ring) or closed LineString, any vector format GDAL reads.\n"
+        "Cells outside the outline are nodata.\n",
+        "Summary on stderr: corners, events (splits), summit height,\n"
+        "contours, cells, seconds.\n",
+        opts, "one OUTLINE file", 1, 1, &o->in, &o->out, "DEM.tif",
+        &o->quiet};
+    int rc = td_opt_parse(&c, argc, argv);
+    if (rc)
+        return rc;
+    if (!o->like == !o->wh[0])
+        return td_cli_failf("skeleton", "give the grid: --like SHEET or "
+                            "--size WxH (one of them)");
+    if (!(o->height > 0) == !(o->slope > 0))
+        return td_cli_failf("skeleton", "give --height H or --slope DEG (one "
+                            "of them)");
+    if (!(o->interval > 0))
+        return td_cli_failf("skeleton", "give --interval I (the contour "
+                            "interval)");
+    return 0;
+}
+
+/* The grid of a scan (its header) or of a DEM (float samples: read). */
+static int like(const char *path, int *w, int *h, td_georef *geo, td_ctx *cx)
+{
+    td_grid_f32 *g = NULL;
+    int ch, rc = td_image_info(path, w, h, &ch, geo, cx);
+    if (rc == 0)
+        return 0;
+    td_ctx_clear(cx);
+    td_georef_clear(geo);
+    if ((rc = td_dem_read(path, &g, geo, cx)) != 0)
+        return rc;
+    *w = g->w, *h = g->h;
+    td_grid_f32_free(g);
+    return 0;
+}
+
+int td_cmd_skeleton(int argc, char **argv)
+{
+    sk_opts o;
+    td_ctx cx;
+    td_cli_progress pr;
+    td_georef geo;
+    td_lines *ls = NULL, *con = NULL;
+    double *z = NULL, *xy = NULL, k, t0 = td_now();
+    td_grid_f32 *dem = NULL;
+    td_skeleton_params p = td_skeleton_defaults();
+    td_skeleton_stats st;
+    const td_line *ol = NULL;
+    size_t i, cells = 0;
+    int rc, w, h;
+    memset(&o, 0, sizeof o);
+    if ((rc = parse_args(argc, argv, &o)) != 0)
+        return rc == 2 ? 0 : 1;
+    td_ctx_init(&cx);
+    td_georef_init(&geo);
+    td_cli_progress_init(&pr, &cx, o.quiet);
+    if (o.like) {
+        if ((rc = like(o.like, &w, &h, &geo, &cx)) != 0)
+            goto fail;
+    } else {
+        w = o.wh[0], h = o.wh[1];
+        td_georef_pixel_frame(&geo);
+    }
+    if (!(o.cell > 0) && (o.cell = td_georef_cell_size(&geo, w, h, NULL)) <= 0)
+        o.cell = 1.0;
+    if ((rc = td_vector_read_lines_z(o.in, &geo, NULL, &ls, &z, NULL, NULL,
+                                     &cx)) != 0)
+        goto fail;
+    for (i = 0; i < ls->n && !ol; i++)
+        if (ls->v[i].closed || (ls->v[i].n >= 4 &&
+                                ls->v[i].xy[0] == ls->v[i].xy[2 * ls->v[i].n - 2] &&
+                                ls->v[i].xy[1] == ls->v[i].xy[2 * ls->v[i].n - 1]))
+            ol = &ls->v[i];
+    if (!ol) {
+        rc = td_seterr(&cx, TD_EINVAL, "%s: no Polygon or closed LineString",
+                       o.in);
+        goto fail;
+    }
+    if (!(xy = malloc(2 * ol->n * sizeof *xy))) {
+        rc = td_seterr(&cx, TD_ENOMEM, "out of memory");
+        goto fail;
+    }
+    memcpy(xy, ol->xy, 2 * ol->n * sizeof *xy);
+    i = ol->n;
+    if (!ol->closed) /* the repeated first point */
+        i--;
+    /* first the summit's time (for --height), then the DEM and contours */
+    if ((rc = td_skeleton(xy, i, &p, NULL, NULL, &st, &cx)) != 0)
+        goto fail;
+    k = o.slope > 0 ? tan(o.slope * M_PI / 180.0) * o.cell
+                    : o.height / (st.max_time > 0 ? st.max_time : 1);
+    p.contour_step = o.interval / k;
+    if (!(dem = td_grid_f32_new(w, h, &cx)) ||
+        (o.contours && !(con = td_lines_new(&cx)))) {
+        rc = TD_ENOMEM;
+        goto fail;
+    }
+    dem->has_nodata = 1, dem->nodata = -9999.0f;
+    for (i = 0; i < (size_t)w * h; i++)
+        dem->data[i] = dem->nodata;
+    if ((rc = td_skeleton(xy, ol->closed ? ol->n : ol->n - 1, &p, dem, con,
+                          &st, &cx)) != 0)
+        goto fail;
+    for (i = 0; i < (size_t)w * h; i++)
+        if (dem->data[i] != dem->nodata) {
+            dem->data[i] = (float)(o.base + k * dem->data[i]);
+            cells++;
+        }
+    for (i = 0; con && i < con->n; i++) {
+        con->v[i].height = o.base + k * con->v[i].height;
+        con->v[i].id = (long)i;
+    }
+    if ((rc = td_dem_write(o.out, dem, &geo, &cx)) != 0 ||
+        (con && (rc = td_vector_write_lines(o.contours, con, &geo, &cx)) != 0))
+        goto fail;
+    td_cli_progress_done(&pr);
+    if (!o.quiet)
+        fprintf(stderr, "skeleton: %zu corners, %zu events (%zu splits), "
+                "summit %.6g, %zu contours, %zu cells, %.2f s\n",
+                ol->closed ? ol->n : ol->n - 1, st.events, st.splits,
+                o.base + k * st.max_time, con ? con->n : 0, cells,
+                td_now() - t0);
+fail:
+    td_cli_progress_done(&pr);
+    td_grid_f32_free(dem);
+    td_lines_free(ls);
+    td_lines_free(con);
+    free(z);
+    free(xy);
+    td_georef_clear(&geo);
+    return rc == 0 ? 0 : td_cli_fail_on("skeleton", o.in, o.out, &cx);
+}
