@@ -22,7 +22,7 @@ cat >"$T/r.geojson" <<'EOT'
 {"type":"FeatureCollection","features":[
 {"type":"Feature","properties":{},"geometry":{"type":"LineString","coordinates":[[10,-10],[90,-10],[90,-50],[10,-50],[10,-10]]}}]}
 EOT
-"$TD" skeleton "$T/r.geojson" -o "$T/r.tif" --size 100x60 --slope 45 --interval 5 --base 100 --contours-out "$T/c.geojson" 2>"$T/err"
+"$TD" skeleton "$T/r.geojson" -o "$T/r.tif" --size 100x60 --slope 45 --interval 5 --base 100 --contours-out "$T/c.geojson" --surface roof 2>"$T/err"
 rc=$?
 check "rectangle: exit 0, one summary line, summit 120, 3 contours" \
   "[ $rc = 0 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q '^skeleton: 4 corners, .*summit 120, 3 contours, 3200 cells' '$T/err'"
@@ -43,6 +43,10 @@ EOT
 rc=$?
 check "a reflex corner: exit 0, a split event, summit 300" \
   "[ $rc = 0 ] && grep -Eq 'events \([1-9][0-9]* splits\), summit 300,' '$T/err'"
+"$TD" skeleton "$T/p.geojson" -o "$T/pr.tif" --size 220x200 --height 300 --interval 20 --surface roof -q
+"$TD" compare "$T/p.tif" "$T/pr.tif" --json >"$T/pc.json"
+check "the paper's TIN (default) near the roof, below it on the whole" \
+  "awk -F'[:,]' '{ for (i = 1; i < NF; i++) { if (\$i ~ /\"rmse\"/) r = \$(i+1); if (\$i ~ /\"bias\"/) b = \$(i+1) } } END { exit !(r > 0 && r < 45 && b < 0) }' '$T/pc.json'"
 
 # --- bad input
 cat >"$T/bow.geojson" <<'EOT'

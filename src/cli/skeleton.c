@@ -12,7 +12,7 @@
 
 typedef struct sk_opts {
     const char *in, *out, *like, *contours;
-    int wh[2], quiet;
+    int wh[2], quiet, surface;
     double height, slope, interval, base, cell;
 } sk_opts;
 
@@ -37,6 +37,10 @@ static int parse_args(int argc, char **argv, sk_opts *o)
          .help = "horizontal size of a cell in the heights'\nunits, for "
          "--slope (default: from --like's\ngeoreferencing, else 1)",
          .no_default = 1},
+        {"surface", 0, TD_OPT_CHOICE, &o->surface, .choices = "tin|roof",
+         .meta = "S", .help = "tin (the paper's): the contours as closed\n"
+         "B-splines, Delaunay-triangulated with the\noutline and the "
+         "summits | roof (ours): the\nexact straight-skeleton roof"},
         {"contours-out", 0, TD_OPT_OUTPUT, &o->contours, .meta = "C.geojson",
          .help = "the shrunk outlines every --interval, with\ntheir heights "
          "(.geojson, .gpkg, .shp, .dxf)"},
@@ -51,7 +55,8 @@ static int parse_args(int argc, char **argv, sk_opts *o)
         "(split events) until it has shrunk away; the height of a point is\n"
         "how far the front had moved when it passed (the outline's roof),\n"
         "scaled by --slope or to --height.  The shrunk outlines every\n"
-        "--interval are the contours.  OUTLINE: the first Polygon (its\n"
+        "--interval are the contours; the DEM is their B-splines and the\n"
+        "summits triangulated (the paper's; --surface roof: the roof).  OUTLINE: the first Polygon (its\n"
         "outer ring) or closed LineString, any vector format GDAL reads.\n"
         "Cells outside the outline are nodata.\n",
         "Summary on stderr: corners, events (splits), summit height,\n"
@@ -95,7 +100,7 @@ int td_cmd_skeleton(int argc, char **argv)
     td_ctx cx;
     td_cli_progress pr;
     td_georef geo;
-    td_lines *ls = NULL, *con = NULL;
+    td_lines *ls = NULL, *con = NULL, *peaks = NULL;
     double *z = NULL, *xy = NULL, k, t0 = td_now();
     td_grid_f32 *dem = NULL;
     td_skeleton_params p = td_skeleton_defaults();
@@ -140,13 +145,13 @@ int td_cmd_skeleton(int argc, char **argv)
     if (!ol->closed) /* the repeated first point */
         i--;
     /* first the summit's time (for --height), then the DEM and contours */
-    if ((rc = td_skeleton(xy, i, &p, NULL, NULL, &st, &cx)) != 0)
+    if ((rc = td_skeleton(xy, i, &p, NULL, NULL, NULL, &st, &cx)) != 0)
         goto fail;
     k = o.slope > 0 ? tan(o.slope * M_PI / 180.0) * o.cell
                     : o.height / (st.max_time > 0 ? st.max_time : 1);
     p.contour_step = o.interval / k;
-    if (!(dem = td_grid_f32_new(w, h, &cx)) ||
-        (o.contours && !(con = td_lines_new(&cx)))) {
+    if (!(dem = td_grid_f32_new(w, h, &cx)) || !(con = td_lines_new(&cx)) ||
+        !(peaks = td_lines_new(&cx))) {
         rc = TD_ENOMEM;
         goto fail;
     }
@@ -154,7 +159,7 @@ int td_cmd_skeleton(int argc, char **argv)
     for (i = 0; i < (size_t)w * h; i++)
         dem->data[i] = dem->nodata;
     if ((rc = td_skeleton(xy, ol->closed ? ol->n : ol->n - 1, &p, dem, con,
-                          &st, &cx)) != 0)
+                          peaks, &st, &cx)) != 0)
         goto fail;
     for (i = 0; i < (size_t)w * h; i++)
         if (dem->data[i] != dem->nodata) {
@@ -165,21 +170,29 @@ int td_cmd_skeleton(int argc, char **argv)
         con->v[i].height = o.base + k * con->v[i].height;
         con->v[i].id = (long)i;
     }
+    for (i = 0; i < peaks->n; i++)
+        peaks->v[i].height = o.base + k * peaks->v[i].height;
+    if (o.surface == 0 && /* the paper's: B-splines, Delaunay, the TIN */
+        (rc = td_skeleton_tin(xy, ol->closed ? ol->n : ol->n - 1, o.base,
+                              con, peaks, 2.0, dem, &cx)) != 0)
+        goto fail;
     if ((rc = td_dem_write(o.out, dem, &geo, &cx)) != 0 ||
-        (con && (rc = td_vector_write_lines(o.contours, con, &geo, &cx)) != 0))
+        (o.contours &&
+         (rc = td_vector_write_lines(o.contours, con, &geo, &cx)) != 0))
         goto fail;
     td_cli_progress_done(&pr);
     if (!o.quiet)
         fprintf(stderr, "skeleton: %zu corners, %zu events (%zu splits), "
                 "summit %.6g, %zu contours, %zu cells, %.2f s\n",
                 ol->closed ? ol->n : ol->n - 1, st.events, st.splits,
-                o.base + k * st.max_time, con ? con->n : 0, cells,
+                o.base + k * st.max_time, o.contours ? con->n : 0, cells,
                 td_now() - t0);
 fail:
     td_cli_progress_done(&pr);
     td_grid_f32_free(dem);
     td_lines_free(ls);
     td_lines_free(con);
+    td_lines_free(peaks);
     free(z);
     free(xy);
     td_georef_clear(&geo);

@@ -822,4 +822,63 @@ int td_cv_fill_holes(td_grid_u8 *mask, int min_area, size_t *filled,
     });
 }
 
+int td_cv_delaunay(const double *xy, size_t n, int32_t **tri, size_t *ntri,
+                   td_ctx *cx)
+{
+    *tri = NULL;
+    *ntri = 0;
+    return guarded("delaunay", cx, [&] {
+        if (n < 3 || n > (size_t)INT_MAX / 4)
+            return td_seterr(cx, TD_EINVAL, "delaunay: %zu points", n);
+        float x0 = FLT_MAX, y0 = FLT_MAX, x1 = -FLT_MAX, y1 = -FLT_MAX;
+        for (size_t i = 0; i < n; i++) {
+            float x = (float)xy[2 * i], y = (float)xy[2 * i + 1];
+            if (!std::isfinite(x) || !std::isfinite(y))
+                return td_seterr(cx, TD_EINVAL, "delaunay: a non-finite point");
+            x0 = std::min(x0, x), x1 = std::max(x1, x);
+            y0 = std::min(y0, y), y1 = std::max(y1, y);
+        }
+        cv::Rect2f box(x0 - 1, y0 - 1, x1 - x0 + 3, y1 - y0 + 3);
+        cv::Subdiv2D sd;
+        sd.initDelaunay(cv::Rect((int)std::floor(box.x), (int)std::floor(box.y),
+                                 (int)std::ceil(box.width) + 2,
+                                 (int)std::ceil(box.height) + 2));
+        // Subdiv2D numbers its vertices: 4 virtual ones first, then the
+        // points in the order inserted (a repeated point keeps the first)
+        std::vector<int> vid(n);
+        for (size_t i = 0; i < n; i++)
+            vid[i] = sd.insert(cv::Point2f((float)xy[2 * i], (float)xy[2 * i + 1]));
+        std::vector<int> of(vid.empty() ? 0 : *std::max_element(vid.begin(),
+                                                             vid.end()) + 1,
+                            -1);
+        for (size_t i = 0; i < n; i++)
+            if (of[vid[i]] < 0)
+                of[vid[i]] = (int)i;
+        std::vector<cv::Vec6f> tl;
+        sd.getTriangleList(tl);
+        int32_t *t = (int32_t *)malloc((tl.size() * 3 + 1) * sizeof *t);
+        if (!t)
+            return td_seterr(cx, TD_ENOMEM, "delaunay: out of memory");
+        size_t m = 0;
+        for (const cv::Vec6f &v : tl) {
+            int idx[3], ok = 1;
+            for (int k = 0; k < 3 && ok; k++) {
+                int e = 0, vtx = 0;
+                int r = sd.locate(cv::Point2f(v[2 * k], v[2 * k + 1]), e, vtx);
+                ok = r == cv::Subdiv2D::PTLOC_VERTEX && vtx >= 0 &&
+                     vtx < (int)of.size() && of[vtx] >= 0;
+                if (ok)
+                    idx[k] = of[vtx];
+            }
+            if (!ok)
+                continue; // a corner is one of the virtual outer vertices
+            t[3 * m] = idx[0], t[3 * m + 1] = idx[1], t[3 * m + 2] = idx[2];
+            m++;
+        }
+        *tri = t;
+        *ntri = m;
+        return 0;
+    });
+}
+
 } // extern "C"

@@ -336,6 +336,12 @@ int td_cv_kmeans(const float *pts, int n, int dim, int k, int attempts,
  * rounding); grey has im's size.  A 1-channel image is copied.  Works row
  * band by row band straight into grey, no temporaries. */
 int td_cv_rgb_to_grey(const td_image *im, td_grid_u8 *grey, td_ctx *cx);
+/* The Delaunay triangulation of n points xy (OpenCV Subdiv2D): *tri
+ * (free()) gets *ntri triangles as three point indices each (a repeated
+ * point takes the index of its first copy).  0, TD_EINVAL (under 3
+ * points, non-finite), TD_ENOMEM. */
+int td_cv_delaunay(const double *xy, size_t n, int32_t **tri, size_t *ntri,
+                   td_ctx *cx);
 
 /* Otsu's threshold of an 8-bit grid (histogram over all cells); *thr gets
  * the threshold t such that values > t are the upper class.  The choice is

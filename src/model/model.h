@@ -140,11 +140,23 @@ td_skeleton_params td_skeleton_defaults(void);
  * NULL; cells set to nodata first by the caller) gets the roof: the time
  * (distance, cells) at which the front passed each cell inside; contours
  * (may be NULL) gets the shrunk polygons every p->contour_step, closed,
- * with height = their time.  0, TD_EINVAL (fewer than 3 points, a
- * crossing, no area, non-finite), TD_ENOMEM. */
+ * with height = their time; peaks (may be NULL) one point where each
+ * polygon shrank away, height = that time.  0, TD_EINVAL (fewer than 3
+ * points, a crossing, no area, non-finite), TD_ENOMEM. */
 int td_skeleton(const double *xy, size_t n, const td_skeleton_params *p,
-                td_grid_f32 *dem, td_lines *contours, td_skeleton_stats *st,
-                td_ctx *cx);
+                td_grid_f32 *dem, td_lines *contours, td_lines *peaks,
+                td_skeleton_stats *st, td_ctx *cx);
+
+/* The paper's surface (004 §3, tin.c): each ring of `rings` (closed, with
+ * a height: the contours) smoothed as a closed uniform cubic B-spline with
+ * its corners as control points and sampled every `spacing` cells; the
+ * outline (edges sampled every `spacing`, at base) and the peaks (points
+ * with heights) as they are; all Delaunay-triangulated (OpenCV Subdiv2D)
+ * and the triangles' planes written into the cells of dem that have data
+ * (the outline's inside).  0, TD_EINVAL, TD_ENOMEM. */
+int td_skeleton_tin(const double *outline, size_t n, double base,
+                    const td_lines *rings, const td_lines *peaks,
+                    double spacing, td_grid_f32 *dem, td_ctx *cx);
 
 #ifdef __cplusplus
 }

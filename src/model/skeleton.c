@@ -47,7 +47,9 @@ typedef struct sk {
     double t, eps;
     const td_skeleton_params *prm;
     td_grid_f32 *dem; /* NULL: no DEM */
-    td_lines *contours;
+    td_lines *contours, *peaks;
+    td_ctx *cx;
+    int rc;
     double next_level; /* time of the next contour */
     size_t nevents, nsplits;
 } sk;
@@ -293,13 +295,24 @@ static int split(sk *s, size_t k, size_t r, size_t j, td_ctx *cx)
     return add_poly(s, v2, n2, cx);
 }
 
-/* Drop done polygons (fewer than 3 vertices, no area). */
+/* Drop done polygons (fewer than 3 vertices, no area); where one shrank
+ * away is a summit (s->peaks: the mean of its corners, height = now). */
 static void prune(sk *s)
 {
-    size_t i, m = 0;
+    size_t i, m = 0, k;
     for (i = 0; i < s->np; i++) {
         spoly *P = &s->p[i];
         if (!P->v || P->n < 3 || fabs(area(P->v, P->n)) <= s->eps * s->eps) {
+            if (s->peaks && P->v && P->n > 0 && s->rc == 0) {
+                td_line *l = td_lines_add(s->peaks, s->cx);
+                double x = 0, y = 0;
+                for (k = 0; k < P->n; k++)
+                    x += P->v[k].x, y += P->v[k].y;
+                if (!l || td_line_push(l, x / P->n, y / P->n, s->cx) != 0)
+                    s->rc = TD_ENOMEM;
+                else
+                    l->has_height = 1, l->height = s->t;
+            }
             free(P->v);
             continue;
         }
@@ -347,8 +360,8 @@ td_skeleton_params td_skeleton_defaults(void)
 
 /* See model.h. */
 int td_skeleton(const double *xy, size_t n, const td_skeleton_params *prm,
-                td_grid_f32 *dem, td_lines *contours, td_skeleton_stats *st,
-                td_ctx *cx)
+                td_grid_f32 *dem, td_lines *contours, td_lines *peaks,
+                td_skeleton_stats *st, td_ctx *cx)
 {
     sk s;
     svert *v;
@@ -398,7 +411,8 @@ int td_skeleton(const double *xy, size_t n, const td_skeleton_params *prm,
         double dx = b->x - v[i].x, dy = b->y - v[i].y, L = hypot(dx, dy);
         v[i].nx = -dy / L, v[i].ny = dx / L;
     }
-    s.prm = prm, s.dem = dem, s.contours = contours;
+    s.prm = prm, s.dem = dem, s.contours = contours, s.peaks = peaks;
+    s.cx = cx;
     s.eps = 1e-9 * size;
     s.next_level = prm->contour_step > 0 ? prm->contour_step : HUGE_VAL;
     if ((rc = add_poly(&s, v, n, cx)) != 0) {
@@ -463,6 +477,8 @@ int td_skeleton(const double *xy, size_t n, const td_skeleton_params *prm,
                                 despike(&s.p[k], 1e3 * s.eps)) > 0)
                 ;
         prune(&s);
+        if (s.rc)
+            rc = s.rc;
     }
     for (i = 0; i < s.np; i++)
         free(s.p[i].v);
