@@ -317,6 +317,19 @@ static int compact_ring(const td_line *l, double side)
     return x1 - x0 < side && y1 - y0 < side;
 }
 
+/* End k (0 first, 1 last) of open line l seen from read r: where it is
+ * (x, y, from the read's centre) and which way it heads (tx, ty: from 6
+ * points back to the end). */
+static void end_of_line(const td_line *l, int k, const td_ocr_read *r,
+                        double *x, double *y, double *tx, double *ty)
+{
+    size_t e0 = k ? l->n - 1 : 0, e1 = k ? (l->n > 6 ? l->n - 7 : 0)
+                                         : (l->n > 6 ? 6 : l->n - 1);
+    *x = l->xy[2 * e0] - r->x, *y = l->xy[2 * e0 + 1] - r->y;
+    *tx = l->xy[2 * e0] - l->xy[2 * e1];
+    *ty = l->xy[2 * e0 + 1] - l->xy[2 * e1 + 1];
+}
+
 /* Where a line bends at its label (printed maps place labels on bends
  * too), its ends meet the text's ends from aside: open ends within one
  * digit height of the text's ends, heading towards the text, the nearest
@@ -334,12 +347,9 @@ static void near_ends(const td_lines *ls, const td_ocr_read *r, double along,
         if (l->closed || l->n < 2)
             continue;
         for (k = 0; k < 2; k++) {
-            size_t e0 = k ? l->n - 1 : 0, e1 = k ? (l->n > 6 ? l->n - 7 : 0)
-                                                 : (l->n > 6 ? 6 : l->n - 1);
-            double x = l->xy[2 * e0] - r->x, y = l->xy[2 * e0 + 1] - r->y;
-            double tx = l->xy[2 * e0] - l->xy[2 * e1];
-            double ty = l->xy[2 * e0 + 1] - l->xy[2 * e1 + 1];
-            double u = x * r->ux + y * r->uy, d = hypot(x, y);
+            double x, y, tx, ty, u, d;
+            end_of_line(l, k, r, &x, &y, &tx, &ty);
+            u = x * r->ux + y * r->uy, d = hypot(x, y);
             int side = u < 0;
             if (d > reach || fabs(u) < 0.3 * along ||
                 tx * -x + ty * -y <= 0)
@@ -381,13 +391,10 @@ static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
         if (l->closed || l->n < 2)
             continue;
         for (k = 0; k < 2; k++) {
-            size_t e0 = k ? l->n - 1 : 0, e1 = k ? (l->n > 6 ? l->n - 7 : 0)
-                                                 : (l->n > 6 ? 6 : l->n - 1);
-            double x = l->xy[2 * e0] - r->x, y = l->xy[2 * e0 + 1] - r->y;
-            double tx = l->xy[2 * e0] - l->xy[2 * e1];
-            double ty = l->xy[2 * e0 + 1] - l->xy[2 * e1 + 1];
-            double tl = hypot(tx, ty), u = x * r->ux + y * r->uy;
-            double v = fabs(-x * r->uy + y * r->ux);
+            double x, y, tx, ty, tl, u, v;
+            end_of_line(l, k, r, &x, &y, &tx, &ty);
+            tl = hypot(tx, ty), u = x * r->ux + y * r->uy;
+            v = fabs(-x * r->uy + y * r->ux);
             int side = u < 0;
             /* at one of the text's ends, on its axis, the line's end
              * heading along the axis towards the text */

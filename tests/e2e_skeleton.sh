@@ -12,8 +12,7 @@ pass=0; fail=0
 ok() { pass=$((pass + 1)); echo "ok   $1"; }
 bad() { fail=$((fail + 1)); echo "FAIL $1"; }
 check() { if eval "$2"; then ok "$1"; else bad "$1"; fi; }
-near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; exit !(a != "" && d * d <= t * t) }'; }
-at() { gdallocationinfo -valonly "$1" "$2" "$3" 2>/dev/null; } # DEM col row
+. tests/util/e2e.sh # near, at
 
 check "skeleton --help" "$TD skeleton --help | grep -q '^usage: topodig skeleton'"
 

@@ -219,3 +219,38 @@ int td_cli_parse_size(const char *arg, void *t, td_ctx *cx)
     wh[0] = (int)w, wh[1] = (int)h;
     return 0;
 }
+
+/* See cli.h. */
+int td_cli_grid(const char *like, const int wh[2], int *w, int *h,
+                td_georef *geo, double *cell, td_ctx *cx)
+{
+    int rc = 0;
+    if (like) {
+        rc = td_cli_grid_of(like, w, h, geo, cx);
+    } else {
+        *w = wh[0], *h = wh[1];
+        td_georef_pixel_frame(geo);
+    }
+    if (rc == 0 && !(*cell > 0) &&
+        (*cell = td_georef_cell_size(geo, *w, *h, NULL)) <= 0)
+        *cell = 1.0;
+    return rc;
+}
+
+/* See cli.h. */
+int td_cli_grid_of(const char *path, int *w, int *h, td_georef *geo,
+                   td_ctx *cx)
+{
+    td_grid_f32 *g = NULL;
+    int ch, rc = td_image_info(path, w, h, &ch, geo, cx);
+    if (rc == 0)
+        return 0;
+    td_ctx_clear(cx); /* not a scan: a DEM (float samples) */
+    td_georef_clear(geo);
+    if ((rc = td_dem_read(path, &g, geo, cx)) != 0)
+        return rc;
+    *w = g->w, *h = g->h;
+    td_grid_f32_free(g);
+    return 0;
+}
+

@@ -61,6 +61,18 @@ void td_cli_print_palette(const char *prog, const struct td_palette *pal);
  * long work).  Prints one line naming the file; returns 0 or 1. */
 int td_cli_check_output(const char *cmd, const char *out, const char *in);
 
+/* The grid of --like SHEET: a scan's size and georeferencing from its
+ * header, else a DEM's (read whole: float samples).  0 or an error naming
+ * the file (geo initialised; clear it). */
+struct td_georef;
+int td_cli_grid_of(const char *path, int *w, int *h, struct td_georef *geo,
+                   td_ctx *cx);
+/* The grid of a model command: --like SHEET (like != NULL) or --size
+ * (wh, the pixel frame); *cell, when not > 0, from the georeferencing's
+ * cell size, else 1.  0 or an error naming the file. */
+int td_cli_grid(const char *like, const int wh[2], int *w, int *h,
+                struct td_georef *geo, double *cell, td_ctx *cx);
+
 /* An option's "WxH" (1..TD_MAX_DIM each) into t, two ints (a TD_OPT_FUNC
  * target). */
 int td_cli_parse_size(const char *arg, void *t, td_ctx *cx);

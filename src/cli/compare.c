@@ -56,17 +56,6 @@ static int parse_args(int argc, char **argv, cmp_opts *o)
     return rc;
 }
 
-/* Map coordinates -> cells through g (the pixel frame when invalid). */
-static void to_cells(const td_georef *g, double X, double Y, double *x,
-                     double *y)
-{
-    double a = g->valid ? g->gt[1] : 1, b = g->valid ? g->gt[2] : 0;
-    double c = g->valid ? g->gt[4] : 0, d = g->valid ? g->gt[5] : -1;
-    double det = a * d - b * c;
-    X -= g->valid ? g->gt[0] : 0, Y -= g->valid ? g->gt[3] : 0;
-    *x = (d * X - b * Y) / det, *y = (-c * X + a * Y) / det;
-}
-
 /* --profile: sample, draw, write; RMSE and max |d| along it to stdout. */
 static int profile(const cmp_opts *o, const td_grid_f32 *a,
                    const td_grid_f32 *b, const td_georef *g, td_ctx *cx)
@@ -77,8 +66,10 @@ static int profile(const cmp_opts *o, const td_grid_f32 *a,
     size_t n, i, m = 0;
     td_image *im = NULL;
     int rc;
-    to_cells(g, q[0], q[1], &x0, &y0);
-    to_cells(g, q[2], q[3], &x1, &y1);
+    if (td_georef_to_cells(g, q[0], q[1], &x0, &y0) != 0 ||
+        td_georef_to_cells(g, q[2], q[3], &x1, &y1) != 0)
+        return td_seterr(cx, TD_EINVAL, "%s: its georeferencing cannot be "
+                         "inverted", o->in[0]);
     n = (size_t)ceil(2 * hypot(x1 - x0, y1 - y0)) + 2;
     if (n > 1000000)
         n = 1000000;
@@ -144,8 +135,10 @@ int td_cmd_compare(int argc, char **argv)
     td_georef geo;
     int rc;
     memset(&o, 0, sizeof o);
-    if ((rc = parse_args(argc, argv, &o)) != 0)
+    if ((rc = parse_args(argc, argv, &o)) != 0) {
+        td_opt_points_free(&o.profile);
         return rc == 2 ? 0 : 1;
+    }
     td_ctx_init(&cx);
     td_georef_init(&geo);
     if ((rc = td_dem_read(o.in[0], &a, &geo, &cx)) != 0 ||

@@ -99,26 +99,6 @@ static int parse_args(int argc, char **argv, rm_opts *o)
     return 0;
 }
 
-/* Map coordinates -> cells (col, row) through georef g (the pixel frame
- * when invalid). */
-static int to_cells(const td_georef *g, double X, double Y, double *x,
-                    double *y)
-{
-    double a, b, c, d, det;
-    if (!g->valid || g->pixel) {
-        double s = g->valid ? g->gt[1] : 1.0;
-        *x = X / s, *y = -Y / s;
-        return 0;
-    }
-    a = g->gt[1], b = g->gt[2], c = g->gt[4], d = g->gt[5];
-    det = a * d - b * c;
-    if (det == 0)
-        return -1;
-    X -= g->gt[0], Y -= g->gt[3];
-    *x = (d * X - b * Y) / det, *y = (-c * X + a * Y) / det;
-    return 0;
-}
-
 /* The edits file: one operation a line ('#' comments, blank lines). */
 static int apply_edits(td_ridgemodel *m, const char *path, const td_georef *g,
                        size_t *nadd, size_t *ndel, double *del_secs,
@@ -149,8 +129,8 @@ static int apply_edits(td_ridgemodel *m, const char *path, const td_georef *g,
                    &v[2], &v[3], &v[4], &v[5]);
         if (!strcmp(op, "add") && n == 7 && isfinite(v[0] + v[1] + v[2] +
                                                      v[3] + v[4] + v[5])) {
-            if (to_cells(g, v[0], v[1], &x0, &y0) != 0 ||
-                to_cells(g, v[3], v[4], &x1, &y1) != 0 ||
+            if (td_georef_to_cells(g, v[0], v[1], &x0, &y0) != 0 ||
+                td_georef_to_cells(g, v[3], v[4], &x1, &y1) != 0 ||
                 td_ridgemodel_add(m, x0, y0, v[2], x1, y1, v[5], cx) < 0)
                 rc = td_seterr(cx, cx->code ? cx->code : TD_EINVAL,
                                "%s:%ld: %s", path, ln,
@@ -160,8 +140,8 @@ static int apply_edits(td_ridgemodel *m, const char *path, const td_georef *g,
                    isfinite(v[0] + v[1] + v[2] + v[3])) {
             long s2;
             double t0;
-            if (to_cells(g, v[0], v[1], &x0, &y0) != 0 ||
-                to_cells(g, v[2], v[3], &x1, &y1) != 0 ||
+            if (td_georef_to_cells(g, v[0], v[1], &x0, &y0) != 0 ||
+                td_georef_to_cells(g, v[2], v[3], &x1, &y1) != 0 ||
                 (s2 = td_ridgemodel_find(m, x0, y0, x1, y1)) < 0) {
                 rc = td_seterr(cx, TD_EINVAL, "%s:%ld: no ridge segment from "
                                "%g,%g to %g,%g", path, ln, v[0], v[1], v[2],
@@ -213,22 +193,6 @@ static int write_nodes(const char *path, const td_ridgemodel *m,
     rc = td_atomic_commit(f, tmp, path, cx);
     free(v), free(tmp);
     return rc;
-}
-
-/* The grid of a scan (its header) or of a DEM (float samples: read). */
-static int like(const char *path, int *w, int *h, td_georef *geo, td_ctx *cx)
-{
-    td_grid_f32 *g = NULL;
-    int ch, rc = td_image_info(path, w, h, &ch, geo, cx);
-    if (rc == 0)
-        return 0;
-    td_ctx_clear(cx);
-    td_georef_clear(geo);
-    if ((rc = td_dem_read(path, &g, geo, cx)) != 0)
-        return rc;
-    *w = g->w, *h = g->h;
-    td_grid_f32_free(g);
-    return 0;
 }
 
 /* Every line's segments into the model: heights per vertex, or NaN for
@@ -318,17 +282,9 @@ int td_cmd_ridgemodel(int argc, char **argv)
     td_ctx_init(&cx);
     td_georef_init(&geo);
     td_cli_progress_init(&pr, &cx, o.quiet);
-    if (o.like) {
-        if ((rc = like(o.like, &w, &h, &geo, &cx)) != 0)
-            goto fail;
-    } else {
-        w = o.wh[0], h = o.wh[1];
-        td_georef_pixel_frame(&geo);
-    }
-    if (o.cell > 0)
-        o.p.cell = o.cell;
-    else if ((o.p.cell = td_georef_cell_size(&geo, w, h, NULL)) <= 0)
-        o.p.cell = 1.0;
+    if ((rc = td_cli_grid(o.like, o.wh, &w, &h, &geo, &o.cell, &cx)) != 0)
+        goto fail;
+    o.p.cell = o.cell;
     if ((rc = td_vector_read_lines_z(o.in, &geo, "ridge", &ls, &z, NULL, NULL,
                                      &cx)) != 0)
         goto fail;

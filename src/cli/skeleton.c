@@ -78,22 +78,6 @@ static int parse_args(int argc, char **argv, sk_opts *o)
     return 0;
 }
 
-/* The grid of a scan (its header) or of a DEM (float samples: read). */
-static int like(const char *path, int *w, int *h, td_georef *geo, td_ctx *cx)
-{
-    td_grid_f32 *g = NULL;
-    int ch, rc = td_image_info(path, w, h, &ch, geo, cx);
-    if (rc == 0)
-        return 0;
-    td_ctx_clear(cx);
-    td_georef_clear(geo);
-    if ((rc = td_dem_read(path, &g, geo, cx)) != 0)
-        return rc;
-    *w = g->w, *h = g->h;
-    td_grid_f32_free(g);
-    return 0;
-}
-
 int td_cmd_skeleton(int argc, char **argv)
 {
     sk_opts o;
@@ -114,15 +98,8 @@ int td_cmd_skeleton(int argc, char **argv)
     td_ctx_init(&cx);
     td_georef_init(&geo);
     td_cli_progress_init(&pr, &cx, o.quiet);
-    if (o.like) {
-        if ((rc = like(o.like, &w, &h, &geo, &cx)) != 0)
-            goto fail;
-    } else {
-        w = o.wh[0], h = o.wh[1];
-        td_georef_pixel_frame(&geo);
-    }
-    if (!(o.cell > 0) && (o.cell = td_georef_cell_size(&geo, w, h, NULL)) <= 0)
-        o.cell = 1.0;
+    if ((rc = td_cli_grid(o.like, o.wh, &w, &h, &geo, &o.cell, &cx)) != 0)
+        goto fail;
     if ((rc = td_vector_read_lines_z(o.in, &geo, NULL, &ls, &z, NULL, NULL,
                                      &cx)) != 0)
         goto fail;

@@ -99,6 +99,26 @@ void td_georef_apply(const td_georef *g, double col, double row, double *X,
     *Y = g->gt[3] + col * g->gt[4] + row * g->gt[5];
 }
 
+/* See io.h. */
+int td_georef_to_cells(const td_georef *g, double X, double Y, double *col,
+                       double *row)
+{
+    double a, b, c, d, det;
+    if (!g || !g->valid) {
+        *col = X;
+        *row = -Y;
+        return 0;
+    }
+    a = g->gt[1], b = g->gt[2], c = g->gt[4], d = g->gt[5];
+    det = a * d - b * c;
+    if (det == 0 || !isfinite(det))
+        return -1;
+    X -= g->gt[0], Y -= g->gt[3];
+    *col = (d * X - b * Y) / det;
+    *row = (-c * X + a * Y) / det;
+    return 0;
+}
+
 /* Look a SHORT-valued key up in the verbatim key directory (header of 4
  * shorts, then entries {id, location, count, value}; location 0 means the
  * value is inline).  Returns 1 and *val when found, else 0. */

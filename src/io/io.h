@@ -60,6 +60,11 @@ void td_georef_scale(td_georef *g, int step);
  * NULL or invalid. */
 void td_georef_apply(const td_georef *g, double col, double row, double *X,
                      double *Y);
+/* Its inverse: map coordinates to cells (col, row as reals); the pixel
+ * frame when g is NULL or invalid.  0, or -1 when the transform cannot be
+ * inverted. */
+int td_georef_to_cells(const td_georef *g, double X, double Y, double *col,
+                       double *row);
 /* The "crs" member of a GeoJSON file for g (without a trailing comma):
  * the EPSG code when known; the pixel frame's engineering CRS when g is
  * NULL, invalid or the pixel frame; else an engineering CRS saying the

@@ -634,6 +634,52 @@ static int all_y_negative(OGRLayerH lyr)
            e.MinY < 0.0;
 }
 
+/* Does the GeoJSON file name a CRS (a "crs" member in its first 64 KB,
+ * where writers put it)? */
+static int names_crs(const char *path)
+{
+    char buf[65536];
+    size_t n;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return 0;
+    n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = '\0';
+    return strstr(buf, "\"crs\"") != NULL;
+}
+
+/* Open path's layer (the one named `name` when given and present, else
+ * the first) and its frame: the layer's CRS, or the pixel frame when it
+ * names none, no real georef maps it and every Y is <= 0 (a DXF or a
+ * GeoJSON without a CRS, in the pixel frame).  GDAL's own messages are
+ * silenced first thing (the caller pops the handler, whatever happens). */
+static int open_layer(const char *path, const char *name, const td_georef *g,
+                      GDALDatasetH *ds, OGRLayerH *lyr, td_georef *fr,
+                      td_ctx *cx)
+{
+    int rc;
+    *ds = NULL;
+    td_georef_init(fr);
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    if ((rc = td_check_input(path, cx)) != 0)
+        return rc;
+    gdal_init();
+    CPLErrorReset();
+    *ds = GDALOpenEx(path, GDAL_OF_VECTOR | GDAL_OF_READONLY, NULL, NULL, NULL);
+    if (!*ds)
+        return gdal_fail(cx, path, "not a readable vector file");
+    *lyr = name ? GDALDatasetGetLayerByName(*ds, name) : NULL;
+    if (!*lyr && !(*lyr = GDALDatasetGetLayer(*ds, 0)))
+        return td_seterr(cx, TD_EFORMAT, "%s: no layer", path);
+    layer_frame(*lyr, fr);
+    if (format_of(path) == VF_GEOJSON && !names_crs(path))
+        td_georef_init(fr); /* OGR says WGS 84 for GeoJSON without one */
+    if (!fr->valid && !(g && g->valid && !g->pixel) && all_y_negative(*lyr))
+        td_georef_pixel_frame(fr);
+    return 0;
+}
+
 static int read_ogr(const char *path, const td_georef *g, td_lines **out,
                     size_t *skipped, td_georef *frame, td_ctx *cx)
 {
@@ -642,25 +688,8 @@ static int read_ogr(const char *path, const td_georef *g, td_lines **out,
     td_georef fr;
     size_t sk = 0;
     int rc;
-    if ((rc = td_check_input(path, cx)) != 0)
-        return rc;
-    gdal_init();
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    CPLErrorReset();
-    td_georef_init(&fr);
-    ds = GDALOpenEx(path, GDAL_OF_VECTOR | GDAL_OF_READONLY, NULL, NULL, NULL);
-    if (!ds) {
-        rc = gdal_fail(cx, path, "not a readable vector file");
+    if ((rc = open_layer(path, "contours", g, &ds, &lyr, &fr, cx)) != 0)
         goto done;
-    }
-    lyr = GDALDatasetGetLayerByName(ds, "contours");
-    if (!lyr && !(lyr = GDALDatasetGetLayer(ds, 0))) {
-        rc = td_seterr(cx, TD_EFORMAT, "%s: no layer", path);
-        goto done;
-    }
-    layer_frame(lyr, &fr);
-    if (!fr.valid && !(g && g->valid && !g->pixel) && all_y_negative(lyr))
-        td_georef_pixel_frame(&fr); /* a DXF (no CRS) in the pixel frame */
     if (!(*out = td_lines_new(cx))) {
         rc = TD_ENOMEM;
         goto done;
@@ -747,21 +776,6 @@ static int add_part_z(td_lines *ls, double **z, size_t *nz, size_t *cz,
     return 0;
 }
 
-/* Does the GeoJSON file name a CRS (a "crs" member in its first 64 KB,
- * where writers put it)? */
-static int names_crs(const char *path)
-{
-    char buf[65536];
-    size_t n;
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return 0;
-    n = fread(buf, 1, sizeof buf - 1, f);
-    fclose(f);
-    buf[n] = '\0';
-    return strstr(buf, "\"crs\"") != NULL;
-}
-
 /* See io.h. */
 int td_vector_read_lines_z(const char *path, const td_georef *georef,
                            const char *kind, td_lines **out, double **z,
@@ -775,27 +789,8 @@ int td_vector_read_lines_z(const char *path, const td_georef *georef,
     long serial = 0;
     int rc = 0;
     *out = NULL, *z = NULL;
-    if ((rc = td_check_input(path, cx)) != 0)
-        return rc;
-    gdal_init();
-    CPLPushErrorHandler(CPLQuietErrorHandler);
-    CPLErrorReset();
-    td_georef_init(&fr);
-    ds = GDALOpenEx(path, GDAL_OF_VECTOR | GDAL_OF_READONLY, NULL, NULL, NULL);
-    if (!ds) {
-        rc = gdal_fail(cx, path, "not a readable vector file");
+    if ((rc = open_layer(path, NULL, georef, &ds, &lyr, &fr, cx)) != 0)
         goto done;
-    }
-    if (!(lyr = GDALDatasetGetLayer(ds, 0))) {
-        rc = td_seterr(cx, TD_EFORMAT, "%s: no layer", path);
-        goto done;
-    }
-    layer_frame(lyr, &fr);
-    if (format_of(path) == VF_GEOJSON && !names_crs(path))
-        td_georef_init(&fr); /* OGR says WGS 84 for GeoJSON without one */
-    if (!fr.valid && !(georef && georef->valid && !georef->pixel) &&
-        all_y_negative(lyr))
-        td_georef_pixel_frame(&fr);
     if (!(*out = td_lines_new(cx))) {
         rc = TD_ENOMEM;
         goto done;

@@ -18,3 +18,9 @@ heights_on_dem() {
         echo "$hit $n"
     }
 }
+
+# near A B TOL: |A - B| <= TOL (A empty: no).
+near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; exit !(a != "" && d * d <= t * t) }'; }
+
+# at DEM COL ROW: the DEM's value at a cell (gdallocationinfo).
+at() { gdallocationinfo -valonly "$1" "$2" "$3" 2>/dev/null; }
