@@ -2,8 +2,8 @@
 # End-to-end checks of topodig skeleton (src/cli/skeleton.c; the straight
 # skeleton of a key outline, paper 004): a rectangle's hip roof read back
 # from the DEM at known cells, contours every interval with their heights,
-# --height scaling the summit, a Polygon with a reflex corner (a split
-# event), and bad input (one error line, exit 1, no output written).
+# --height scaling the summit, the strata, a Polygon with a reflex corner
+# (a split event), and bad input (one error line, exit 1, no output written).
 BUILD=${BUILD:-build}
 TD="$BUILD/topodig"
 T=$(mktemp -d "${TMPDIR:-/tmp}/tdsk.XXXXXX")
@@ -32,6 +32,13 @@ if command -v gdallocationinfo >/dev/null 2>&1; then
 fi
 check "contours at 105, 110, 115" \
   "grep -q '\"height\": *105' '$T/c.geojson' && grep -q '\"height\": *110' '$T/c.geojson' && grep -q '\"height\": *115' '$T/c.geojson'"
+
+# --- strata: 3 layers of the rectangle's 20 (summit 120): rings at 105, 110, 115
+"$TD" skeleton "$T/r.geojson" -o "$T/r2.tif" --size 100x60 --slope 45 --interval 10 --base 100 --strata 3 --strata-out "$T/s.geojson" 2>"$T/err"
+check "--strata 3: three rings at 105, 110, 115" \
+  "[ \$? = 0 ] && grep -q '3 strata rings' '$T/err' && grep -q '\"height\": *105' '$T/s.geojson' && grep -q '\"height\": *110' '$T/s.geojson' && grep -q '\"height\": *115' '$T/s.geojson'"
+"$TD" skeleton "$T/r.geojson" -o "$T/x.tif" --size 100x60 --slope 45 --interval 10 --strata 3 2>"$T/err"
+check "--strata without --strata-out: one error line, exit 1" "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && [ ! -e '$T/x.tif' ]"
 
 # --- a Polygon with a reflex corner, scaled to a summit of 300
 cat >"$T/p.geojson" <<'EOT'

@@ -11,8 +11,8 @@
 #include <string.h>
 
 typedef struct sk_opts {
-    const char *in, *out, *like, *contours;
-    int wh[2], quiet, surface;
+    const char *in, *out, *like, *contours, *strata_out;
+    int wh[2], quiet, surface, strata;
     double height, slope, interval, base, cell;
 } sk_opts;
 
@@ -41,6 +41,13 @@ static int parse_args(int argc, char **argv, sk_opts *o)
          .meta = "S", .help = "tin (the paper's): the contours as closed\n"
          "B-splines, Delaunay-triangulated with the\noutline and the "
          "summits | roof (ours): the\nexact straight-skeleton roof"},
+        {"strata", 0, TD_OPT_INT, &o->strata, 1, 100000, .meta = "N",
+         .help = "N layers for a model with inner structure:\nthe outline "
+         "shrunk at N equal steps from\nthe base to the summit, to "
+         "--strata-out", .no_default = 1},
+        {"strata-out", 0, TD_OPT_OUTPUT, &o->strata_out, .meta = "S.geojson",
+         .help = "the strata's rings (closed lines, height =\nthe layer's "
+         "top)"},
         {"contours-out", 0, TD_OPT_OUTPUT, &o->contours, .meta = "C.geojson",
          .help = "the shrunk outlines every --interval, with\ntheir heights "
          "(.geojson, .gpkg, .shp, .dxf)"},
@@ -48,7 +55,8 @@ static int parse_args(int argc, char **argv, sk_opts *o)
     const td_cmd c = {
         "skeleton", "OUTLINE.geojson -o DEM.tif (--like SHEET | --size WxH)\n"
         "                      (--height H | --slope DEG) --interval I\n"
-        "                      [--contours-out C.geojson]",
+        "                      [--contours-out C.geojson]\n"
+        "                      [--strata N --strata-out S.geojson]",
         "A terrain from one key outline by the straight skeleton (Murase &\n"
         "Sugihara): every side of the outline moves inward at one speed,\n"
         "edges vanish (edge events) and reflex corners split the polygon\n"
@@ -75,6 +83,9 @@ static int parse_args(int argc, char **argv, sk_opts *o)
     if (!(o->interval > 0))
         return td_cli_failf("skeleton", "give --interval I (the contour "
                             "interval)");
+    if (!o->strata != !o->strata_out)
+        return td_cli_failf("skeleton", "--strata N and --strata-out FILE go "
+                            "together");
     return 0;
 }
 
@@ -84,7 +95,7 @@ int td_cmd_skeleton(int argc, char **argv)
     td_ctx cx;
     td_cli_progress pr;
     td_georef geo;
-    td_lines *ls = NULL, *con = NULL, *peaks = NULL;
+    td_lines *ls = NULL, *con = NULL, *peaks = NULL, *strata = NULL;
     double *z = NULL, *xy = NULL, k, t0 = td_now();
     td_grid_f32 *dem = NULL;
     td_skeleton_params p = td_skeleton_defaults();
@@ -153,6 +164,20 @@ int td_cmd_skeleton(int argc, char **argv)
         (rc = td_skeleton_tin(xy, ol->closed ? ol->n : ol->n - 1, o.base,
                               con, peaks, 2.0, dem, &cx)) != 0)
         goto fail;
+    if (o.strata > 0) { /* N layers: rings at N equal steps of the time */
+        td_skeleton_params q = p;
+        q.contour_step = st.max_time / (o.strata + 1);
+        if (!(strata = td_lines_new(&cx)) ||
+            (rc = td_skeleton(xy, ol->closed ? ol->n : ol->n - 1, &q, NULL,
+                              strata, NULL, NULL, &cx)) != 0)
+            goto fail;
+        for (i = 0; i < strata->n; i++) {
+            strata->v[i].height = o.base + k * strata->v[i].height;
+            strata->v[i].id = (long)i;
+        }
+        if ((rc = td_vector_write_lines(o.strata_out, strata, &geo, &cx)) != 0)
+            goto fail;
+    }
     if ((rc = td_dem_write(o.out, dem, &geo, &cx)) != 0 ||
         (o.contours &&
          (rc = td_vector_write_lines(o.contours, con, &geo, &cx)) != 0))
@@ -160,16 +185,18 @@ int td_cmd_skeleton(int argc, char **argv)
     td_cli_progress_done(&pr);
     if (!o.quiet)
         fprintf(stderr, "skeleton: %zu corners, %zu events (%zu splits), "
-                "summit %.6g, %zu contours, %zu cells, %.2f s\n",
+                "summit %.6g, %zu contours, %zu strata rings, %zu cells, "
+                "%.2f s\n",
                 ol->closed ? ol->n : ol->n - 1, st.events, st.splits,
-                o.base + k * st.max_time, o.contours ? con->n : 0, cells,
-                td_now() - t0);
+                o.base + k * st.max_time, o.contours ? con->n : 0,
+                strata ? strata->n : 0, cells, td_now() - t0);
 fail:
     td_cli_progress_done(&pr);
     td_grid_f32_free(dem);
     td_lines_free(ls);
     td_lines_free(con);
     td_lines_free(peaks);
+    td_lines_free(strata);
     free(z);
     free(xy);
     td_georef_clear(&geo);
