@@ -23,7 +23,7 @@ LDLIBS  += $(CV_LIBS) -lgdal -ltesseract -llept -lfreetype -lgeotiff -ltiff -lpn
 DEB_PKGS = gcc g++ make pkg-config libopencv-dev libopencv-contrib-dev \
            libtiff-dev libpng-dev libjpeg-dev libgeotiff-dev zlib1g-dev gdal-bin \
            libtesseract-dev tesseract-ocr-eng libfreetype-dev fonts-dejavu-core \
-           libgdal-dev
+           libgdal-dev libcgal-dev
 BENCH_PKGS = grass-core
 
 LIB_DIRS := src/core src/io src/erode src/flow src/sun src/render src/compare src/model src/pipeline scanner interp
@@ -107,8 +107,14 @@ $(BUILD)/native/%.o: %.c
 $(BUILD)/tests/test_flow_native: $(BUILD)/tests/test_flow.o $(NATIVE_FLOW_O) $(TUTIL_O) $(BUILD)/libtdgen.a $(BUILD)/libtopodig.a
 	$(CC) $(CFLAGS) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
+# The skeleton against CGAL's (a test program only: the project does not
+# link CGAL, which is header-only here but for GMP/MPFR).
+$(BUILD)/tests/test_skeleton_cgal: tests/test_skeleton_cgal.cpp $(BUILD)/libtopodig.a
+	@mkdir -p $(dir $@)
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) $(LDFLAGS) $^ $(LDLIBS) -lgmp -lmpfr -o $@
+
 test: deps
-	$(MAKE) all $(TESTS) $(BUILD)/tests/test_flow_native
+	$(MAKE) all $(TESTS) $(BUILD)/tests/test_flow_native $(BUILD)/tests/test_skeleton_cgal
 	BUILD=$(BUILD) sh tests/run.sh
 
 # The include layers of DESIGN.md (also run by make test).
@@ -117,7 +123,7 @@ layers:
 
 check: deps
 	$(MAKE) BUILD=build-san OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" \
-	  LDFLAGS="-fsanitize=address,undefined" all $(TESTS:$(BUILD)/%=build-san/%) build-san/fuzz_replay
+	  LDFLAGS="-fsanitize=address,undefined" all $(TESTS:$(BUILD)/%=build-san/%) build-san/fuzz_replay build-san/tests/test_skeleton_cgal
 	ASAN_OPTIONS=detect_leaks=1 BUILD=build-san sh tests/run.sh
 	ASAN_OPTIONS=allocator_may_return_null=1 build-san/fuzz_replay tests/fuzz/corpus/*
 

@@ -127,6 +127,9 @@ typedef struct td_skeleton_params {
     double contour_step; /* time (distance shrunk, cells) between contours;
                             0: none (0) */
     size_t max_events;   /* give up after this many events (1000000) */
+    td_lines *nodes;     /* when set: one point per skeleton node (where
+                            vertices meet, a split lands, a polygon ends),
+                            height = its time; repeats possible (NULL) */
 } td_skeleton_params;
 
 typedef struct td_skeleton_stats {

@@ -204,9 +204,23 @@ static int emit_contours(sk *s, double T, td_ctx *cx)
     return 0;
 }
 
+/* A skeleton node at (x, y), now (prm->nodes). */
+static void node(sk *s, double x, double y)
+{
+    td_line *l;
+    if (!s->prm->nodes || s->rc)
+        return;
+    if (!(l = td_lines_add(s->prm->nodes, s->cx)) ||
+        td_line_push(l, x, y, s->cx) != 0) {
+        s->rc = TD_ENOMEM;
+        return;
+    }
+    l->has_height = 1, l->height = s->t;
+}
+
 /* Merge the vertices at the ends of vanished edges (length <= eps) of P;
  * returns how many merged. */
-static size_t collapse(spoly *P, double eps)
+static size_t collapse(sk *s, spoly *P, double eps)
 {
     size_t merged = 0, i = 0;
     while (P->n >= 2 && i < P->n) {
@@ -216,6 +230,7 @@ static size_t collapse(spoly *P, double eps)
             /* a takes b's outgoing edge; b goes */
             a->x = 0.5 * (a->x + b->x), a->y = 0.5 * (a->y + b->y);
             a->nx = b->nx, a->ny = b->ny;
+            node(s, a->x, a->y);
             memmove(&P->v[j], &P->v[j + 1], (P->n - j - 1) * sizeof *P->v);
             P->n--;
             if (j < i)
@@ -234,7 +249,7 @@ static size_t collapse(spoly *P, double eps)
  * two sides met, after its end's edge event) its two sides run back along
  * each other from a tip.  The tip goes; of the two sides the shorter one
  * goes with it, the longer one goes on from where the shorter ended. */
-static size_t despike(spoly *P, double eps)
+static size_t despike(sk *s, spoly *P, double eps)
 {
     size_t i = 0, gone = 0, guard = 0;
     while (P->n >= 3 && i < P->n && guard++ < 4 * P->n + 16) {
@@ -252,6 +267,8 @@ static size_t despike(spoly *P, double eps)
         if (la < lb) { /* prev lies on the tip's outgoing side */
             pa->nx = tip->nx, pa->ny = tip->ny;
         }
+        node(s, tip->x, tip->y);
+        node(s, la < lb ? pa->x : nb->x, la < lb ? pa->y : nb->y);
         memmove(&P->v[i], &P->v[i + 1], (P->n - i - 1) * sizeof *P->v);
         P->n--;
         gone++;
@@ -288,6 +305,7 @@ static int split(sk *s, size_t k, size_t r, size_t j, td_ctx *cx)
     free(P.v);
     s->p[k].v = NULL, s->p[k].n = 0;
     s->nsplits++;
+    node(s, v1[0].x, v1[0].y);
     if ((rc = add_poly(s, v1, n1, cx)) != 0) {
         free(v2);
         return rc;
@@ -303,6 +321,8 @@ static void prune(sk *s)
     for (i = 0; i < s->np; i++) {
         spoly *P = &s->p[i];
         if (!P->v || P->n < 3 || fabs(area(P->v, P->n)) <= s->eps * s->eps) {
+            for (k = 0; P->v && k < P->n; k++)
+                node(s, P->v[k].x, P->v[k].y);
             if (s->peaks && P->v && P->n > 0 && s->rc == 0) {
                 td_line *l = td_lines_add(s->peaks, s->cx);
                 double x = 0, y = 0;
@@ -355,6 +375,7 @@ td_skeleton_params td_skeleton_defaults(void)
     td_skeleton_params p;
     p.contour_step = 0;
     p.max_events = 1000000;
+    p.nodes = NULL;
     return p;
 }
 
@@ -473,8 +494,8 @@ int td_skeleton(const double *xy, size_t n, const td_skeleton_params *prm,
             rc = split(&s, bk, br, bj, cx);
         }
         for (k = 0; k < s.np && rc == 0; k++)
-            while (s.p[k].v && (collapse(&s.p[k], 1e3 * s.eps) +
-                                despike(&s.p[k], 1e3 * s.eps)) > 0)
+            while (s.p[k].v && (collapse(&s, &s.p[k], 1e3 * s.eps) +
+                                despike(&s, &s.p[k], 1e3 * s.eps)) > 0)
                 ;
         prune(&s);
         if (s.rc)
