@@ -1451,8 +1451,6 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
             td_label_report_free(&r);
             if (rc)
                 goto done;
-            if (getenv("TD_IDBG"))
-                fprintf(stderr, "interval %g every %d: cost %g\n", I, N, cost);
             if (cost < best - 1e-9) {
                 if (I != *best_i)
                     *second = best, *second_i = *best_i;

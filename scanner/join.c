@@ -873,11 +873,12 @@ static void zone_ambiguous(zsearch *z, double ratio)
     size_t a, c;
     for (a = 0; a < z->n; a++) {
         int b = z->best_mate[a];
+        double cab;
         keep[a] = 1;
         if (b < 0 || z->e[z->ends[a]].line == z->e[z->ends[b]].line)
             continue;
+        cab = fmax(z->cost[a * z->n + (size_t)b], 1.0);
         for (c = 0; c < z->n; c++) {
-            double cab = fmax(z->cost[a * z->n + (size_t)b], 1.0);
             double cac = z->cost[a * z->n + c];
             if (c == a || (int)c == b || cac < 0 ||
                 z->e[z->ends[c]].line == z->e[z->ends[b]].line)

@@ -348,9 +348,10 @@ static void near_ends(const td_lines *ls, const td_ocr_read *r, double along,
             continue;
         for (k = 0; k < 2; k++) {
             double x, y, tx, ty, u, d;
+            int side;
             end_of_line(l, k, r, &x, &y, &tx, &ty);
             u = x * r->ux + y * r->uy, d = hypot(x, y);
-            int side = u < 0;
+            side = u < 0;
             if (d > reach || fabs(u) < 0.3 * along ||
                 tx * -x + ty * -y <= 0)
                 continue;
@@ -392,10 +393,11 @@ static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
             continue;
         for (k = 0; k < 2; k++) {
             double x, y, tx, ty, tl, u, v;
+            int side;
             end_of_line(l, k, r, &x, &y, &tx, &ty);
             tl = hypot(tx, ty), u = x * r->ux + y * r->uy;
             v = fabs(-x * r->uy + y * r->ux);
-            int side = u < 0;
+            side = u < 0;
             /* at one of the text's ends, on its axis, the line's end
              * heading along the axis towards the text */
             if (fabs(u) > 0.5 * along + 24 || v > 0.6 * r->digit_px ||
@@ -470,15 +472,12 @@ static int read_at(TessBaseAPI *api, strip *s, double t,
                 r->alt_value = atof(text), r->alt_conf = conf;
             continue;
         }
-        if (*best >= 0 && atof(text) != r->value) {
-            /* the best read so far becomes the alternative */
-            double v = r->value, c = r->conf;
+        {
+            double av = r->alt_value, ac = r->alt_conf;
+            if (*best >= 0 && atof(text) != r->value) /* the best so far */
+                av = r->value, ac = r->conf; /* becomes the alternative */
             memset(r, 0, sizeof *r);
-            r->alt_value = v, r->alt_conf = c;
-        } else {
-            double v = r->alt_value, c = r->alt_conf;
-            memset(r, 0, sizeof *r);
-            r->alt_value = v, r->alt_conf = c;
+            r->alt_value = av, r->alt_conf = ac;
         }
         *best = conf;
         strip_xy(s, 0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3]), &r->x, &r->y);

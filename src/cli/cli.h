@@ -67,6 +67,14 @@ int td_cli_check_output(const char *cmd, const char *out, const char *in);
 struct td_georef;
 int td_cli_grid_of(const char *path, int *w, int *h, struct td_georef *geo,
                    td_ctx *cx);
+/* The two grid options of a model command (ridgemodel, skeleton), for
+ * an option table: --like SHEET into *like, --size WxH into wh[2]. */
+#define TD_CLI_GRID_OPTS(like, wh)                                            \
+    {"like", 0, TD_OPT_STRING, (like), .meta = "SHEET",                      \
+     .help = "the grid: the size and georeferencing of a\nscan or DEM"},    \
+    {"size", 0, TD_OPT_FUNC, (wh), .fn = td_cli_parse_size, .meta = "WxH",   \
+     .help = "the grid without a sheet (the pixel frame)", .no_default = 1}
+
 /* The grid of a model command: --like SHEET (like != NULL) or --size
  * (wh, the pixel frame); *cell, when not > 0, from the georeferencing's
  * cell size, else 1.  0 or an error naming the file. */

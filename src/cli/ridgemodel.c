@@ -25,11 +25,7 @@ typedef struct rm_opts {
 static int parse_args(int argc, char **argv, rm_opts *o)
 {
     const td_opt opts[] = {
-        {"like", 0, TD_OPT_STRING, &o->like, .meta = "SHEET", .help = "the "
-         "grid: the size and georeferencing of a\nscan or DEM"},
-        {"size", 0, TD_OPT_FUNC, o->wh, .fn = td_cli_parse_size,
-         .meta = "WxH", .help = "the grid without a sheet (the pixel frame)",
-         .no_default = 1},
+        TD_CLI_GRID_OPTS(&o->like, o->wh),
         {"slope", 0, TD_OPT_DOUBLE, &o->p.slope, 0.01, 89.99, .meta = "DEG",
          .help = "the skirts' slope (and, with --leaf-height,\nthe rise "
          "along a tree)"},

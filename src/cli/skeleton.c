@@ -19,11 +19,7 @@ typedef struct sk_opts {
 static int parse_args(int argc, char **argv, sk_opts *o)
 {
     const td_opt opts[] = {
-        {"like", 0, TD_OPT_STRING, &o->like, .meta = "SHEET", .help = "the "
-         "grid: the size and georeferencing of a\nscan or DEM"},
-        {"size", 0, TD_OPT_FUNC, o->wh, .fn = td_cli_parse_size,
-         .meta = "WxH", .help = "the grid without a sheet (the pixel frame)",
-         .no_default = 1},
+        TD_CLI_GRID_OPTS(&o->like, o->wh),
         {"height", 0, TD_OPT_DOUBLE, &o->height, 1e-9, 1e7, .meta = "H",
          .help = "the summit's height above --base (the last\npoint to "
          "shrink away)", .no_default = 1},

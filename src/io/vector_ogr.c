@@ -680,6 +680,22 @@ static int open_layer(const char *path, const char *name, const td_georef *g,
     return 0;
 }
 
+/* After open_layer: close, restore GDAL's error handler, hand out the
+ * skipped count and the frame (or clear it). */
+static void close_layer(GDALDatasetH ds, size_t *skipped, size_t sk,
+                        td_georef *frame, td_georef *fr)
+{
+    if (ds)
+        GDALClose(ds);
+    CPLPopErrorHandler();
+    if (skipped)
+        *skipped = sk;
+    if (frame)
+        *frame = *fr;
+    else
+        td_georef_clear(fr);
+}
+
 static int read_ogr(const char *path, const td_georef *g, td_lines **out,
                     size_t *skipped, td_georef *frame, td_ctx *cx)
 {
@@ -699,13 +715,7 @@ static int read_ogr(const char *path, const td_georef *g, td_lines **out,
         *out = NULL;
     }
 done:
-    if (ds)
-        GDALClose(ds);
-    CPLPopErrorHandler();
-    if (skipped)
-        *skipped = sk;
-    if (frame)
-        *frame = fr;
+    close_layer(ds, skipped, sk, frame, &fr);
     return rc;
 }
 
@@ -834,14 +844,6 @@ int td_vector_read_lines_z(const char *path, const td_georef *georef,
         *out = NULL, *z = NULL;
     }
 done:
-    if (ds)
-        GDALClose(ds);
-    CPLPopErrorHandler();
-    if (skipped)
-        *skipped = sk;
-    if (frame)
-        *frame = fr;
-    else
-        td_georef_clear(&fr);
+    close_layer(ds, skipped, sk, frame, &fr);
     return rc;
 }
