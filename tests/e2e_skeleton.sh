@@ -3,7 +3,7 @@
 # skeleton of a key outline, paper 004): a rectangle's hip roof read back
 # from the DEM at known cells, contours every interval with their heights,
 # --height scaling the summit, the strata, a Polygon with a reflex corner
-# (a split event), and bad input (one error line, exit 1, no output written).
+# (a split event) by both constructions, and bad input (one error line, exit 1, no output written).
 BUILD=${BUILD:-build}
 TD="$BUILD/topodig"
 T=$(mktemp -d "${TMPDIR:-/tmp}/tdsk.XXXXXX")
@@ -54,6 +54,12 @@ check "a reflex corner: exit 0, a split event, summit 300" \
 check "the paper's TIN (default) near the roof, below it on the whole" \
   "awk -F'[:,]' '{ for (i = 1; i < NF; i++) { if (\$i ~ /\"rmse\"/) r = \$(i+1); if (\$i ~ /\"bias\"/) b = \$(i+1) } } END { exit !(r > 0 && r < 45 && b < 0) }' '$T/pc.json'"
 
+# --- the paper's construction gives the same roof as the queue (default)
+"$TD" skeleton "$T/p.geojson" -o "$T/pp.tif" --size 220x200 --height 300 --interval 20 --surface roof --construction paper -q
+"$TD" compare "$T/pr.tif" "$T/pp.tif" --json >"$T/pq.json"
+check "--construction paper: the queue's roof (largest difference < 0.01)" \
+  "awk -F'[:,]' '{ for (i = 1; i < NF; i++) if (\$i ~ /\"max_abs\"/) m = \$(i+1) } END { exit !(m != \"\" && m + 0 < 0.01) }' '$T/pq.json'"
+
 # --- bad input
 cat >"$T/bow.geojson" <<'EOT'
 {"type":"FeatureCollection","features":[
@@ -61,7 +67,7 @@ cat >"$T/bow.geojson" <<'EOT'
 EOT
 "$TD" skeleton "$T/bow.geojson" -o "$T/x.tif" --size 60x60 --slope 30 --interval 5 2>"$T/err"
 check "an outline crossing itself: one error line, exit 1, no output" \
-  "[ $? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'crosses itself' '$T/err' && [ ! -e '$T/x.tif' ]"
+  "[ $? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'crosses or touches itself' '$T/err' && [ ! -e '$T/x.tif' ]"
 "$TD" skeleton "$T/r.geojson" -o "$T/x.tif" --size 60x60 --interval 5 2>"$T/err"
 check "neither --height nor --slope: one error line, exit 1" "[ $? = 1 ] && [ \$(wc -l <'$T/err') = 1 ]"
 cat >"$T/open.geojson" <<'EOT'

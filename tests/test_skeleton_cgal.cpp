@@ -1,5 +1,6 @@
 // test_skeleton_cgal.cpp: the straight skeleton of src/model/skeleton.c
-// (the paper's construction) against CGAL's Straight_skeleton_2 on a few
+// (the paper's construction, and skeleton_queue.c, the event queue beside
+// it: each outline by both) against CGAL's Straight_skeleton_2 on a few
 // hundred random outlines with reflex corners (star-shaped: random radii
 // at sorted random angles, so simple): every node CGAL finds inside (its
 // position and the time the front reaches it) is one of ours within 1e-6
@@ -50,9 +51,11 @@ int main()
             continue;
         auto ss = CGAL::create_interior_straight_skeleton_2(
             poly.vertices_begin(), poly.vertices_end(), K());
+        for (int con = TD_SKEL_PAPER; con <= TD_SKEL_QUEUE; con++) {
         td_lines *nodes = td_lines_new(NULL);
         td_skeleton_params p = td_skeleton_defaults();
         p.nodes = nodes;
+        p.construction = con;
         int rc = td_skeleton(xy.data(), (size_t)n, &p, NULL, NULL, NULL, NULL,
                              NULL);
         double err = 0, tol = 1e-6 * 120;
@@ -87,17 +90,19 @@ int main()
         if (rc != 0 || !ss || !(err <= tol)) {
             failed++;
             if (failed <= 5)
-                std::fprintf(stderr, "  FAIL outline %d (%d corners): rc %d, "
-                             "largest node mismatch %g (tolerance %g)\n", k, n,
-                             rc, err, tol);
+                std::fprintf(stderr, "  FAIL outline %d (%d corners, %s): "
+                             "rc %d, largest node mismatch %g (tolerance "
+                             "%g)\n", k, n, con == TD_SKEL_PAPER ? "paper" :
+                             "queue", rc, err, tol);
         } else {
             passed++;
         }
         if (err > worst)
             worst = err, worst_k = k;
         td_lines_free(nodes);
+        }
     }
-    std::printf("ok   %d outlines agree with CGAL's skeleton (worst node "
+    std::printf("ok   %d skeletons (paper's and queue's) agree with CGAL's skeleton (worst node "
                 "mismatch %g, outline %d)\n", passed, worst, worst_k);
     std::printf("%d passed, %d failed\n", passed, failed);
     return failed != 0;

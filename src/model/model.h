@@ -130,7 +130,13 @@ typedef struct td_skeleton_params {
     td_lines *nodes;     /* when set: one point per skeleton node (where
                             vertices meet, a split lands, a polygon ends),
                             height = its time; repeats possible (NULL) */
+    int construction;    /* TD_SKEL_QUEUE (ours: the same events from a
+                            queue, O(n log n)-ish) or TD_SKEL_PAPER (the
+                            paper's: every step searches all, O(n^3))
+                            (TD_SKEL_QUEUE) */
 } td_skeleton_params;
+
+enum { TD_SKEL_PAPER, TD_SKEL_QUEUE };
 
 typedef struct td_skeleton_stats {
     size_t events, splits; /* steps taken; split events among them */

@@ -141,31 +141,36 @@ static int is_reflex(const spoly *P, size_t i)
     return a->nx * b->ny - a->ny * b->nx < -1e-12;
 }
 
-/* Draw the trapezoids swept by P's edges over dt into the DEM: height =
- * the time the front passes, t0 + distance from the edge's line at t0. */
+/* Draw the trapezoids swept by P's edges over dt into the DEM. */
 static void sweep(sk *s, const spoly *P, double dt)
 {
-    td_grid_f32 *g = s->dem;
     size_t i;
-    for (i = 0; g && i < P->n; i++) {
+    for (i = 0; s->dem && i < P->n; i++) {
         const svert *a = &P->v[i], *b = &P->v[(i + 1) % P->n];
         double x[4] = {a->x, b->x, b->x + dt * b->vx, a->x + dt * a->vx};
         double y[4] = {a->y, b->y, b->y + dt * b->vy, a->y + dt * a->vy};
-        double y0 = fmin(fmin(y[0], y[1]), fmin(y[2], y[3]));
-        double y1 = fmax(fmax(y[0], y[1]), fmax(y[2], y[3]));
-        int row, r0 = (int)floor(y0), r1 = (int)ceil(y1), col, c0, c1;
-        r0 = r0 < 0 ? 0 : r0, r1 = r1 >= g->h ? g->h - 1 : r1;
-        for (row = r0; row <= r1; row++) {
-            if (!td_convex_span(x, y, 4, row, 0, g->w - 1, &c0, &c1))
-                continue;
-            for (col = c0; col <= c1; col++) {
-                double h = s->t + (col + 0.5 - a->x) * a->nx +
-                           (row + 0.5 - a->y) * a->ny;
-                float *z = &g->data[(size_t)row * g->w + col];
-                h = h < s->t ? s->t : h > s->t + dt ? s->t + dt : h;
-                if (*z == g->nodata || h > *z)
-                    *z = (float)h;
-            }
+        td_skeleton_quad(s->dem, x, y, a->nx, a->ny,
+                         a->nx * a->x + a->ny * a->y - s->t, s->t, s->t + dt);
+    }
+}
+
+/* See model_int.h. */
+void td_skeleton_quad(td_grid_f32 *g, const double *x, const double *y,
+                      double nx, double ny, double c, double t0, double t1)
+{
+    double y0 = fmin(fmin(y[0], y[1]), fmin(y[2], y[3]));
+    double y1 = fmax(fmax(y[0], y[1]), fmax(y[2], y[3]));
+    int row, r0 = (int)floor(y0), r1 = (int)ceil(y1), col, c0, c1;
+    r0 = r0 < 0 ? 0 : r0, r1 = r1 >= g->h ? g->h - 1 : r1;
+    for (row = r0; row <= r1; row++) {
+        if (!td_convex_span(x, y, 4, row, 0, g->w - 1, &c0, &c1))
+            continue;
+        for (col = c0; col <= c1; col++) {
+            double h = nx * (col + 0.5) + ny * (row + 0.5) - c;
+            float *z = &g->data[(size_t)row * g->w + col];
+            h = h < t0 ? t0 : h > t1 ? t1 : h;
+            if (*z == g->nodata || h > *z)
+                *z = (float)h;
         }
     }
 }
@@ -279,6 +284,17 @@ static size_t despike(sk *s, spoly *P, double eps)
     return gone;
 }
 
+/* Is reflex vertex r of P at one of its neighbours after time t?  Then
+ * that is their edge event, not a split. */
+static int at_end(const spoly *P, size_t r, double t, double eps)
+{
+    const svert *a = &P->v[(r + P->n - 1) % P->n], *b = &P->v[r];
+    const svert *c = &P->v[(r + 1) % P->n];
+    double bx = b->x + t * b->vx, by = b->y + t * b->vy;
+    return hypot(a->x + t * a->vx - bx, a->y + t * a->vy - by) <= 1e3 * eps ||
+           hypot(c->x + t * c->vx - bx, c->y + t * c->vy - by) <= 1e3 * eps;
+}
+
 /* Polygon k splits where its reflex vertex r meets edge j (r not an end
  * of j): two polygons, r's copy in each. */
 static int split(sk *s, size_t k, size_t r, size_t j, td_ctx *cx)
@@ -347,26 +363,70 @@ static double orient(double ax, double ay, double bx, double by, double cx,
     return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
 }
 
-/* Do two edges of the ring xy (n points) that are not neighbours meet? */
+/* Does point c lie on the segment a-b (o: the orientation of a, b, c)? */
+static int on_segment(const double *a, const double *b, const double *c,
+                      double o)
+{
+    return o == 0 && c[0] >= fmin(a[0], b[0]) && c[0] <= fmax(a[0], b[0]) &&
+           c[1] >= fmin(a[1], b[1]) && c[1] <= fmax(a[1], b[1]);
+}
+
+/* Do edges i and j of the ring xy (n points) cross or touch?  Neighbours
+ * (sharing a corner) only when one folds back along the other. */
+static int edges_cross(const double *xy, size_t n, size_t i, size_t j)
+{
+    const double *a = xy + 2 * i, *b = xy + 2 * ((i + 1) % n);
+    const double *c = xy + 2 * j, *d = xy + 2 * ((j + 1) % n);
+    double o1, o2, o3, o4;
+    if (j == (i + 1) % n || i == (j + 1) % n) {
+        const double *p = j == (i + 1) % n ? a : c, *q = j == (i + 1) % n ? b : d;
+        const double *r = j == (i + 1) % n ? d : b; /* p -> q -> r */
+        return n > 3 && orient(p[0], p[1], q[0], q[1], r[0], r[1]) == 0 &&
+               (r[0] - q[0]) * (q[0] - p[0]) + (r[1] - q[1]) * (q[1] - p[1]) <
+                   0;
+    }
+    o1 = orient(a[0], a[1], b[0], b[1], c[0], c[1]);
+    o2 = orient(a[0], a[1], b[0], b[1], d[0], d[1]);
+    o3 = orient(c[0], c[1], d[0], d[1], a[0], a[1]);
+    o4 = orient(c[0], c[1], d[0], d[1], b[0], b[1]);
+    if (on_segment(a, b, c, o1) || on_segment(a, b, d, o2) ||
+        on_segment(c, d, a, o3) || on_segment(c, d, b, o4))
+        return 1; /* touching */
+    return ((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) &&
+           ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0));
+}
+
+typedef struct xspan {
+    double x0, x1;
+    size_t i;
+} xspan;
+
+static int by_x0(const void *a, const void *b)
+{
+    double u = ((const xspan *)a)->x0, v = ((const xspan *)b)->x0;
+    return (u > v) - (u < v);
+}
+
+/* Do two edges of the ring xy (n points) that are not neighbours meet?
+ * The edges sorted by their left ends; each against those starting
+ * before it ends.  -1: out of memory. */
 static int self_crossing(const double *xy, size_t n)
 {
+    xspan *e = malloc(n * sizeof *e);
     size_t i, j;
-    for (i = 0; i < n; i++)
-        for (j = i + 1; j < n; j++) {
-            const double *a = xy + 2 * i, *b = xy + 2 * ((i + 1) % n);
-            const double *c = xy + 2 * j, *d = xy + 2 * ((j + 1) % n);
-            double o1, o2, o3, o4;
-            if (j == i + 1 || (i == 0 && j == n - 1))
-                continue; /* neighbours share a corner */
-            o1 = orient(a[0], a[1], b[0], b[1], c[0], c[1]);
-            o2 = orient(a[0], a[1], b[0], b[1], d[0], d[1]);
-            o3 = orient(c[0], c[1], d[0], d[1], a[0], a[1]);
-            o4 = orient(c[0], c[1], d[0], d[1], b[0], b[1]);
-            if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) &&
-                ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
-                return 1;
-        }
-    return 0;
+    int hit = 0;
+    if (!e)
+        return -1;
+    for (i = 0; i < n; i++) {
+        double xa = xy[2 * i], xb = xy[2 * ((i + 1) % n)];
+        e[i].x0 = fmin(xa, xb), e[i].x1 = fmax(xa, xb), e[i].i = i;
+    }
+    qsort(e, n, sizeof *e, by_x0);
+    for (i = 0; i < n && !hit; i++)
+        for (j = i + 1; j < n && e[j].x0 <= e[i].x1 && !hit; j++)
+            hit = edges_cross(xy, n, e[i].i, e[j].i);
+    free(e);
+    return hit;
 }
 
 /* See model.h. */
@@ -376,60 +436,96 @@ td_skeleton_params td_skeleton_defaults(void)
     p.contour_step = 0;
     p.max_events = 1000000;
     p.nodes = NULL;
+    p.construction = TD_SKEL_QUEUE;
     return p;
 }
 
-/* See model.h. */
-int td_skeleton(const double *xy, size_t n, const td_skeleton_params *prm,
-                td_grid_f32 *dem, td_lines *contours, td_lines *peaks,
-                td_skeleton_stats *st, td_ctx *cx)
+/* One step of the paper's construction: the first edge event, a split
+ * before it, every polygon shrunk to it, the event applied. */
+static int step(sk *s)
+{
+    double dt = HUGE_VAL, de;
+    size_t i, k, bk = 0, br = 0, bj = 0;
+    int split_first = 0, rc = 0;
+    if (s->nevents++ >= s->prm->max_events) {
+        return td_seterr(s->cx, TD_EINVAL, "skeleton: more than %zu events",
+                         s->prm->max_events);
+    }
+    for (k = 0; k < s->np; k++) { /* the first edge event (eq. 1) */
+        const spoly *P = &s->p[k];
+        for (i = 0; i < P->n; i++)
+            dt = fmin(dt, edge_event(P, i));
+    }
+    de = dt;
+    for (k = 0; k < s->np; k++) { /* a split before it? */
+        const spoly *P = &s->p[k];
+        size_t r, j;
+        for (r = 0; r < P->n; r++) {
+            if (!is_reflex(P, r))
+                continue;
+            for (j = 0; j < P->n; j++) {
+                double t;
+                if (j == r || (j + 1) % P->n == r)
+                    continue;
+                t = split_event(P, r, j, s->eps);
+                /* a split with an edge event elsewhere at the same time
+                   goes first: after the edge event it would be now, and
+                   no longer found */
+                if (t < dt && (t < de - s->eps || !at_end(P, r, t, s->eps)))
+                    dt = t, split_first = 1, bk = k, br = r, bj = j;
+            }
+        }
+    }
+    if (!(dt < HUGE_VAL)) { /* nothing shrinks: parallel sides only */
+        prune(s);
+        for (k = 0; k < s->np; k++)
+            free(s->p[k].v);
+        s->np = 0;
+        return 0;
+    }
+    while (s->contours && s->next_level <= s->t + dt + s->eps && rc == 0) {
+        rc = emit_contours(s, s->next_level, s->cx);
+        s->next_level += s->prm->contour_step;
+    }
+    for (k = 0; k < s->np; k++) {
+        spoly *P = &s->p[k];
+        sweep(s, P, dt);
+        for (i = 0; i < P->n; i++)
+            P->v[i].x += dt * P->v[i].vx, P->v[i].y += dt * P->v[i].vy;
+    }
+    s->t += dt;
+    if (rc)
+        return rc;
+    if (split_first)
+        rc = split(s, bk, br, bj, s->cx);
+    for (k = 0; k < s->np && rc == 0; k++)
+        while (s->p[k].v && (collapse(s, &s->p[k], 1e3 * s->eps) +
+                            despike(s, &s->p[k], 1e3 * s->eps)) > 0)
+            ;
+    prune(s);
+    if (s->rc)
+        rc = s->rc;
+    return rc;
+}
+
+/* The paper's construction on a clean outline (counter-clockwise, no
+ * repeated points). */
+static int skeleton_paper(const double *xy, size_t n, double size,
+                          const td_skeleton_params *prm, td_grid_f32 *dem,
+                          td_lines *contours, td_lines *peaks,
+                          td_skeleton_stats *st, td_ctx *cx)
 {
     sk s;
     svert *v;
     size_t i;
-    double a, size = 0, x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL,
-              y1 = -HUGE_VAL;
     int rc = 0;
     memset(&s, 0, sizeof s);
-    if (n < 3)
-        return td_seterr(cx, TD_EINVAL, "skeleton: an outline needs 3 points "
-                         "or more (got %zu)", n);
-    for (i = 0; i < 2 * n; i++)
-        if (!isfinite(xy[i]) || fabs(xy[i]) > 1e8)
-            return td_seterr(cx, TD_EINVAL, "skeleton: a non-finite or "
-                             "far-off coordinate");
-    if (self_crossing(xy, n))
-        return td_seterr(cx, TD_EINVAL, "skeleton: the outline crosses "
-                         "itself");
     if (!(v = malloc(n * sizeof *v)))
         return td_seterr(cx, TD_ENOMEM, "skeleton: out of memory");
     for (i = 0; i < n; i++) {
-        v[i].x = xy[2 * i], v[i].y = xy[2 * i + 1];
-        x0 = fmin(x0, v[i].x), x1 = fmax(x1, v[i].x);
-        y0 = fmin(y0, v[i].y), y1 = fmax(y1, v[i].y);
-    }
-    size = fmax(x1 - x0, y1 - y0);
-    a = area(v, n);
-    if (!(fabs(a) > 1e-12 * size * size)) {
-        free(v);
-        return td_seterr(cx, TD_EINVAL, "skeleton: the outline has no area");
-    }
-    if (a < 0) /* make the inside lie left of every edge */
-        for (i = 0; i < n / 2; i++) {
-            svert t = v[i];
-            v[i] = v[n - 1 - i], v[n - 1 - i] = t;
-        }
-    {
-        size_t m = 0; /* drop repeated points */
-        for (i = 0; i < n; i++)
-            if (hypot(v[i].x - v[(i + 1) % n].x, v[i].y - v[(i + 1) % n].y) >
-                1e-12 * size)
-                v[m++] = v[i];
-        n = m;
-    }
-    for (i = 0; i < n; i++) {
-        const svert *b = &v[(i + 1) % n];
-        double dx = b->x - v[i].x, dy = b->y - v[i].y, L = hypot(dx, dy);
+        const double *a = xy + 2 * i, *b = xy + 2 * ((i + 1) % n);
+        double dx = b[0] - a[0], dy = b[1] - a[1], L = hypot(dx, dy);
+        v[i].x = a[0], v[i].y = a[1];
         v[i].nx = -dy / L, v[i].ny = dx / L;
     }
     s.prm = prm, s.dem = dem, s.contours = contours, s.peaks = peaks;
@@ -440,67 +536,8 @@ int td_skeleton(const double *xy, size_t n, const td_skeleton_params *prm,
         free(v);
         return rc;
     }
-    while (s.np > 0 && rc == 0) {
-        double dt = HUGE_VAL;
-        size_t k, bk = 0, br = 0, bj = 0;
-        int split_first = 0;
-        if (s.nevents++ >= prm->max_events) {
-            rc = td_seterr(cx, TD_EINVAL, "skeleton: more than %zu events",
-                           prm->max_events);
-            break;
-        }
-        for (k = 0; k < s.np; k++) { /* the first edge event (eq. 1) */
-            const spoly *P = &s.p[k];
-            for (i = 0; i < P->n; i++)
-                dt = fmin(dt, edge_event(P, i));
-        }
-        for (k = 0; k < s.np; k++) { /* a split before it? */
-            const spoly *P = &s.p[k];
-            size_t r, j;
-            for (r = 0; r < P->n; r++) {
-                if (!is_reflex(P, r))
-                    continue;
-                for (j = 0; j < P->n; j++) {
-                    double t;
-                    if (j == r || (j + 1) % P->n == r)
-                        continue;
-                    t = split_event(P, r, j, s.eps);
-                    if (t < dt - s.eps)
-                        dt = t, split_first = 1, bk = k, br = r, bj = j;
-                }
-            }
-        }
-        if (!(dt < HUGE_VAL)) { /* nothing shrinks: parallel sides only */
-            prune(&s);
-            for (k = 0; k < s.np; k++)
-                free(s.p[k].v);
-            s.np = 0;
-            break;
-        }
-        while (contours && s.next_level <= s.t + dt + s.eps && rc == 0) {
-            rc = emit_contours(&s, s.next_level, cx);
-            s.next_level += prm->contour_step;
-        }
-        for (k = 0; k < s.np; k++) {
-            spoly *P = &s.p[k];
-            sweep(&s, P, dt);
-            for (i = 0; i < P->n; i++)
-                P->v[i].x += dt * P->v[i].vx, P->v[i].y += dt * P->v[i].vy;
-        }
-        s.t += dt;
-        if (rc)
-            break;
-        if (split_first) {
-            rc = split(&s, bk, br, bj, cx);
-        }
-        for (k = 0; k < s.np && rc == 0; k++)
-            while (s.p[k].v && (collapse(&s, &s.p[k], 1e3 * s.eps) +
-                                despike(&s, &s.p[k], 1e3 * s.eps)) > 0)
-                ;
-        prune(&s);
-        if (s.rc)
-            rc = s.rc;
-    }
+    while (s.np > 0 && rc == 0)
+        rc = step(&s);
     for (i = 0; i < s.np; i++)
         free(s.p[i].v);
     free(s.p);
@@ -509,5 +546,66 @@ int td_skeleton(const double *xy, size_t n, const td_skeleton_params *prm,
         st->splits = s.nsplits;
         st->max_time = s.t;
     }
+    return rc;
+}
+
+/* See model.h. */
+int td_skeleton(const double *xy, size_t n, const td_skeleton_params *prm,
+                td_grid_f32 *dem, td_lines *contours, td_lines *peaks,
+                td_skeleton_stats *st, td_ctx *cx)
+{
+    double *v, a = 0, size, x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL,
+               y1 = -HUGE_VAL;
+    size_t i, m = 0;
+    int rc;
+    if (n < 3)
+        return td_seterr(cx, TD_EINVAL, "skeleton: an outline needs 3 points "
+                         "or more (got %zu)", n);
+    if (n > (size_t)1 << 28)
+        return td_seterr(cx, TD_EINVAL, "skeleton: too many points (%zu)", n);
+    for (i = 0; i < 2 * n; i++)
+        if (!isfinite(xy[i]) || fabs(xy[i]) > 1e8)
+            return td_seterr(cx, TD_EINVAL, "skeleton: a non-finite or "
+                             "far-off coordinate");
+    for (i = 0; i < n; i++) {
+        x0 = fmin(x0, xy[2 * i]), x1 = fmax(x1, xy[2 * i]);
+        y0 = fmin(y0, xy[2 * i + 1]), y1 = fmax(y1, xy[2 * i + 1]);
+    }
+    size = fmax(x1 - x0, y1 - y0);
+    if (!(v = malloc(2 * n * sizeof *v)))
+        return td_seterr(cx, TD_ENOMEM, "skeleton: out of memory");
+    for (i = 0; i < n; i++) /* drop repeated points */
+        if (hypot(xy[2 * i] - xy[2 * ((i + 1) % n)],
+                  xy[2 * i + 1] - xy[2 * ((i + 1) % n) + 1]) > 1e-12 * size) {
+            v[2 * m] = xy[2 * i], v[2 * m + 1] = xy[2 * i + 1];
+            m++;
+        }
+    for (i = 0; i < m; i++) {
+        const double *p = v + 2 * i, *q = v + 2 * ((i + 1) % m);
+        a += 0.5 * (p[0] * q[1] - q[0] * p[1]);
+    }
+    if (m >= 3 && (rc = self_crossing(v, m)) != 0) {
+        free(v);
+        return rc < 0 ? td_seterr(cx, TD_ENOMEM, "skeleton: out of memory")
+                      : td_seterr(cx, TD_EINVAL, "skeleton: the outline "
+                                  "crosses or touches itself");
+    }
+    if (m >= 3 && !(fabs(a) > 1e-12 * size * size)) {
+        free(v);
+        return td_seterr(cx, TD_EINVAL, "skeleton: the outline has no area");
+    }
+    for (i = 0; a < 0 && i < m / 2; i++) { /* the inside left of every edge */
+        double tx = v[2 * i], ty = v[2 * i + 1];
+        v[2 * i] = v[2 * (m - 1 - i)], v[2 * i + 1] = v[2 * (m - 1 - i) + 1];
+        v[2 * (m - 1 - i)] = tx, v[2 * (m - 1 - i) + 1] = ty;
+    }
+    if (m < 3)
+        rc = td_seterr(cx, TD_EINVAL, "skeleton: an outline needs 3 points "
+                       "or more (got %zu distinct)", m);
+    else if (prm->construction == TD_SKEL_PAPER)
+        rc = skeleton_paper(v, m, size, prm, dem, contours, peaks, st, cx);
+    else
+        rc = td_skeleton_queue(v, m, size, prm, dem, contours, peaks, st, cx);
+    free(v);
     return rc;
 }
