@@ -103,8 +103,15 @@ check "a cycle: one error line, exit 1, no output" \
   "[ $? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'not a tree' '$T/err' && [ ! -e '$T/x.tif' ]"
 "$TD" ridgemodel "$T/r.geojson" -o "$T/x.tif" 2>"$T/err"
 check "no grid: one error line, exit 1" "[ $? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'size' '$T/err'"
+cat >"$T/far.geojson" <<'EOT'
+{"type":"FeatureCollection","features":[
+{"type":"Feature","properties":{},"geometry":{"type":"LineString","coordinates":[[5000,-5000,100],[6000,-5000,100]]}}]}
+EOT
+"$TD" ridgemodel "$T/far.geojson" -o "$T/far.tif" --size 200x200 --slope 30 2>"$T/err"
+check "ridge lines all off the grid: one error naming the file, exit 1, no output" \
+  "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'far.geojson: no ridge line lies on the 200 x 200 grid' '$T/err' && [ ! -e '$T/far.tif' ]"
 printf 'delete 1 2\n' >"$T/bad.txt"
-"$TD" ridgemodel "$T/r.geojson" -o "$T/x.tif" --size 50x50 --edits "$T/bad.txt" 2>"$T/err"
+"$TD" ridgemodel "$T/r.geojson" -o "$T/x.tif" --size 200x200 --edits "$T/bad.txt" 2>"$T/err"
 check "a bad edit line: one error naming the file and line, exit 1" \
   "[ $? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'bad.txt:1' '$T/err' && [ ! -e '$T/x.tif' ]"
 printf '{"type":"FeatureCollection","features":[{"type":' >"$T/trunc.geojson"

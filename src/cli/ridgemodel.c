@@ -192,11 +192,22 @@ static int write_nodes(const char *path, const td_ridgemodel *m,
 }
 
 /* Every line's segments into the model: heights per vertex, or NaN for
- * the tree pass. */
+ * the tree pass.  Lines that all lie off the w x h grid are refused (a
+ * file in another frame would give a flat DEM). */
 static int add_lines(td_ridgemodel *m, const td_lines *ls, const double *z,
-                     int tree, const char *path, size_t *nseg, td_ctx *cx)
+                     int tree, int w, int h, const char *path, size_t *nseg,
+                     td_ctx *cx)
 {
-    size_t i, k, off = 0;
+    size_t i, k, off = 0, on = 0;
+    for (i = 0; i < ls->n; i++)
+        for (k = 0; k < ls->v[i].n; k++) {
+            double x = ls->v[i].xy[2 * k], y = ls->v[i].xy[2 * k + 1];
+            on += x >= 0 && y >= 0 && x <= w && y <= h;
+        }
+    if (on == 0)
+        return td_seterr(cx, TD_EINVAL, "%s: no ridge line lies on the %d x "
+                         "%d grid (coordinates in another frame than the "
+                         "grid's?)", path, w, h);
     for (i = 0; i < ls->n; i++) {
         const td_line *l = &ls->v[i];
         for (k = 0; k < l->n; k++)
@@ -292,7 +303,7 @@ int td_cmd_ridgemodel(int argc, char **argv)
         rc = cx.code;
         goto fail;
     }
-    if ((rc = add_lines(m, ls, z, isfinite(o.leaf), o.in, &nseg, &cx)) != 0 ||
+    if ((rc = add_lines(m, ls, z, isfinite(o.leaf), w, h, o.in, &nseg, &cx)) != 0 ||
         (isfinite(o.leaf) &&
          (rc = td_ridgemodel_tree_heights(m, o.leaf, &cx)) != 0))
         goto fail;
