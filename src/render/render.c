@@ -94,8 +94,8 @@ static double shade(const td_grid_f32 *g, int x, int y,
                    sin(zen) * sin(slope) * cos(az - aspect));
 }
 
-/* Green - yellow - brown - white ramp, t in [0,1]. */
-static void ramp(double t, double rgb[3])
+/* See render.h. */
+void td_render_ramp(double t, double rgb[3])
 {
     static const double stop[4][3] = {
         {0.35, 0.60, 0.35}, {0.90, 0.85, 0.50}, {0.65, 0.45, 0.30},
@@ -162,7 +162,7 @@ int td_render_hillshade(const td_grid_f32 *dem, const td_render_params *p,
             }
             s = shade(dem, x, y, p);
             if (p->style == TD_RENDER_TINT)
-                ramp(hi > lo ? (TD_AT(dem, x, y) - lo) / (hi - lo) : 0, c);
+                td_render_ramp(hi > lo ? (TD_AT(dem, x, y) - lo) / (hi - lo) : 0, c);
             for (k = 0; k < 3; k++)
                 px[k] = (uint8_t)lround(255 * c[k] *
                                         (p->style == TD_RENDER_TINT ? 0.35 + 0.65 * s : s));

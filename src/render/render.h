@@ -48,6 +48,78 @@ int td_render_hillshade(const td_grid_f32 *dem, const td_render_params *p,
  * almost flat); 1 when the DEM is flat. */
 double td_render_auto_zfactor(const td_grid_f32 *dem, double cellsize);
 
+/* The height colour ramp of the tint (green - yellow - brown - white),
+ * t in [0, 1] (clamped), rgb in [0, 1]. */
+void td_render_ramp(double t, double rgb[3]);
+
+/* ---- perspective views (view.c; paper 001 §2.6) ---- */
+
+typedef enum {
+    TD_VIEW_SHADED = 0, /* flat-shaded patches */
+    TD_VIEW_WIRE = 1,   /* the patches' edges, hidden lines removed */
+    TD_VIEW_BOTH = 2    /* shaded, edges drawn over */
+} td_view_style;
+
+typedef enum {
+    TD_DRAPE_HILLSHADE = 0, /* grey, by the light alone */
+    TD_DRAPE_TINT = 1,      /* the height ramp, shaded */
+    TD_DRAPE_IMAGE = 2      /* an image over the DEM (the scan), shaded */
+} td_view_drape;
+
+#define TD_VIEW_MAX_LIGHTS 4
+
+typedef struct td_view_params {
+    td_view_style style;   /* (TD_VIEW_SHADED) */
+    td_view_drape drape;   /* (TD_DRAPE_HILLSHADE) */
+    double azimuth;        /* where the camera stands, seen from the DEM's
+                              centre: degrees clockwise from north (200) */
+    double elevation;      /* camera above the horizon, degrees (35) */
+    double fov;            /* horizontal field of view, degrees (40) */
+    double distance;       /* camera to the centre in cells; 0: auto, the
+                              whole model in the picture (0) */
+    double exaggeration;   /* vertical: heights x this / cellsize; 0: auto,
+                              the relief 15-50 % of the longest side (0) */
+    double cellsize;       /* cell size in height units (1) */
+    int patch;             /* N x N cells per quad patch (3, the paper's) */
+    int nlights;           /* lights at infinity (1) */
+    double light[TD_VIEW_MAX_LIGHTS][2]; /* azimuth, altitude (315, 45) */
+    double ambient;        /* light everywhere, 0..1 (0.2) */
+} td_view_params;
+
+/* The camera a view is drawn with (td_view_camera_of). */
+typedef struct td_view_camera {
+    double c[3], r[3], u[3], f[3]; /* position; right, up, forward */
+    double focal, cx, cy;          /* pixels; the picture's centre */
+    double zmin, zscale;           /* world z = (height - zmin) x zscale */
+    double ztop;                   /* world z of the highest point */
+} td_view_camera;
+
+td_view_params td_view_defaults(void);
+
+/* The camera for dem in a w x h picture under p (world: x = column + 0.5
+ * east, y = -(row + 0.5) north, z up, in cells).  0, TD_EINVAL (bad
+ * parameters, no data). */
+int td_view_camera_of(const td_grid_f32 *dem, const td_view_params *p,
+                      int w, int h, td_view_camera *cam, td_ctx *cx);
+
+/* Picture coordinates (x right, y down; pixel centres at + 0.5) of the
+ * point at (column, row) (cell units; a cell's centre is col + 0.5) and
+ * height z.  0 when it lies behind the camera. */
+int td_view_project(const td_view_camera *cam, double col, double row,
+                    double z, double *px, double *py);
+
+/* Draw dem in perspective into out (RGB, its size the picture's) by the
+ * paper's method (001 §2.6): quad patches of p->patch cells, each with the
+ * mean of its corners' heights; painted from the farthest to the nearest
+ * (the order of their centres' depth), each flat-shaded by Lambert's law
+ * with its normal from its centre to two corners.  Patches at the edge of
+ * the data: with 2 or more corners inside, the others take the mean of
+ * those (the paper: the border contour's height); fewer, left out.
+ * drape: the image for TD_DRAPE_IMAGE (any size; stretched over the
+ * DEM), else NULL.  0, TD_EINVAL, TD_ENOMEM. */
+int td_view_render(const td_grid_f32 *dem, const td_image *drape,
+                   const td_view_params *p, td_image *out, td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif
