@@ -23,10 +23,10 @@ LDLIBS  += $(CV_LIBS) -lgdal -ltesseract -llept -lfreetype -lgeotiff -ltiff -lpn
 DEB_PKGS = gcc g++ make pkg-config libopencv-dev libopencv-contrib-dev \
            libtiff-dev libpng-dev libjpeg-dev libgeotiff-dev zlib1g-dev gdal-bin \
            libtesseract-dev tesseract-ocr-eng libfreetype-dev fonts-dejavu-core \
-           libgdal-dev libcgal-dev
+           libgdal-dev libcgal-dev admesh assimp-utils
 BENCH_PKGS = grass-core
 
-LIB_DIRS := src/core src/io src/erode src/flow src/sun src/render src/compare src/model src/pipeline scanner interp
+LIB_DIRS := src/core src/io src/erode src/flow src/sun src/render src/mesh src/compare src/model src/pipeline scanner interp
 LIB_C   := $(wildcard $(addsuffix /*.c,$(LIB_DIRS)))
 LIB_CXX := $(wildcard $(addsuffix /*.cpp,$(LIB_DIRS)))
 CLI_C   := $(wildcard src/cli/*.c)

@@ -19,7 +19,7 @@ rank() {
     src/core) echo 0 ;;
     src/io) echo 1 ;;
     scanner | interp | src/erode | src/flow | src/sun | src/render | \
-        src/compare | src/model) echo 2 ;;
+        src/mesh | src/compare | src/model) echo 2 ;;
     src/pipeline) echo 3 ;;
     src/cli) echo 4 ;;
     *) echo "" ;;

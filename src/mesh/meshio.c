@@ -1,0 +1,244 @@
+/* meshio.c: a td_mesh to the files 3-D printers and viewers open, chosen
+ * by the extension: binary STL (slicers), Wavefront OBJ (+ MTL and a PNG
+ * texture when one is given), binary PLY, glTF binary (.glb).  Each file
+ * written to a temporary name and renamed (src/io's atomic helpers). */
+#include "src/mesh/mesh.h"
+
+#include "src/io/io.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+static void put32(uint8_t *p, uint32_t v)
+{
+    p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8);
+    p[2] = (uint8_t)(v >> 16), p[3] = (uint8_t)(v >> 24);
+}
+
+static void putf(uint8_t *p, float f)
+{
+    uint32_t v;
+    memcpy(&v, &f, 4);
+    put32(p, v);
+}
+
+static const float *vert(const td_mesh *m, size_t t, int k)
+{
+    return m->v + 3 * (size_t)m->t[3 * t + k];
+}
+
+/* Binary STL: 80-byte header, the count, 50 bytes a triangle. */
+static int write_stl(FILE *f, const td_mesh *m)
+{
+    uint8_t head[84] = "topodig mesh: binary STL", rec[50];
+    size_t i;
+    int k, c;
+    put32(head + 80, (uint32_t)m->nt);
+    if (fwrite(head, 1, 84, f) != 84)
+        return -1;
+    for (i = 0; i < m->nt; i++) {
+        const float *a = vert(m, i, 0), *b = vert(m, i, 1), *d = vert(m, i, 2);
+        double u[3], v[3], n[3], l;
+        for (k = 0; k < 3; k++)
+            u[k] = b[k] - a[k], v[k] = d[k] - a[k];
+        n[0] = u[1] * v[2] - u[2] * v[1];
+        n[1] = u[2] * v[0] - u[0] * v[2];
+        n[2] = u[0] * v[1] - u[1] * v[0];
+        l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (k = 0; k < 3; k++)
+            putf(rec + 4 * k, (float)(l > 0 ? n[k] / l : 0));
+        for (c = 0; c < 3; c++)
+            for (k = 0; k < 3; k++)
+                putf(rec + 12 + 12 * c + 4 * k, vert(m, i, c)[k]);
+        rec[48] = rec[49] = 0;
+        if (fwrite(rec, 1, 50, f) != 50)
+            return -1;
+    }
+    return 0;
+}
+
+/* Binary little-endian PLY. */
+static int write_ply(FILE *f, const td_mesh *m)
+{
+    uint8_t rec[13];
+    size_t i;
+    int k;
+    fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment topodig mesh\n"
+            "element vertex %zu\nproperty float x\nproperty float y\n"
+            "property float z\nelement face %zu\nproperty list uchar int "
+            "vertex_indices\nend_header\n", m->nv, m->nt);
+    for (i = 0; i < m->nv; i++) {
+        for (k = 0; k < 3; k++)
+            putf(rec + 4 * k, m->v[3 * i + k]);
+        if (fwrite(rec, 1, 12, f) != 12)
+            return -1;
+    }
+    for (i = 0; i < m->nt; i++) {
+        rec[0] = 3;
+        for (k = 0; k < 3; k++)
+            put32(rec + 1 + 4 * k, m->t[3 * i + k]);
+        if (fwrite(rec, 1, 13, f) != 13)
+            return -1;
+    }
+    return 0;
+}
+
+/* Wavefront OBJ; with mtl (the material file's name) texture coordinates
+ * and the material. */
+static int write_obj(FILE *f, const td_mesh *m, const char *mtl)
+{
+    size_t i;
+    fprintf(f, "# topodig mesh: %zu vertices, %zu triangles\n", m->nv, m->nt);
+    if (mtl)
+        fprintf(f, "mtllib %s\nusemtl dem\n", mtl);
+    for (i = 0; i < m->nv; i++)
+        fprintf(f, "v %.7g %.7g %.7g\n", m->v[3 * i], m->v[3 * i + 1],
+                m->v[3 * i + 2]);
+    for (i = 0; mtl && i < m->nv; i++)
+        fprintf(f, "vt %.6f %.6f\n", m->uv[2 * i], m->uv[2 * i + 1]);
+    for (i = 0; i < m->nt; i++) {
+        uint32_t a = m->t[3 * i] + 1, b = m->t[3 * i + 1] + 1,
+                 c = m->t[3 * i + 2] + 1;
+        if (mtl)
+            fprintf(f, "f %u/%u %u/%u %u/%u\n", a, a, b, b, c, c);
+        else
+            fprintf(f, "f %u %u %u\n", a, b, c);
+    }
+    return ferror(f) ? -1 : 0;
+}
+
+/* glTF 2.0 binary: one mesh, positions (y up: x, z, -y) and indices. */
+static int write_glb(FILE *f, const td_mesh *m)
+{
+    char json[1024];
+    uint8_t h[12], ch[8], buf[12];
+    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL,
+                                                           -HUGE_VAL, -HUGE_VAL};
+    size_t lv = 12 * m->nv, li = 12 * m->nt, jl, i, pad;
+    int k;
+    for (i = 0; i < m->nv; i++) {
+        double p[3] = {m->v[3 * i], m->v[3 * i + 2], -m->v[3 * i + 1]};
+        for (k = 0; k < 3; k++)
+            lo[k] = fmin(lo[k], p[k]), hi[k] = fmax(hi[k], p[k]);
+    }
+    jl = (size_t)snprintf(json, sizeof json,
+        "{\"asset\":{\"version\":\"2.0\",\"generator\":\"topodig\"},"
+        "\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},"
+        "\"indices\":1}]}],\"buffers\":[{\"byteLength\":%zu}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":%zu,"
+        "\"target\":34962},{\"buffer\":0,\"byteOffset\":%zu,\"byteLength\":"
+        "%zu,\"target\":34963}],\"accessors\":[{\"bufferView\":0,"
+        "\"componentType\":5126,\"count\":%zu,\"type\":\"VEC3\",\"min\":"
+        "[%.9g,%.9g,%.9g],\"max\":[%.9g,%.9g,%.9g]},{\"bufferView\":1,"
+        "\"componentType\":5125,\"count\":%zu,\"type\":\"SCALAR\"}]}",
+        lv + li, lv, lv, li, m->nv, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2],
+        3 * m->nt);
+    pad = (4 - jl % 4) % 4;
+    memcpy(h, "glTF", 4);
+    put32(h + 4, 2);
+    put32(h + 8, (uint32_t)(12 + 8 + jl + pad + 8 + lv + li));
+    put32(ch, (uint32_t)(jl + pad));
+    memcpy(ch + 4, "JSON", 4);
+    if (fwrite(h, 1, 12, f) != 12 || fwrite(ch, 1, 8, f) != 8 ||
+        fwrite(json, 1, jl, f) != jl || fwrite("   ", 1, pad, f) != pad)
+        return -1;
+    put32(ch, (uint32_t)(lv + li));
+    memcpy(ch + 4, "BIN\0", 4);
+    if (fwrite(ch, 1, 8, f) != 8)
+        return -1;
+    for (i = 0; i < m->nv; i++) {
+        putf(buf, m->v[3 * i]), putf(buf + 4, m->v[3 * i + 2]);
+        putf(buf + 8, -m->v[3 * i + 1]);
+        if (fwrite(buf, 1, 12, f) != 12)
+            return -1;
+    }
+    for (i = 0; i < m->nt; i++) {
+        for (k = 0; k < 3; k++)
+            put32(buf + 4 * k, m->t[3 * i + k]);
+        if (fwrite(buf, 1, 12, f) != 12)
+            return -1;
+    }
+    return 0;
+}
+
+/* path with its extension replaced by ext (".mtl"); malloc'd. */
+static char *sibling(const char *path, const char *ext)
+{
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    size_t n = dot && (!slash || dot > slash) ? (size_t)(dot - path)
+                                              : strlen(path);
+    char *s = malloc(n + strlen(ext) + 1);
+    if (s)
+        memcpy(s, path, n), strcpy(s + n, ext);
+    return s;
+}
+
+/* The OBJ's material and texture files beside it. */
+static int write_material(const char *path, const td_image *tex,
+                          char **mtl_name, td_ctx *cx)
+{
+    char *mtl = sibling(path, ".mtl"), *png = sibling(path, "_texture.png");
+    char tmp[4096];
+    const char *pb;
+    FILE *f = NULL;
+    int rc = 0;
+    if (!mtl || !png) {
+        rc = td_seterr(cx, TD_ENOMEM, "out of memory");
+        goto done;
+    }
+    if ((rc = td_png_write(png, tex, cx)) != 0)
+        goto done;
+    if (!(f = td_atomic_open(mtl, tmp, sizeof tmp, cx))) {
+        rc = cx && cx->code ? cx->code : TD_EIO;
+        goto done;
+    }
+    pb = strrchr(png, '/') ? strrchr(png, '/') + 1 : png;
+    fprintf(f, "# topodig mesh\nnewmtl dem\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\n"
+            "map_Kd %s\n", pb);
+    if ((rc = td_atomic_commit(f, tmp, mtl, cx)) != 0)
+        goto done;
+    *mtl_name = strdup(strrchr(mtl, '/') ? strrchr(mtl, '/') + 1 : mtl);
+    if (!*mtl_name)
+        rc = td_seterr(cx, TD_ENOMEM, "out of memory");
+done:
+    free(mtl), free(png);
+    return rc;
+}
+
+/* See mesh.h. */
+int td_mesh_write(const char *path, const td_mesh *m, const td_image *tex,
+                  td_ctx *cx)
+{
+    const char *ext = strrchr(path, '.');
+    char tmp[4096], *mtl = NULL;
+    FILE *f;
+    int fmt, rc;
+    if (!ext)
+        ext = "";
+    fmt = !strcasecmp(ext, ".stl") ? 0 : !strcasecmp(ext, ".obj") ? 1
+        : !strcasecmp(ext, ".ply") ? 2 : !strcasecmp(ext, ".glb") ? 3 : -1;
+    if (fmt < 0)
+        return td_seterr(cx, TD_EINVAL, "%s: not a mesh format this writes "
+                         "(.stl, .obj, .ply, .glb)", path);
+    if (tex && fmt != 1)
+        return td_seterr(cx, TD_EINVAL, "%s: a texture goes with .obj only",
+                         path);
+    if (tex && (rc = write_material(path, tex, &mtl, cx)) != 0)
+        return rc;
+    if (!(f = td_atomic_open(path, tmp, sizeof tmp, cx))) {
+        free(mtl);
+        return cx && cx->code ? cx->code : TD_EIO;
+    }
+    rc = fmt == 0 ? write_stl(f, m) : fmt == 1 ? write_obj(f, m, mtl)
+       : fmt == 2 ? write_ply(f, m) : write_glb(f, m);
+    free(mtl);
+    if (rc != 0) {
+        td_atomic_abort(f, tmp);
+        return td_seterr(cx, TD_EIO, "%s: write failed", path);
+    }
+    return td_atomic_commit(f, tmp, path, cx);
+}

@@ -1,0 +1,185 @@
+/* test_mesh.c: the solid of a DEM (src/mesh): closed and facing out
+ * (every edge in exactly two triangles, in opposite directions), no
+ * degenerate triangle, the volume it encloses against the integral of the
+ * surface over the cells, holes without data walled, corner contacts
+ * resolved, bad input refused. */
+#include "tests/tt.h"
+#include "src/mesh/mesh.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct edge {
+    uint32_t a, b; /* a < b */
+    int fwd, back; /* directed a->b, b->a */
+} edge;
+
+static int by_edge(const void *x, const void *y)
+{
+    const edge *p = x, *q = y;
+    if (p->a != q->a)
+        return p->a < q->a ? -1 : 1;
+    return p->b < q->b ? -1 : p->b > q->b;
+}
+
+/* Every edge twice, once each way; no triangle without area.  Returns
+ * the number of bad edges. */
+static size_t closed_check(const td_mesh *m, size_t *degenerate)
+{
+    edge *e = malloc(3 * m->nt * sizeof *e);
+    size_t i, k, bad = 0, n = 0;
+    *degenerate = 0;
+    for (i = 0; i < m->nt; i++) {
+        const float *p[3];
+        double u[3], v[3], c[3];
+        for (k = 0; k < 3; k++)
+            p[k] = m->v + 3 * (size_t)m->t[3 * i + k];
+        for (k = 0; k < 3; k++)
+            u[k] = p[1][k] - p[0][k], v[k] = p[2][k] - p[0][k];
+        c[0] = u[1] * v[2] - u[2] * v[1], c[1] = u[2] * v[0] - u[0] * v[2];
+        c[2] = u[0] * v[1] - u[1] * v[0];
+        if (!(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] > 1e-12))
+            (*degenerate)++;
+        for (k = 0; k < 3; k++) {
+            uint32_t a = m->t[3 * i + k], b = m->t[3 * i + (k + 1) % 3];
+            e[n].a = a < b ? a : b, e[n].b = a < b ? b : a;
+            e[n].fwd = a < b, e[n].back = a > b;
+            n++;
+        }
+    }
+    qsort(e, n, sizeof *e, by_edge);
+    for (i = 0; i < n;) {
+        size_t j = i;
+        int f = 0, b = 0;
+        while (j < n && e[j].a == e[i].a && e[j].b == e[i].b)
+            f += e[j].fwd, b += e[j].back, j++;
+        bad += !(f == 1 && b == 1);
+        i = j;
+    }
+    free(e);
+    return bad;
+}
+
+static double hill(int x, int y)
+{
+    double dx = (x - 100) / 60.0, dy = (y - 80) / 50.0;
+    return 40 * exp(-(dx * dx + dy * dy)) + 0.05 * x;
+}
+
+/* A 200 x 160 hill with a round hole without data and the corners cut:
+ * closed; its volume the sum over the quads of the two triangles' prisms
+ * (written out here), and, with no hole, the integral of the hill. */
+static void test_closed_volume(void)
+{
+    td_grid_f32 *g = td_grid_f32_new(200, 160, NULL);
+    td_mesh_params p = td_mesh_defaults();
+    td_mesh *m = NULL;
+    size_t bad, deg;
+    double lo = HUGE_VAL, want = 0, vol;
+    int x, y, hole;
+    g->has_nodata = 1, g->nodata = -9999;
+    p.base = 5;
+    for (hole = 1; hole >= 0; hole--) {
+        lo = HUGE_VAL, want = 0;
+        for (y = 0; y < 160; y++)
+            for (x = 0; x < 200; x++) {
+                int out = hole && ((hypot(x - 60, y - 50) < 12) ||
+                                   x + y < 20 || (199 - x) + (159 - y) < 30);
+                TD_AT(g, x, y) = out ? -9999.0f : (float)hill(x, y);
+                if (!out)
+                    lo = fmin(lo, TD_AT(g, x, y));
+            }
+        for (y = 0; y + 1 < 160; y++) /* quads: (A, D, C), (A, C, B) */
+            for (x = 0; x + 1 < 200; x++) {
+                float a = TD_AT(g, x, y), b = TD_AT(g, x + 1, y);
+                float d = TD_AT(g, x, y + 1), c = TD_AT(g, x + 1, y + 1);
+                if (a == -9999 || b == -9999 || c == -9999 || d == -9999)
+                    continue;
+                want += 0.5 * ((a + d + c) / 3.0 + (a + c + b) / 3.0) - lo + 5;
+            }
+        TT_CHECK(td_mesh_build(g, &p, &m, NULL) == 0);
+        bad = closed_check(m, &deg);
+        TT_CHECKF(bad == 0 && deg == 0, "hole %d: %zu open or doubled edges, "
+                  "%zu degenerate triangles", hole, bad, deg);
+        TT_CHECK(m->nwall > 0 && m->dropped == 0);
+        vol = td_mesh_volume(m);
+        TT_CHECKF(fabs(vol - want) < 1e-3 * want, "hole %d: volume %g, the "
+                  "cells' prisms %g", hole, vol, want);
+        if (!hole) { /* the integral of the hill over the quads' extent */
+            double I = 0;
+            int k;
+            for (y = 0; y < 159; y++)
+                for (x = 0; x < 199; x++)
+                    for (k = 0; k < 16; k++) { /* 4 x 4 midpoints a cell */
+                        double sx = x + (k % 4 + 0.5) / 4, sy = y + (k / 4 + 0.5) / 4;
+                        double dx = (sx - 100) / 60.0, dy = (sy - 80) / 50.0;
+                        I += (40 * exp(-(dx * dx + dy * dy)) + 0.05 * sx - lo +
+                              5) / 16;
+                    }
+            TT_CHECKF(fabs(vol - I) < 1e-3 * I, "volume %g, the hill's "
+                      "integral %g", vol, I);
+        }
+        td_mesh_free(m);
+        m = NULL;
+    }
+    td_grid_f32_free(g);
+}
+
+/* Data with one cell in six missing at random: quads meet at corners
+ * only here and there; one of each such pair is left out and the solid
+ * stays closed. */
+static void test_corner_contacts(void)
+{
+    td_grid_f32 *g = td_grid_f32_new(40, 40, NULL);
+    td_mesh_params p = td_mesh_defaults();
+    td_mesh *m = NULL;
+    size_t deg;
+    int x, y;
+    g->has_nodata = 1, g->nodata = -9999;
+    uint64_t r = 99;
+    for (y = 0; y < 40; y++)
+        for (x = 0; x < 40; x++) {
+            r ^= r << 13, r ^= r >> 7, r ^= r << 17;
+            TD_AT(g, x, y) = r % 6 == 0 ? -9999.0f : (float)(x + y);
+        }
+    TT_CHECK(td_mesh_build(g, &p, &m, NULL) == 0);
+    TT_CHECKF(m->dropped > 0, "%zu left out", m->dropped);
+    TT_CHECK(closed_check(m, &deg) == 0 && deg == 0);
+    TT_CHECK(td_mesh_volume(m) > 0);
+    td_mesh_free(m);
+    td_grid_f32_free(g);
+}
+
+static void test_bad(void)
+{
+    td_grid_f32 *g = td_grid_f32_new(50, 50, NULL), *one = td_grid_f32_new(1, 9, NULL);
+    td_mesh_params p = td_mesh_defaults();
+    td_mesh *m = NULL;
+    td_ctx cx;
+    int i;
+    td_ctx_init(&cx);
+    g->has_nodata = 1, g->nodata = -9999;
+    for (i = 0; i < 2500; i++)
+        TD_AT(g, i % 50, i / 50) = -9999;
+    TT_CHECK(td_mesh_build(g, &p, &m, &cx) == TD_EINVAL && !m);
+    TT_CHECK(td_mesh_build(one, &p, &m, &cx) == TD_EINVAL && !m);
+    for (i = 0; i < 2500; i++)
+        TD_AT(g, i % 50, i / 50) = (float)i;
+    p.max_triangles = 1000; /* 50 x 50 needs ~10000 */
+    td_ctx_clear(&cx);
+    TT_CHECK(td_mesh_build(g, &p, &m, &cx) == TD_EINVAL && !m);
+    TT_CHECKF(strstr(td_errmsg(&cx), "give --step 4") != NULL, "%s",
+              td_errmsg(&cx));
+    p.step = 4;
+    TT_CHECK(td_mesh_build(g, &p, &m, &cx) == 0 && m->nt <= 1000);
+    td_mesh_free(m);
+    td_grid_f32_free(g), td_grid_f32_free(one);
+}
+
+int main(void)
+{
+    TT_RUN(test_closed_volume);
+    TT_RUN(test_corner_contacts);
+    TT_RUN(test_bad);
+    return tt_summary();
+}
