@@ -29,6 +29,12 @@ check "--drape tint: written" "[ -s '$T/drape.png' ]"
 check "--drape IMAGE with two lights: written" "[ -s '$T/img.png' ]"
 check "the styles differ" "! cmp -s '$T/shaded.png' '$T/wire.png'"
 
+"$TD" view "$DEM" -o "$T/spin.gif" --turntable 6 --size 160x120 2>"$T/err"
+check "--turntable 6: exit 0, a looping GIF89a of 6 frames (160 x 120)" \
+  "[ \$? = 0 ] && grep -q '6 views' '$T/err' && [ \"\$(head -c 6 '$T/spin.gif')\" = GIF89a ] && grep -q NETSCAPE2.0 '$T/spin.gif' && [ \$(od -An -tx1 -v '$T/spin.gif' | tr -s ' \\n' '  ' | grep -o '21 f9 04' | wc -l) -ge 6 ] && [ \"\$(od -An -tu1 -j6 -N4 '$T/spin.gif' | awk '{print \$1+256*\$2 \"x\" \$3+256*\$4}')\" = 160x120 ]"
+"$TD" view "$DEM" -o "$T/spin.png" --turntable 6 2>"$T/err"
+check "--turntable without a .gif: refused" "[ \$? = 1 ] && grep -q 'GIF' '$T/err' && [ ! -e '$T/spin.png' ]"
+
 printf 'not a tiff' >"$T/bad.tif"
 "$TD" view "$T/bad.tif" -o "$T/x.png" 2>"$T/err"
 check "a corrupt DEM: one error naming it, exit 1, no output" \

@@ -9,10 +9,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 typedef struct vw_opts {
     const char *in, *out, *drape;
-    int quiet, wh[2];
+    int quiet, wh[2], turntable;
     td_opt_points lights;
     td_view_params p;
 } vw_opts;
@@ -60,12 +61,16 @@ static int parse_args(int argc, char **argv, vw_opts *o)
         {"light", 0, TD_OPT_POINTS, &o->lights, .n = 2, .meta = "AZ,ALT",
          .help = "a light from azimuth AZ, ALT degrees up;\nrepeat for up "
          "to 4 (default 315,45)"},
+        {"turntable", 0, TD_OPT_INT, &o->turntable, 2, 720, .meta = "N",
+         .help = "N views around the DEM from --azimuth on,\nas an "
+         "animated GIF (-o NAME.gif)", .no_default = 1},
         {"size", 0, TD_OPT_FUNC, o->wh, .fn = td_cli_parse_size, .meta = "WxH",
          .help = "the picture (default 1200x900)", .no_default = 1},
         {NULL}};
     const td_cmd c = {
         "view", "DEM.tif -o VIEW.png [--style shaded|wire|both]\n"
-        "                      [--azimuth DEG] [--elevation DEG] [--drape D]",
+        "                      [--azimuth DEG] [--elevation DEG] [--drape D]\n"
+        "                      [--turntable N -o SPIN.gif]",
         "A perspective view of a DEM for teaching material, drawn as the\n"
         "reconstruction paper draws its surfaces: quad patches of N x N cells,\n"
         "painted from the farthest to the nearest, each flat-shaded by the\n"
@@ -83,7 +88,58 @@ static int parse_args(int argc, char **argv, vw_opts *o)
         if (o->lights.v[2 * i + 1] < 0 || o->lights.v[2 * i + 1] > 90)
             return td_cli_failf("view", "--light: the altitude %g is not "
                                 "0..90", o->lights.v[2 * i + 1]);
+    {
+        size_t l = strlen(o->out);
+        int gif = l >= 4 && !strcasecmp(o->out + l - 4, ".gif");
+        if (o->turntable && !gif)
+            return td_cli_failf("view", "--turntable writes an animated GIF: "
+                                "give -o NAME.gif");
+        if (!o->turntable && gif)
+            return td_cli_failf("view", "a GIF is for --turntable N; give -o "
+                                "NAME.png");
+    }
     return 0;
+}
+
+/* n views at azimuths azimuth + k 360 / n, all from the distance that
+ * fits the widest of them, as a looping GIF (10 frames a second). */
+static int turntable(const td_grid_f32 *dem, const td_image *drape,
+                     const td_view_params *p0, int w, int h, int n,
+                     const char *out, td_ctx *cx)
+{
+    td_image **fr = calloc((size_t)n, sizeof *fr);
+    td_view_params p = *p0;
+    double far = p0->distance;
+    int k, rc = 0;
+    if (!fr)
+        return td_seterr(cx, TD_ENOMEM, "out of memory");
+    for (k = 0; k < n && !(p0->distance > 0); k++) { /* one distance */
+        td_view_camera cam;
+        double t[3] = {dem->w / 2.0, -dem->h / 2.0, 0}, d;
+        p.azimuth = fmod(p0->azimuth + 360.0 * k / n, 360);
+        if ((rc = td_view_camera_of(dem, &p, w, h, &cam, cx)) != 0)
+            goto done;
+        t[2] = cam.ztop / 2;
+        d = sqrt((cam.c[0] - t[0]) * (cam.c[0] - t[0]) +
+                 (cam.c[1] - t[1]) * (cam.c[1] - t[1]) +
+                 (cam.c[2] - t[2]) * (cam.c[2] - t[2]));
+        far = d > far ? d : far;
+    }
+    p.distance = far;
+    for (k = 0; k < n && rc == 0; k++) {
+        p.azimuth = fmod(p0->azimuth + 360.0 * k / n, 360);
+        if (!(fr[k] = td_image_new(w, h, 3, cx)))
+            rc = cx->code ? cx->code : TD_ENOMEM;
+        else
+            rc = td_view_render(dem, drape, &p, fr[k], cx);
+    }
+    if (rc == 0)
+        rc = td_gif_write(out, fr, (size_t)n, 10, cx);
+done:
+    for (k = 0; k < n; k++)
+        td_image_free(fr[k]);
+    free(fr);
+    return rc;
 }
 
 int td_cmd_view(int argc, char **argv)
@@ -135,13 +191,21 @@ int td_cmd_view(int argc, char **argv)
         rc = cx.code ? cx.code : TD_ENOMEM;
         goto fail;
     }
-    if ((rc = td_view_render(dem, drape, &o.p, im, &cx)) != 0 ||
-        (rc = td_png_write(o.out, im, &cx)) != 0)
+    if (o.turntable) {
+        if ((rc = turntable(dem, drape, &o.p, im->w, im->h, o.turntable,
+                            o.out, &cx)) != 0)
+            goto fail;
+    } else if ((rc = td_view_render(dem, drape, &o.p, im, &cx)) != 0 ||
+               (rc = td_png_write(o.out, im, &cx)) != 0) {
         goto fail;
-    if (!o.quiet)
+    }
+    if (!o.quiet) {
         fprintf(stderr, "view: %d x %d cells in %d x %d-cell patches, %d x %d "
-                "picture, %.2f s\n", dem->w, dem->h, o.p.patch, o.p.patch,
-                im->w, im->h, td_now() - t0);
+                "picture", dem->w, dem->h, o.p.patch, o.p.patch, im->w, im->h);
+        if (o.turntable)
+            fprintf(stderr, ", %d views", o.turntable);
+        fprintf(stderr, ", %.2f s\n", td_now() - t0);
+    }
 fail:
     free(o.lights.v);
     td_image_free(im);

@@ -109,6 +109,11 @@ int td_image_info(const char *path, int *w, int *h, int *channels,
 
 /* Write an 8-bit grey (channels 1) or RGB (channels 3) PNG, atomically. */
 int td_png_write(const char *path, const td_image *im, td_ctx *cx);
+/* An animated GIF (gifio.c) of n frames of one size (grey or RGB), each
+ * quantised to 256 colours of its own, shown delay_cs hundredths of a
+ * second each, looping; atomically.  0, TD_EINVAL, TD_EIO. */
+int td_gif_write(const char *path, td_image *const *frames, size_t n,
+                 int delay_cs, td_ctx *cx);
 /* Write a u8 grid as a grey PNG; when scale01 is nonzero, values != 0 become
  * 255 (for masks). */
 int td_png_write_u8(const char *path, const td_grid_u8 *g, int scale01,
