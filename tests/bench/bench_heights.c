@@ -5,7 +5,8 @@
  * (td_match_heights), lines wrong with confidence >= 0.9, where heights
  * came from, and the labelling time.  Numbers for docs/benchmarks.md.
  *
- *   bench_heights [--dems DIR] [--only NAME] [--tree] [--log] */
+ *   bench_heights [--dems DIR] [--only NAME] [--tree] [--log]
+ *                 [--all-hints] [--png DIR] */
 #include "tests/util/hsheet.h"
 
 #include <stdio.h>
@@ -37,7 +38,7 @@ static const char *const hint_name[3] = {"3 known", "3 known+index",
 int main(int argc, char **argv)
 {
     const char *dir = "tests/data/dems", *only = NULL, *png = NULL;
-    int tree = 0, logit = 0, paperj = 0, a;
+    int tree = 0, logit = 0, paperj = 0, all = 0, a;
     size_t c;
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--dems") && a + 1 < argc)
@@ -50,6 +51,8 @@ int main(int argc, char **argv)
             paperj = 1;
         else if (!strcmp(argv[a], "--log"))
             logit = 1;
+        else if (!strcmp(argv[a], "--all-hints"))
+            all = 1; /* colour sheets with 3 known points alone too */
         else if (!strcmp(argv[a], "--png") && a + 1 < argc)
             png = argv[++a];
         else if (!strcmp(argv[a], "--topodig") || !strcmp(argv[a], "--dir"))
@@ -93,7 +96,7 @@ int main(int argc, char **argv)
                 hs.use_truth_lines = scanned == 0;
                 if (hint == 2 && scanned < 2)
                     continue; /* labels: on the scanned sheets */
-                if (scanned == 3 && hint == 0)
+                if (scanned == 3 && hint == 0 && !all)
                     continue; /* colour: with index widths and labels */
                 hs.nknown = hint == 2 ? 0 : 3;
                 hs.index_every = hint == 1 ? 5 : 0;
