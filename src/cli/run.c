@@ -1,30 +1,17 @@
 /* topodig run: scan -> label -> interp in one process: the pipeline of
  * src/pipeline/run.c with its files. */
-#include "src/cli/cli.h"
-
-#include "src/pipeline/pipeline.h"
+#include "src/cli/run_int.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 typedef struct run_opts {
-    const char *in, *out, *save_lines, *debug_dir;
-    int quiet, no_labels;
-    td_opt_points known, dep;
-    td_run_params p;
+    const char *in, *out;
+    int quiet;
+    td_cli_run r;
     td_ctx *cx;
 } run_opts;
-
-static int ink(const char *a, void *t, td_ctx *cx)
-{
-    return td_binarise_parse_ink(a, t, cx);
-}
-
-static int threshold(const char *a, void *t, td_ctx *cx)
-{
-    return td_binarise_parse_threshold(a, t, cx);
-}
 
 static const char about[] =
     "Scan the sheet (as topodig scan), read the height labels printed in\n"
@@ -40,43 +27,8 @@ static const char about[] =
 /* 0: run, 1: error (printed), 2: --help shown. */
 static int parse_args(int argc, char **argv, run_opts *o)
 {
-    td_label_params *lp = &o->p.label;
-    td_opt opts[12 + TD_CLI_INTERP_OPTS] = {
-        {"interval", 0, TD_OPT_DOUBLE, &lp->interval, 1e-9, 1e9, .meta = "I",
-         .help = "contour interval (default: inferred from\nthe printed "
-         "labels)", .no_default = 1},
-        {"base", 0, TD_OPT_DOUBLE, &lp->base, -1e9, 1e9, .meta = "B",
-         .help = "heights are B + k * I"},
-        {"known", 0, TD_OPT_POINTS, &o->known, .n = 3, .meta = "X,Y,H",
-         .help = "height H at scan pixel X,Y: a point on a line\nor a spot "
-         "height (repeatable; needed when the\nsheet has no readable labels)"},
-        {"labels", 0, TD_OPT_CHOICE, &o->no_labels, .choices = "read|none",
-         .meta = "MODE", .help = "read the printed labels, or not"},
-        {"depressions", 0, TD_OPT_POINTS, &o->dep, .n = 2, .meta = "X,Y",
-         .help = "the ring around X,Y is a depression"},
-        {"index-every", 0, TD_OPT_INT, &lp->index_every, 2, 1000, .meta = "N",
-         .help = "every Nth contour is drawn thicker: its width\ndecides the "
-         "slopes the known points leave open", .no_default = 1},
-        {"labeller", 0, TD_OPT_CHOICE, &lp->method, .choices = "faces|tree",
-         .meta = "L", .help = "faces: one solve over the faces | tree: the\n"
-         "containment tree; see topodig label"},
-        {"ink", 0, TD_OPT_FUNC, &o->p.scan.bin, .fn = ink, .meta = "KIND",
-         .help = "auto | dark | brown | brown-hue | R,G,B[:tol]\n(default "
-         "auto; see topodig scan --help)"},
-        {"threshold", 0, TD_OPT_FUNC, &o->p.scan.bin, .fn = threshold,
-         .meta = "T", .help = "otsu | sauvola | N (default otsu)"},
-        {"save-lines", 0, TD_OPT_OUTPUT, &o->save_lines, .meta = "F", .help =
-         "also write the labelled lines the DEM was\ninterpolated from "
-         "(.geojson, .gpkg, .shp or\n.dxf by extension, with height,\n"
-         "height_source, confidence; within 0.25 px\nof the traced path, as "
-         "scan writes them)"},
-        {"debug-dir", 0, TD_OPT_STRING, &o->debug_dir, .meta = "DIR", .help =
-         "write heights.png: every line over the scan\ncoloured by its "
-         "height (thick: known or\nlabelled, dashed: assumed, grey dots: no\n"
-         "height; labels read boxed, refused in grey)\nand labels.geojson "
-         "(one point per label read:\ntext, value, angle, confidence, used, "
-         "why)"}};
-    size_t n = 11 + td_cli_interp_opts(opts + 11, &o->p.interp);
+    td_opt opts[TD_CLI_RUN_OPTS + 1];
+    size_t n = td_cli_run_opts(opts, &o->r);
     const td_cmd c = {
         "run", "SCAN -o DEM.tif [--interval I] [--base B]\n"
         "                   [--known X,Y,H]... [--method multidir|scanline|"
@@ -89,7 +41,7 @@ static int parse_args(int argc, char **argv, run_opts *o)
     opts[n].name = NULL;
     if ((rc = td_opt_parse(&c, argc, argv)) != 0)
         return rc;
-    return td_cli_interp_check("run", &o->p.interp);
+    return td_cli_interp_check("run", &o->r.p.interp);
 }
 
 /* --save-lines (simplified as scan writes them) and --debug-dir, while
@@ -99,15 +51,15 @@ static int on_labelled(const td_run_result *r, void *user)
     const run_opts *o = user;
     td_ctx *cx = o->cx;
     int rc = 0;
-    if (o->save_lines) {
+    if (o->r.save_lines) {
         td_lines *c = td_lines_copy(r->lines, cx);
         rc = !c ? TD_ENOMEM : td_lines_simplify(c, 0.25, cx);
         if (rc == 0)
-            rc = td_vector_write_lines(o->save_lines, c, &r->geo, cx);
+            rc = td_vector_write_lines(o->r.save_lines, c, &r->geo, cx);
         td_lines_free(c);
     }
-    if (rc == 0 && o->debug_dir)
-        rc = td_pipeline_heights_debug(o->debug_dir, r->scan, r->w, r->h,
+    if (rc == 0 && o->r.debug_dir)
+        rc = td_pipeline_heights_debug(o->r.debug_dir, r->scan, r->w, r->h,
                                        r->lines, r->reads, r->nreads,
                                        &r->geo, cx);
     return rc;
@@ -157,30 +109,6 @@ static void summary(const td_run_result *s, const td_run_params *p,
                     ? "multidir" : "scanline", s->hs.cells_fallback);
 }
 
-/* The points of --known and --depressions into the labeller's hints. */
-static int hints(run_opts *o)
-{
-    td_label_point *k = calloc(o->known.n + 1, sizeof *k);
-    size_t i;
-    if (!k)
-        return td_cli_failf("run", "out of memory");
-    for (i = 0; i < o->known.n; i++) {
-        k[i].x = o->known.v[3 * i];
-        k[i].y = o->known.v[3 * i + 1];
-        k[i].height = o->known.v[3 * i + 2];
-        k[i].id = -1;
-    }
-    o->p.label.known = k;
-    o->p.label.nknown = o->known.n;
-    o->p.label.depressions = o->dep.v;
-    o->p.label.ndepressions = o->dep.n;
-    o->p.read_labels = !o->no_labels;
-    o->p.keep_scan = o->debug_dir != NULL;
-    o->p.on_labelled = on_labelled;
-    o->p.user = o;
-    return 0;
-}
-
 int td_cmd_run(int argc, char **argv)
 {
     run_opts o;
@@ -191,15 +119,19 @@ int td_cmd_run(int argc, char **argv)
     int rc;
     memset(&o, 0, sizeof o);
     memset(&r, 0, sizeof r);
-    o.p = td_run_defaults();
+    td_cli_run_init(&o.r);
     o.cx = &cx;
-    if ((rc = parse_args(argc, argv, &o)) != 0 || (rc = hints(&o)) != 0) {
+    if ((rc = parse_args(argc, argv, &o)) != 0 ||
+        (rc = td_cli_run_hints(&o.r, "run")) != 0) {
         rc = rc == 2 ? 0 : 1;
         goto done;
     }
+    o.r.p.keep_scan = o.r.debug_dir != NULL;
+    o.r.p.on_labelled = on_labelled;
+    o.r.p.user = &o;
     td_ctx_init(&cx);
     td_cli_progress_init(&pr, &cx, o.quiet);
-    rc = td_pipeline_run(o.in, &o.p, &r, &cx);
+    rc = td_pipeline_run(o.in, &o.r.p, &r, &cx);
     t0 = td_now();
     if (rc == 0)
         rc = td_dem_write(o.out, r.dem, &r.geo, &cx);
@@ -207,13 +139,11 @@ int td_cmd_run(int argc, char **argv)
     if (rc == 0 && !o.quiet) {
         put_warnings(&r.rep);
         put_warnings(&r.checks);
-        summary(&r, &o.p, td_now() - t0);
+        summary(&r, &o.r.p, td_now() - t0);
     }
     rc = rc == 0 ? 0 : td_cli_fail_on("run", o.in, o.out, &cx);
     td_run_result_free(&r);
 done:
-    free((void *)o.p.label.known);
-    td_opt_points_free(&o.known);
-    td_opt_points_free(&o.dep);
+    td_cli_run_free(&o.r);
     return rc;
 }

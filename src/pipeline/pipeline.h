@@ -126,6 +126,33 @@ int td_pipeline_erode(const td_grid_f32 *in, const td_georef *geo,
                       const td_erode_params *p, const td_erode_files *files,
                       td_erode_stats *st, td_ctx *cx);
 
+/* ---- report: a one-page handout (report.c, cairo) ---- */
+
+typedef struct td_report_input {
+    const char *title, *subtitle; /* the top lines */
+    const td_image *sheet;        /* (a): the scan with the lines drawn, or
+                                     NULL */
+    const td_grid_f32 *dem;       /* (b)-(d) */
+    double cell;                  /* a cell's size in height units (1) */
+    const char *unit;             /* of lengths along the section ("m") */
+    double interval, base;        /* contours on (b): base + k interval */
+    const char *const *facts;     /* lines of the figures block */
+    size_t nfacts;
+    int letter;                   /* US Letter (else A4) */
+} td_report_input;
+
+/* The page (points) and the four panels (x, y, w, h from the top left):
+ * (a) the sheet, (b) relief, (c) 3-D view, (d) cross-section. */
+void td_report_layout(int letter, double *pw, double *ph, double rect[4][4]);
+/* The longest straight line through the highest cell that stays on data
+ * (36 directions): its ends (cells).  0 when dem has no data. */
+int td_report_section(const td_grid_f32 *dem, double *x0, double *y0,
+                      double *x1, double *y1);
+/* One PDF page at path (a temporary file renamed): the title, panels
+ * (a)-(d) with captions, the figures.  0 or an error naming the file. */
+int td_pipeline_report(const char *path, const td_report_input *in,
+                       td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

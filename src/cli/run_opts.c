@@ -1,0 +1,96 @@
+/* run_opts.c: the option table of topodig run, which topodig report takes
+ * as it is (run_int.h). */
+#include "src/cli/run_int.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static int ink(const char *a, void *t, td_ctx *cx)
+{
+    return td_binarise_parse_ink(a, t, cx);
+}
+
+static int threshold(const char *a, void *t, td_ctx *cx)
+{
+    return td_binarise_parse_threshold(a, t, cx);
+}
+
+/* See run_int.h. */
+void td_cli_run_init(td_cli_run *r)
+{
+    memset(r, 0, sizeof *r);
+    r->p = td_run_defaults();
+}
+
+/* See run_int.h. */
+size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
+{
+    td_label_params *lp = &r->p.label;
+    const td_opt o[11] = {
+        {"interval", 0, TD_OPT_DOUBLE, &lp->interval, 1e-9, 1e9, .meta = "I",
+         .help = "contour interval (default: inferred from\nthe printed "
+         "labels)", .no_default = 1},
+        {"base", 0, TD_OPT_DOUBLE, &lp->base, -1e9, 1e9, .meta = "B",
+         .help = "heights are B + k * I"},
+        {"known", 0, TD_OPT_POINTS, &r->known, .n = 3, .meta = "X,Y,H",
+         .help = "height H at scan pixel X,Y: a point on a line\nor a spot "
+         "height (repeatable; needed when the\nsheet has no readable labels)"},
+        {"labels", 0, TD_OPT_CHOICE, &r->no_labels, .choices = "read|none",
+         .meta = "MODE", .help = "read the printed labels, or not"},
+        {"depressions", 0, TD_OPT_POINTS, &r->dep, .n = 2, .meta = "X,Y",
+         .help = "the ring around X,Y is a depression"},
+        {"index-every", 0, TD_OPT_INT, &lp->index_every, 2, 1000, .meta = "N",
+         .help = "every Nth contour is drawn thicker: its width\ndecides the "
+         "slopes the known points leave open", .no_default = 1},
+        {"labeller", 0, TD_OPT_CHOICE, &lp->method, .choices = "faces|tree",
+         .meta = "L", .help = "faces: one solve over the faces | tree: the\n"
+         "containment tree; see topodig label"},
+        {"ink", 0, TD_OPT_FUNC, &r->p.scan.bin, .fn = ink, .meta = "KIND",
+         .help = "auto | dark | brown | brown-hue | R,G,B[:tol]\n(default "
+         "auto; see topodig scan --help)"},
+        {"threshold", 0, TD_OPT_FUNC, &r->p.scan.bin, .fn = threshold,
+         .meta = "T", .help = "otsu | sauvola | N (default otsu)"},
+        {"save-lines", 0, TD_OPT_OUTPUT, &r->save_lines, .meta = "F", .help =
+         "also write the labelled lines the DEM was\ninterpolated from "
+         "(.geojson, .gpkg, .shp or\n.dxf by extension, with height,\n"
+         "height_source, confidence; within 0.25 px\nof the traced path, as "
+         "scan writes them)"},
+        {"debug-dir", 0, TD_OPT_STRING, &r->debug_dir, .meta = "DIR", .help =
+         "write heights.png: every line over the scan\ncoloured by its "
+         "height (thick: known or\nlabelled, dashed: assumed, grey dots: no\n"
+         "height; labels read boxed, refused in grey)\nand labels.geojson "
+         "(one point per label read:\ntext, value, angle, confidence, used, "
+         "why)"}};
+    memcpy(v, o, sizeof o);
+    return 11 + td_cli_interp_opts(v + 11, &r->p.interp);
+}
+
+/* See run_int.h. */
+int td_cli_run_hints(td_cli_run *r, const char *cmd)
+{
+    td_label_point *k = calloc(r->known.n + 1, sizeof *k);
+    size_t i;
+    if (!k)
+        return td_cli_failf(cmd, "out of memory");
+    for (i = 0; i < r->known.n; i++) {
+        k[i].x = r->known.v[3 * i];
+        k[i].y = r->known.v[3 * i + 1];
+        k[i].height = r->known.v[3 * i + 2];
+        k[i].id = -1;
+    }
+    r->p.label.known = k;
+    r->p.label.nknown = r->known.n;
+    r->p.label.depressions = r->dep.v;
+    r->p.label.ndepressions = r->dep.n;
+    r->p.read_labels = !r->no_labels;
+    return 0;
+}
+
+/* See run_int.h. */
+void td_cli_run_free(td_cli_run *r)
+{
+    free((void *)r->p.label.known);
+    r->p.label.known = NULL;
+    td_opt_points_free(&r->known);
+    td_opt_points_free(&r->dep);
+}
