@@ -125,7 +125,7 @@ layers:
 check: deps
 	$(MAKE) BUILD=build-san OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" \
 	  LDFLAGS="-fsanitize=address,undefined" all $(TESTS:$(BUILD)/%=build-san/%) build-san/fuzz_replay build-san/tests/test_skeleton_cgal
-	ASAN_OPTIONS=detect_leaks=1 BUILD=build-san sh tests/run.sh
+	ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 BUILD=build-san sh tests/run.sh
 	ASAN_OPTIONS=allocator_may_return_null=1 build-san/fuzz_replay tests/fuzz/corpus/*
 
 bench:

@@ -8,7 +8,9 @@
  *   walls   every quad edge u -> v (as the top's triangles run) with no
  *           quad beside it: (v, u, u'), (v, u', v') down to the base
  *           vertices u', v';
- *   base    under every quad, the top's triangles reversed, at z = 0.
+ *   base    flat at z = 0: each run of quads along a row one strip,
+ *           with corners only where the base's outline turns or a run
+ *           above or below starts or ends (base_strips).
  *
  * So every edge belongs to exactly two triangles that run along it in
  * opposite directions, and the solid is closed and faces out, once no
@@ -71,6 +73,7 @@ typedef struct mbuild {
     int s, nx, ny, qx, qy;
     uint8_t *in;
     uint32_t *id;  /* node -> top vertex, UINT32_MAX: unused */
+    uint32_t *bid; /* node -> base vertex (base_node), UINT32_MAX: none */
     td_mesh *m;
 } mbuild;
 
@@ -86,38 +89,106 @@ static void tri(td_mesh *m, uint32_t a, uint32_t b, uint32_t c)
     t[0] = a, t[1] = b, t[2] = c;
 }
 
-/* The wall under the top edge u -> v (top vertex ids; base = + off). */
-static void wall(td_mesh *m, uint32_t u, uint32_t v, uint32_t off)
+/* The wall under the top edge from node ku to node kv (as the top's
+ * triangles run), down to their base vertices. */
+static void wall(const mbuild *b, size_t ku, size_t kv)
 {
-    tri(m, v, u, u + off);
-    tri(m, v, u + off, v + off);
-    m->nwall += 2;
+    uint32_t u = b->id[ku], v = b->id[kv], ub = b->bid[ku], vb = b->bid[kv];
+    tri(b->m, v, u, ub);
+    tri(b->m, v, ub, vb);
+    b->m->nwall += 2;
 }
 
-static void emit(mbuild *b, uint32_t nvt)
+static void emit(mbuild *b)
 {
     td_mesh *m = b->m;
     int i, j;
     for (j = 0; j < b->qy; j++)
         for (i = 0; i < b->qx; i++) {
-            uint32_t A, B, C, D;
+            size_t kA = (size_t)j * b->nx + i, kB = kA + 1, kD = kA + b->nx,
+                   kC = kD + 1;
             if (!quad_in(b, i, j))
                 continue;
-            A = b->id[(size_t)j * b->nx + i], B = b->id[(size_t)j * b->nx + i + 1];
-            D = b->id[(size_t)(j + 1) * b->nx + i];
-            C = b->id[(size_t)(j + 1) * b->nx + i + 1];
-            tri(m, A, D, C), tri(m, A, C, B);
-            tri(m, A + nvt, C + nvt, D + nvt), tri(m, A + nvt, B + nvt, C + nvt);
-            m->ntop += 2, m->nbase += 2;
+            tri(m, b->id[kA], b->id[kD], b->id[kC]);
+            tri(m, b->id[kA], b->id[kC], b->id[kB]);
+            m->ntop += 2;
             if (!quad_in(b, i - 1, j))
-                wall(m, A, D, nvt);
+                wall(b, kA, kD);
             if (!quad_in(b, i, j + 1))
-                wall(m, D, C, nvt);
+                wall(b, kD, kC);
             if (!quad_in(b, i + 1, j))
-                wall(m, C, B, nvt);
+                wall(b, kC, kB);
             if (!quad_in(b, i, j - 1))
-                wall(m, B, A, nvt);
+                wall(b, kB, kA);
         }
+}
+
+/* Is node i of line j (between quad rows j - 1 and j) a corner of the
+ * base: the end of an open edge along the line, or where a run of quads
+ * above or below starts or ends.  Both strips on a line take the same
+ * nodes, so their shared edges match. */
+static int base_node(const mbuild *b, int j, int i)
+{
+    return quad_in(b, i - 1, j - 1) != quad_in(b, i - 1, j) ||
+           quad_in(b, i, j - 1) != quad_in(b, i, j) ||
+           quad_in(b, i - 1, j - 1) != quad_in(b, i, j - 1) ||
+           quad_in(b, i - 1, j) != quad_in(b, i, j);
+}
+
+/* A base triangle facing down (clockwise seen from above). */
+static void base_tri(mbuild *b, int ax, int ay, int bx, int by, int cx,
+                     int cy)
+{
+    td_mesh *m = b->m;
+    uint32_t A = b->bid[(size_t)ay * b->nx + ax];
+    uint32_t B = b->bid[(size_t)by * b->nx + bx];
+    uint32_t C = b->bid[(size_t)cy * b->nx + cx];
+    /* x east, y north (= -row): the signed area from above */
+    long cr = (long)(bx - ax) * (long)(ay - cy) - (long)(ay - by) * (long)(cx - ax);
+    if (cr > 0)
+        tri(m, A, C, B);
+    else
+        tri(m, A, B, C);
+    m->nbase++;
+}
+
+/* The base, row by row: each run of quads a strip between its two lines,
+ * with only the base nodes (base_node) on them, zipped into triangles
+ * (each with two corners on one line and one on the other).  A DEM
+ * without holes needs about 2 (width + height) triangles.  out: when
+ * NULL only counted. */
+static size_t base_strips(mbuild *b, int emit_them)
+{
+    size_t n = 0;
+    int j, i0, i1;
+    for (j = 0; j < b->qy; j++)
+        for (i0 = 0; i0 < b->qx; i0 = i1 + 1) {
+            int p, q, pn, qn;
+            if (!quad_in(b, i0, j)) {
+                i1 = i0;
+                continue;
+            }
+            for (i1 = i0; i1 + 1 < b->qx && quad_in(b, i1 + 1, j); i1++)
+                ;
+            /* zip line j (top, p) and line j + 1 (bottom, q) */
+            for (p = q = i0; p <= i1 || q <= i1;) {
+                for (pn = p + 1; pn <= i1 && !base_node(b, j, pn); pn++)
+                    ;
+                for (qn = q + 1; qn <= i1 && !base_node(b, j + 1, qn); qn++)
+                    ;
+                if (q > i1 || (p <= i1 && pn <= qn)) {
+                    if (emit_them)
+                        base_tri(b, p, j, pn, j, q, j + 1);
+                    p = pn;
+                } else {
+                    if (emit_them)
+                        base_tri(b, p, j, qn, j + 1, q, j + 1);
+                    q = qn;
+                }
+                n++;
+            }
+        }
+    return n;
 }
 
 /* Count the quads and their open edges. */
@@ -135,19 +206,36 @@ static void count(const mbuild *b, size_t *nq, size_t *nedge)
 }
 
 /* Vertices: the nodes of quads, top then base. */
+/* Node (i, j)'s position, top (z = its height) or base (z = 0). */
+static void place(const mbuild *b, const td_mesh_params *p, int i, int j,
+                  double lo, double scale, double base, int top, float *v,
+                  float *uv)
+{
+    v[0] = (float)(i * b->s * p->cellsize * scale);
+    v[1] = (float)((b->ny - 1 - j) * b->s * p->cellsize * scale);
+    v[2] = top ? (float)((TD_AT(b->dem, i * b->s, j * b->s) - lo) *
+                             p->exaggeration * scale + base)
+               : 0.0f;
+    uv[0] = (float)((i * b->s + 0.5) / b->dem->w);
+    uv[1] = (float)(1 - (j * b->s + 0.5) / b->dem->h);
+}
+
+/* Vertices: the nodes of quads on top, then the base's nodes. */
 static int vertices(mbuild *b, const td_mesh_params *p, td_ctx *cx)
 {
     const td_grid_f32 *g = b->dem;
     td_mesh *m = b->m;
     double lo = HUGE_VAL, hi = -HUGE_VAL, scale, base, longest;
-    uint32_t n = 0, k;
+    uint32_t n = 0, nb = 0;
+    size_t k;
     int i, j;
     for (j = 0; j < b->ny; j++)
         for (i = 0; i < b->nx; i++) {
             int used = quad_in(b, i - 1, j - 1) || quad_in(b, i, j - 1) ||
                        quad_in(b, i - 1, j) || quad_in(b, i, j);
-            size_t k2 = (size_t)j * b->nx + i;
-            b->id[k2] = used ? n++ : UINT32_MAX;
+            k = (size_t)j * b->nx + i;
+            b->id[k] = used ? n++ : UINT32_MAX;
+            b->bid[k] = used && base_node(b, j, i) ? nb++ : UINT32_MAX;
             if (used) {
                 float z = TD_AT(g, i * b->s, j * b->s);
                 lo = fmin(lo, z), hi = fmax(hi, z);
@@ -159,27 +247,21 @@ static int vertices(mbuild *b, const td_mesh_params *p, td_ctx *cx)
                         : fmax(0.1 * (hi - lo) * p->exaggeration * scale,
                                1e-3 * longest * scale);
     m->volume_scale = scale;
-    m->nv = 2 * (size_t)n;
+    m->nv = (size_t)n + nb;
     if (!(m->v = malloc(3 * m->nv * sizeof *m->v)) ||
         !(m->uv = malloc(2 * m->nv * sizeof *m->uv)))
         return td_seterr(cx, TD_ENOMEM, "mesh: out of memory (%zu vertices)",
                          m->nv);
     for (j = 0; j < b->ny; j++)
         for (i = 0; i < b->nx; i++) {
-            uint32_t v = b->id[(size_t)j * b->nx + i];
-            float *t, *s2;
-            if (v == UINT32_MAX)
-                continue;
-            t = m->v + 3 * (size_t)v, s2 = m->v + 3 * ((size_t)v + n);
-            t[0] = s2[0] = (float)(i * b->s * p->cellsize * scale);
-            t[1] = s2[1] = (float)(((b->ny - 1 - j) * b->s) * p->cellsize * scale);
-            t[2] = (float)((TD_AT(g, i * b->s, j * b->s) - lo) *
-                               p->exaggeration * scale + base);
-            s2[2] = 0;
-            for (k = 0; k < 2; k++) {
-                float *uv = m->uv + 2 * ((size_t)v + k * n);
-                uv[0] = (float)((i * b->s + 0.5) / g->w);
-                uv[1] = (float)(1 - (j * b->s + 0.5) / g->h);
+            k = (size_t)j * b->nx + i;
+            if (b->id[k] != UINT32_MAX)
+                place(b, p, i, j, lo, scale, base, 1, m->v + 3 * (size_t)b->id[k],
+                      m->uv + 2 * (size_t)b->id[k]);
+            if (b->bid[k] != UINT32_MAX) {
+                b->bid[k] += n; /* after the top's */
+                place(b, p, i, j, lo, scale, base, 0,
+                      m->v + 3 * (size_t)b->bid[k], m->uv + 2 * (size_t)b->bid[k]);
             }
         }
     return 0;
@@ -207,6 +289,7 @@ int td_mesh_build(const td_grid_f32 *dem, const td_mesh_params *p,
                          dem->h, p->step);
     if (!(b.in = malloc((size_t)b.qx * b.qy)) ||
         !(b.id = malloc((size_t)b.nx * b.ny * sizeof *b.id)) ||
+        !(b.bid = malloc((size_t)b.nx * b.ny * sizeof *b.bid)) ||
         !(b.m = calloc(1, sizeof *b.m))) {
         rc = td_seterr(cx, TD_ENOMEM, "mesh: out of memory");
         goto fail;
@@ -226,7 +309,7 @@ int td_mesh_build(const td_grid_f32 *dem, const td_mesh_params *p,
         rc = td_seterr(cx, TD_EINVAL, "mesh: no 2 x 2 vertices with data");
         goto fail;
     }
-    ntri = 4 * nq + 2 * nedge;
+    ntri = 2 * nq + 2 * nedge + base_strips(&b, 0);
     if (ntri > p->max_triangles) {
         int s = p->step;
         while ((double)ntri * p->step * p->step / ((double)s * s) >
@@ -243,7 +326,8 @@ int td_mesh_build(const td_grid_f32 *dem, const td_mesh_params *p,
                        ntri);
         goto fail;
     }
-    emit(&b, (uint32_t)(b.m->nv / 2));
+    emit(&b);
+    base_strips(&b, 1);
     for (i = 0; i < 3 * b.m->nt; i++) /* nothing left unset */
         if (b.m->t[i] >= b.m->nv) {
             rc = td_seterr(cx, TD_EINVAL, "mesh: internal: vertex out of range");
@@ -253,7 +337,7 @@ int td_mesh_build(const td_grid_f32 *dem, const td_mesh_params *p,
     b.m = NULL;
 fail:
     td_mesh_free(b.m);
-    free(b.in), free(b.id);
+    free(b.in), free(b.id), free(b.bid);
     return rc;
 }
 
