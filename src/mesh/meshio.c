@@ -25,6 +25,32 @@ static void putf(uint8_t *p, float f)
     put32(p, v);
 }
 
+/* Records gathered into 1 MB blocks, one fwrite each. */
+typedef struct obuf {
+    FILE *f;
+    uint8_t b[1 << 20];
+    size_t n;
+    int err;
+} obuf;
+
+static void ob_flush(obuf *o)
+{
+    if (o->n && fwrite(o->b, 1, o->n, o->f) != o->n)
+        o->err = 1;
+    o->n = 0;
+}
+
+/* Room for n more bytes (n <= 64). */
+static uint8_t *ob_room(obuf *o, size_t n)
+{
+    uint8_t *p;
+    if (o->n + n > sizeof o->b)
+        ob_flush(o);
+    p = o->b + o->n;
+    o->n += n;
+    return p;
+}
+
 static const float *vert(const td_mesh *m, size_t t, int k)
 {
     return m->v + 3 * (size_t)m->t[3 * t + k];
@@ -33,57 +59,66 @@ static const float *vert(const td_mesh *m, size_t t, int k)
 /* Binary STL: 80-byte header, the count, 50 bytes a triangle. */
 static int write_stl(FILE *f, const td_mesh *m)
 {
-    uint8_t head[84] = "topodig mesh: binary STL", rec[50];
+    uint8_t head[84] = "topodig mesh: binary STL";
+    obuf *o = malloc(sizeof *o);
     size_t i;
-    int k, c;
-    put32(head + 80, (uint32_t)m->nt);
-    if (fwrite(head, 1, 84, f) != 84)
+    int k, c, rc;
+    if (!o)
         return -1;
+    o->f = f, o->n = 0, o->err = 0;
+    put32(head + 80, (uint32_t)m->nt);
+    memcpy(ob_room(o, 84), head, 84);
     for (i = 0; i < m->nt; i++) {
         const float *a = vert(m, i, 0), *b = vert(m, i, 1), *d = vert(m, i, 2);
-        double u[3], v[3], n[3], l;
+        uint8_t *rec = ob_room(o, 50);
+        float u[3], v[3], n[3], l;
         for (k = 0; k < 3; k++)
             u[k] = b[k] - a[k], v[k] = d[k] - a[k];
         n[0] = u[1] * v[2] - u[2] * v[1];
         n[1] = u[2] * v[0] - u[0] * v[2];
         n[2] = u[0] * v[1] - u[1] * v[0];
-        l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         for (k = 0; k < 3; k++)
-            putf(rec + 4 * k, (float)(l > 0 ? n[k] / l : 0));
+            putf(rec + 4 * k, l > 0 ? n[k] / l : 0);
         for (c = 0; c < 3; c++)
             for (k = 0; k < 3; k++)
                 putf(rec + 12 + 12 * c + 4 * k, vert(m, i, c)[k]);
         rec[48] = rec[49] = 0;
-        if (fwrite(rec, 1, 50, f) != 50)
-            return -1;
     }
-    return 0;
+    ob_flush(o);
+    rc = o->err ? -1 : 0;
+    free(o);
+    return rc;
 }
 
 /* Binary little-endian PLY. */
 static int write_ply(FILE *f, const td_mesh *m)
 {
-    uint8_t rec[13];
+    obuf *o = malloc(sizeof *o);
     size_t i;
-    int k;
+    int k, rc;
+    if (!o)
+        return -1;
+    o->f = f, o->n = 0, o->err = 0;
     fprintf(f, "ply\nformat binary_little_endian 1.0\ncomment topodig mesh\n"
             "element vertex %zu\nproperty float x\nproperty float y\n"
             "property float z\nelement face %zu\nproperty list uchar int "
             "vertex_indices\nend_header\n", m->nv, m->nt);
     for (i = 0; i < m->nv; i++) {
+        uint8_t *rec = ob_room(o, 12);
         for (k = 0; k < 3; k++)
             putf(rec + 4 * k, m->v[3 * i + k]);
-        if (fwrite(rec, 1, 12, f) != 12)
-            return -1;
     }
     for (i = 0; i < m->nt; i++) {
+        uint8_t *rec = ob_room(o, 13);
         rec[0] = 3;
         for (k = 0; k < 3; k++)
             put32(rec + 1 + 4 * k, m->t[3 * i + k]);
-        if (fwrite(rec, 1, 13, f) != 13)
-            return -1;
     }
-    return 0;
+    ob_flush(o);
+    rc = o->err ? -1 : 0;
+    free(o);
+    return rc;
 }
 
 /* Wavefront OBJ; with mtl (the material file's name) texture coordinates
@@ -114,7 +149,7 @@ static int write_obj(FILE *f, const td_mesh *m, const char *mtl)
 static int write_glb(FILE *f, const td_mesh *m)
 {
     char json[1024];
-    uint8_t h[12], ch[8], buf[12];
+    uint8_t h[12], ch[8];
     double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL,
                                                            -HUGE_VAL, -HUGE_VAL};
     size_t lv = 12 * m->nv, li = 12 * m->nt, jl, i, pad;
@@ -150,19 +185,27 @@ static int write_glb(FILE *f, const td_mesh *m)
     memcpy(ch + 4, "BIN\0", 4);
     if (fwrite(ch, 1, 8, f) != 8)
         return -1;
-    for (i = 0; i < m->nv; i++) {
-        putf(buf, m->v[3 * i]), putf(buf + 4, m->v[3 * i + 2]);
-        putf(buf + 8, -m->v[3 * i + 1]);
-        if (fwrite(buf, 1, 12, f) != 12)
+    {
+        obuf *o = malloc(sizeof *o);
+        int rc;
+        if (!o)
             return -1;
+        o->f = f, o->n = 0, o->err = 0;
+        for (i = 0; i < m->nv; i++) {
+            uint8_t *r = ob_room(o, 12);
+            putf(r, m->v[3 * i]), putf(r + 4, m->v[3 * i + 2]);
+            putf(r + 8, -m->v[3 * i + 1]);
+        }
+        for (i = 0; i < m->nt; i++) {
+            uint8_t *r = ob_room(o, 12);
+            for (k = 0; k < 3; k++)
+                put32(r + 4 * k, m->t[3 * i + k]);
+        }
+        ob_flush(o);
+        rc = o->err ? -1 : 0;
+        free(o);
+        return rc;
     }
-    for (i = 0; i < m->nt; i++) {
-        for (k = 0; k < 3; k++)
-            put32(buf + 4 * k, m->t[3 * i + k]);
-        if (fwrite(buf, 1, 12, f) != 12)
-            return -1;
-    }
-    return 0;
 }
 
 /* path with its extension replaced by ext (".mtl"); malloc'd. */
