@@ -24,7 +24,7 @@ DEB_PKGS = gcc g++ make pkg-config libopencv-dev libopencv-contrib-dev \
            libtiff-dev libpng-dev libjpeg-dev libgeotiff-dev zlib1g-dev gdal-bin \
            libtesseract-dev tesseract-ocr-eng libfreetype-dev fonts-dejavu-core \
            libgdal-dev libcgal-dev admesh assimp-utils libgif-dev \
-           libcairo2-dev poppler-utils
+           libcairo2-dev poppler-utils parallel
 BENCH_PKGS = grass-core
 
 LIB_DIRS := src/core src/io src/erode src/flow src/sun src/render src/mesh src/compare src/model src/pipeline scanner interp

@@ -15,7 +15,7 @@ typedef int (*td_cmd_fn)(int argc, char **argv);
 #define CMD(name) int td_cmd_##name(int argc, char **argv) __attribute__((weak));
 CMD(run) CMD(scan) CMD(label) CMD(interp) CMD(compare) CMD(ridges)
 CMD(render) CMD(erode) CMD(flow) CMD(insolation) CMD(generate)
-CMD(ridgemodel) CMD(skeleton) CMD(view) CMD(mesh) CMD(report)
+CMD(ridgemodel) CMD(skeleton) CMD(view) CMD(mesh) CMD(report) CMD(batch) CMD(mosaic)
 #undef CMD
 
 static const struct {
@@ -31,6 +31,8 @@ static const struct {
     {"ridges", td_cmd_ridges, "labelled lines -> ridge and valley lines"},
     {"render", td_cmd_render, "DEM -> shaded-relief picture"},
     {"view", td_cmd_view, "DEM -> perspective 3-D view (PNG)"},
+    {"batch", td_cmd_batch, "a map series: one run per sheet of a manifest"},
+    {"mosaic", td_cmd_mosaic, "sheet DEMs -> one DEM (VRT or GeoTIFF)"},
     {"report", td_cmd_report, "scanned sheet -> one-page PDF handout"},
     {"mesh", td_cmd_mesh, "DEM -> solid for 3-D printing (STL, OBJ, PLY, glb)"},
     {"erode", td_cmd_erode, "DEM -> hydraulically eroded DEM"},

@@ -7,7 +7,7 @@
 #include <string.h>
 
 typedef struct run_opts {
-    const char *in, *out;
+    const char *in, *out, *summary_json;
     int quiet;
     td_cli_run r;
     td_ctx *cx;
@@ -27,7 +27,7 @@ static const char about[] =
 /* 0: run, 1: error (printed), 2: --help shown. */
 static int parse_args(int argc, char **argv, run_opts *o)
 {
-    td_opt opts[TD_CLI_RUN_OPTS + 1];
+    td_opt opts[TD_CLI_RUN_OPTS + 2];
     size_t n = td_cli_run_opts(opts, &o->r);
     const td_cmd c = {
         "run", "SCAN -o DEM.tif [--interval I] [--base B]\n"
@@ -38,6 +38,11 @@ static int parse_args(int argc, char **argv, run_opts *o)
         "from, cells determined, seconds per stage.\n",
         opts, "one SCAN file", 1, 1, &o->in, &o->out, "DEM.tif", &o->quiet};
     int rc;
+    opts[n++] = (td_opt){"summary-json", 0, TD_OPT_OUTPUT, &o->summary_json,
+                         .meta = "F", .help = "also write the summary as one "
+                         "JSON object (for\nbatches: lines, heights by "
+                         "source, interval,\nlabels, cells, seconds, "
+                         "warnings)"};
     opts[n].name = NULL;
     if ((rc = td_opt_parse(&c, argc, argv)) != 0)
         return rc;
@@ -109,6 +114,68 @@ static void summary(const td_run_result *s, const td_run_params *p,
                     ? "multidir" : "scanline", s->hs.cells_fallback);
 }
 
+/* A string as a JSON string body (quotes, backslashes, controls). */
+static void json_str(FILE *f, const char *s, size_t n)
+{
+    size_t i;
+    for (i = 0; i < n && s[i]; i++) {
+        unsigned char c = (unsigned char)s[i];
+        if (c == '"' || c == '\\')
+            fprintf(f, "\\%c", c);
+        else if (c < 0x20)
+            fprintf(f, "\\u%04x", c);
+        else
+            fputc(c, f);
+    }
+}
+
+/* --summary-json: the summary as one object, atomically. */
+static int write_summary_json(const char *path, const td_run_result *s,
+                              double write_secs, td_ctx *cx)
+{
+    const td_label_report *rep = &s->rep;
+    size_t n = (size_t)s->dem->w * s->dem->h, i, ok = 0, tl = strlen(path) + 32;
+    char *tmp = malloc(tl);
+    const char *t = rep->text;
+    FILE *f;
+    int first = 1;
+    if (!tmp)
+        return td_seterr(cx, TD_ENOMEM, "out of memory");
+    for (i = 0; i < n; i++)
+        ok += s->dem->data[i] != s->dem->nodata;
+    if (!(f = td_atomic_open(path, tmp, tl, cx))) {
+        free(tmp);
+        return cx->code ? cx->code : TD_EIO;
+    }
+    fprintf(f, "{\"lines\": %zu, \"labelled\": %zu, \"left_out\": %zu, "
+            "\"by_source\": {\"known\": %zu, \"label\": %zu, \"solved\": "
+            "%zu, \"assumed\": %zu}, \"interval\": %.10g, \"labels_read\": "
+            "%zu, \"labels_used\": %zu, \"cells\": %zu, \"determined\": "
+            "%.6f, \"seconds\": {\"scan\": %.3f, \"label\": %.3f, "
+            "\"interp\": %.3f, \"write\": %.3f}, \"warnings\": [",
+            s->traced, s->traced - s->dropped, s->dropped,
+            rep->by_source[TD_HS_KNOWN], rep->by_source[TD_HS_LABEL],
+            rep->by_source[TD_HS_SOLVED], rep->by_source[TD_HS_ASSUMED],
+            rep->interval, s->nreads, rep->labels_used, n,
+            n ? (double)ok / n : 0.0, s->secs[0], s->secs[1], s->secs[2],
+            write_secs);
+    while (t && *t) { /* the labeller's warnings but the face conflicts */
+        const char *e = strchr(t, '\n');
+        size_t len = e ? (size_t)(e - t) : strlen(t);
+        if (strncmp(t, "lines ", 6) != 0) {
+            fputs(first ? "\"" : ", \"", f);
+            json_str(f, t, len);
+            fputc('"', f);
+            first = 0;
+        }
+        t = e ? e + 1 : NULL;
+    }
+    fputs("]}\n", f);
+    first = td_atomic_commit(f, tmp, path, cx);
+    free(tmp);
+    return first;
+}
+
 int td_cmd_run(int argc, char **argv)
 {
     run_opts o;
@@ -135,6 +202,8 @@ int td_cmd_run(int argc, char **argv)
     t0 = td_now();
     if (rc == 0)
         rc = td_dem_write(o.out, r.dem, &r.geo, &cx);
+    if (rc == 0 && o.summary_json)
+        rc = write_summary_json(o.summary_json, &r, td_now() - t0, &cx);
     td_cli_progress_done(&pr);
     if (rc == 0 && !o.quiet) {
         put_warnings(&r.rep);

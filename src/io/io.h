@@ -133,6 +133,13 @@ int td_geotiff_write_f32(const char *path, const td_grid_f32 *g,
 int td_geotiff_write_u8(const char *path, const td_grid_u8 *g,
                         const td_georef *georef, td_ctx *cx);
 
+/* The DEMs in[0..n-1] as one (mosaic.c, GDAL BuildVRT at the finest
+ * resolution): out ".vrt" (a virtual raster over them, paths relative to
+ * it where they can be) or ".tif" (one tiled Deflate GeoTIFF).  0 or an
+ * error naming out. */
+int td_dem_mosaic(const char *const *in, size_t n, const char *out,
+                  td_ctx *cx);
+
 /* Atomic file helpers for other writers (GeoJSON, CSV): td_atomic_open
  * opens "<path>.tmp.<pid>" for writing and fills tmp (size >= strlen(path)+32);
  * td_atomic_commit closes and renames it over path; td_atomic_abort closes

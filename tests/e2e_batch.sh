@@ -1,0 +1,75 @@
+#!/bin/sh
+# End-to-end checks of topodig batch and mosaic (src/cli/batch.c,
+# src/cli/mosaic.c): a manifest of two labelled sheets drawn from a real DEM
+# and a broken one, run two at a time: one JSON line per sheet, the outputs
+# in their folders, the broken sheet failing alone, exit 1; --resume skips
+# what is done and reruns what changed; the jobs emitted for GNU parallel
+# give byte-identical outputs; make and Slurm forms; mosaic puts a DEM cut
+# in two back together exactly; bad manifests refused.
+BUILD=${BUILD:-build}
+TD="$BUILD/topodig"
+TDA=$(cd "$(dirname "$TD")" && pwd)/$(basename "$TD")
+T=$(mktemp -d "${TMPDIR:-/tmp}/tdbt.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+pass=0; fail=0
+ok() { pass=$((pass + 1)); echo "ok   $1"; }
+bad() { fail=$((fail + 1)); echo "FAIL $1"; }
+check() { if eval "$2"; then ok "$1"; else bad "$1"; fi; }
+DEM=tests/data/dems/elkhorn_srtm3.tif
+[ -e "$DEM" ] || DEM=../shared/dems/elkhorn_srtm3.tif
+
+check "batch --help" "$TD batch --help | grep -q '^usage: topodig batch'"
+for n in 6 8; do
+  "$BUILD/tdgen" --dem-in "$DEM" --scale 6 --width 1.8 --index-width 3.2 \
+      --labels 3 --label-bend 40 --label-font dejavu --blur 0.6 --noise $n \
+      -o "$T/elk$n.png" -q
+done
+printf 'not an image' >"$T/broken.png"
+printf 'sheet,options\nelk6.png,\n# a comment\nelk8.png,--interval 10\nbroken.png,\n' >"$T/m.csv"
+"$TD" batch "$T/m.csv" --out "$T/out" --jobs 2 2>"$T/err"
+rc=$?
+check "batch: exit 1 (one sheet failed), a line per sheet" \
+  "[ $rc = 1 ] && [ \$(wc -l <'$T/out/batch.log') = 3 ] && grep -q '3 sheets, 1 failed' '$T/err'"
+check "the two good sheets: ok, their DEM, lines, summary" \
+  "[ \$(grep -c '\"status\": \"ok\"' '$T/out/batch.log') = 2 ] && [ -s '$T/out/elk6/dem.tif' ] && [ -s '$T/out/elk8/lines.geojson' ] && grep -q '\"summary\": {\"lines\": ' '$T/out/batch.log'"
+check "the broken sheet: failed, the error names it" \
+  "grep '\"status\": \"failed\"' '$T/out/batch.log' | grep -q 'broken.png: not a PNG'"
+"$TD" batch "$T/m.csv" --out "$T/out" --resume 2>/dev/null
+check "--resume: the done sheets skipped, the broken one tried again" \
+  "[ \$(grep -c '\"status\": \"skipped\"' '$T/out/batch.log') = 2 ] && [ \$(grep -c '\"status\": \"failed\"' '$T/out/batch.log') = 1 ]"
+printf 'sheet,options\nelk6.png,\nelk8.png,--interval 10 --method scanline\n' >"$T/m2.csv"
+"$TD" batch "$T/m2.csv" --out "$T/out" --resume 2>/dev/null
+check "--resume with changed options: that sheet runs again, exit 0" \
+  "[ \$? = 0 ] && grep 'elk8' '$T/out/batch.log' | grep -q '\"status\": \"ok\"' && grep 'elk6' '$T/out/batch.log' | grep -q skipped"
+
+(cd "$T" && "$TDA" batch --emit parallel m.csv --out par >jobs.txt)
+check "--emit parallel: one job line per sheet" "[ \$(wc -l <'$T/jobs.txt') = 3 ]"
+if command -v parallel >/dev/null 2>&1; then
+  (cd "$T" && parallel -j 2 <jobs.txt >/dev/null 2>&1)
+else
+  (cd "$T" && sh jobs.txt >/dev/null 2>&1)
+fi
+check "the emitted jobs: outputs byte-identical to batch's" \
+  "cmp -s '$T/out/elk6/dem.tif' '$T/par/elk6/dem.tif' && cmp -s '$T/out/elk6/lines.geojson' '$T/par/elk6/lines.geojson'"
+(cd "$T" && "$TDA" batch --emit make m.csv --out mk >jobs.mk && "$TDA" batch --emit slurm m.csv --out sl >jobs.sh)
+check "--emit make: a Makefile make reads" "(cd '$T' && make -n -f jobs.mk >/dev/null 2>&1)"
+check "--emit slurm: an array of 3, sh syntax" "grep -q '^#SBATCH --array=1-3' '$T/jobs.sh' && sh -n '$T/jobs.sh'"
+
+# mosaic: the Elkhorn DEM cut in two with an overlap, put back together
+gdal_translate -q -srcwin 0 0 200 359 "$DEM" "$T/a.tif" && gdal_translate -q -srcwin 180 0 187 359 "$DEM" "$T/b.tif"
+"$TD" mosaic "$T/a.tif" "$T/b.tif" -o "$T/m.tif" -q
+check "mosaic .tif: the DEM again (RMSE 0)" "$TD compare '$DEM' '$T/m.tif' | grep -Eq '^rmse +0\$'"
+"$TD" mosaic "$T/a.tif" "$T/b.tif" -o "$T/m.vrt" -q
+check "mosaic .vrt: sources relative to it, GDAL reads it" \
+  "grep -q 'relativeToVRT=\"1\">a.tif' '$T/m.vrt' && gdalinfo '$T/m.vrt' | grep -q 'Size is 367, 359'"
+
+"$TD" batch "$T/missing.csv" --out "$T/o2" 2>"$T/err"
+check "a missing manifest: one error naming it, exit 1" "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'missing.csv' '$T/err'"
+printf 'elk6.png,\nsub/elk6.png,\n' >"$T/dup.csv"
+"$TD" batch "$T/dup.csv" --out "$T/o2" 2>"$T/err"
+check "two sheets of one name: refused" "[ \$? = 1 ] && grep -q 'two sheets named elk6' '$T/err' && [ ! -e '$T/o2' ]"
+"$TD" mosaic "$T/a.tif" -o "$T/m.png" 2>"$T/err"
+check "mosaic to another format: refused" "[ \$? = 1 ] && grep -q '.vrt or .tif' '$T/err'"
+
+echo "$pass passed, $fail failed"
+[ "$fail" = 0 ]
