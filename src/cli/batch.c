@@ -370,15 +370,7 @@ static char *slurp(const char *path, int last)
 static void json_str(FILE *f, const char *s)
 {
     fputc('"', f);
-    for (; s && *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(f, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(f, "\\u%04x", c);
-        else
-            fputc(c, f);
-    }
+    td_cli_json_str(f, s, SIZE_MAX);
     fputc('"', f);
 }
 

@@ -254,3 +254,32 @@ int td_cli_grid_of(const char *path, int *w, int *h, td_georef *geo,
     return 0;
 }
 
+/* See cli.h. */
+int td_cli_read_dem(const char *path, td_grid_f32 **dem, td_georef *geo,
+                    double *cell, td_ctx *cx)
+{
+    int rc;
+    td_georef_init(geo);
+    if ((rc = td_dem_read(path, dem, geo, cx)) != 0)
+        return rc;
+    if (!(*cell > 0))
+        *cell = td_georef_cell_size(geo, (*dem)->w, (*dem)->h, NULL);
+    if (!(*cell > 0))
+        *cell = 1.0;
+    return 0;
+}
+
+/* See cli.h. */
+void td_cli_json_str(FILE *f, const char *s, size_t n)
+{
+    size_t i;
+    for (i = 0; s && i < n && s[i]; i++) {
+        unsigned char c = (unsigned char)s[i];
+        if (c == '"' || c == '\\')
+            fprintf(f, "\\%c", c);
+        else if (c < 0x20)
+            fprintf(f, "\\u%04x", c);
+        else
+            fputc(c, f);
+    }
+}

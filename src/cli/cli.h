@@ -5,6 +5,8 @@
 
 #include "src/core/core.h"
 
+#include <stdio.h>
+
 #include <stddef.h>
 
 #define TD_VERSION "0.1.0"
@@ -74,6 +76,16 @@ int td_cli_grid_of(const char *path, int *w, int *h, struct td_georef *geo,
      .help = "the grid: the size and georeferencing of a\nscan or DEM"},    \
     {"size", 0, TD_OPT_FUNC, (wh), .fn = td_cli_parse_size, .meta = "WxH",   \
      .help = "the grid without a sheet (the pixel frame)", .no_default = 1}
+
+/* s (at most n bytes; NUL ends it sooner) as the body of a JSON string:
+ * quotes and backslashes escaped, control characters as \uXXXX. */
+void td_cli_json_str(FILE *f, const char *s, size_t n);
+
+/* A DEM command's input: the DEM at path and its georeferencing (geo
+ * initialised here); *cell, when not > 0, the georeferencing's cell size
+ * (degrees as metres), else 1.  0 or an error naming the file. */
+int td_cli_read_dem(const char *path, td_grid_f32 **dem,
+                    struct td_georef *geo, double *cell, td_ctx *cx);
 
 /* The grid of a model command: --like SHEET (like != NULL) or --size
  * (wh, the pixel frame); *cell, when not > 0, from the georeferencing's

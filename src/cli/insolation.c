@@ -129,14 +129,9 @@ int td_cmd_insolation(int argc, char **argv)
     td_ctx_init(&cx);
     td_georef_init(&geo);
     td_cli_progress_init(&pr, &cx, o.quiet);
-    rc = td_dem_read(o.in, &dem, &geo, &cx);
-    if (rc == 0) {
-        if (!(o.p.cell_size > 0))
-            o.p.cell_size = td_georef_cell_size(&geo, dem->w, dem->h, NULL);
-        if (!(o.p.cell_size > 0))
-            o.p.cell_size = 1.0;
+    rc = td_cli_read_dem(o.in, &dem, &geo, &o.p.cell_size, &cx);
+    if (rc == 0)
         rc = td_insolation_run(dem, &o.p, &r, &cx);
-    }
     if (rc == 0)
         rc = write_all(&o, r, &geo, &cx);
     td_cli_progress_done(&pr);

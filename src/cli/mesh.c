@@ -67,12 +67,8 @@ int td_cmd_mesh(int argc, char **argv)
         return rc == 2 ? 0 : 1;
     td_ctx_init(&cx);
     td_georef_init(&geo);
-    if ((rc = td_dem_read(o.in, &dem, &geo, &cx)) != 0)
+    if ((rc = td_cli_read_dem(o.in, &dem, &geo, &o.p.cellsize, &cx)) != 0)
         goto fail;
-    if (!(o.p.cellsize > 0))
-        o.p.cellsize = td_georef_cell_size(&geo, dem->w, dem->h, NULL);
-    if (!(o.p.cellsize > 0))
-        o.p.cellsize = 1.0;
     if (o.texture) {
         td_georef tg;
         td_georef_init(&tg);

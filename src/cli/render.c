@@ -73,12 +73,8 @@ int td_cmd_render(int argc, char **argv)
         return rc == 2 ? 0 : 1;
     td_ctx_init(&cx);
     td_georef_init(&geo);
-    if ((rc = td_dem_read(o.in, &dem, &geo, &cx)) != 0)
+    if ((rc = td_cli_read_dem(o.in, &dem, &geo, &o.p.cellsize, &cx)) != 0)
         goto fail;
-    if (!(o.p.cellsize > 0))
-        o.p.cellsize = td_georef_cell_size(&geo, dem->w, dem->h, NULL);
-    if (!(o.p.cellsize > 0))
-        o.p.cellsize = 1.0;
     if ((rc = td_render_hillshade(dem, &o.p, &im, &cx)) != 0 ||
         (rc = td_png_write(o.out, im, &cx)) != 0)
         goto fail;

@@ -114,21 +114,6 @@ static void summary(const td_run_result *s, const td_run_params *p,
                     ? "multidir" : "scanline", s->hs.cells_fallback);
 }
 
-/* A string as a JSON string body (quotes, backslashes, controls). */
-static void json_str(FILE *f, const char *s, size_t n)
-{
-    size_t i;
-    for (i = 0; i < n && s[i]; i++) {
-        unsigned char c = (unsigned char)s[i];
-        if (c == '"' || c == '\\')
-            fprintf(f, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(f, "\\u%04x", c);
-        else
-            fputc(c, f);
-    }
-}
-
 /* --summary-json: the summary as one object, atomically. */
 static int write_summary_json(const char *path, const td_run_result *s,
                               double write_secs, td_ctx *cx)
@@ -164,7 +149,7 @@ static int write_summary_json(const char *path, const td_run_result *s,
         size_t len = e ? (size_t)(e - t) : strlen(t);
         if (strncmp(t, "lines ", 6) != 0) {
             fputs(first ? "\"" : ", \"", f);
-            json_str(f, t, len);
+            td_cli_json_str(f, t, len);
             fputc('"', f);
             first = 0;
         }

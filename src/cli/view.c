@@ -167,12 +167,8 @@ int td_cmd_view(int argc, char **argv)
             o.p.light[i][0] = o.lights.v[2 * i],
             o.p.light[i][1] = o.lights.v[2 * i + 1];
     }
-    if ((rc = td_dem_read(o.in, &dem, &geo, &cx)) != 0)
+    if ((rc = td_cli_read_dem(o.in, &dem, &geo, &o.p.cellsize, &cx)) != 0)
         goto fail;
-    if (!(o.p.cellsize > 0))
-        o.p.cellsize = td_georef_cell_size(&geo, dem->w, dem->h, NULL);
-    if (!(o.p.cellsize > 0))
-        o.p.cellsize = 1.0;
     if (!o.drape || !strcmp(o.drape, "hillshade")) {
         o.p.drape = TD_DRAPE_HILLSHADE;
     } else if (!strcmp(o.drape, "tint")) {

@@ -3,6 +3,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -90,6 +91,28 @@ void *td_calloc(size_t n, size_t size, td_ctx *cx)
     if (!p)
         td_seterr(cx, TD_ENOMEM, "out of memory (%zu x %zu bytes)", n, size);
     return p;
+}
+
+int td_grow(void **v, size_t *cap, size_t need, size_t size, td_ctx *cx)
+{
+    size_t nc;
+    void *t;
+    if (need <= *cap)
+        return 0;
+    nc = *cap ? *cap : 64;
+    while (nc < need) {
+        if (nc > SIZE_MAX / 2)
+            return td_seterr(cx, TD_ENOMEM, "out of memory (%zu elements)",
+                             need);
+        nc *= 2;
+    }
+    if (size && nc > SIZE_MAX / size)
+        return td_seterr(cx, TD_ENOMEM, "out of memory (%zu elements)", need);
+    if (!(t = realloc(*v, nc * (size ? size : 1))))
+        return td_seterr(cx, TD_ENOMEM, "out of memory (%zu x %zu bytes)", nc,
+                         size);
+    *v = t, *cap = nc;
+    return 0;
 }
 
 double td_now(void)

@@ -78,6 +78,10 @@ int td_check_dims(long w, long h, const char *what, td_ctx *cx);
 /* Allocation wrappers that set TD_ENOMEM in cx on failure. */
 void *td_malloc(size_t n, td_ctx *cx);
 void *td_calloc(size_t n, size_t size, td_ctx *cx);
+/* Room in the array *v (capacity *cap elements of size bytes) for need
+ * elements: doubled (from 64) until it fits, realloc'd.  0, or TD_ENOMEM
+ * (v unchanged) when memory runs out or the size overflows. */
+int td_grow(void **v, size_t *cap, size_t need, size_t size, td_ctx *cx);
 
 /* A growable array of size_t (pixel indices): zero-initialise, push, free. */
 typedef struct td_szvec {

@@ -172,21 +172,6 @@ void td_ridgemodel_free(td_ridgemodel *m)
     free(m);
 }
 
-static int grow(void **v, size_t *cap, size_t need, size_t size, td_ctx *cx)
-{
-    size_t nc;
-    void *t;
-    if (need <= *cap)
-        return 0;
-    nc = *cap ? 2 * *cap : 64;
-    while (nc < need)
-        nc *= 2;
-    if (!(t = realloc(*v, nc * size)))
-        return td_seterr(cx, TD_ENOMEM, "ridgemodel: out of memory");
-    *v = t, *cap = nc;
-    return 0;
-}
-
 /* The node hash: buckets of cells of side max(snap, 1) cells. */
 static size_t hash_of(const td_ridgemodel *m, long cx0, long cy0)
 {
@@ -244,7 +229,7 @@ static long node_at(td_ridgemodel *m, double x, double y, double z,
                     return (long)i;
                 }
         }
-    if (grow((void **)&m->nd, &m->cn, m->nn + 1, sizeof *m->nd, cx) != 0)
+    if (td_grow((void **)&m->nd, &m->cn, m->nn + 1, sizeof *m->nd, cx) != 0)
         return -1;
     memset(&m->nd[m->nn], 0, sizeof *m->nd);
     m->nd[m->nn].x = x, m->nd[m->nn].y = y;
@@ -292,7 +277,7 @@ static long new_poly(td_ridgemodel *m, const double *x, const double *y,
     rpoly *q;
     double ax = x[1] - x[0], ay = y[1] - y[0], bx, by, det;
     int i, j = 2;
-    if (grow((void **)&m->pl, &m->cp, m->np + 1, sizeof *m->pl, cx) != 0)
+    if (td_grow((void **)&m->pl, &m->cp, m->np + 1, sizeof *m->pl, cx) != 0)
         return -2;
     /* the plane through vertices 0, 1 and the first not on their line */
     for (; j < nv; j++) {
@@ -327,7 +312,7 @@ static long new_poly(td_ridgemodel *m, const double *x, const double *y,
         for (ky = q->by0 / PBLOCK; ky <= q->by1 / PBLOCK; ky++)
             for (kx = q->bx0 / PBLOCK; kx <= q->bx1 / PBLOCK; kx++) {
                 size_t b = (size_t)ky * m->pbw + kx;
-                if (grow((void **)&m->pb[b], &m->pbc[b], m->pbn[b] + 1,
+                if (td_grow((void **)&m->pb[b], &m->pbc[b], m->pbn[b] + 1,
                          sizeof **m->pb, cx) != 0)
                     return -2;
                 m->pb[b][m->pbn[b]++] = (int32_t)m->np;
@@ -347,7 +332,7 @@ static int list_insert(td_ridgemodel *m, size_t c, int32_t poly, float h)
         m->free_cell = m->pool[e].next;
     } else {
         if (m->npool >= (size_t)INT32_MAX ||
-            grow((void **)&m->pool, &m->cpool, m->npool + 1, sizeof *m->pool,
+            td_grow((void **)&m->pool, &m->cpool, m->npool + 1, sizeof *m->pool,
                  NULL) != 0)
             return -1;
         e = (int32_t)m->npool++;
@@ -627,7 +612,7 @@ long td_ridgemodel_add(td_ridgemodel *m, double x0, double y0, double z0,
     }
     if ((a = node_at(m, x0, y0, z0, cx)) < 0 ||
         (b = node_at(m, x1, y1, z1, cx)) < 0 ||
-        grow((void **)&m->sg, &m->cs, m->ns + 1, sizeof *m->sg, cx) != 0)
+        td_grow((void **)&m->sg, &m->cs, m->ns + 1, sizeof *m->sg, cx) != 0)
         return -1;
     s = m->ns++;
     m->sg[s] = (rseg){(size_t)a, (size_t)b, {-1, -1}, 1};

@@ -92,21 +92,13 @@ typedef struct qs {
     size_t nevents, nsplits;
 } qs;
 
+/* td_grow, the error kept in s->rc. */
 static int grow(void **p, size_t *cap, size_t need, size_t sz, qs *s)
 {
-    size_t nc;
-    void *t;
-    if (need <= *cap)
-        return 0;
-    nc = *cap ? 2 * *cap : 64;
-    while (nc < need)
-        nc *= 2;
-    if (!(t = realloc(*p, nc * sz))) {
-        s->rc = td_seterr(s->cx, TD_ENOMEM, "skeleton: out of memory");
-        return s->rc;
-    }
-    *p = t, *cap = nc;
-    return 0;
+    int rc = td_grow(p, cap, need, sz, s->cx);
+    if (rc)
+        s->rc = rc;
+    return rc;
 }
 
 static void pos(const qs *s, uint32_t i, double T, double *x, double *y)
