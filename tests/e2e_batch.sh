@@ -63,6 +63,30 @@ check "mosaic .tif: the DEM again (RMSE 0)" "$TD compare '$DEM' '$T/m.tif' | gre
 check "mosaic .vrt: sources relative to it, GDAL reads it" \
   "grep -q 'relativeToVRT=\"1\">a.tif' '$T/m.vrt' && gdalinfo '$T/m.vrt' | grep -q 'Size is 367, 359'"
 
+# a series: the Front Range sheet (labels printed) cut into 3 x 2 sheets
+# that keep their place; alone half of them cannot start, with
+# --neighbours they take their heights across the shared edges
+FR=tests/data/dems/frontrange_srtm3.tif
+[ -e "$FR" ] || FR=../shared/dems/frontrange_srtm3.tif
+"$BUILD/tdgen" --dem-in "$FR" --scale 10 --width 1.8 --index-width 3.2 --labels 3 \
+    --label-bend 40 --label-font dejavu --blur 0.8 --noise 8 --tiff \
+    -o "$T/big.tif" --dem "$T/truth.tif" -q
+echo "sheet,options" >"$T/s.csv"
+for r in 0 1; do for c in 0 1 2; do
+  gdal_translate -q -srcwin $((c * 800)) $((r * 720)) 800 720 "$T/big.tif" "$T/t$r$c.tif"
+  echo "t$r$c.tif," >>"$T/s.csv"
+done; done
+"$TD" batch "$T/s.csv" --out "$T/s1" --jobs 2 -q
+check "a series alone: 3 of 6 sheets cannot start" "[ \$? = 1 ] && [ \$(grep -c '\"status\": \"failed\"' '$T/s1/batch.log') = 3 ]"
+"$TD" batch "$T/s.csv" --out "$T/s2" --jobs 2 --neighbours -q
+check "--neighbours: all 6 labelled, 3 from their neighbours, exit 0" \
+  "[ \$? = 0 ] && [ \$(grep -c '\"heights_from\"' '$T/s2/batch.log') = 3 ]"
+"$TD" mosaic "$T"/s2/*/dem.tif -o "$T/series.tif" -q
+rmse=$("$TD" compare "$T/series.tif" "$T/truth.tif" | awk '$1 == "rmse" { print $2 }')
+cov=$("$TD" compare "$T/series.tif" "$T/truth.tif" | awk '$1 == "coverage" { print $2 }')
+check "the series' mosaic against the true DEM: RMSE $rmse m (< 15), coverage $cov (> 0.99)" \
+  "awk -v r='$rmse' -v c='$cov' 'BEGIN { exit !(r > 0 && r < 15 && c > 0.99) }'"
+
 "$TD" batch "$T/missing.csv" --out "$T/o2" 2>"$T/err"
 check "a missing manifest: one error naming it, exit 1" "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'missing.csv' '$T/err'"
 printf 'elk6.png,\nsub/elk6.png,\n' >"$T/dup.csv"

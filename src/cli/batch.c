@@ -15,6 +15,8 @@
  * The exit code is 0 when every sheet succeeded. */
 #include "src/cli/cli.h"
 
+#include "src/io/io.h"
+
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
@@ -32,15 +34,17 @@
 
 typedef struct sheet {
     char *path, *opts, *stem, *dir;
+    char *seeded;  /* the neighbours its heights came from, or NULL */
     uint64_t hash;
     pid_t pid;
     double t0;
-    int state; /* 0 waiting, 1 running, 2 done */
+    int state;     /* 0 waiting, 1 running, 2 done */
+    int ok;
 } sheet;
 
 typedef struct bt_opts {
     const char *manifest, *out;
-    int jobs, resume, emit, quiet;
+    int jobs, resume, emit, quiet, neighbours;
 } bt_opts;
 
 static int parse_args(int argc, char **argv, bt_opts *o)
@@ -54,6 +58,11 @@ static int parse_args(int argc, char **argv, bt_opts *o)
         {"resume", 0, TD_OPT_FLAG, &o->resume,
          .help = "skip sheets whose outputs exist and whose\nsheet and "
          "options are unchanged"},
+        {"neighbours", 0, TD_OPT_FLAG, &o->neighbours,
+         .help = "a sheet that cannot start (no labels, no\nknown points) "
+         "takes the interval and, as\nknown points, the heights of the "
+         "lines its\nlabelled neighbours carry across the shared\nedge "
+         "(georeferenced sheets)"},
         {"emit", 0, TD_OPT_CHOICE, &o->emit, .choices = "none|parallel|make|"
          "slurm", .meta = "E", .help = "print the jobs for GNU parallel, a "
          "Makefile\nor a Slurm array script instead of running\nthem"},
@@ -209,7 +218,8 @@ static void free_sheets(sheet *v, size_t n)
 {
     size_t i;
     for (i = 0; i < n; i++)
-        free(v[i].path), free(v[i].opts), free(v[i].stem), free(v[i].dir);
+        free(v[i].path), free(v[i].opts), free(v[i].stem), free(v[i].dir),
+            free(v[i].seeded);
     free(v);
 }
 
@@ -390,6 +400,10 @@ static void log_sheet(FILE *lg, const sheet *s, const char *status,
     json_str(lg, s->opts);
     fputs(", \"out\": ", lg);
     json_str(lg, s->dir);
+    if (s->seeded) {
+        fputs(", \"heights_from\": ", lg);
+        json_str(lg, s->seeded);
+    }
     if (sum)
         fprintf(lg, ", \"summary\": %s", sum);
     if (err) {
@@ -424,21 +438,25 @@ static void write_hash(const sheet *s)
     free(hp);
 }
 
-/* Run every sheet, jobs at a time; the number that failed. */
-static size_t run_all(const char *exe, sheet *v, size_t n, const bt_opts *o,
-                      FILE *lg)
+/* Run the waiting sheets, jobs at a time. */
+static void run_all(const char *exe, sheet *v, size_t n, const bt_opts *o,
+                    FILE *lg)
 {
-    size_t next = 0, running = 0, failed = 0, done = 0, i;
-    while (done < n) {
+    size_t next = 0, running = 0, i, total = 0, done = 0;
+    for (i = 0; i < n; i++)
+        total += v[i].state == 0;
+    while (done < total) {
         while (running < (size_t)o->jobs && next < n) {
             sheet *s = &v[next++];
-            if (o->resume && up_to_date(s)) {
-                s->state = 2, done++;
+            if (s->state != 0)
+                continue;
+            if (o->resume && !s->seeded && up_to_date(s)) {
+                s->state = 2, s->ok = 1, done++;
                 log_sheet(lg, s, "skipped", 0, 0);
                 continue;
             }
             if (mkdir_p(s->dir) != 0 || (s->pid = start(exe, s)) < 0) {
-                s->state = 2, done++, failed++;
+                s->state = 2, s->ok = 0, done++;
                 log_sheet(lg, s, "failed", 0, -1);
                 continue;
             }
@@ -450,20 +468,184 @@ static size_t run_all(const char *exe, sheet *v, size_t n, const bt_opts *o,
             for (i = 0; pid > 0 && i < n; i++)
                 if (v[i].state == 1 && v[i].pid == pid) {
                     int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-                    v[i].state = 2, done++, running--;
+                    v[i].state = 2, v[i].ok = code == 0, done++, running--;
                     if (code == 0)
                         write_hash(&v[i]);
-                    else
-                        failed++;
                     log_sheet(lg, &v[i], code == 0 ? "ok" : "failed",
                               td_now() - v[i].t0, code);
                     if (!o->quiet)
-                        fprintf(stderr, "batch: %zu/%zu %s %s\n", done, n,
-                                v[i].stem, code == 0 ? "ok" : "FAILED");
+                        fprintf(stderr, "batch: %s %s%s\n", v[i].stem,
+                                code == 0 ? "ok" : "FAILED",
+                                v[i].seeded ? " (heights from its neighbours)"
+                                            : "");
                 }
+        } else if (next >= n) {
+            break;
         }
     }
-    return failed;
+}
+
+/* ---- heights from the neighbours (a first step of edge matching) ----
+ *
+ * A sheet that failed for want of a start (no interval, no label, no
+ * known point) takes the interval its labelled neighbours agree on and,
+ * as known points, where their labelled lines (confidence >= 0.5) leave
+ * them across the shared edge: a contour goes on across a sheet edge, so
+ * the point just inside this sheet beside a neighbour's line end lies on
+ * the same contour.  Read in this sheet's frame through both sheets'
+ * georeferencing. */
+
+#define SEED_TOL 3.0 /* px beyond the edge a neighbour's line end may lie */
+#define MAX_SEEDS 64
+#define SEED_CONF 0.3 /* the least confidence of a neighbour's line */
+
+static int seedable(const sheet *s)
+{
+    char *lp = join(s->dir, "run.log"), *e = lp ? slurp(lp, 1) : NULL;
+    int yes = e && (strstr(e, "no interval") || strstr(e, "no heights to "
+                                                          "start from") ||
+                    strstr(e, "could be labelled from the known points"));
+    free(lp), free(e);
+    return yes;
+}
+
+/* The interval of a labelled sheet (its summary), or 0. */
+static double interval_of(const sheet *s)
+{
+    char *sp = join(s->dir, "summary.json"), *j = sp ? slurp(sp, 0) : NULL,
+         *k = j ? strstr(j, "\"interval\": ") : NULL;
+    double v = k ? atof(k + 12) : 0;
+    free(sp), free(j);
+    return v > 0 ? v : 0;
+}
+
+/* Known points from neighbour t's labelled lines into buf (appended):
+ * its lines' file coordinates (the map coordinates run wrote them in,
+ * whatever frame the file names) through g to this sheet's cells;
+ * returns how many. */
+static int seeds_from(const sheet *t, const td_georef *g, int w, int h,
+                      char *buf, size_t bl, int room)
+{
+    char *lp = join(t->dir, "lines.geojson");
+    td_lines *ls = NULL;
+    td_georef gt, fr;
+    td_ctx cx;
+    size_t i;
+    int n = 0, e, tw, th, ch;
+    td_ctx_init(&cx);
+    td_georef_init(&gt);
+    td_georef_init(&fr);
+    (void)tw, (void)th, (void)ch;
+    if (!lp || td_vector_read_lines(lp, NULL, &ls, NULL, &fr, &cx) != 0)
+        goto done;
+    for (i = 0; i < ls->n && n < room; i++) {
+        const td_line *l = &ls->v[i];
+        if (!l->has_height || l->closed || l->n < 2 || l->confidence < SEED_CONF)
+            continue;
+        for (e = 0; e < 2 && n < room; e++) {
+            double X, Y, x, y;
+            X = l->xy[e ? 2 * l->n - 2 : 0], Y = l->xy[e ? 2 * l->n - 1 : 1];
+            if (fr.valid) /* back to the file's coordinates */
+                td_georef_apply(&fr, X, Y, &X, &Y);
+            else
+                Y = -Y;
+            if (td_georef_to_cells(g, X, Y, &x, &y) != 0)
+                continue;
+            {
+                int in_y = y >= 0 && y <= h, in_x = x >= 0 && x <= w;
+                if (in_y && x >= -SEED_TOL && x <= 0.5)
+                    x = 0.5;
+                else if (in_y && x >= w - 0.5 && x <= w + SEED_TOL)
+                    x = w - 0.5;
+                else if (in_x && y >= -SEED_TOL && y <= 0.5)
+                    y = 0.5;
+                else if (in_x && y >= h - 0.5 && y <= h + SEED_TOL)
+                    y = h - 0.5;
+                else
+                    continue;
+            }
+            snprintf(buf + strlen(buf), bl - strlen(buf),
+                     " --known %.2f,%.2f,%.10g", x, y, l->height);
+            n++;
+        }
+    }
+done:
+    td_lines_free(ls);
+    free(lp);
+    td_georef_clear(&gt);
+    td_georef_clear(&fr);
+    td_ctx_clear(&cx);
+    return n;
+}
+
+/* The options a failed sheet gets from its labelled neighbours; 1 when
+ * there are some. */
+static int seed_sheet(sheet *s, sheet *v, size_t n)
+{
+    td_georef g;
+    td_ctx cx;
+    char *buf = NULL, *from = NULL;
+    double iv = 0;
+    size_t i, fl = 0;
+    int w, h, ch, got = 0, room = MAX_SEEDS;
+    td_ctx_init(&cx);
+    td_georef_init(&g);
+    if (td_image_info(s->path, &w, &h, &ch, &g, &cx) != 0 || !g.valid ||
+        !(buf = calloc(1, 64 * MAX_SEEDS + strlen(s->opts) + 64)) ||
+        !(from = calloc(1, 1)))
+        goto done;
+    for (i = 0; i < n && room > 0; i++) {
+        int k;
+        if (&v[i] == s || !v[i].ok || v[i].seeded)
+            continue; /* only sheets labelled by their own evidence */
+        if ((k = seeds_from(&v[i], &g, w, h, buf, 64 * MAX_SEEDS, room)) > 0) {
+            char *nf = realloc(from, fl + strlen(v[i].stem) + 3);
+            if (!nf)
+                break;
+            from = nf;
+            fl += (size_t)sprintf(from + fl, "%s%s", fl ? ", " : "", v[i].stem);
+            room -= k, got += k;
+            if (!(iv > 0))
+                iv = interval_of(&v[i]);
+        }
+    }
+    if (got > 0) {
+        char *o = malloc(strlen(s->opts) + strlen(buf) + 64);
+        if (o) {
+            sprintf(o, "%s%s", s->opts, buf);
+            if (iv > 0 && !strstr(s->opts, "--interval"))
+                sprintf(o + strlen(o), " --interval %.10g", iv);
+            free(s->opts);
+            s->opts = o;
+            free(s->seeded);
+            s->seeded = from;
+            from = NULL;
+        } else {
+            got = 0;
+        }
+    }
+done:
+    free(buf), free(from);
+    td_georef_clear(&g);
+    td_ctx_clear(&cx);
+    return got > 0;
+}
+
+/* Passes until no failed sheet can be seeded any more. */
+static void seed_passes(const char *exe, sheet *v, size_t n,
+                        const bt_opts *o, FILE *lg)
+{
+    int pass, more = 1;
+    size_t i;
+    for (pass = 0; pass < 8 && more; pass++) {
+        more = 0;
+        for (i = 0; i < n; i++)
+            if (!v[i].ok && !v[i].seeded && v[i].state == 2 &&
+                seedable(&v[i]) && seed_sheet(&v[i], v, n))
+                v[i].state = 0, more = 1;
+        if (more)
+            run_all(exe, v, n, o, lg);
+    }
 }
 
 /* ---- --emit ---- */
@@ -540,7 +722,11 @@ int td_cmd_batch(int argc, char **argv)
                           strerror(errno));
         goto done;
     }
-    failed = run_all(exe, v, n, &o, lg);
+    run_all(exe, v, n, &o, lg);
+    if (o.neighbours)
+        seed_passes(exe, v, n, &o, lg);
+    for (i = 0; i < n; i++)
+        failed += !v[i].ok;
     if (!o.quiet)
         fprintf(stderr, "batch: %zu sheets, %zu failed; log in %s\n", n, failed,
                 logp);
