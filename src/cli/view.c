@@ -61,6 +61,9 @@ static int parse_args(int argc, char **argv, vw_opts *o)
         {"light", 0, TD_OPT_POINTS, &o->lights, .n = 2, .meta = "AZ,ALT",
          .help = "a light from azimuth AZ, ALT degrees up;\nrepeat for up "
          "to 4 (default 315,45)"},
+        {"hidden", 0, TD_OPT_CHOICE, &o->p.zbuffer, .choices = "painter|zbuffer",
+         .meta = "H", .help = "hidden surfaces: painter (the paper's: the\n"
+         "farthest patch first) | zbuffer (ours: the\nnearest per pixel)"},
         {"turntable", 0, TD_OPT_INT, &o->turntable, 2, 720, .meta = "N",
          .help = "N views around the DEM from --azimuth on,\nas an "
          "animated GIF (-o NAME.gif)", .no_default = 1},

@@ -84,6 +84,8 @@ typedef struct td_view_params {
     int nlights;           /* lights at infinity (1) */
     double light[TD_VIEW_MAX_LIGHTS][2]; /* azimuth, altitude (315, 45) */
     double ambient;        /* light everywhere, 0..1 (0.2) */
+    int zbuffer;           /* 0: the paper's order (farthest patch first);
+                              1: a depth buffer per pixel (ours) (0) */
 } td_view_params;
 
 /* The camera a view is drawn with (td_view_camera_of). */
@@ -116,7 +118,9 @@ int td_view_project(const td_view_camera *cam, double col, double row,
  * the data: with 2 or more corners inside, the others take the mean of
  * those (the paper: the border contour's height); fewer, left out.
  * drape: the image for TD_DRAPE_IMAGE (any size; stretched over the
- * DEM), else NULL.  0, TD_EINVAL, TD_ENOMEM. */
+ * DEM), else NULL.  With p->zbuffer the patches are drawn in any order
+ * and each pixel keeps the nearest (depth interpolated as 1/z across each
+ * triangle), edges tested against it.  0, TD_EINVAL, TD_ENOMEM. */
 int td_view_render(const td_grid_f32 *dem, const td_image *drape,
                    const td_view_params *p, td_image *out, td_ctx *cx);
 

@@ -41,6 +41,7 @@ td_view_params td_view_defaults(void)
     p.nlights = 1;
     p.light[0][0] = 315, p.light[0][1] = 45;
     p.ambient = 0.2;
+    p.zbuffer = 0;
     return p;
 }
 
@@ -253,6 +254,60 @@ static void line(td_image *im, const double *a, const double *b,
     }
 }
 
+/* The triangle a, b, c with depths da, db, dc through the depth buffer:
+ * each pixel centre inside takes rgb where it is nearer than what is
+ * there (1/depth interpolated, as perspective keeps it linear). */
+static void fill_tri_z(td_image *im, float *zb, const double *a,
+                       const double *b, const double *c, double da,
+                       double db, double dc, const uint8_t rgb[3])
+{
+    double area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    int x0 = (int)floor(fmin(a[0], fmin(b[0], c[0])));
+    int x1 = (int)ceil(fmax(a[0], fmax(b[0], c[0])));
+    int y0 = (int)floor(fmin(a[1], fmin(b[1], c[1])));
+    int y1 = (int)ceil(fmax(a[1], fmax(b[1], c[1]))), x, y, k;
+    if (!(fabs(area) > 1e-12))
+        return;
+    x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
+    x1 = x1 > im->w - 1 ? im->w - 1 : x1, y1 = y1 > im->h - 1 ? im->h - 1 : y1;
+    for (y = y0; y <= y1; y++)
+        for (x = x0; x <= x1; x++) {
+            double px = x + 0.5, py = y + 0.5, w0, w1, w2, d;
+            float *z = zb + (size_t)y * im->w + x;
+            w0 = ((b[0] - px) * (c[1] - py) - (b[1] - py) * (c[0] - px)) / area;
+            w1 = ((c[0] - px) * (a[1] - py) - (c[1] - py) * (a[0] - px)) / area;
+            w2 = 1 - w0 - w1;
+            if (w0 < -1e-12 || w1 < -1e-12 || w2 < -1e-12)
+                continue;
+            d = 1.0 / (w0 / da + w1 / db + w2 / dc);
+            if (!(d < *z))
+                continue;
+            *z = (float)d;
+            for (k = 0; k < 3; k++)
+                im->data[(size_t)y * im->stride + 3 * (size_t)x + k] = rgb[k];
+        }
+}
+
+/* A 1-px line a-b drawn where it is not behind the depth buffer (a
+ * thousandth of slack for the patch it edges). */
+static void line_z(td_image *im, const float *zb, const double *a,
+                   const double *b, double da, double db, const uint8_t rgb[3])
+{
+    double L = fmax(fabs(b[0] - a[0]), fabs(b[1] - a[1]));
+    int n = (int)ceil(L), i, k;
+    for (i = 0; i <= n; i++) {
+        double t = n ? (double)i / n : 0;
+        int x = (int)floor(a[0] + (b[0] - a[0]) * t);
+        int y = (int)floor(a[1] + (b[1] - a[1]) * t);
+        double d = 1.0 / ((1 - t) / da + t / db);
+        if (x < 0 || y < 0 || x >= im->w || y >= im->h ||
+            d > zb[(size_t)y * im->w + x] * 1.001)
+            continue;
+        for (k = 0; k < 3; k++)
+            im->data[(size_t)y * im->stride + 3 * (size_t)x + k] = rgb[k];
+    }
+}
+
 typedef struct patch {
     float depth;
     uint32_t x, y; /* its NW corner (cells) */
@@ -338,6 +393,7 @@ int td_view_render(const td_grid_f32 *dem, const td_image *drape,
 {
     td_view_camera cam;
     patch *ps;
+    float *zb = NULL;
     size_t np = 0, cap, i;
     int rc, x, y, n = p->patch, k;
     if (out->channels != 3 || n < 1 || n > 1000 || p->nlights < 0 ||
@@ -367,30 +423,54 @@ int td_view_render(const td_grid_f32 *dem, const td_image *drape,
             ps[np].depth = (float)d, ps[np].x = (uint32_t)x;
             ps[np].y = (uint32_t)y, np++;
         }
-    qsort(ps, np, sizeof *ps, farthest_first);
+    if (p->zbuffer) {
+        size_t npx = (size_t)out->w * out->h;
+        if (!(zb = malloc(npx * sizeof *zb))) {
+            free(ps);
+            return td_seterr(cx, TD_ENOMEM, "view: out of memory");
+        }
+        for (i = 0; i < npx; i++)
+            zb[i] = INFINITY;
+    } else {
+        qsort(ps, np, sizeof *ps, farthest_first); /* the paper's order */
+    }
     for (y = 0; y < out->h; y++)
         for (x = 0; x < out->w; x++)
             memcpy(out->data + (size_t)y * out->stride + 3 * (size_t)x, BACK,
                    3);
     for (i = 0; i < np; i++) {
-        double P[4][3], S[4][2];
+        double P[4][3], S[4][2], D[4];
         uint8_t rgb[3];
         int ok = 1;
         corners(dem, &cam, (int)ps[i].x, (int)ps[i].y, n, P);
         for (k = 0; k < 4; k++)
-            ok &= proj(&cam, P[k], &S[k][0], &S[k][1], NULL);
+            ok &= proj(&cam, P[k], &S[k][0], &S[k][1], &D[k]);
         if (!ok)
             continue;
         if (p->style == TD_VIEW_WIRE)
             memcpy(rgb, BACK, 3);
         else
             colour(dem, drape, p, cam.ztop, P, (int)ps[i].x, (int)ps[i].y, rgb);
-        fill_tri(out, S[0], S[1], S[2], rgb);
-        fill_tri(out, S[0], S[2], S[3], rgb);
-        if (p->style != TD_VIEW_SHADED)
-            for (k = 0; k < 4; k++)
-                line(out, S[k], S[(k + 1) % 4], WIRE);
+        if (zb) {
+            fill_tri_z(out, zb, S[0], S[1], S[2], D[0], D[1], D[2], rgb);
+            fill_tri_z(out, zb, S[0], S[2], S[3], D[0], D[2], D[3], rgb);
+        } else {
+            fill_tri(out, S[0], S[1], S[2], rgb);
+            fill_tri(out, S[0], S[2], S[3], rgb);
+        }
+        for (k = 0; !zb && p->style != TD_VIEW_SHADED && k < 4; k++)
+            line(out, S[k], S[(k + 1) % 4], WIRE);
+    }
+    for (i = 0; zb && p->style != TD_VIEW_SHADED && i < np; i++) {
+        double P[4][3], S[4][2], D[4]; /* edges after all the fills */
+        int ok = 1;
+        corners(dem, &cam, (int)ps[i].x, (int)ps[i].y, n, P);
+        for (k = 0; k < 4; k++)
+            ok &= proj(&cam, P[k], &S[k][0], &S[k][1], &D[k]);
+        for (k = 0; ok && k < 4; k++)
+            line_z(out, zb, S[k], S[(k + 1) % 4], D[k], D[(k + 1) % 4], WIRE);
     }
     free(ps);
+    free(zb);
     return 0;
 }
