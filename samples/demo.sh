@@ -31,9 +31,15 @@ echo "== tdgen: a labelled, scanned sheet from a real DEM (tests/data/dems/front
 echo "== topodig run $OUT/frontrange.png -> DEM (no options: labels read, interval inferred)"
 "$TD" run "$OUT/frontrange.png" -o "$OUT/frontrange-dem.tif" --debug-dir "$OUT/frontrange-run"
 "$TD" compare "$OUT/frontrange-dem.tif" "$OUT/frontrange-truth.tif"
+echo "== topodig view, mesh and report: teaching material from that DEM"
+"$TD" view "$OUT/frontrange-dem.tif" -o "$OUT/frontrange-view.png" --drape tint -q
+"$TD" mesh "$OUT/frontrange-dem.tif" -o "$OUT/frontrange.stl" --step 2 --print-size 150 --exaggeration 2
+"$TD" report "$OUT/frontrange.png" -o "$OUT/frontrange-report.pdf" -q
 echo
 echo "wrote $OUT/: hills.geojson, brown.geojson (one LineString per contour),"
 echo "  *-debug/overlay.png (traced lines in their own colours, red boxes at open ends),"
 echo "  hills-dem.tif (float32 GeoTIFF DEM) and hills-relief.png (shaded relief),"
 echo "  frontrange-dem.tif from the labelled sheet frontrange.png, and in *-run/"
-echo "  heights.png (lines coloured by height, labels boxed) and labels.geojson."
+echo "  heights.png (lines coloured by height, labels boxed) and labels.geojson;"
+echo "  frontrange-view.png (3-D view), frontrange.stl (printable, 150 mm) and"
+echo "  frontrange-report.pdf (a one-page handout)."
