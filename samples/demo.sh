@@ -33,7 +33,8 @@ echo "== topodig run $OUT/frontrange.png -> DEM (no options: labels read, interv
 "$TD" compare "$OUT/frontrange-dem.tif" "$OUT/frontrange-truth.tif"
 echo "== topodig view, mesh and report: teaching material from that DEM"
 "$TD" view "$OUT/frontrange-dem.tif" -o "$OUT/frontrange-view.png" --drape tint -q
-"$TD" mesh "$OUT/frontrange-dem.tif" -o "$OUT/frontrange.stl" --step 2 --print-size 150 --exaggeration 2
+# the sheet has no georeferencing: a pixel is 9 m (SRTM 3" drawn 10x)
+"$TD" mesh "$OUT/frontrange-dem.tif" -o "$OUT/frontrange.stl" --step 2 --print-size 150 --cellsize 9 --exaggeration 2
 "$TD" report "$OUT/frontrange.png" -o "$OUT/frontrange-report.pdf" -q
 echo
 echo "wrote $OUT/: hills.geojson, brown.geojson (one LineString per contour),"
