@@ -99,6 +99,12 @@ int td_cmd_mesh(int argc, char **argv)
             fprintf(stderr, ", %zu quads left out where data met at a "
                     "corner only", m->dropped);
         fprintf(stderr, "; %.2f s\n", td_now() - t0);
+        if (hi[2] - lo[2] > fmax(hi[0] - lo[0], hi[1] - lo[1]))
+            fprintf(stderr, "mesh: warning: the model is taller than it is "
+                    "wide (cell size %g height units%s); give --cellsize "
+                    "or a smaller --exaggeration\n", o.p.cellsize,
+                    o.p.cellsize == 1 ? ": a DEM without georeferencing?"
+                                      : "");
     }
 fail:
     td_mesh_free(m);
