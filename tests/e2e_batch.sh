@@ -11,10 +11,7 @@ TD="$BUILD/topodig"
 TDA=$(cd "$(dirname "$TD")" && pwd)/$(basename "$TD")
 T=$(mktemp -d "${TMPDIR:-/tmp}/tdbt.XXXXXX")
 trap 'rm -rf "$T"' EXIT
-pass=0; fail=0
-ok() { pass=$((pass + 1)); echo "ok   $1"; }
-bad() { fail=$((fail + 1)); echo "FAIL $1"; }
-check() { if eval "$2"; then ok "$1"; else bad "$1"; fi; }
+. tests/util/e2e.sh # ok, bad, check, e2e_summary
 DEM=tests/data/dems/elkhorn_srtm3.tif
 [ -e "$DEM" ] || DEM=../shared/dems/elkhorn_srtm3.tif
 
@@ -95,5 +92,4 @@ check "two sheets of one name: refused" "[ \$? = 1 ] && grep -q 'two sheets name
 "$TD" mosaic "$T/a.tif" -o "$T/m.png" 2>"$T/err"
 check "mosaic to another format: refused" "[ \$? = 1 ] && grep -q '.vrt or .tif' '$T/err'"
 
-echo "$pass passed, $fail failed"
-[ "$fail" = 0 ]
+e2e_summary

@@ -8,10 +8,7 @@ BUILD=${BUILD:-build}
 TD="$BUILD/topodig"
 T=$(mktemp -d "${TMPDIR:-/tmp}/tdms.XXXXXX")
 trap 'rm -rf "$T"' EXIT
-pass=0; fail=0
-ok() { pass=$((pass + 1)); echo "ok   $1"; }
-bad() { fail=$((fail + 1)); echo "FAIL $1"; }
-check() { if eval "$2"; then ok "$1"; else bad "$1"; fi; }
+. tests/util/e2e.sh # ok, bad, check, e2e_summary
 DEM=tests/data/dems/elkhorn_srtm3.tif
 [ -e "$DEM" ] || DEM=../shared/dems/elkhorn_srtm3.tif
 
@@ -53,5 +50,4 @@ check "an unknown format: one error naming the formats, exit 1" \
 "$TD" mesh "$DEM" -o "$T/x.stl" --texture "$T/map.png" 2>"$T/err"
 check "a texture for an STL: refused" "[ \$? = 1 ] && grep -q 'texture' '$T/err' && [ ! -e '$T/x.stl' ]"
 
-echo "$pass passed, $fail failed"
-[ "$fail" = 0 ]
+e2e_summary

@@ -8,14 +8,15 @@ BUILD=${BUILD:-build}
 TD="$BUILD/topodig"
 T=$(mktemp -d "${TMPDIR:-/tmp}/tdrp.XXXXXX")
 trap 'rm -rf "$T"' EXIT
-pass=0; fail=0
-ok() { pass=$((pass + 1)); echo "ok   $1"; }
-bad() { fail=$((fail + 1)); echo "FAIL $1"; }
-check() { if eval "$2"; then ok "$1"; else bad "$1"; fi; }
+. tests/util/e2e.sh # ok, bad, check, e2e_summary
 DEM=tests/data/dems/elkhorn_srtm3.tif
 [ -e "$DEM" ] || DEM=../shared/dems/elkhorn_srtm3.tif
 
 check "report --help" "$TD report --help | grep -q '^usage: topodig report'"
+# run and report take the run options from one table (src/cli/run_opts.c)
+opts() { "$TD" "$1" --help | grep -o '^ *--[a-z-]*' | tr -d ' ' | grep -v -e '^--paper$' -e '^--title$' -e '^--summary-json$' | sort; }
+check "report takes exactly the options of run (run_opts.c)" \
+  "[ \"\$(opts run)\" = \"\$(opts report)\" ] && opts report | grep -q -- --known && opts report | grep -q -- --method"
 "$BUILD/tdgen" --dem-in "$DEM" --scale 6 --width 1.8 --index-width 3.2 \
     --labels 3 --label-bend 40 --label-font dejavu --blur 0.6 --noise 6 \
     -o "$T/sheet.png" -q
@@ -51,5 +52,4 @@ printf 'not an image' >"$T/bad.png"
 check "a corrupt sheet: one error naming it, exit 1, no output" \
   "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'bad.png' '$T/err' && [ ! -e '$T/x.pdf' ]"
 
-echo "$pass passed, $fail failed"
-[ "$fail" = 0 ]
+e2e_summary

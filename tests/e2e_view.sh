@@ -7,10 +7,7 @@ BUILD=${BUILD:-build}
 TD="$BUILD/topodig"
 T=$(mktemp -d "${TMPDIR:-/tmp}/tdvw.XXXXXX")
 trap 'rm -rf "$T"' EXIT
-pass=0; fail=0
-ok() { pass=$((pass + 1)); echo "ok   $1"; }
-bad() { fail=$((fail + 1)); echo "FAIL $1"; }
-check() { if eval "$2"; then ok "$1"; else bad "$1"; fi; }
+. tests/util/e2e.sh # ok, bad, check, e2e_summary
 pngsize() { od -An -tu1 -j16 -N8 "$1" | awk '{ print $1*16777216+$2*65536+$3*256+$4 "x" $5*16777216+$6*65536+$7*256+$8 }'; }
 DEM=tests/data/dems/frontrange_srtm3.tif
 [ -e "$DEM" ] || DEM=../shared/dems/frontrange_srtm3.tif
@@ -45,5 +42,4 @@ check "a light above 90 degrees: refused" "[ \$? = 1 ] && grep -q 'altitude' '$T
 check "a missing drape image: one error naming it, exit 1" \
   "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'missing.png' '$T/err' && [ ! -e '$T/x.png' ]"
 
-echo "$pass passed, $fail failed"
-[ "$fail" = 0 ]
+e2e_summary

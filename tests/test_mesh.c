@@ -2,12 +2,15 @@
  * (every edge in exactly two triangles, in opposite directions), no
  * degenerate triangle, the volume it encloses against the integral of the
  * surface over the cells, holes without data walled, corner contacts
- * resolved, bad input refused. */
+ * resolved, bad input refused; the files of every format (meshio.c). */
 #include "tests/tt.h"
 #include "src/mesh/mesh.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 typedef struct edge {
     uint32_t a, b; /* a < b */
@@ -178,10 +181,126 @@ static void test_bad(void)
     td_grid_f32_free(g), td_grid_f32_free(one);
 }
 
+static long fsize(const char *p)
+{
+    struct stat st;
+    return stat(p, &st) == 0 ? (long)st.st_size : -1;
+}
+
+static uint32_t le32(const unsigned char *b)
+{
+    return b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 |
+           (uint32_t)b[3] << 24;
+}
+
+/* The files (meshio.c) of a 6 x 5 ramp: STL 84 + 50 bytes a triangle
+ * with the count and every normal of unit length; PLY's header counts and
+ * size; glb's header, chunk lengths and counts; OBJ's v and f lines and,
+ * with a texture, its .mtl and PNG beside it; refusals leave no file. */
+static void test_files(void)
+{
+    char dir[] = "/tmp/tdmeshXXXXXX", p[256], line[256];
+    td_grid_f32 *g = td_grid_f32_new(6, 5, NULL);
+    td_image *tex = td_image_new(6, 5, 3, NULL);
+    td_mesh_params mp = td_mesh_defaults();
+    td_mesh *m = NULL;
+    unsigned char b[128];
+    FILE *f;
+    long nv = 0, nf = 0, vt = 0;
+    size_t i;
+    int x, y;
+    TT_CHECK(mkdtemp(dir) != NULL);
+    for (y = 0; y < 5; y++)
+        for (x = 0; x < 6; x++)
+            TD_AT(g, x, y) = (float)(x + 2 * y);
+    TT_CHECK(td_mesh_build(g, &mp, &m, NULL) == 0);
+    snprintf(p, sizeof p, "%s/m.stl", dir);
+    TT_CHECK(td_mesh_write(p, m, NULL, NULL) == 0);
+    TT_CHECK(fsize(p) == 84 + 50 * (long)m->nt);
+    f = fopen(p, "rb");
+    TT_CHECK(f && fread(b, 1, 84, f) == 84 && le32(b + 80) == m->nt);
+    for (i = 0; f && i < m->nt; i++) { /* unit normals, facing out */
+        float n[3];
+        TT_CHECK(fread(b, 1, 50, f) == 50);
+        memcpy(n, b, 12);
+        TT_NEAR(n[0] * n[0] + n[1] * n[1] + n[2] * n[2], 1.0, 1e-5);
+    }
+    if (f)
+        fclose(f);
+    snprintf(p, sizeof p, "%s/m.ply", dir);
+    TT_CHECK(td_mesh_write(p, m, NULL, NULL) == 0 && (f = fopen(p, "rb")));
+    if (f) {
+        long hdr = 0, ev = -1, ef = -1;
+        while (fgets(line, sizeof line, f)) {
+            hdr += (long)strlen(line);
+            sscanf(line, "element vertex %ld", &ev);
+            sscanf(line, "element face %ld", &ef);
+            if (!strcmp(line, "end_header\n"))
+                break;
+        }
+        fclose(f);
+        TT_CHECK(ev == (long)m->nv && ef == (long)m->nt);
+        TT_CHECK(fsize(p) == hdr + 12 * ev + 13 * ef);
+    }
+    snprintf(p, sizeof p, "%s/m.glb", dir);
+    TT_CHECK(td_mesh_write(p, m, NULL, NULL) == 0 && (f = fopen(p, "rb")));
+    if (f) {
+        char json[2048];
+        uint32_t jl;
+        TT_CHECK(fread(b, 1, 20, f) == 20);
+        jl = le32(b + 12);
+        TT_CHECK(!memcmp(b, "glTF", 4) && le32(b + 4) == 2 &&
+                 le32(b + 8) == (uint32_t)fsize(p) && !memcmp(b + 16, "JSON", 4));
+        TT_CHECK(jl < sizeof json && fread(json, 1, jl, f) == jl);
+        json[jl < sizeof json ? jl : 0] = 0;
+        snprintf(line, sizeof line, "\"count\":%zu,\"type\":\"VEC3\"", m->nv);
+        TT_CHECKF(strstr(json, line) != NULL, "%s", json);
+        snprintf(line, sizeof line, "\"count\":%zu,\"type\":\"SCALAR\"",
+                 3 * m->nt);
+        TT_CHECK(strstr(json, line) != NULL);
+        TT_CHECK(fread(b, 1, 8, f) == 8 && le32(b) == 12 * (m->nv + m->nt) &&
+                 !memcmp(b + 4, "BIN", 3));
+        fclose(f);
+    }
+    snprintf(p, sizeof p, "%s/m.obj", dir);
+    TT_CHECK(td_mesh_write(p, m, tex, NULL) == 0 && (f = fopen(p, "r")));
+    while (f && fgets(line, sizeof line, f)) {
+        nv += !strncmp(line, "v ", 2);
+        vt += !strncmp(line, "vt ", 3);
+        nf += !strncmp(line, "f ", 2);
+    }
+    if (f)
+        fclose(f);
+    TT_CHECK(nv == (long)m->nv && vt == (long)m->nv && nf == (long)m->nt);
+    snprintf(p, sizeof p, "%s/m.mtl", dir);
+    TT_CHECK(fsize(p) > 0);
+    snprintf(p, sizeof p, "%s/m_texture.png", dir);
+    TT_CHECK(fsize(p) > 0);
+    snprintf(p, sizeof p, "%s/x.dae", dir); /* refusals: no file */
+    TT_CHECK(td_mesh_write(p, m, NULL, NULL) == TD_EINVAL && fsize(p) < 0);
+    snprintf(p, sizeof p, "%s/x.stl", dir);
+    TT_CHECK(td_mesh_write(p, m, tex, NULL) == TD_EINVAL && fsize(p) < 0);
+    snprintf(p, sizeof p, "%s/no/such/x.stl", dir);
+    TT_CHECK(td_mesh_write(p, m, NULL, NULL) != 0 && fsize(p) < 0);
+    {
+        static const char *const names[] = {"m.stl", "m.ply", "m.glb", "m.obj",
+                                            "m.mtl", "m_texture.png"};
+        for (i = 0; i < 6; i++) {
+            snprintf(p, sizeof p, "%s/%s", dir, names[i]);
+            unlink(p);
+        }
+        rmdir(dir);
+    }
+    td_mesh_free(m);
+    td_image_free(tex);
+    td_grid_f32_free(g);
+}
+
 int main(void)
 {
     TT_RUN(test_closed_volume);
     TT_RUN(test_corner_contacts);
     TT_RUN(test_bad);
+    TT_RUN(test_files);
     return tt_summary();
 }

@@ -24,3 +24,11 @@ near() { awk -v a="$1" -v b="$2" -v t="$3" 'BEGIN { d = a - b; exit !(a != "" &&
 
 # at DEM COL ROW: the DEM's value at a cell (gdallocationinfo).
 at() { gdallocationinfo -valonly "$1" "$2" "$3" 2>/dev/null; }
+
+# The pass/fail counters and check NAME CONDITION (eval'd); a script ends
+# with e2e_summary.
+pass=0; fail=0
+ok() { pass=$((pass + 1)); echo "ok   $1"; }
+bad() { fail=$((fail + 1)); echo "FAIL $1"; }
+check() { if eval "$2"; then ok "$1"; else bad "$1"; fi; }
+e2e_summary() { echo "$pass passed, $fail failed"; [ "$fail" = 0 ]; }
