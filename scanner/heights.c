@@ -60,6 +60,10 @@
                               (and 10 %) more, or none is inferred: half a
                               label read for sure */
 #define W_UP 3.0     /* its top towards higher ground, confidence 1 */
+#define FACE_A 4.0   /* the search: a broken face edge of w probes costs */
+#define FACE_B 2.6   /* FACE_A + FACE_B ln w (see face_cost) */
+#define SEARCH_WORK 4e7 /* node and edge visits per improve() */
+#define SEARCH_SWEEPS 20
 #define WFOLD 1.0
 #define GAP_EPS 1e-3
 #define CONF_SCALE                                                             \
@@ -76,7 +80,8 @@ typedef struct tedge {
 /* A candidate edge of the forest. */
 typedef struct cedge {
     uint32_t a, b, kind, id;
-    double w;
+    double w;   /* cost to break (Kruskal: strongest first) */
+    double key; /* the order the forest takes them in */
 } cedge;
 
 typedef struct hs {
@@ -114,6 +119,8 @@ typedef struct hs {
     long *band, *band_prior; /* per chunk: best height (band index) */
     double *gap, *gap_prior; /* per chunk */
     int priors;              /* this pass uses the priors */
+    long need_lo, need_hi;   /* levels the domain must hold (need_lo >
+                                need_hi: none) */
     int cost_only;           /* only the total cost (the interval's trials) */
 } hs;
 
@@ -582,7 +589,7 @@ static int setup_index(hs *s, td_ctx *cx)
 static int cmp_ce(const void *pa, const void *pb)
 {
     const cedge *a = pa, *b = pb;
-    return (a->w < b->w) - (a->w > b->w);
+    return (a->key < b->key) - (a->key > b->key);
 }
 
 /* Candidate edges: every chunk's line edge (first: always in the forest),
@@ -594,7 +601,7 @@ static int candidates(hs *s, td_ctx *cx)
         return TD_ENOMEM;
     for (c = 0; c < s->C; c++)
         s->ce[n++] = (cedge){(uint32_t)(2 * c), (uint32_t)(2 * c + 1), E_LINE,
-                             (uint32_t)c, INFINITY};
+                             (uint32_t)c, INFINITY, INFINITY};
     for (i = 0; i < s->N; i++) {
         if (!td_faces_used(s->fx, i))
             continue;
@@ -602,12 +609,12 @@ static int candidates(hs *s, td_ctx *cx)
         for (c = 0; c + 1 < m + (s->ls->v[i].closed && m > 2); c++) {
             size_t a = c0 + c, b = c0 + (c + 1) % m;
             s->ce[n++] = (cedge){(uint32_t)(2 * a), (uint32_t)(2 * b), E_CONT,
-                                 (uint32_t)a, WCONT};
+                                 (uint32_t)a, WCONT, WCONT};
         }
     }
     for (i = 0; i < s->nfe; i++)
         s->ce[n++] = (cedge){s->fe[i].a, s->fe[i].b, E_FACE, (uint32_t)i,
-                             WFACE * s->fe[i].w};
+                             WFACE * s->fe[i].w, WFACE * s->fe[i].w};
     qsort(s->ce + s->C, n - s->C, sizeof *s->ce, cmp_ce);
     s->nce = n;
     return 0;
@@ -617,9 +624,8 @@ static int build_forest(hs *s, td_ctx *cx)
 {
     size_t i, V = s->V;
     uint32_t *deg;
-    int rc;
-    if ((rc = candidates(s, cx)) != 0)
-        return rc;
+    free(s->intree), free(s->adj);
+    s->intree = NULL, s->adj = NULL;
     if (!(s->intree = td_calloc(s->nce + 1, 1, cx)) ||
         !(s->adj = td_malloc((2 * s->nce + 1) * sizeof *s->adj, cx)) ||
         !(deg = td_calloc(V + 1, sizeof *deg, cx)))
@@ -715,6 +721,10 @@ static int set_domain(hs *s, td_ctx *cx)
     for (i = 0; i < s->V; i++)
         if (s->comp[i] == i && s->compdepth[i] > D)
             D = s->compdepth[i];
+    if (s->need_lo <= s->need_hi) {
+        lo = lo < s->need_lo ? lo : s->need_lo;
+        hi = hi > s->need_hi ? hi : s->need_hi;
+    }
     s->kofs = lo - 2 * D - 2;
     s->K = (size_t)(hi - lo) + 4 * (size_t)D + 5;
     if (2 * s->K > MAX_CELLS / (s->V + 1))
@@ -790,6 +800,16 @@ static double fold_w(const hs *s, uint32_t c)
     if (!s->priors || s->hole[c] || s->hole[s->par[c]])
         return 0.0;
     return WFOLD;
+}
+
+/* What breaking a face edge of w probes costs in the search's model:
+ * the share of face edges that the true heights break falls slowly with
+ * their probes (26 % of single probes, 10 % at 8, 2 % above 32 on the
+ * Elkhorn sheets), about as -log of it; FACE_A, FACE_B four times that
+ * (measured best, docs/label.md "The search"). */
+static double face_cost(double w)
+{
+    return FACE_A + FACE_B * log(w > 1 ? w : 1);
 }
 
 /* Messages over the edge from node c to its parent (up) or back (down):
@@ -1301,25 +1321,316 @@ static int touched_nodes(const hs *s, unsigned char **out, td_ctx *cx)
     return 0;
 }
 
-static int solve_all(hs *s, td_ctx *cx)
+
+/* ---- local search over the whole graph (ours) ----
+ *
+ * The forest drops the face edges that close cycles; where lines are
+ * broken or merged the best bands on the forest can break many of them
+ * (a region folded the wrong way where its only tie in the forest is a
+ * fold).  Starting from the forest's best, every forest edge is tried
+ * with its subtree moved: shifted by -2..2 bands or mirrored about its
+ * parent's band (b -> 2 b_parent - b + r, r in -1..1), each move priced
+ * on everything it touches: the lines in the subtree (known points,
+ * labels, index widths, priors), the unary evidence on its nodes and
+ * every face and continuity edge leaving it, in or out of the forest.
+ * Improving moves are taken until none is left (or the work budget). */
+
+#define NMOVE 7
+static long move_band(long b, long bu, int t)
+{
+    static const int sh[4] = {-2, -1, 1, 2};
+    return t < 4 ? b + sh[t] : 2 * bu - b + (t - 5);
+}
+
+static double edge_cost(const hs *s, const cedge *e, long ba, int da, long bb,
+                        int db)
+{
+    if (e->kind == E_CONT)
+        return ba != bb || da != db ? WCONT : 0.0;
+    if (ba != bb)
+        return face_cost(s->fe[e->id].w);
+    if (da == db && s->priors && !s->hole[e->a] && !s->hole[e->b])
+        return WFOLD;
+    return 0.0;
+}
+
+static double chunk_cost(const hs *s, size_t c, long a0, long a1)
+{
+    return labs(a0 - a1) != 1 ? PLINE : line_cost(s, c, a0, a1);
+}
+
+static int improve(hs *s, long *nb, td_ctx *cx)
+{
+    size_t V = s->V, i, n, k;
+    uint32_t *kid = NULL, *ks = NULL, *eul = NULL, *tin = NULL, *tout = NULL,
+             *ea = NULL, *es = NULL, *ua = NULL, *us = NULL, *stk = NULL;
+    double work = 0;
+    int rc = TD_ENOMEM, sweep, moved = 1;
+    if (!(kid = td_malloc((V + 1) * sizeof *kid, cx)) ||
+        !(ks = td_calloc(V + 2, sizeof *ks, cx)) ||
+        !(eul = td_malloc((V + 1) * sizeof *eul, cx)) ||
+        !(tin = td_malloc((V + 1) * sizeof *tin, cx)) ||
+        !(tout = td_malloc((V + 1) * sizeof *tout, cx)) ||
+        !(es = td_calloc(V + 2, sizeof *es, cx)) ||
+        !(ea = td_malloc((2 * s->nce + 1) * sizeof *ea, cx)) ||
+        !(us = td_calloc(V + 2, sizeof *us, cx)) ||
+        !(ua = td_malloc((s->nun + 1) * sizeof *ua, cx)) ||
+        !(stk = td_malloc((V + 1) * sizeof *stk, cx)))
+        goto done;
+    /* children, then a depth-first order: a subtree is an interval */
+    for (i = 0; i < V; i++)
+        if (s->par[i] != UINT32_MAX)
+            ks[s->par[i] + 1]++;
+    for (i = 0; i < V; i++)
+        ks[i + 1] += ks[i];
+    for (i = 0; i < V; i++)
+        stk[i] = ks[i];
+    for (i = 0; i < V; i++)
+        if (s->par[i] != UINT32_MAX)
+            kid[stk[s->par[i]]++] = (uint32_t)i;
+    n = 0;
+    for (i = 0; i < V; i++) {
+        size_t top = 0;
+        if (s->par[i] != UINT32_MAX)
+            continue;
+        stk[top++] = (uint32_t)i;
+        while (top) {
+            uint32_t u = stk[--top];
+            tin[u] = (uint32_t)n;
+            eul[n++] = u;
+            for (k = ks[u]; k < ks[u + 1]; k++)
+                stk[top++] = kid[k];
+        }
+    }
+    for (i = V; i-- > 0;) { /* tout: end of the interval */
+        uint32_t u = eul[i];
+        tout[u] = tin[u] + 1;
+    }
+    for (i = V; i-- > 0;) {
+        uint32_t u = eul[i], p = s->par[u];
+        if (p != UINT32_MAX && tout[u] > tout[p])
+            tout[p] = tout[u];
+    }
+    /* every face and continuity edge at each node; unary terms */
+    for (i = 0; i < s->nce; i++)
+        if (s->ce[i].kind != E_LINE)
+            es[s->ce[i].a + 1]++, es[s->ce[i].b + 1]++;
+    for (i = 0; i < V; i++)
+        es[i + 1] += es[i];
+    for (i = 0; i < V; i++)
+        stk[i] = es[i];
+    for (i = 0; i < s->nce; i++)
+        if (s->ce[i].kind != E_LINE)
+            ea[stk[s->ce[i].a]++] = (uint32_t)i,
+            ea[stk[s->ce[i].b]++] = (uint32_t)i;
+    for (i = 0; i < s->nun; i++)
+        us[(size_t)s->un[4 * i] + 1]++;
+    for (i = 0; i < V; i++)
+        us[i + 1] += us[i];
+    for (i = 0; i < V; i++)
+        stk[i] = us[i];
+    for (i = 0; i < s->nun; i++)
+        ua[stk[(size_t)s->un[4 * i]]++] = (uint32_t)i;
+
+    for (sweep = 0; sweep < SEARCH_SWEEPS && moved && work < SEARCH_WORK; sweep++) {
+        moved = 0;
+        for (n = 0; n < V && work < SEARCH_WORK; n++) {
+            uint32_t c = eul[n], u = s->par[c];
+            double dl[NMOVE] = {0};
+            size_t j, bt = 0;
+            int t;
+            if (u == UINT32_MAX)
+                continue;
+#define INT(w) (tin[w] >= tin[c] && tin[w] < tout[c])
+            for (j = tin[c]; j < tout[c]; j++) {
+                uint32_t v = eul[j], w = v ^ 1;
+                int win = INT(w);
+                work += 1 + (es[v + 1] - es[v]);
+                if (!(v & 1) || !win) { /* its chunk, once */
+                    size_t ch = v / 2;
+                    double old = chunk_cost(s, ch, nb[2 * ch], nb[2 * ch + 1]);
+                    for (t = 0; t < NMOVE; t++) {
+                        long b0 = 2 * ch == v || INT(2 * ch)
+                                      ? move_band(nb[2 * ch], nb[u], t)
+                                      : nb[2 * ch];
+                        long b1 = 2 * ch + 1 == v || INT(2 * ch + 1)
+                                      ? move_band(nb[2 * ch + 1], nb[u], t)
+                                      : nb[2 * ch + 1];
+                        dl[t] += chunk_cost(s, ch, b0, b1) - old;
+                    }
+                }
+                for (k = us[v]; k < us[v + 1]; k++) {
+                    const double *q = s->un + 4 * ua[k];
+                    long b = nb[v] + s->kofs;
+                    double old = b < (long)q[1] || b > (long)q[2] ? q[3] : 0;
+                    for (t = 0; t < NMOVE; t++) {
+                        long bn = move_band(nb[v], nb[u], t) + s->kofs;
+                        dl[t] += (bn < (long)q[1] || bn > (long)q[2] ? q[3] : 0) -
+                                 old;
+                    }
+                }
+                for (k = es[v]; k < es[v + 1]; k++) {
+                    const cedge *e = &s->ce[ea[k]];
+                    uint32_t o = e->a == v ? e->b : e->a;
+                    long bv = nb[v], bw = nb[w], bo = nb[o];
+                    int dv = nb[w] > nb[v], doo = nb[o ^ 1] > nb[o];
+                    double old;
+                    if (INT(o))
+                        continue; /* inside: moves keep it (shift, mirror) */
+                    old = edge_cost(s, e, bv, dv, bo, doo);
+                    for (t = 0; t < NMOVE; t++) {
+                        long nv = move_band(bv, nb[u], t);
+                        long nw = win ? move_band(bw, nb[u], t) : bw;
+                        int ndo = INT(o ^ 1)
+                                      ? move_band(nb[o ^ 1], nb[u], t) > bo
+                                      : doo;
+                        dl[t] += edge_cost(s, e, nv, nw > nv, bo, ndo) - old;
+                    }
+                }
+            }
+            for (t = 1; t < NMOVE; t++)
+                if (dl[t] < dl[bt])
+                    bt = (size_t)t;
+            if (dl[bt] < -1e-6) {
+                long bu = nb[u];
+                for (j = tin[c]; j < tout[c]; j++)
+                    nb[eul[j]] = move_band(nb[eul[j]], bu, (int)bt);
+                moved = 1;
+            }
+#undef INT
+        }
+    }
+    rc = 0;
+done:
+    free(kid), free(ks), free(eul), free(tin), free(tout), free(ea);
+    free(es), free(ua), free(us), free(stk);
+    return rc;
+}
+
+/* The cost of node bands nb under the whole model, with the priors:
+ * every line, unary term and face or continuity edge, in the forest or
+ * not. */
+static double full_cost(hs *s, const long *nb)
+{
+    double t = 0;
+    size_t c, i;
+    int pri = s->priors;
+    s->priors = 1;
+    for (c = 0; c < s->C; c++)
+        t += chunk_cost(s, c, nb[2 * c], nb[2 * c + 1]);
+    for (i = 0; i < s->nun; i++) {
+        long b = nb[(size_t)s->un[4 * i]] + s->kofs;
+        if (b < (long)s->un[4 * i + 1] || b > (long)s->un[4 * i + 2])
+            t += s->un[4 * i + 3];
+    }
+    for (i = 0; i < s->nce; i++) {
+        const cedge *e = &s->ce[i];
+        if (e->kind != E_LINE)
+            t += edge_cost(s, e, nb[e->a], nb[e->a ^ 1] > nb[e->a], nb[e->b],
+                           nb[e->b ^ 1] > nb[e->b]);
+    }
+    s->priors = pri;
+    return t;
+}
+
+/* The forest in the order of the candidates' keys, its domain and tables. */
+static int forest_tables(hs *s, double **H, td_ctx *cx)
 {
     size_t KV;
-    double *H = NULL;
-    long *nb = NULL;
     int rc;
+    qsort(s->ce + s->C, s->nce - s->C, sizeof *s->ce, cmp_ce);
     if ((rc = build_forest(s, cx)) != 0 || (rc = order_forest(s, cx)) != 0 ||
         (rc = set_domain(s, cx)) != 0)
         return rc;
-    mark_abs(s);
     KV = 2 * s->K * s->V;
+    free(s->up), free(s->msg), free(s->down), free(*H);
+    s->msg = s->down = NULL, *H = NULL;
     if (!(s->up = td_malloc(KV * sizeof *s->up + 8, cx)) ||
         !(s->msg = td_malloc(KV * sizeof *s->msg + 8, cx)) ||
         !(s->down = td_malloc(KV * sizeof *s->down + 8, cx)) ||
-        !(H = td_malloc((s->K + 1) * sizeof *H, cx)) ||
-        !(nb = td_malloc((s->V + 1) * sizeof *nb, cx))) {
-        free(H), free(nb);
+        !(*H = td_malloc((s->K + 1) * sizeof **H, cx)))
         return TD_ENOMEM;
+    return 0;
+}
+
+/* A small deterministic generator (the output may not depend on luck). */
+static double unit_rand(uint64_t *st)
+{
+    *st = *st * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(*st >> 11) / 9007199254740992.0;
+}
+
+/* The search (ours, label params search = R > 0): R forests, the first
+ * in the usual order (strongest edges first), the others with every
+ * edge's strength scaled by a factor between 1/e and e (a fixed
+ * sequence: the result does not depend on luck); each forest's best
+ * improved by improve(); the bands (absolute: band + kofs) the cheapest
+ * under the whole model into bb, and the levels the final domain must
+ * hold into need_lo..need_hi. */
+static int search(hs *s, int R, long *bb, double **H, td_ctx *cx)
+{
+    double best = INFINITY;
+    long *nb = td_malloc((s->V + 1) * sizeof *nb, cx);
+    uint64_t st = 0x9e3779b97f4a7c15ULL;
+    size_t i;
+    int r, rc = 0;
+    if (!nb)
+        return TD_ENOMEM;
+    for (r = 0; r < R; r++) {
+        double f;
+        for (i = s->C; i < s->nce; i++)
+            s->ce[i].key = r == 0 ? s->ce[i].w
+                                  : s->ce[i].w * exp(2 * unit_rand(&st) - 1);
+        if ((rc = forest_tables(s, H, cx)) != 0)
+            break;
+        s->priors = 1;
+        solve_pass(s);
+        decode(s, nb);
+        if ((rc = improve(s, nb, cx)) != 0)
+            break;
+        if ((f = full_cost(s, nb)) < best) {
+            best = f;
+            for (i = 0; i < s->V; i++)
+                bb[i] = nb[i] + s->kofs;
+        }
     }
+    for (i = 0; rc == 0 && i < s->V; i++) {
+        if (i == 0 || bb[i] < s->need_lo)
+            s->need_lo = bb[i];
+        if (i == 0 || bb[i] > s->need_hi)
+            s->need_hi = bb[i];
+    }
+    free(nb);
+    return rc;
+}
+
+static int solve_all(hs *s, td_ctx *cx)
+{
+    double *H = NULL;
+    long *nb = NULL, *bb = NULL;
+    int rc, R = s->p->search;
+    size_t i;
+    if ((rc = candidates(s, cx)) != 0)
+        return rc;
+    if (!(nb = td_malloc((s->V + 1) * sizeof *nb, cx)) ||
+        !(bb = td_malloc((s->V + 1) * sizeof *bb, cx))) {
+        rc = TD_ENOMEM;
+        goto done;
+    }
+    if (R > 0 && !s->cost_only && (rc = search(s, R, bb, &H, cx)) != 0)
+        goto done;
+    for (i = s->C; i < s->nce; i++) { /* what the search's best keeps first */
+        cedge *e = &s->ce[i];
+        e->key = e->w;
+        if (R > 0 && !s->cost_only &&
+            bb[e->a] == bb[e->b] &&
+            (e->kind != E_CONT ||
+             (bb[e->a ^ 1] > bb[e->a]) == (bb[e->b ^ 1] > bb[e->b])))
+            e->key += 1e15;
+    }
+    if ((rc = forest_tables(s, &H, cx)) != 0)
+        goto done;
+    mark_abs(s);
     run_pass(s, 0, s->gap, s->band, H);
     run_pass(s, 1, s->gap_prior, s->band_prior, H);
     decode(s, nb);
@@ -1329,8 +1640,10 @@ static int solve_all(hs *s, td_ctx *cx)
         judge_labels(s);
         rc = set_lines(s, cx);
     }
+done:
     free(H);
     free(nb);
+    free(bb);
     return rc;
 }
 
@@ -1532,6 +1845,7 @@ static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
     unsigned char *touched = NULL;
     int rc;
     memset(&s, 0, sizeof s);
+    s.need_lo = 1, s.need_hi = 0;
     s.ls = ls, s.p = p, s.rep = rep, s.N = ls->n, s.cost_only = cost_only;
     s.fx = fx, s.fe = fe, s.nfe = nfe;
     s.C = td_faces_nchunks(fx);

@@ -80,6 +80,11 @@ typedef struct td_label_params {
     int label_up;          /* faces: a label's top faces uphill, as printed
                               maps draw them (default 1; 0: the reading
                               direction says nothing) */
+    int search;            /* faces: 0 the forest's best (default); N > 0
+                              also N forests in other orders and a local
+                              search over every face edge, the cheapest
+                              under the whole model kept (ours, slower;
+                              docs/label.md, "The search") */
 } td_label_params;
 
 typedef struct td_label_report {

@@ -71,6 +71,10 @@ static int parse_args(int argc, char **argv, label_opts *o)
          "missing\ncontour"},
         {"labeller", 0, TD_OPT_CHOICE, &p->method, .choices = "faces|tree",
          .meta = "L", .help = "faces: one solve | tree: the containment tree"},
+        {"search", 0, TD_OPT_INT, &p->search, 0, 64, .meta = "N",
+         .help = "faces: also try N forests and a local search\nover every "
+         "face edge, keep the cheapest (ours;\nslower; helps where a region "
+         "folds the\nwrong way; 8 measured best; 0: off)"},
         {"debug-dir", 0, TD_OPT_STRING, &o->debug_dir, .meta = "DIR", .help =
          "write heights.png: the lines coloured by height\n(over --like SCAN "
          "when given; thick: known,\ndashed: assumed, grey dots: no height)"},

@@ -26,7 +26,7 @@ void td_cli_run_init(td_cli_run *r)
 size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
 {
     td_label_params *lp = &r->p.label;
-    const td_opt o[11] = {
+    const td_opt o[12] = {
         {"interval", 0, TD_OPT_DOUBLE, &lp->interval, 1e-9, 1e9, .meta = "I",
          .help = "contour interval (default: inferred from\nthe printed "
          "labels)", .no_default = 1},
@@ -45,6 +45,10 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
         {"labeller", 0, TD_OPT_CHOICE, &lp->method, .choices = "faces|tree",
          .meta = "L", .help = "faces: one solve over the faces | tree: the\n"
          "containment tree; see topodig label"},
+        {"search", 0, TD_OPT_INT, &lp->search, 0, 64, .meta = "N",
+         .help = "faces: also try N forests and a local search\nover every "
+         "face edge, keep the cheapest (ours;\nslower; helps where a region "
+         "folds the\nwrong way; 8 measured best; 0: off)"},
         {"ink", 0, TD_OPT_FUNC, &r->p.scan.bin, .fn = ink, .meta = "KIND",
          .help = "auto | dark | brown | brown-hue | R,G,B[:tol]\n(default "
          "auto; see topodig scan --help)"},
@@ -62,7 +66,7 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
          "(one point per label read:\ntext, value, angle, confidence, used, "
          "why)"}};
     memcpy(v, o, sizeof o);
-    return 11 + td_cli_interp_opts(v + 11, &r->p.interp);
+    return 12 + td_cli_interp_opts(v + 12, &r->p.interp);
 }
 
 /* See run_int.h. */

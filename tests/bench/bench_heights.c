@@ -5,7 +5,7 @@
  * (td_match_heights), lines wrong with confidence >= 0.9, where heights
  * came from, and the labelling time.  Numbers for docs/benchmarks.md.
  *
- *   bench_heights [--dems DIR] [--only NAME] [--tree] [--log]
+ *   bench_heights [--dems DIR] [--only NAME] [--tree] [--search N] [--log]
  *                 [--all-hints] [--png DIR] */
 #include "tests/util/hsheet.h"
 
@@ -38,7 +38,7 @@ static const char *const hint_name[3] = {"3 known", "3 known+index",
 int main(int argc, char **argv)
 {
     const char *dir = "tests/data/dems", *only = NULL, *png = NULL;
-    int tree = 0, logit = 0, paperj = 0, all = 0, a;
+    int tree = 0, logit = 0, paperj = 0, all = 0, search = 0, a;
     size_t c;
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--dems") && a + 1 < argc)
@@ -47,6 +47,8 @@ int main(int argc, char **argv)
             only = argv[++a];
         else if (!strcmp(argv[a], "--tree"))
             tree = 1;
+        else if (!strcmp(argv[a], "--search") && a + 1 < argc)
+            search = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--paper-junctions"))
             paperj = 1;
         else if (!strcmp(argv[a], "--log"))
@@ -104,6 +106,7 @@ int main(int argc, char **argv)
                 hs.no_interval = hint == 2;
                 hs.method = tree ? TD_LABEL_TREE : TD_LABEL_FACES;
                 hs.paper_junctions = paperj;
+                hs.search = search;
                 if (png) {
                     snprintf(path, sizeof path, "%s/%s_%d_%d.png", png, k->name,
                              scanned, hint);

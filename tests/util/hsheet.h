@@ -14,6 +14,7 @@ typedef struct td_hsheet {
     int index_every;            /* pass --index-every (0: no) */
     int use_truth_lines;        /* label the truth lines, not the traced ones */
     int paper_junctions;        /* trace through junctions as the paper does */
+    int search;                 /* td_label_params.search */
     int read_labels;            /* read the printed labels (scanner/ocr.h) and
                                    give them to the labeller */
     int no_interval;            /* infer the interval from the labels */
