@@ -903,6 +903,48 @@ static void decode(hs *s, long *band)
     }
 }
 
+/* One best assignment, consistent along every forest edge (after
+ * solve_pass: up[] holds each subtree's costs): roots take their best
+ * state, each child the best given its parent's (ties: the lowest);
+ * bands into nb.  decode() takes each node's best alone, which may mix
+ * two equally good solutions of a component no evidence anchors. */
+static void decode_joint(hs *s, long *nb, uint32_t *st)
+{
+    size_t K2 = 2 * s->K, i;
+    for (i = 0; s->order[i] != UINT32_MAX; i++) {
+        uint32_t c = s->order[i], u = s->par[c];
+        const double *in = s->up + (size_t)c * K2;
+        size_t y, by = 0;
+        double best = INFINITY;
+        if (u == UINT32_MAX) {
+            vmin(in, K2, &by);
+        } else if (s->pkind[c] == E_LINE) {
+            double lc;
+            int xs = (int)(1 - (c & 1));
+            long v = across(s, s->pid[c], xs, (long)st[u], &lc);
+            by = v >= 0 ? (size_t)v : 0;
+        } else {
+            size_t x = st[u];
+            double wf = s->pkind[c] == E_CONT
+                            ? WCONT
+                            : fmax(WFACE * s->fe[s->pid[c]].w, MIN_BREAK),
+                   fo = s->pkind[c] == E_CONT ? 0.0 : fold_w(s, c);
+            for (y = 0; y < K2; y++) {
+                double v = in[y];
+                if (s->pkind[c] == E_CONT)
+                    v += y == x ? 0.0 : wf;
+                else
+                    v += ((y >> 1) == (x >> 1) ? 0.0 : wf) +
+                         ((y & 1) == (x & 1) ? fo : 0.0);
+                if (v < best - 1e-9)
+                    best = v, by = y;
+            }
+        }
+        st[c] = (uint32_t)by;
+        nb[c] = (long)(by >> 1);
+    }
+}
+
 /* Line l's gap: best cost of any other height minus the best cost (after
  * solve_pass, msg[c] holds everything but c's subtree with c's parent in
  * each state).  *hbest gets the best height (a band index). */
@@ -1359,6 +1401,28 @@ static double chunk_cost(const hs *s, size_t c, long a0, long a1)
     return labs(a0 - a1) != 1 ? PLINE : line_cost(s, c, a0, a1);
 }
 
+/* Add to dl[t] what moving the subtree of c (parent u; a node x is in it
+ * when tin[c] <= tin[x] < tout[c]) by move t does to edge e between x
+ * and y. */
+static void dl_edge(const hs *s, const cedge *e, uint32_t x, uint32_t y,
+                    const long *nb, const uint32_t *tin, const uint32_t *tout,
+                    uint32_t c, uint32_t u, double *dl)
+{
+    const uint32_t n4[4] = {x, x ^ 1, y, y ^ 1};
+    int in[4], t, j;
+    double old = edge_cost(s, e, nb[x], nb[x ^ 1] > nb[x], nb[y],
+                           nb[y ^ 1] > nb[y]);
+    for (j = 0; j < 4; j++)
+        in[j] = tin[n4[j]] >= tin[c] && tin[n4[j]] < tout[c];
+    for (t = 0; t < NMOVE; t++) {
+        long b[4];
+        for (j = 0; j < 4; j++)
+            b[j] = in[j] ? move_band(nb[n4[j]], nb[u], t) : nb[n4[j]];
+        dl[t] += edge_cost(s, e, b[0], b[1] > b[0], b[2], b[3] > b[2]) - old;
+    }
+}
+
+static double full_cost(hs *s, const long *nb);
 static int improve(hs *s, long *nb, td_ctx *cx)
 {
     size_t V = s->V, i, n, k;
@@ -1472,20 +1536,22 @@ static int improve(hs *s, long *nb, td_ctx *cx)
                 for (k = es[v]; k < es[v + 1]; k++) {
                     const cedge *e = &s->ce[ea[k]];
                     uint32_t o = e->a == v ? e->b : e->a;
-                    long bv = nb[v], bw = nb[w], bo = nb[o];
-                    int dv = nb[w] > nb[v], doo = nb[o ^ 1] > nb[o];
-                    double old;
-                    if (INT(o))
-                        continue; /* inside: moves keep it (shift, mirror) */
-                    old = edge_cost(s, e, bv, dv, bo, doo);
-                    for (t = 0; t < NMOVE; t++) {
-                        long nv = move_band(bv, nb[u], t);
-                        long nw = win ? move_band(bw, nb[u], t) : bw;
-                        int ndo = INT(o ^ 1)
-                                      ? move_band(nb[o ^ 1], nb[u], t) > bo
-                                      : doo;
-                        dl[t] += edge_cost(s, e, nv, nw > nv, bo, ndo) - old;
-                    }
+                    /* an edge inside keeps its cost (its ends move alike)
+                       unless one end is c stepping the other way from a
+                       partner left outside: counted once, from c */
+                    if (INT(o) && !(v == c && !INT(c ^ 1)))
+                        continue;
+                    dl_edge(s, e, v, o, nb, tin, tout, c, u, dl);
+                }
+            }
+            if (!INT(c ^ 1)) { /* c's partner stays, stepping the other
+                                  way: its edges leaving the subtree */
+                uint32_t w = c ^ 1;
+                for (k = es[w]; k < es[w + 1]; k++) {
+                    const cedge *e = &s->ce[ea[k]];
+                    uint32_t o = e->a == w ? e->b : e->a;
+                    if (!INT(o)) /* (those into it: counted from inside) */
+                        dl_edge(s, e, w, o, nb, tin, tout, c, u, dl);
                 }
             }
             for (t = 1; t < NMOVE; t++)
@@ -1571,21 +1637,24 @@ static int search(hs *s, int R, long *bb, double **H, td_ctx *cx)
 {
     double best = INFINITY;
     long *nb = td_malloc((s->V + 1) * sizeof *nb, cx);
-    uint64_t st = 0x9e3779b97f4a7c15ULL;
+    uint32_t *st = td_malloc((s->V + 1) * sizeof *st, cx);
+    uint64_t rs = 0x9e3779b97f4a7c15ULL;
     size_t i;
     int r, rc = 0;
-    if (!nb)
+    if (!nb || !st) {
+        free(nb), free(st);
         return TD_ENOMEM;
+    }
     for (r = 0; r < R; r++) {
         double f;
         for (i = s->C; i < s->nce; i++)
             s->ce[i].key = r == 0 ? s->ce[i].w
-                                  : s->ce[i].w * exp(2 * unit_rand(&st) - 1);
+                                  : s->ce[i].w * exp(2 * unit_rand(&rs) - 1);
         if ((rc = forest_tables(s, H, cx)) != 0)
             break;
         s->priors = 1;
         solve_pass(s);
-        decode(s, nb);
+        decode_joint(s, nb, st);
         if ((rc = improve(s, nb, cx)) != 0)
             break;
         if ((f = full_cost(s, nb)) < best) {
@@ -1600,7 +1669,7 @@ static int search(hs *s, int R, long *bb, double **H, td_ctx *cx)
         if (i == 0 || bb[i] > s->need_hi)
             s->need_hi = bb[i];
     }
-    free(nb);
+    free(nb), free(st);
     return rc;
 }
 
