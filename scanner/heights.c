@@ -53,6 +53,9 @@
 #define W_SUMMIT 0.5
 #define W_RING 0.25
 #define W_DEPR 50.0
+#define W_TICKED 20.0  /* a ring read with depression ticks falls inwards */
+#define W_UNTICKED 1.0 /* one without, on a sheet that ticks its depressions,
+                          rises (a prior) */
 #define W_LABEL 40.0 /* a printed label read with confidence 1 */
 #define SPOT_CONF 0.7 /* spot heights read with less are not used */
 #define MIN_INFER_LABELS 3 /* fewer labels read: no interval inferred */
@@ -535,6 +538,15 @@ static void depression(hs *s, double x, double y)
 static void setup_directions(hs *s, const unsigned char *touched)
 {
     size_t i, k, c0, m;
+    size_t marks = 0; /* the sheet marks its depressions */
+    for (i = 0; i < s->N; i++)
+        marks += td_faces_used(s->fx, i) && s->ls->v[i].closed &&
+                 s->ls->v[i].depression;
+    if (marks && !s->cost_only)
+        td_label_warn(s->rep, "%zu ring%s marked as depression%s (ticks on "
+                      "the inside) fall inwards; rings without ticks are "
+                      "taken to rise", marks, marks == 1 ? "" : "s",
+                      marks == 1 ? "" : "s");
     for (i = 0; i < s->N; i++) {
         const td_line *l = &s->ls->v[i];
         int in, empty = 1;
@@ -549,6 +561,14 @@ static void setup_directions(hs *s, const unsigned char *touched)
         for (k = 0; k < m; k++)
             s->up_prior[2 * (c0 + k) + (1 - in)] +=
                 (W_RING + (empty ? W_SUMMIT : 0)) / m;
+        for (k = 0; marks && k < m; k++) { /* ticked: falls inwards (read);
+                                                not: rises (the map's rule,
+                                                a prior: ticks go unread) */
+            if (l->depression)
+                s->up_cost[2 * (c0 + k) + in] += W_TICKED / m;
+            else
+                s->up_prior[2 * (c0 + k) + (1 - in)] += W_UNTICKED / m;
+        }
     }
     for (k = 0; k < s->p->ndepressions; k++)
         depression(s, s->p->depressions[2 * k], s->p->depressions[2 * k + 1]);

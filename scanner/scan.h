@@ -34,6 +34,10 @@ typedef struct td_scan_params {
     int blob_rings;       /* tiny rings that printed as dots of ink get
                              back their circle (blobring.h; ours; needs
                              measure_width), default 1 */
+    int ticks;            /* rings with depression ticks inside are marked
+                             td_line.depression when at least this many
+                             ticks are read (ticks.h; ours), default 2;
+                             0: not read */
     int keep_debug;       /* keep mask and skeleton copies in the result */
 } td_scan_params;
 
@@ -47,6 +51,7 @@ typedef struct td_scan_result {
     td_trace_stats trace;
     td_join_stats join;
     size_t blob_rings;     /* tiny rings redrawn from their dots */
+    size_t depressions;    /* rings read as depressions from their ticks */
     size_t straight_lines; /* grid lines erased from the mask */
     td_palette palette;    /* the inks found on a colour scan (--ink auto
                               or brown; n = 0 otherwise) */

@@ -32,8 +32,8 @@ for e in gpkg shp dxf; do
 done
 check "GeoPackage and Shapefile in the pixel frame's engineering CRS, not WGS 84" \
     "ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q 'topodig scan pixels' && ogrinfo -ro -so -al '$T/lines.shp' | grep -q 'topodig scan pixels' && ! ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q 4326"
-check "GeoPackage keeps the properties (height, height_source, closed, edge, width)" \
-    "ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^height: Real' && ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^height_source: String' && ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^closed: Integer(Boolean)' && ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^width: Real'"
+check "GeoPackage keeps the properties (height, height_source, closed, edge, width, depression)" \
+    "ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^height: Real' && ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^height_source: String' && ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^closed: Integer(Boolean)' && ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^width: Real' && ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^depression: Integer(Boolean)'"
 
 # label from each format, interp from each: the same DEM
 "$TD" label "$T/lines.geojson" -o "$T/lab.geojson" --interval 20 $K3 -q

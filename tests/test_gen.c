@@ -127,6 +127,63 @@ done:
     td_grid_f32_free(dem);
 }
 
+/* Depression rings (truth: the rings around lower ground, the DEM says)
+ * and their ticks (--hachures): every pixel the ticks add lies inside a
+ * depression ring, within 5 px of it, and there are some. */
+static void test_hachures(void)
+{
+    td_gen_params p = td_gen_defaults();
+    td_image *a = NULL, *b = NULL;
+    td_lines *ls = NULL;
+    td_grid_f32 *dem = NULL;
+    size_t i, added = 0, stray = 0, ndep = 0;
+    int x, y;
+    p.w = p.h = 1500;
+    p.line_width = 1.8;
+    TT_CHECK(td_gen_sheet(&p, &a, &ls, &dem, &cx) == 0);
+    p.hachures = 1;
+    TT_CHECK(td_gen_sheet(&p, &b, NULL, NULL, &cx) == 0);
+    if (!a || !b || !ls || !dem)
+        goto done;
+    for (i = 0; i < ls->n; i++) { /* the flag agrees with the DEM inside */
+        const td_line *l = &ls->v[i];
+        double sx = 0, sy = 0;
+        size_t k;
+        if (!l->closed)
+            continue;
+        for (k = 0; k < l->n; k++)
+            sx += l->xy[2 * k] / l->n, sy += l->xy[2 * k + 1] / l->n;
+        ndep += l->depression;
+        if (td_line_encloses(l, sx, sy) && fabs(td_line_signed_area(l)) > 400) {
+            float v = dem->data[(size_t)sy * dem->stride + (size_t)sx];
+            TT_CHECKF((v < l->height) == !!l->depression,
+                      "ring %zu at %g: middle %g, depression %d", i,
+                      l->height, v, l->depression);
+        }
+    }
+    for (y = 0; y < p.h; y++)
+        for (x = 0; x < p.w; x++) {
+            size_t o = (size_t)y * a->stride + (size_t)x;
+            int in = 0;
+            if (a->data[o] - b->data[o] < 60)
+                continue;
+            added++;
+            for (i = 0; i < ls->n && !in; i++)
+                in = ls->v[i].depression &&
+                     td_line_encloses(&ls->v[i], x + 0.5, y + 0.5) &&
+                     td_contain_dist(&ls->v[i], x + 0.5, y + 0.5) <= 5.0;
+            stray += !in;
+        }
+    TT_CHECKF(ndep >= 1 && added >= 20 && stray == 0,
+              "%zu depression rings, %zu tick pixels, %zu elsewhere", ndep,
+              added, stray);
+done:
+    td_image_free(a);
+    td_image_free(b);
+    td_lines_free(ls);
+    td_grid_f32_free(dem);
+}
+
 /* CONE: exactly the rings whose radius fits inside the sheet. */
 static void test_cone_rings(void)
 {
@@ -561,6 +618,7 @@ int main(void)
     td_ctx_init(&cx);
     TT_RUN(test_terrain_spacing);
     TT_RUN(test_hills_truth);
+    TT_RUN(test_hachures);
     TT_RUN(test_cone_rings);
     TT_RUN(test_plane);
     TT_RUN(test_contours_small);

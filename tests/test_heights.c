@@ -249,6 +249,34 @@ static void test_ambiguous(void)
     td_label_report_free(&hs.rep);
 }
 
+/* Hills with a pit, scanned, three known points: the pit's rings drawn
+ * with depression ticks (as printed maps draw them) are read as falling
+ * inwards, and every line gets its height; drawn plain, the summit prior
+ * makes the pit a hill. */
+static void test_ticked_pit(void)
+{
+    double acc[2] = {0, 0};
+    int t;
+    for (t = 0; t < 2; t++) {
+        td_hsheet hs;
+        td_ctx cx;
+        td_ctx_init(&cx);
+        memset(&hs, 0, sizeof hs);
+        hs.gp = td_gen_defaults();
+        hs.gp.w = hs.gp.h = 1500;
+        td_hsheet_defects(&hs.gp, 1);
+        hs.gp.labels = 0;
+        hs.gp.hachures = t;
+        hs.nknown = 3;
+        TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
+        TT_CHECK(hs.score.n_wrong_sure == 0);
+        acc[t] = hs.score.accuracy;
+        td_label_report_free(&hs.rep);
+    }
+    TT_CHECKF(acc[1] >= 0.99 && acc[0] < 0.95,
+              "accuracy %.3f ticked, %.3f plain", acc[1], acc[0]);
+}
+
 /* Two known points that contradict (the same line, two heights): a
  * warning naming the line, the solver's choice, no error. */
 static void test_contradiction(void)
@@ -279,6 +307,7 @@ int main(void)
     TT_RUN(test_real_elkhorn);
     TT_RUN(test_labels_only);
     TT_RUN(test_ambiguous);
+    TT_RUN(test_ticked_pit);
     TT_RUN(test_contradiction);
     TT_RUN(test_many_rings);
     TT_RUN(test_rings_rise);

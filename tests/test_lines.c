@@ -275,6 +275,7 @@ static td_lines *sample_lines(td_ctx *cx)
     l->height = 120.5;
     l->parent = 1;
     l->bridged = 2;
+    l->depression = 1;
     l = td_lines_add(ls, cx);
     td_line_push(l, 0.5, 3.25, cx);
     td_line_push(l, 40.125, 7.0004, cx);
@@ -324,6 +325,9 @@ static void test_geojson_pixel_units(void)
     TT_CHECK(jget(props, "closed")->type == J_BOOL && jget(props, "closed")->num);
     TT_CHECK(jget(props, "edge")->type == J_BOOL && !jget(props, "edge")->num);
     TT_CHECK(jget(props, "parent")->num == 1 && jget(props, "bridged")->num == 2);
+    TT_CHECK(jget(props, "depression") &&
+             jget(props, "depression")->type == J_BOOL &&
+             jget(props, "depression")->num);
     TT_CHECK(!strcmp(jget(jget(f, "geometry"), "type")->str, "LineString"));
     coords = jget(jget(f, "geometry"), "coordinates");
     TT_CHECK(jcount(coords) == 5); /* closed: the first point repeated */

@@ -198,6 +198,57 @@ static void test_blob_ring(void)
     td_image_free(im);
 }
 
+/* scanner/ticks.c: three rings 40 px in radius, 1.8 px ink: one with
+ * ticks every 14 px on its inside (a depression as printed maps draw
+ * it), one plain, one with the ticks outside.  Only the first comes out
+ * as a depression; ticked or not, each is one closed line. */
+static void test_depression_ticks(void)
+{
+    static const double cxs[3] = {60, 160, 260};
+    td_image *im = td_image_new(320, 120, 1, NULL);
+    td_scan_params sp = td_scan_defaults();
+    td_scan_result res;
+    int x, y, r, got[3] = {0, 0, 0}, rings[3] = {0, 0, 0};
+    size_t i, k;
+    for (y = 0; y < im->h; y++)
+        for (x = 0; x < im->w; x++) {
+            double v = 250;
+            for (r = 0; r < 3; r++) {
+                double dx = x + 0.5 - cxs[r], dy = y + 0.5 - 60;
+                double d = hypot(dx, dy), a = atan2(dy, dx), t;
+                if (fabs(d - 40) <= 0.9)
+                    v = 10;
+                t = fmod(a + 4 * M_PI, 14.0 / 40); /* ticks: 14 px apart */
+                t = fmin(t, 14.0 / 40 - t) * d;    /* px from the tick */
+                if (t <= 0.7 && ((r == 0 && d >= 36.4 && d <= 40) ||
+                                 (r == 2 && d >= 40 && d <= 43.6)))
+                    v = 10;
+            }
+            im->data[(size_t)y * im->stride + x] = (uint8_t)v;
+        }
+    TT_CHECK(td_scan(im, &sp, &res, NULL) == 0);
+    for (i = 0; i < res.lines->n; i++) {
+        const td_line *l = &res.lines->v[i];
+        double mx = 0;
+        if (!l->closed)
+            continue;
+        for (k = 0; k < l->n; k++)
+            mx += l->xy[2 * k] / l->n;
+        for (r = 0; r < 3; r++)
+            if (fabs(mx - cxs[r]) < 5) {
+                rings[r]++;
+                got[r] += l->depression;
+            }
+    }
+    TT_CHECKF(rings[0] == 1 && rings[1] == 1 && rings[2] == 1,
+              "rings traced %d %d %d", rings[0], rings[1], rings[2]);
+    TT_CHECKF(got[0] == 1 && got[1] == 0 && got[2] == 0,
+              "depressions read %d %d %d", got[0], got[1], got[2]);
+    TT_CHECK(res.depressions == 1);
+    td_scan_result_free(&res);
+    td_image_free(im);
+}
+
 /* A blank sheet is an error, not an empty result. */
 static void test_blank(void)
 {
@@ -222,6 +273,7 @@ int main(void)
     TT_RUN(test_plane);
     TT_RUN(test_brown);
     TT_RUN(test_blob_ring);
+    TT_RUN(test_depression_ticks);
     TT_RUN(test_blank);
     return tt_summary();
 }

@@ -246,6 +246,9 @@ static int chain_emit(ms *s, uint32_t id, int closed)
     for (i = c->lo; i < c->hi; i++)
         if (td_line_push(l, c->buf[2 * i], c->buf[2 * i + 1], s->cx) != 0)
             return TD_ENOMEM;
+    /* higher ground on the right: a ring run anticlockwise on the screen
+       (negative area, y down) has it outside */
+    l->depression = closed && td_line_signed_area(l) < 0;
     chain_release(s, id);
     return 0;
 }

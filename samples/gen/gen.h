@@ -59,6 +59,10 @@ typedef struct td_gen_params {
                           1: DejaVu Sans digits through FreeType, the top
                           of the text towards higher ground (printed maps'
                           convention), as td_gen_sheet draws them */
+    int hachures;      /* depression contours (rings around lower ground)
+                          drawn with short ticks on their downhill side,
+                          every 8 line widths (at least 12 px), as printed
+                          maps mark them (0: plain, the default) */
     int spots;         /* spot heights: up to this many summits marked with
                           a dot and their height (rounded) beside it,
                           horizontal, as printed maps do (0: none, the

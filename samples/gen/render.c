@@ -238,6 +238,35 @@ static void draw_line(uint8_t *lay, int w, int h, const td_line *l,
     }
 }
 
+/* The ticks of depression line l (a ring, lower ground on its left on
+ * the screen): every 8 widths (>= 12 px) along it, a stroke at right
+ * angles into the ring, 1.5 widths (>= 2.5 px) beyond the ink, kept
+ * within half the ring's mean half-width (2 area / perimeter): a ring
+ * too small for a tick 1.5 px beyond its ink gets none. */
+static void draw_ticks(uint8_t *lay, int w, int h, const td_line *l, double W)
+{
+    double per = td_line_length(l), step = fmax(12.0, 8.0 * W);
+    double len = 0.5 * W + fmax(2.5, 1.5 * W), s = 0.0, next = 0.5 * step;
+    double half = per > 0 ? 2.0 * fabs(td_line_signed_area(l)) / per : 0;
+    size_t i;
+    if (!l->closed || !l->depression || l->n < 3 || per <= 0)
+        return;
+    len = fmin(len, 0.5 * half);
+    if (len < 0.5 * W + 1.5)
+        return; /* a ring too small for ticks inside */
+    for (i = 0; i < l->n; i++) {
+        const double *p = l->xy + 2 * i, *q = l->xy + 2 * ((i + 1) % l->n);
+        double dx = q[0] - p[0], dy = q[1] - p[1], d = hypot(dx, dy);
+        while (d > 0 && next <= s + d) {
+            double t = (next - s) / d, x = p[0] + t * dx, y = p[1] + t * dy;
+            td_gen_draw_seg(lay, w, h, x, y, x + len * dy / d,
+                            y - len * dx / d, 0.4 * W + 0.5);
+            next += step;
+        }
+        s += d;
+    }
+}
+
 static int draw_lines(uint8_t *lay, const td_lines *lines,
                       const td_gen_params *p, const td_gen_break *br,
                       size_t nbr, td_ctx *cx)
@@ -253,6 +282,9 @@ static int draw_lines(uint8_t *lay, const td_lines *lines,
             e++;
         draw_line(lay, p->w, p->h, &lines->v[i], br + b, e - b,
                   td_gen_width_of(&lines->v[i], p, interval));
+        if (p->hachures)
+            draw_ticks(lay, p->w, p->h, &lines->v[i],
+                       td_gen_width_of(&lines->v[i], p, interval));
         if ((i & 4095) == 4095 &&
             td_progress(cx, "render", 0.8 * (double)i / lines->n) != 0)
             return TD_ECANCEL;

@@ -18,7 +18,7 @@ static const char usage[] =
     "             [--base B] [--interval I] [--width PX] [--blur SIGMA]\n"
     "             [--noise SD] [--specks N] [--breaks N] [--break-len A,B]\n"
     "             [--index-width PX] [--labels N] [--label-bend PX]\n"
-    "             [--spot-heights N]\n"
+    "             [--spot-heights N] [--hachures]\n"
     "             [--label-font segments|dejavu]\n"
     "             [--colour] [--distractors] [--print]\n"
     "             [--dem-in REAL.tif [--scale S]] [--tiff] [-q|--quiet]\n"
@@ -35,6 +35,8 @@ static const char usage[] =
     "their tops uphill (as printed maps do), segments (the default) as\n"
     "stroke digits reading left to right.  --spot-heights N: up to N\n"
     "summits and pits marked with a dot and their height beside it.\n"
+    "--hachures: depression contours (rings around lower ground) with\n"
+    "short ticks on their downhill side, as printed maps draw them.\n"
     "  --colour: brown ink on cream (RGB, PNG only);\n"
     "--distractors adds a blue river and black lettering to a colour\n"
     "sheet.  --print (implies --colour): a printed map as a flatbed scanner\n"
@@ -187,6 +189,8 @@ static int flag_opt(const char *o, opts *op)
         op->p.distractors = 1;
     else if (!strcmp(o, "--print"))
         op->p.colour = op->p.distractors = op->p.print = 1;
+    else if (!strcmp(o, "--hachures"))
+        op->p.hachures = 1;
     else if (!strcmp(o, "--tiff"))
         op->tiff = 1;
     else if (!strcmp(o, "--quiet") || !strcmp(o, "-q"))

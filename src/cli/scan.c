@@ -86,6 +86,10 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          .meta = "PX", .help = "remove open fragments (label digits, text)\n"
          "shorter than PX or fitting in a PX box,\nunless both ends continue "
          "lines (0: off)"},
+        {"ticks", 0, TD_OPT_INT, &p->ticks, 0, 1000, .meta = "N", .help =
+         "a ring with at least N ticks on its inside\n(printed maps' "
+         "depression contours) is written\nwith depression: true, which "
+         "label reads\n(ours; 0: not read)"},
         {"simplify", 0, TD_OPT_DOUBLE, &o->simplify, 0, 100, .meta = "PX",
          .help = "write the lines within PX of the traced path\n"
          "(Douglas-Peucker; 0: one vertex per\nskeleton pixel)"},
@@ -128,6 +132,10 @@ static void summary(const td_scan_result *r, double secs)
             r->join.merges_open, secs);
     if (r->palette.n > 0)
         td_cli_print_palette("scan", &r->palette);
+    if (r->depressions > 0)
+        fprintf(stderr, "scan: %zu ring%s read as depression%s (ticks "
+                "inside)\n", r->depressions, r->depressions == 1 ? "" : "s",
+                r->depressions == 1 ? "" : "s");
 }
 
 int td_cmd_scan(int argc, char **argv)

@@ -184,6 +184,10 @@ typedef struct td_line {
                            the last ends next to a skeleton junction */
     int hsource;       /* td_hsource */
     double confidence; /* 0..1 that the height is right (with hsource) */
+    int depression;    /* a closed line around lower ground, marked as such
+                          (printed maps tick depression contours on their
+                          downhill side; the generator knows, the scanner
+                          reads the ticks): 1, else 0 */
     const char *why;   /* static text: why the height is null, or NULL */
 } td_line;
 

@@ -41,6 +41,7 @@ typedef struct fprops {
     int has_id, has_height, closed, edge, bridged; /* closed -1: unknown */
     long id, parent;
     double height, width, confidence;
+    int depression;
 } fprops;
 
 /* Reader state: the points of the current geometry (positions with their
@@ -398,7 +399,7 @@ static int read_prop(jp *p, const jkey *k, fprops *P, size_t fi)
     int is_int;
     if (!is(k, "id") && !is(k, "height") && !is(k, "closed") &&
         !is(k, "edge") && !is(k, "parent") && !is(k, "bridged") &&
-        !is(k, "width") && !is(k, "confidence"))
+        !is(k, "width") && !is(k, "confidence") && !is(k, "depression"))
         return jskip(p, 1);
     if ((rc = jscalar(p, &kind, &v)) != 0)
         return rc;
@@ -433,6 +434,8 @@ static int read_prop(jp *p, const jkey *k, fprops *P, size_t fi)
             P->closed = kind == V_NULL ? -1 : v != 0;
         else if (is(k, "edge"))
             P->edge = v != 0;
+        else if (is(k, "depression"))
+            P->depression = kind != V_NULL && v != 0;
         else
             P->bridged = v != 0;
     }
@@ -566,6 +569,7 @@ static int emit(rd *R, size_t a, size_t b, const fprops *P, long id,
     l->closed = closed;
     l->edge = P->edge;
     l->bridged = P->bridged;
+    l->depression = P->depression && l->closed;
     l->has_height = P->has_height;
     l->height = P->has_height ? P->height : 0.0;
     l->parent = P->parent;
@@ -605,7 +609,7 @@ static int emit_feature(jp *p, rd *R, const jkey *t, const fprops *P,
 /* One feature object (cursor at '{'). */
 static int feature(jp *p, rd *R, size_t fi)
 {
-    fprops P = {0, 0, -1, 0, 0, 0, -1, 0.0, 0.0, 0.0};
+    fprops P = {0, 0, -1, 0, 0, 0, -1, 0.0, 0.0, 0.0, 0};
     jkey k, t = {"", 0}, ft = {"Feature", 7};
     int first = 1, r;
     R->n = R->np = 0;

@@ -103,7 +103,7 @@ static int fmt_coord(char *p, double v, int map)
 static void put_properties(jbuf *j, const td_line *l)
 {
     static const char *src[] = {"", "known", "label", "solved", "assumed"};
-    char s[600], h[40], par[32], wd[40] = "", hs[80] = "", why[200] = "";
+    char s[640], h[40], par[32], wd[40] = "", hs[80] = "", why[200] = "";
     if (l->has_height && isfinite(l->height))
         snprintf(h, sizeof h, "%.10g", l->height);
     else
@@ -122,10 +122,11 @@ static void put_properties(jbuf *j, const td_line *l)
     snprintf(s, sizeof s,
              "{\"type\":\"Feature\",\"properties\":{\"id\":%ld,"
              "\"height\":%s,\"closed\":%s,\"edge\":%s,\"parent\":%s,"
-             "\"bridged\":%d%s%s%s},\"geometry\":{\"type\":\"LineString\","
-             "\"coordinates\":[",
+             "\"bridged\":%d%s%s%s%s},\"geometry\":{\"type\":"
+             "\"LineString\",\"coordinates\":[",
              l->id, h, l->closed ? "true" : "false",
-             l->edge ? "true" : "false", par, l->bridged, wd, hs, why);
+             l->edge ? "true" : "false", par, l->bridged, wd, hs, why,
+             l->depression ? ",\"depression\":true" : "");
     jputs(j, s);
 }
 

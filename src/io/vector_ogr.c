@@ -108,6 +108,7 @@ static const field fields[] = {
     {"parent", OFTInteger64, OFSTNone},
     {"bridged", OFTInteger, OFSTNone},
     {"width", OFTReal, OFSTNone},
+    {"depression", OFTInteger, OFSTBoolean},
 };
 enum { NFIELDS = sizeof fields / sizeof fields[0] };
 
@@ -161,6 +162,8 @@ static void set_fields(OGRFeatureH f, OGRFeatureDefnH d, const td_line *l)
         OGR_F_SetFieldInteger(f, k[8], l->bridged);
     if (k[9] >= 0 && l->width > 0 && isfinite(l->width))
         OGR_F_SetFieldDouble(f, k[9], l->width);
+    if (k[10] >= 0)
+        OGR_F_SetFieldInteger(f, k[10], !!l->depression);
 }
 
 /* l's geometry in map coordinates (closed lines repeat their first point;
@@ -591,6 +594,8 @@ static int add_part(td_lines *ls, OGRGeometryH part, OGRFeatureH f,
         l->bridged = OGR_F_GetFieldAsInteger(f, k);
     if ((k = field_index(d, "width")) >= 0 && OGR_F_IsFieldSetAndNotNull(f, k))
         l->width = OGR_F_GetFieldAsDouble(f, k);
+    if ((k = field_index(d, "depression")) >= 0)
+        l->depression = l->closed && OGR_F_GetFieldAsInteger(f, k) != 0;
     return 0;
 }
 

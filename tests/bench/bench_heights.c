@@ -38,7 +38,7 @@ static const char *const hint_name[3] = {"3 known", "3 known+index",
 int main(int argc, char **argv)
 {
     const char *dir = "tests/data/dems", *only = NULL, *png = NULL;
-    int tree = 0, logit = 0, paperj = 0, all = 0, search = 0, a;
+    int tree = 0, logit = 0, paperj = 0, all = 0, search = 0, hach = 0, a;
     size_t c;
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--dems") && a + 1 < argc)
@@ -49,6 +49,8 @@ int main(int argc, char **argv)
             tree = 1;
         else if (!strcmp(argv[a], "--search") && a + 1 < argc)
             search = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--hachures"))
+            hach = 1;
         else if (!strcmp(argv[a], "--paper-junctions"))
             paperj = 1;
         else if (!strcmp(argv[a], "--log"))
@@ -95,6 +97,7 @@ int main(int argc, char **argv)
                     hs.gp.w = hs.gp.h = k->size;
                 }
                 td_hsheet_defects(&hs.gp, scanned >= 2 ? (scanned == 3 ? 2 : 1) : 0);
+                hs.gp.hachures = hach;
                 hs.use_truth_lines = scanned == 0;
                 if (hint == 2 && scanned < 2)
                     continue; /* labels: on the scanned sheets */
@@ -133,6 +136,8 @@ int main(int argc, char **argv)
                        hs.score.own / (hs.score.right + hs.score.wrong +
                                        hs.score.null_len + 1e-9),
                        hs.reads_right, hs.nreads, hs.interval);
+                if (logit && hs.rep.text)
+                    printf("%s\n", hs.rep.text);
                 fflush(stdout);
                 td_label_report_free(&hs.rep);
             }

@@ -123,8 +123,11 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
             rc = TD_ENOMEM;
             goto done;
         }
-        for (i = 0; i < ls->n; i++) /* the labeller starts from nothing */
+        for (i = 0; i < ls->n; i++) { /* the labeller starts from nothing
+                                          but what the sheet shows */
             ls->v[i].has_height = 0, ls->v[i].height = 0;
+            ls->v[i].depression &= hs->gp.hachures;
+        }
     } else {
         td_scan_params sp = td_scan_defaults();
         if (hs->gp.colour)
