@@ -197,6 +197,83 @@ static uint32_t le32(const unsigned char *b)
  * with the count and every normal of unit length; PLY's header counts and
  * size; glb's header, chunk lengths and counts; OBJ's v and f lines and,
  * with a texture, its .mtl and PNG beside it; refusals leave no file. */
+/* td_mesh_stream_stl (the CLI's STL, no triangle arrays) writes the
+ * same bytes as td_mesh_build + td_mesh_write, with the same counts, box
+ * and volume: the hill with its hole and cut corners, and a sheet with
+ * cells missing at random (corner contacts), at steps 1 and 3. */
+static void test_stream_stl(void)
+{
+    char dir[] = "/tmp/tdmeshXXXXXX", a[256], b[256];
+    td_grid_f32 *g = td_grid_f32_new(200, 160, NULL);
+    td_mesh_params p = td_mesh_defaults();
+    unsigned seed = 7;
+    int x, y, kind, step;
+    TT_CHECK(mkdtemp(dir) != NULL);
+    snprintf(a, sizeof a, "%s/built.stl", dir);
+    snprintf(b, sizeof b, "%s/streamed.stl", dir);
+    g->has_nodata = 1, g->nodata = -9999;
+    p.base = 5;
+    for (kind = 0; kind < 2; kind++)
+        for (step = 1; step <= 3; step += 2) {
+            td_mesh *m = NULL;
+            td_mesh_info info;
+            double vol = 0;
+            FILE *fa, *fb;
+            int same = 1, ca, cb;
+            long k;
+            for (y = 0; y < 160; y++)
+                for (x = 0; x < 200; x++) {
+                    int out = kind == 0 ? (hypot(x - 60, y - 50) < 12 ||
+                                           x + y < 20)
+                                        : (seed = seed * 1103515245u + 12345u,
+                                           (seed >> 16) % 6 == 0);
+                    TD_AT(g, x, y) = out ? -9999.0f : (float)hill(x, y);
+                }
+            p.step = step;
+            TT_CHECK(td_mesh_build(g, &p, &m, NULL) == 0);
+            TT_CHECK(m && td_mesh_write(a, m, NULL, NULL) == 0);
+            TT_CHECK(td_mesh_stream_stl(b, g, &p, &info, &vol, NULL) == 0);
+            fa = fopen(a, "rb"), fb = fopen(b, "rb");
+            for (k = 0; fa && fb && same; k++) {
+                ca = getc(fa), cb = getc(fb);
+                same = ca == cb;
+                if (ca == EOF || cb == EOF)
+                    break;
+            }
+            TT_CHECKF(fa && fb && same, "kind %d step %d: the files differ "
+                      "at byte %ld", kind, step, k);
+            if (fa)
+                fclose(fa);
+            if (fb)
+                fclose(fb);
+            if (m) {
+                size_t i;
+                int c;
+                double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL},
+                       hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+                for (i = 0; i < m->nv; i++)
+                    for (c = 0; c < 3; c++)
+                        lo[c] = fmin(lo[c], m->v[3 * i + c]),
+                        hi[c] = fmax(hi[c], m->v[3 * i + c]);
+                TT_CHECKF(info.nv == m->nv && info.nt == m->nt &&
+                              info.ntop == m->ntop && info.nwall == m->nwall &&
+                              info.nbase == m->nbase &&
+                              info.dropped == m->dropped,
+                          "kind %d step %d: counts %zu/%zu vertices, %zu/%zu "
+                          "triangles", kind, step, info.nv, m->nv, info.nt,
+                          m->nt);
+                TT_NEAR(vol, td_mesh_volume(m), 1e-9 * fabs(vol) + 1e-6);
+                for (c = 0; c < 3; c++) {
+                    TT_NEAR(info.lo[c], lo[c], 1e-3);
+                    TT_NEAR(info.hi[c], hi[c], 1e-3);
+                }
+            }
+            td_mesh_free(m);
+        }
+    unlink(a), unlink(b), rmdir(dir);
+    td_grid_f32_free(g);
+}
+
 static void test_files(void)
 {
     char dir[] = "/tmp/tdmeshXXXXXX", p[256], line[256];
@@ -302,5 +379,6 @@ int main(void)
     TT_RUN(test_corner_contacts);
     TT_RUN(test_bad);
     TT_RUN(test_files);
+    TT_RUN(test_stream_stl);
     return tt_summary();
 }

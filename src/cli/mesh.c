@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 typedef struct ms_opts {
     const char *in, *out, *texture;
@@ -57,7 +58,11 @@ int td_cmd_mesh(int argc, char **argv)
     td_grid_f32 *dem = NULL;
     td_image *tex = NULL;
     td_mesh *m = NULL;
+    td_mesh_info info;
     td_georef geo;
+    double vol = 0, lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL},
+           hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    int stream;
     double t0 = td_now();
     int rc;
     memset(&o, 0, sizeof o);
@@ -77,27 +82,40 @@ int td_cmd_mesh(int argc, char **argv)
         if (rc != 0)
             goto fail;
     }
-    if ((rc = td_mesh_build(dem, &o.p, &m, &cx)) != 0 ||
-        (rc = td_mesh_write(o.out, m, tex, &cx)) != 0)
-        goto fail;
-    if (!o.quiet) {
-        double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL,
-                                                              -HUGE_VAL,
-                                                              -HUGE_VAL};
+    {
+        const char *ext = strrchr(o.out, '.');
+        stream = ext && !strcasecmp(ext, ".stl") && !tex;
+    }
+    if (stream) { /* straight from the grid: no triangle arrays */
+        if ((rc = td_mesh_stream_stl(o.out, dem, &o.p, &info, &vol, &cx)) !=
+            0)
+            goto fail;
+        memcpy(lo, info.lo, sizeof lo);
+        memcpy(hi, info.hi, sizeof hi);
+    } else {
         size_t i;
         int k;
+        if ((rc = td_mesh_build(dem, &o.p, &m, &cx)) != 0 ||
+            (rc = td_mesh_write(o.out, m, tex, &cx)) != 0)
+            goto fail;
         for (i = 0; i < m->nv; i++)
             for (k = 0; k < 3; k++)
                 lo[k] = fmin(lo[k], m->v[3 * i + k]),
                 hi[k] = fmax(hi[k], m->v[3 * i + k]);
+        info.nv = m->nv, info.nt = m->nt, info.ntop = m->ntop;
+        info.nwall = m->nwall, info.nbase = m->nbase;
+        info.dropped = m->dropped;
+        vol = td_mesh_volume(m);
+    }
+    if (!o.quiet) {
         fprintf(stderr, "mesh: %zu vertices, %zu triangles (%zu top, %zu "
                 "walls, %zu base), %.6g x %.6g x %.6g %s, volume %.6g",
-                m->nv, m->nt, m->ntop, m->nwall, m->nbase, hi[0] - lo[0],
-                hi[1] - lo[1], hi[2] - lo[2],
-                o.p.print_size > 0 ? "mm" : "units", td_mesh_volume(m));
-        if (m->dropped)
+                info.nv, info.nt, info.ntop, info.nwall, info.nbase,
+                hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2],
+                o.p.print_size > 0 ? "mm" : "units", vol);
+        if (info.dropped)
             fprintf(stderr, ", %zu quads left out where data met at a "
-                    "corner only", m->dropped);
+                    "corner only", info.dropped);
         fprintf(stderr, "; %.2f s\n", td_now() - t0);
         if (hi[2] - lo[2] > fmax(hi[0] - lo[0], hi[1] - lo[1]))
             fprintf(stderr, "mesh: warning: the model is taller than it is "

@@ -68,14 +68,29 @@ static size_t drop_corner_contacts(uint8_t *in, int qx, int qy)
     return dropped;
 }
 
-typedef struct mbuild {
+typedef struct mbuild mbuild;
+
+/* Where the triangles go: corners as nodes (i, j) on top (t = 1) or on the
+ * base (t = 0). */
+typedef void (*sink_fn)(mbuild *b, int ai, int aj, int at, int bi, int bj,
+                        int bt, int ci, int cj, int ct);
+
+struct mbuild {
     const td_grid_f32 *dem;
     int s, nx, ny, qx, qy;
     uint8_t *in;
+    uint8_t *bn;   /* node -> 1: a corner of the base (base_node) */
     uint32_t *id;  /* node -> top vertex, UINT32_MAX: unused */
     uint32_t *bid; /* node -> base vertex (base_node), UINT32_MAX: none */
     td_mesh *m;
-} mbuild;
+    sink_fn put;
+    void (*quad)(mbuild *b, int i, int j); /* a top quad at once, or NULL */
+    /* the visitor's: positions, its callback, counts */
+    double lo, scale, base, cell, ex;
+    td_mesh_tri_fn fn;
+    void *user;
+    td_mesh_info *info;
+};
 
 static int quad_in(const mbuild *b, int i, int j)
 {
@@ -83,43 +98,51 @@ static int quad_in(const mbuild *b, int i, int j)
            b->in[(size_t)j * b->qx + i];
 }
 
-static void tri(td_mesh *m, uint32_t a, uint32_t b, uint32_t c)
+/* The indexed mesh's sink: vertex numbers, appended to m->t. */
+static void put_indexed(mbuild *b, int ai, int aj, int at, int bi, int bj,
+                        int bt, int ci, int cj, int ct)
 {
-    uint32_t *t = m->t + 3 * m->nt++;
-    t[0] = a, t[1] = b, t[2] = c;
+    uint32_t *t = b->m->t + 3 * b->m->nt++;
+    size_t ka = (size_t)aj * b->nx + ai, kb = (size_t)bj * b->nx + bi,
+           kc = (size_t)cj * b->nx + ci;
+    t[0] = at ? b->id[ka] : b->bid[ka];
+    t[1] = bt ? b->id[kb] : b->bid[kb];
+    t[2] = ct ? b->id[kc] : b->bid[kc];
 }
 
-/* The wall under the top edge from node ku to node kv (as the top's
+/* The wall under the top edge from node u to node v (as the top's
  * triangles run), down to their base vertices. */
-static void wall(const mbuild *b, size_t ku, size_t kv)
+static void wall(mbuild *b, int ui, int uj, int vi, int vj, size_t *nwall)
 {
-    uint32_t u = b->id[ku], v = b->id[kv], ub = b->bid[ku], vb = b->bid[kv];
-    tri(b->m, v, u, ub);
-    tri(b->m, v, ub, vb);
-    b->m->nwall += 2;
+    b->put(b, vi, vj, 1, ui, uj, 1, ui, uj, 0);
+    b->put(b, vi, vj, 1, ui, uj, 0, vi, vj, 0);
+    *nwall += 2;
 }
 
-static void emit(mbuild *b)
+/* The top's quads and their walls; counts into *ntop, *nwall. */
+static void emit(mbuild *b, size_t *ntop, size_t *nwall)
 {
-    td_mesh *m = b->m;
     int i, j;
     for (j = 0; j < b->qy; j++)
         for (i = 0; i < b->qx; i++) {
-            size_t kA = (size_t)j * b->nx + i, kB = kA + 1, kD = kA + b->nx,
-                   kC = kD + 1;
             if (!quad_in(b, i, j))
                 continue;
-            tri(m, b->id[kA], b->id[kD], b->id[kC]);
-            tri(m, b->id[kA], b->id[kC], b->id[kB]);
-            m->ntop += 2;
+            /* A (i, j), B (i+1, j), C (i+1, j+1), D (i, j+1) */
+            if (b->quad) {
+                b->quad(b, i, j);
+            } else {
+                b->put(b, i, j, 1, i, j + 1, 1, i + 1, j + 1, 1);
+                b->put(b, i, j, 1, i + 1, j + 1, 1, i + 1, j, 1);
+            }
+            *ntop += 2;
             if (!quad_in(b, i - 1, j))
-                wall(b, kA, kD);
+                wall(b, i, j, i, j + 1, nwall);
             if (!quad_in(b, i, j + 1))
-                wall(b, kD, kC);
+                wall(b, i, j + 1, i + 1, j + 1, nwall);
             if (!quad_in(b, i + 1, j))
-                wall(b, kC, kB);
+                wall(b, i + 1, j + 1, i + 1, j, nwall);
             if (!quad_in(b, i, j - 1))
-                wall(b, kB, kA);
+                wall(b, i + 1, j, i, j, nwall);
         }
 }
 
@@ -127,29 +150,28 @@ static void emit(mbuild *b)
  * base: the end of an open edge along the line, or where a run of quads
  * above or below starts or ends.  Both strips on a line take the same
  * nodes, so their shared edges match. */
+static int base_node_of(const mbuild *b, int j, int i)
+{
+    int nw = quad_in(b, i - 1, j - 1), ne = quad_in(b, i, j - 1),
+        sw = quad_in(b, i - 1, j), se = quad_in(b, i, j);
+    return nw != sw || ne != se || nw != ne;
+}
+
 static int base_node(const mbuild *b, int j, int i)
 {
-    return quad_in(b, i - 1, j - 1) != quad_in(b, i - 1, j) ||
-           quad_in(b, i, j - 1) != quad_in(b, i, j) ||
-           quad_in(b, i - 1, j - 1) != quad_in(b, i, j - 1) ||
-           quad_in(b, i - 1, j) != quad_in(b, i, j);
+    return b->bn[(size_t)j * b->nx + i];
 }
 
 /* A base triangle facing down (clockwise seen from above). */
 static void base_tri(mbuild *b, int ax, int ay, int bx, int by, int cx,
                      int cy)
 {
-    td_mesh *m = b->m;
-    uint32_t A = b->bid[(size_t)ay * b->nx + ax];
-    uint32_t B = b->bid[(size_t)by * b->nx + bx];
-    uint32_t C = b->bid[(size_t)cy * b->nx + cx];
     /* x east, y north (= -row): the signed area from above */
     long cr = (long)(bx - ax) * (long)(ay - cy) - (long)(ay - by) * (long)(cx - ax);
     if (cr > 0)
-        tri(m, A, C, B);
+        b->put(b, ax, ay, 0, cx, cy, 0, bx, by, 0);
     else
-        tri(m, A, B, C);
-    m->nbase++;
+        b->put(b, ax, ay, 0, bx, by, 0, cx, cy, 0);
 }
 
 /* The base, row by row: each run of quads a strip between its two lines,
@@ -205,48 +227,59 @@ static void count(const mbuild *b, size_t *nq, size_t *nedge)
             }
 }
 
-/* Vertices: the nodes of quads, top then base. */
-/* Node (i, j)'s position, top (z = its height) or base (z = 0). */
-static void place(const mbuild *b, const td_mesh_params *p, int i, int j,
-                  double lo, double scale, double base, int top, float *v,
-                  float *uv)
+static int node_used(const mbuild *b, int i, int j)
 {
-    v[0] = (float)(i * b->s * p->cellsize * scale);
-    v[1] = (float)((b->ny - 1 - j) * b->s * p->cellsize * scale);
-    v[2] = top ? (float)((TD_AT(b->dem, i * b->s, j * b->s) - lo) *
-                             p->exaggeration * scale + base)
+    return quad_in(b, i - 1, j - 1) || quad_in(b, i, j - 1) ||
+           quad_in(b, i - 1, j) || quad_in(b, i, j);
+}
+
+/* The output's frame: the lowest used node's height (lo), the scale
+ * (print size) and the base's thickness; *hi the highest. */
+static void frame(mbuild *b, const td_mesh_params *p, double *hi)
+{
+    double lo = HUGE_VAL, longest;
+    int i, j;
+    *hi = -HUGE_VAL;
+    for (j = 0; j < b->ny; j++)
+        for (i = 0; i < b->nx; i++)
+            if (node_used(b, i, j)) {
+                float z = TD_AT(b->dem, i * b->s, j * b->s);
+                lo = fmin(lo, z), *hi = fmax(*hi, z);
+            }
+    longest = fmax(b->qx, b->qy) * (double)b->s * p->cellsize;
+    b->scale = p->print_size > 0 && longest > 0 ? p->print_size / longest : 1;
+    b->base = p->base >= 0 ? p->base
+                           : fmax(0.1 * (*hi - lo) * p->exaggeration * b->scale,
+                                  1e-3 * longest * b->scale);
+    b->lo = lo;
+    b->cell = p->cellsize;
+    b->ex = p->exaggeration;
+}
+
+/* Node (i, j)'s position, top (z = its height) or base (z = 0). */
+static void place(const mbuild *b, int i, int j, int top, float *v)
+{
+    v[0] = (float)(i * b->s * b->cell * b->scale);
+    v[1] = (float)((b->ny - 1 - j) * b->s * b->cell * b->scale);
+    v[2] = top ? (float)((TD_AT(b->dem, i * b->s, j * b->s) - b->lo) * b->ex *
+                             b->scale + b->base)
                : 0.0f;
-    uv[0] = (float)((i * b->s + 0.5) / b->dem->w);
-    uv[1] = (float)(1 - (j * b->s + 0.5) / b->dem->h);
 }
 
 /* Vertices: the nodes of quads on top, then the base's nodes. */
-static int vertices(mbuild *b, const td_mesh_params *p, td_ctx *cx)
+static int vertices(mbuild *b, td_ctx *cx)
 {
-    const td_grid_f32 *g = b->dem;
     td_mesh *m = b->m;
-    double lo = HUGE_VAL, hi = -HUGE_VAL, scale, base, longest;
     uint32_t n = 0, nb = 0;
     size_t k;
     int i, j;
     for (j = 0; j < b->ny; j++)
         for (i = 0; i < b->nx; i++) {
-            int used = quad_in(b, i - 1, j - 1) || quad_in(b, i, j - 1) ||
-                       quad_in(b, i - 1, j) || quad_in(b, i, j);
+            int used = node_used(b, i, j);
             k = (size_t)j * b->nx + i;
             b->id[k] = used ? n++ : UINT32_MAX;
             b->bid[k] = used && base_node(b, j, i) ? nb++ : UINT32_MAX;
-            if (used) {
-                float z = TD_AT(g, i * b->s, j * b->s);
-                lo = fmin(lo, z), hi = fmax(hi, z);
-            }
         }
-    longest = fmax(b->qx, b->qy) * (double)b->s * p->cellsize;
-    scale = p->print_size > 0 && longest > 0 ? p->print_size / longest : 1;
-    base = p->base >= 0 ? p->base
-                        : fmax(0.1 * (hi - lo) * p->exaggeration * scale,
-                               1e-3 * longest * scale);
-    m->volume_scale = scale;
     m->nv = (size_t)n + nb;
     if (!(m->v = malloc(3 * m->nv * sizeof *m->v)) ||
         !(m->uv = malloc(2 * m->nv * sizeof *m->uv)))
@@ -254,16 +287,70 @@ static int vertices(mbuild *b, const td_mesh_params *p, td_ctx *cx)
                          m->nv);
     for (j = 0; j < b->ny; j++)
         for (i = 0; i < b->nx; i++) {
+            float uv[2];
             k = (size_t)j * b->nx + i;
-            if (b->id[k] != UINT32_MAX)
-                place(b, p, i, j, lo, scale, base, 1, m->v + 3 * (size_t)b->id[k],
-                      m->uv + 2 * (size_t)b->id[k]);
+            uv[0] = (float)((i * b->s + 0.5) / b->dem->w);
+            uv[1] = (float)(1 - (j * b->s + 0.5) / b->dem->h);
+            if (b->id[k] != UINT32_MAX) {
+                place(b, i, j, 1, m->v + 3 * (size_t)b->id[k]);
+                memcpy(m->uv + 2 * (size_t)b->id[k], uv, sizeof uv);
+            }
             if (b->bid[k] != UINT32_MAX) {
                 b->bid[k] += n; /* after the top's */
-                place(b, p, i, j, lo, scale, base, 0,
-                      m->v + 3 * (size_t)b->bid[k], m->uv + 2 * (size_t)b->bid[k]);
+                place(b, i, j, 0, m->v + 3 * (size_t)b->bid[k]);
+                memcpy(m->uv + 2 * (size_t)b->bid[k], uv, sizeof uv);
             }
         }
+    return 0;
+}
+
+/* The quads with data (corner-only contacts dropped), the triangle count
+ * and the checks; b->in allocated (the caller frees it). */
+static int prepare(mbuild *b, const td_grid_f32 *dem, const td_mesh_params *p,
+                   size_t *ntri, size_t *dropped, td_ctx *cx)
+{
+    size_t nq, nedge;
+    int x, y;
+    if (p->step < 1 || !(p->exaggeration > 0) || !(p->cellsize > 0) ||
+        p->print_size < 0)
+        return td_seterr(cx, TD_EINVAL, "mesh: bad parameters (step >= 1, "
+                         "exaggeration and cell size > 0)");
+    b->dem = dem, b->s = p->step;
+    b->nx = (dem->w - 1) / p->step + 1, b->ny = (dem->h - 1) / p->step + 1;
+    b->qx = b->nx - 1, b->qy = b->ny - 1;
+    if (b->qx < 1 || b->qy < 1)
+        return td_seterr(cx, TD_EINVAL, "mesh: a DEM of %d x %d cells at step "
+                         "%d has no quad (2 x 2 vertices needed)", dem->w,
+                         dem->h, p->step);
+    if (!(b->in = malloc((size_t)b->qx * b->qy)))
+        return td_seterr(cx, TD_ENOMEM, "mesh: out of memory");
+    for (y = 0; y < b->qy; y++)
+        for (x = 0; x < b->qx; x++) {
+            int s = p->step;
+            b->in[(size_t)y * b->qx + x] =
+                valid(dem, TD_AT(dem, x * s, y * s)) &&
+                valid(dem, TD_AT(dem, (x + 1) * s, y * s)) &&
+                valid(dem, TD_AT(dem, x * s, (y + 1) * s)) &&
+                valid(dem, TD_AT(dem, (x + 1) * s, (y + 1) * s));
+        }
+    *dropped = drop_corner_contacts(b->in, b->qx, b->qy);
+    if (!(b->bn = malloc((size_t)b->nx * b->ny)))
+        return td_seterr(cx, TD_ENOMEM, "mesh: out of memory");
+    for (y = 0; y < b->ny; y++)
+        for (x = 0; x < b->nx; x++)
+            b->bn[(size_t)y * b->nx + x] = (uint8_t)base_node_of(b, y, x);
+    count(b, &nq, &nedge);
+    if (nq == 0)
+        return td_seterr(cx, TD_EINVAL, "mesh: no 2 x 2 vertices with data");
+    *ntri = 2 * nq + 2 * nedge + base_strips(b, 0);
+    if (*ntri > p->max_triangles) {
+        int s = p->step;
+        while ((double)*ntri * p->step * p->step / ((double)s * s) >
+               (double)p->max_triangles)
+            s++;
+        return td_seterr(cx, TD_EINVAL, "mesh: %zu triangles, more than %zu; "
+                         "give --step %d or more", *ntri, p->max_triangles, s);
+    }
     return 0;
 }
 
@@ -272,62 +359,32 @@ int td_mesh_build(const td_grid_f32 *dem, const td_mesh_params *p,
                   td_mesh **out, td_ctx *cx)
 {
     mbuild b;
-    size_t nq, nedge, ntri, i;
-    int x, y, rc = 0;
+    size_t ntri, i, dropped = 0;
+    double hi;
+    int rc;
     *out = NULL;
-    if (p->step < 1 || !(p->exaggeration > 0) || !(p->cellsize > 0) ||
-        p->print_size < 0)
-        return td_seterr(cx, TD_EINVAL, "mesh: bad parameters (step >= 1, "
-                         "exaggeration and cell size > 0)");
     memset(&b, 0, sizeof b);
-    b.dem = dem, b.s = p->step;
-    b.nx = (dem->w - 1) / p->step + 1, b.ny = (dem->h - 1) / p->step + 1;
-    b.qx = b.nx - 1, b.qy = b.ny - 1;
-    if (b.qx < 1 || b.qy < 1)
-        return td_seterr(cx, TD_EINVAL, "mesh: a DEM of %d x %d cells at step "
-                         "%d has no quad (2 x 2 vertices needed)", dem->w,
-                         dem->h, p->step);
-    if (!(b.in = malloc((size_t)b.qx * b.qy)) ||
-        !(b.id = malloc((size_t)b.nx * b.ny * sizeof *b.id)) ||
+    if ((rc = prepare(&b, dem, p, &ntri, &dropped, cx)) != 0)
+        goto fail;
+    if (!(b.id = malloc((size_t)b.nx * b.ny * sizeof *b.id)) ||
         !(b.bid = malloc((size_t)b.nx * b.ny * sizeof *b.bid)) ||
         !(b.m = calloc(1, sizeof *b.m))) {
         rc = td_seterr(cx, TD_ENOMEM, "mesh: out of memory");
         goto fail;
     }
-    for (y = 0; y < b.qy; y++)
-        for (x = 0; x < b.qx; x++) {
-            int s = p->step;
-            b.in[(size_t)y * b.qx + x] =
-                valid(dem, TD_AT(dem, x * s, y * s)) &&
-                valid(dem, TD_AT(dem, (x + 1) * s, y * s)) &&
-                valid(dem, TD_AT(dem, x * s, (y + 1) * s)) &&
-                valid(dem, TD_AT(dem, (x + 1) * s, (y + 1) * s));
-        }
-    b.m->dropped = drop_corner_contacts(b.in, b.qx, b.qy);
-    count(&b, &nq, &nedge);
-    if (nq == 0) {
-        rc = td_seterr(cx, TD_EINVAL, "mesh: no 2 x 2 vertices with data");
-        goto fail;
-    }
-    ntri = 2 * nq + 2 * nedge + base_strips(&b, 0);
-    if (ntri > p->max_triangles) {
-        int s = p->step;
-        while ((double)ntri * p->step * p->step / ((double)s * s) >
-               (double)p->max_triangles)
-            s++;
-        rc = td_seterr(cx, TD_EINVAL, "mesh: %zu triangles, more than %zu; "
-                       "give --step %d or more", ntri, p->max_triangles, s);
-        goto fail;
-    }
-    if ((rc = vertices(&b, p, cx)) != 0)
+    b.m->dropped = dropped;
+    frame(&b, p, &hi);
+    b.m->volume_scale = b.scale;
+    if ((rc = vertices(&b, cx)) != 0)
         goto fail;
     if (!(b.m->t = malloc(3 * ntri * sizeof *b.m->t))) {
         rc = td_seterr(cx, TD_ENOMEM, "mesh: out of memory (%zu triangles)",
                        ntri);
         goto fail;
     }
-    emit(&b);
-    base_strips(&b, 1);
+    b.put = put_indexed;
+    emit(&b, &b.m->ntop, &b.m->nwall);
+    b.m->nbase = base_strips(&b, 1);
     for (i = 0; i < 3 * b.m->nt; i++) /* nothing left unset */
         if (b.m->t[i] >= b.m->nv) {
             rc = td_seterr(cx, TD_EINVAL, "mesh: internal: vertex out of range");
@@ -337,7 +394,73 @@ int td_mesh_build(const td_grid_f32 *dem, const td_mesh_params *p,
     b.m = NULL;
 fail:
     td_mesh_free(b.m);
-    free(b.in), free(b.id), free(b.bid);
+    free(b.in), free(b.bn), free(b.id), free(b.bid);
+    return rc;
+}
+
+/* The visitor's sink: positions to the caller's function. */
+static void put_visit(mbuild *b, int ai, int aj, int at, int bi, int bj,
+                      int bt, int ci, int cj, int ct)
+{
+    float a[3], v[3], c[3];
+    place(b, ai, aj, at, a);
+    place(b, bi, bj, bt, v);
+    place(b, ci, cj, ct, c);
+    b->fn(b->user, a, v, c);
+}
+
+/* The visitor's top quad: four corners placed once, (A, D, C), (A, C, B). */
+static void quad_visit(mbuild *b, int i, int j)
+{
+    float A[3], B[3], C[3], D[3];
+    place(b, i, j, 1, A);
+    place(b, i + 1, j, 1, B);
+    place(b, i + 1, j + 1, 1, C);
+    place(b, i, j + 1, 1, D);
+    b->fn(b->user, A, D, C);
+    b->fn(b->user, A, C, B);
+}
+
+/* See mesh.h. */
+int td_mesh_visit(const td_grid_f32 *dem, const td_mesh_params *p,
+                  td_mesh_info *info, td_mesh_tri_fn fn, void *user,
+                  td_ctx *cx)
+{
+    mbuild b;
+    size_t ntri, dropped = 0;
+    double hi;
+    int rc, i, j;
+    memset(&b, 0, sizeof b);
+    memset(info, 0, sizeof *info);
+    if ((rc = prepare(&b, dem, p, &ntri, &dropped, cx)) != 0)
+        goto fail;
+    frame(&b, p, &hi);
+    info->nt = ntri;
+    info->dropped = dropped;
+    info->volume_scale = b.scale;
+    {
+        int i0 = b.nx, i1 = -1, j0 = b.ny, j1 = -1;
+        for (j = 0; j < b.ny; j++) /* distinct vertices, as td_mesh_build */
+            for (i = 0; i < b.nx; i++)
+                if (node_used(&b, i, j)) {
+                    info->nv += 1 + (size_t)base_node(&b, j, i);
+                    i0 = i < i0 ? i : i0, i1 = i > i1 ? i : i1;
+                    j0 = j < j0 ? j : j0, j1 = j > j1 ? j : j1;
+                }
+        info->lo[0] = i0 * b.s * b.cell * b.scale;
+        info->hi[0] = i1 * b.s * b.cell * b.scale;
+        info->lo[1] = (b.ny - 1 - j1) * b.s * b.cell * b.scale;
+        info->hi[1] = (b.ny - 1 - j0) * b.s * b.cell * b.scale;
+        info->lo[2] = 0;
+        info->hi[2] = (hi - b.lo) * b.ex * b.scale + b.base;
+    }
+    if (fn) {
+        b.put = put_visit, b.quad = quad_visit, b.fn = fn, b.user = user;
+        emit(&b, &info->ntop, &info->nwall);
+        info->nbase = base_strips(&b, 1);
+    }
+fail:
+    free(b.in), free(b.bn);
     return rc;
 }
 

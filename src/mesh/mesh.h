@@ -49,6 +49,34 @@ int td_mesh_build(const td_grid_f32 *dem, const td_mesh_params *p,
                   td_mesh **out, td_ctx *cx);
 void td_mesh_free(td_mesh *m);
 
+/* What td_mesh_visit makes, without the arrays. */
+typedef struct td_mesh_info {
+    size_t nv, nt, ntop, nwall, nbase, dropped;
+    double volume_scale;
+    double lo[3], hi[3]; /* the solid's bounding box */
+} td_mesh_info;
+
+/* One triangle: its corners' positions, counter-clockwise from outside. */
+typedef void (*td_mesh_tri_fn)(void *user, const float *a, const float *b,
+                               const float *c);
+
+/* The same solid as td_mesh_build, handed out one triangle at a time
+ * (top quads row by row with their walls, then the base) with no vertex
+ * or triangle arrays: memory is one byte per quad.  info gets the counts
+ * (nt before the first call); fn may be NULL (counts only).  The same
+ * errors as td_mesh_build. */
+int td_mesh_visit(const td_grid_f32 *dem, const td_mesh_params *p,
+                  td_mesh_info *info, td_mesh_tri_fn fn, void *user,
+                  td_ctx *cx);
+
+/* dem's solid straight to a binary STL at path (td_mesh_visit: no
+ * triangle arrays), written under a temporary name and renamed; info
+ * gets the counts and the box, *volume (may be NULL) the enclosed
+ * volume.  0, the errors of td_mesh_visit, TD_EIO. */
+int td_mesh_stream_stl(const char *path, const td_grid_f32 *dem,
+                       const td_mesh_params *p, td_mesh_info *info,
+                       double *volume, td_ctx *cx);
+
 /* The volume the triangles enclose (divergence theorem; positive when
  * they face outwards). */
 double td_mesh_volume(const td_mesh *m);

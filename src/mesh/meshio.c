@@ -7,6 +7,7 @@
 #include "src/io/io.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -56,39 +57,212 @@ static const float *vert(const td_mesh *m, size_t t, int k)
     return m->v + 3 * (size_t)m->t[3 * t + k];
 }
 
+/* One STL record: the unit normal, the corners, no attributes. */
+static void stl_record(uint8_t *rec, const float *a, const float *b,
+                       const float *d)
+{
+    float u[3], v[3], n[3], l;
+    int k;
+    for (k = 0; k < 3; k++)
+        u[k] = b[k] - a[k], v[k] = d[k] - a[k];
+    n[0] = u[1] * v[2] - u[2] * v[1];
+    n[1] = u[2] * v[0] - u[0] * v[2];
+    n[2] = u[0] * v[1] - u[1] * v[0];
+    l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    l = l > 0 ? 1.0f / l : 0.0f;
+    for (k = 0; k < 3; k++) {
+        putf(rec + 4 * k, n[k] * l);
+        putf(rec + 12 + 4 * k, a[k]);
+        putf(rec + 24 + 4 * k, b[k]);
+        putf(rec + 36 + 4 * k, d[k]);
+    }
+    rec[48] = rec[49] = 0;
+}
+
 /* Binary STL: 80-byte header, the count, 50 bytes a triangle. */
 static int write_stl(FILE *f, const td_mesh *m)
 {
     uint8_t head[84] = "topodig mesh: binary STL";
     obuf *o = malloc(sizeof *o);
     size_t i;
-    int k, c, rc;
+    int rc;
     if (!o)
         return -1;
     o->f = f, o->n = 0, o->err = 0;
     put32(head + 80, (uint32_t)m->nt);
     memcpy(ob_room(o, 84), head, 84);
-    for (i = 0; i < m->nt; i++) {
-        const float *a = vert(m, i, 0), *b = vert(m, i, 1), *d = vert(m, i, 2);
-        uint8_t *rec = ob_room(o, 50);
-        float u[3], v[3], n[3], l;
-        for (k = 0; k < 3; k++)
-            u[k] = b[k] - a[k], v[k] = d[k] - a[k];
-        n[0] = u[1] * v[2] - u[2] * v[1];
-        n[1] = u[2] * v[0] - u[0] * v[2];
-        n[2] = u[0] * v[1] - u[1] * v[0];
-        l = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        for (k = 0; k < 3; k++)
-            putf(rec + 4 * k, l > 0 ? n[k] / l : 0);
-        for (c = 0; c < 3; c++)
-            for (k = 0; k < 3; k++)
-                putf(rec + 12 + 12 * c + 4 * k, vert(m, i, c)[k]);
-        rec[48] = rec[49] = 0;
-    }
+    for (i = 0; i < m->nt; i++)
+        stl_record(ob_room(o, 50), vert(m, i, 0), vert(m, i, 1),
+                   vert(m, i, 2));
     ob_flush(o);
     rc = o->err ? -1 : 0;
     free(o);
     return rc;
+}
+
+/* The STL stream's output: records go into one of two 8 MB blocks while a
+ * writer thread writes the other, so encoding and the kernel's copy into
+ * the page cache overlap. */
+#define ABLOCK (8u << 20)
+
+typedef struct abuf {
+    FILE *f;
+    uint8_t *blk[2], *out; /* out: the block being written, NULL: none */
+    size_t n, out_n;
+    int cur, quit, err, started;
+    pthread_t th;
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+} abuf;
+
+static void *ab_writer(void *arg)
+{
+    abuf *a = arg;
+    pthread_mutex_lock(&a->mu);
+    for (;;) {
+        while (!a->out && !a->quit)
+            pthread_cond_wait(&a->cv, &a->mu);
+        if (!a->out)
+            break;
+        {
+            uint8_t *o = a->out;
+            size_t n = a->out_n;
+            int bad;
+            pthread_mutex_unlock(&a->mu);
+            bad = fwrite(o, 1, n, a->f) != n;
+            pthread_mutex_lock(&a->mu);
+            a->err |= bad;
+            a->out = NULL;
+            pthread_cond_broadcast(&a->cv);
+        }
+    }
+    pthread_mutex_unlock(&a->mu);
+    return NULL;
+}
+
+/* Hand the current block to the writer (after it finished the last). */
+static void ab_flush(abuf *a)
+{
+    if (!a->n)
+        return;
+    pthread_mutex_lock(&a->mu);
+    while (a->out)
+        pthread_cond_wait(&a->cv, &a->mu);
+    a->out = a->blk[a->cur];
+    a->out_n = a->n;
+    pthread_cond_broadcast(&a->cv);
+    pthread_mutex_unlock(&a->mu);
+    a->cur ^= 1;
+    a->n = 0;
+}
+
+static uint8_t *ab_room(abuf *a, size_t n)
+{
+    uint8_t *p;
+    if (a->n + n > ABLOCK)
+        ab_flush(a);
+    p = a->blk[a->cur] + a->n;
+    a->n += n;
+    return p;
+}
+
+static int ab_open(abuf *a, FILE *f)
+{
+    memset(a, 0, sizeof *a);
+    a->f = f;
+    if (!(a->blk[0] = malloc(ABLOCK)) || !(a->blk[1] = malloc(ABLOCK))) {
+        free(a->blk[0]);
+        return -1;
+    }
+    pthread_mutex_init(&a->mu, NULL);
+    pthread_cond_init(&a->cv, NULL);
+    a->started = pthread_create(&a->th, NULL, ab_writer, a) == 0;
+    if (!a->started) {
+        free(a->blk[0]), free(a->blk[1]);
+        return -1;
+    }
+    return 0;
+}
+
+/* Write what is left, stop the writer; -1 when any write failed. */
+static int ab_close(abuf *a)
+{
+    ab_flush(a);
+    pthread_mutex_lock(&a->mu);
+    while (a->out)
+        pthread_cond_wait(&a->cv, &a->mu);
+    a->quit = 1;
+    pthread_cond_broadcast(&a->cv);
+    pthread_mutex_unlock(&a->mu);
+    pthread_join(a->th, NULL);
+    pthread_mutex_destroy(&a->mu);
+    pthread_cond_destroy(&a->cv);
+    free(a->blk[0]), free(a->blk[1]);
+    return a->err ? -1 : 0;
+}
+
+/* The STL stream: records, the volume and the box. */
+typedef struct stlsink {
+    abuf o;
+    const td_mesh_info *info; /* the count, known at the first triangle */
+    int started, too_many;
+    double vol;
+} stlsink;
+
+
+static void stl_tri(void *user, const float *a, const float *b, const float *c)
+{
+    stlsink *s = user;
+    if (!s->started) { /* the header: 80 bytes, the count */
+        uint8_t *h = ab_room(&s->o, 84);
+        s->too_many = s->info->nt > UINT32_MAX; /* more than STL counts */
+        memset(h, 0, 84);
+        memcpy(h, "topodig mesh: binary STL", 24);
+        put32(h + 80, (uint32_t)s->info->nt);
+        s->started = 1;
+    }
+    stl_record(ab_room(&s->o, 50), a, b, c);
+    s->vol += (double)a[0] * ((double)b[1] * c[2] - (double)b[2] * c[1]) -
+              (double)a[1] * ((double)b[0] * c[2] - (double)b[2] * c[0]) +
+              (double)a[2] * ((double)b[0] * c[1] - (double)b[1] * c[0]);
+}
+
+/* See mesh.h. */
+int td_mesh_stream_stl(const char *path, const td_grid_f32 *dem,
+                       const td_mesh_params *p, td_mesh_info *info,
+                       double *volume, td_ctx *cx)
+{
+    stlsink *s = calloc(1, sizeof *s);
+    char tmp[4096];
+    FILE *f;
+    int rc;
+    if (!s)
+        return td_seterr(cx, TD_ENOMEM, "mesh: out of memory");
+    s->info = info;
+    if (!(f = td_atomic_open(path, tmp, sizeof tmp, cx))) {
+        free(s);
+        return cx && cx->code ? cx->code : TD_EIO;
+    }
+    if (ab_open(&s->o, f) != 0) {
+        td_atomic_abort(f, tmp);
+        free(s);
+        return td_seterr(cx, TD_ENOMEM, "mesh: out of memory");
+    }
+    rc = td_mesh_visit(dem, p, info, stl_tri, s, cx);
+    if (ab_close(&s->o) != 0 && rc == 0)
+        rc = td_seterr(cx, TD_EIO, "%s: write failed", path);
+    if (rc == 0 && s->too_many)
+        rc = td_seterr(cx, TD_EINVAL, "%s: %zu triangles, more than an STL "
+                       "holds (give --step)", path, info->nt);
+    if (rc != 0) {
+        td_atomic_abort(f, tmp);
+        free(s);
+        return rc;
+    }
+    if (volume)
+        *volume = s->vol / 6;
+    free(s);
+    return td_atomic_commit(f, tmp, path, cx);
 }
 
 /* Binary little-endian PLY. */
