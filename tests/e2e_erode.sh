@@ -33,8 +33,21 @@ fi
 printf 'ncols 4\nnrows 3\nxllcorner 1000\nyllcorner 2000\ncellsize 10\nNODATA_value -9999\n1 2 3 4\n2 3 4 5\n3 4 5 9\n' >"$T/c10.asc"
 "$TD" erode "$T/c10.asc" -o "$T/c10o.asc" --steps 2 2>"$T/err"
 check "cell size read from the grid's georeferencing" "grep -q 'cell size 10 from the georeferencing' '$T/err'"
+check "a georeferenced DEM: the model in cell units, the level deposition, the rest rule" "grep -q 'runs in cell units (heights / 10' '$T/err' && grep -q 'deposit level on a georeferenced DEM' '$T/err' && grep -q 'rest-accel 0.001 on a georeferenced DEM' '$T/err'"
 "$TD" erode "$T/c10.asc" -o "$T/c10o.asc" --steps 2 --cell-size 2 2>"$T/err"
 check "--cell-size overrides the georeferencing" "! grep -q 'from the georeferencing' '$T/err'"
+# cell units: the same as eroding the heights / 10 with cell 1, times 10
+# (a 24 x 16 slope with a bump, cell 10, heights in metres)
+awk -v c=10 -v d=1 'BEGIN { printf "ncols 24\nnrows 16\nxllcorner 1000\nyllcorner 2000\ncellsize %s\nNODATA_value -9999\n", c;
+  for (y = 0; y < 16; y++) { for (x = 0; x < 24; x++) printf "%.6f ", (3 * x + 2 * y + 40 * exp(-((x - 12)^2 + (y - 8)^2) / 20)) / d; printf "\n" } }' >"$T/s10.asc"
+awk -v c=1 -v d=10 'BEGIN { printf "ncols 24\nnrows 16\nxllcorner 1000\nyllcorner 2000\ncellsize %s\nNODATA_value -9999\n", c;
+  for (y = 0; y < 16; y++) { for (x = 0; x < 24; x++) printf "%.6f ", (3 * x + 2 * y + 40 * exp(-((x - 12)^2 + (y - 8)^2) / 20)) / d; printf "\n" } }' >"$T/s1.asc"
+"$TD" erode "$T/s10.asc" -o "$T/s10o.asc" --steps 3 -q
+"$TD" erode "$T/s1.asc" -o "$T/s1o.asc" --steps 3 -q
+"$TD" erode "$T/s10.asc" -o "$T/s10m.asc" --steps 3 --units map --deposit level -q
+check "--units cells: the heights / cell eroded with cell 1, times the cell (within 1e-4)" \
+    "paste '$T/s10o.asc' '$T/s1o.asc' | awk 'NR > 6 { n = NF / 2; for (i = 1; i <= n; i++) { d = \$i - 10 * \$(i + n); if (d < 0) d = -d; if (d > m) m = d } } END { exit !(NR == 22 && m < 1e-4 * 200) }'"
+check "--units map: another result (the DEM's units)" "! cmp -s '$T/s10o.asc' '$T/s10m.asc' && [ -s '$T/s10m.asc' ]"
 if command -v gdal_translate >/dev/null 2>&1; then
   gdal_translate -q -a_srs EPSG:4326 -a_ullr 10 50 10.004 49.997 "$T/c10.asc" "$T/geo.tif" 2>/dev/null
   "$TD" erode "$T/geo.tif" -o "$T/geoo.tif" --steps 1 2>"$T/err"

@@ -15,8 +15,8 @@
 typedef struct erode_opts {
     const char *in;
     td_erode_files f;
-    int quiet, seed;
-    double noise;
+    int quiet, seed, map_units, deposit;
+    double noise, rest;
     td_erode_params p;
 } erode_opts;
 
@@ -47,11 +47,23 @@ static int parse_args(int argc, char **argv, erode_opts *o)
          .help = "water per cell (each particle's w, m ~ w)"},
         {"c", 0, TD_OPT_DOUBLE, &p->c, 1e-12, 1e9, .meta = "C",
          .help = "Q = C w v"},
+        {"units", 0, TD_OPT_CHOICE, &o->map_units, .choices = "cells|map",
+         .meta = "U", .help = "cells: the model runs on the heights in cell\n"
+         "units (divided by the cell size; the\nparameters are the paper's, "
+         "for cell 1), the\noutput back in the DEM's units | map: the\n"
+         "parameters in the DEM's units with its cell\nsize (slow on real "
+         "DEMs: docs/erode.md)"},
         {"cell-size", 0, TD_OPT_DOUBLE, &p->cell, 1e-9, 1e9, .meta = "S",
          .help = "cell size in height units (default: from the\n"
          "georeferencing, in metres for degrees; else 1)", .no_default = 1},
         {"max-moves", 0, TD_OPT_INT, &p->max_moves, 0, 100000000, .meta = "N",
          .help = "moves per particle per step (0: 2 (w+h))"},
+        {"rest-accel", 0, TD_OPT_DOUBLE, &o->rest, -1, 1e9, .meta = "A",
+         .help = "ours: a particle slower than --v-stop also\nrests where "
+         "the slope accelerates it less than\nA (it would creep for "
+         "thousands of moves);\n0: only where no neighbour is lower (the\n"
+         "paper); default: --v-stop on a georeferenced\nDEM, else 0",
+         .no_default = 1},
         {"v-stop", 0, TD_OPT_DOUBLE, &p->v_stop, 0, 1e9, .meta = "V",
          .help = "a particle with no lower neighbour stops below\nthis speed"},
         {"edges", 0, TD_OPT_CHOICE, &p->closed_edges, .choices = "open|closed",
@@ -63,10 +75,13 @@ static int parse_args(int argc, char **argv, erode_opts *o)
         {"flow-speed", 0, TD_OPT_CHOICE, &p->speed, .choices = "mean|vector",
          .meta = "S", .help = "v in Q = C w v: mean (speed of the visits) |\n"
          "vector (|mean velocity|, the paper's V)"},
-        {"deposit", 0, TD_OPT_CHOICE, &p->deposit, .choices = "paper|level",
-         .meta = "D", .help = "paper (S_I - Smax settles in the cell) | level\n"
-         "(no cell dug below its lowest neighbour or\nraised past its "
-         "feeders; depressions fill and\nspill: resolution-independent)"},
+        {"deposit", 0, TD_OPT_CHOICE, &o->deposit, .choices =
+         "auto|paper|level", .meta = "D", .help = "paper (S_I - Smax settles "
+         "in the cell) | level\n(no cell dug below its lowest neighbour or\n"
+         "raised past its feeders; depressions fill and\nspill: resolution-"
+         "independent) | auto: level\non a georeferenced DEM (a real one: "
+         "the\npaper's rule piles single cells hundreds of\nmetres high "
+         "there), else paper"},
         {"noise", 0, TD_OPT_DOUBLE, &o->noise, 0, 1e9, .meta = "A",
          .help = "add white noise of amplitude A (height units)\nto the DEM "
          "first, as the paper's start"},
@@ -129,6 +144,7 @@ int td_cmd_erode(int argc, char **argv)
     o.p = td_erode_defaults();
     o.p.cell = 0; /* unless given: from the georeferencing, else 1 */
     o.seed = 1;
+    o.rest = -1; /* unless given: v_stop on a georeferenced DEM, else 0 */
     if ((rc = parse_args(argc, argv, &o)) != 0)
         return rc == 2 ? 0 : 1;
     td_ctx_init(&cx);
@@ -142,6 +158,27 @@ int td_cmd_erode(int argc, char **argv)
                     "\n", o.p.cell, deg ? " (degrees -> metres)" : "");
         if (!(o.p.cell > 0))
             o.p.cell = 1.0;
+    }
+    if (rc == 0) {
+        int real = geo.valid && !geo.pixel;
+        o.p.deposit = o.deposit == 1   ? TD_ERODE_DEPOSIT_PAPER
+                      : o.deposit == 2 ? TD_ERODE_DEPOSIT_LEVEL
+                      : real           ? TD_ERODE_DEPOSIT_LEVEL
+                                       : TD_ERODE_DEPOSIT_PAPER;
+        if (o.deposit == 0 && real && !o.quiet)
+            fprintf(stderr, "erode: --deposit level on a georeferenced DEM "
+                    "(--deposit paper for the paper's rule)\n");
+        o.p.rest_accel = o.rest >= 0 ? o.rest : real ? o.p.v_stop : 0;
+        if (o.rest < 0 && real && !o.quiet)
+            fprintf(stderr, "erode: --rest-accel %g on a georeferenced DEM "
+                    "(0 for the paper's rest rule)\n", o.p.rest_accel);
+    }
+    if (rc == 0 && !o.map_units && o.p.cell != 1) {
+        if (!o.quiet)
+            fprintf(stderr, "erode: the model runs in cell units (heights / "
+                    "%.6g; --units map to run in the DEM's)\n", o.p.cell);
+        o.f.cell_units = o.p.cell;
+        o.p.cell = 1;
     }
     if (rc == 0)
         rc = td_erode_check(&o.p, &cx);

@@ -46,6 +46,7 @@ td_erode_params td_erode_defaults(void)
     p.c = 1.0;
     p.cell = 1.0;
     p.v_stop = 1e-3;
+    p.rest_accel = 0;
     return p;
 }
 
@@ -85,6 +86,8 @@ int td_erode_check(const td_erode_params *p, td_ctx *cx)
     NEED(p->cell > 0 && isfinite(p->cell), "cell size must be > 0");
     NEED(p->max_moves >= 0, "max moves must be >= 0");
     NEED(p->v_stop >= 0 && isfinite(p->v_stop), "v_stop must be >= 0");
+    NEED(p->rest_accel >= 0 && isfinite(p->rest_accel),
+         "rest_accel must be >= 0");
     NEED(p->route == TD_ERODE_ROUTE_DOWNHILL ||
          p->route == TD_ERODE_ROUTE_PAPER, "unknown sediment route");
     NEED(p->speed == TD_ERODE_SPEED_MEAN || p->speed == TD_ERODE_SPEED_VECTOR,

@@ -77,6 +77,11 @@ typedef struct td_erode_params {
     double c;           /* Q = C w v */
     double cell;        /* horizontal cell size in height units (1) */
     int max_moves;      /* moves per particle per step; 0: 2 (w + h) */
+    double rest_accel;  /* ours: a particle below v_stop also rests where
+                           its cell's acceleration is below this (a slope
+                           too gentle to move it: it would creep there for
+                           thousands of moves); 0: only where no
+                           neighbour is lower, the paper (default 0) */
     double v_stop;      /* a particle with no lower neighbour stops below */
     int closed_edges;   /* 0: open edges drain; 1: the border is a wall */
     int route;          /* TD_ERODE_ROUTE_* (DOWNHILL) */

@@ -165,7 +165,7 @@ typedef struct tracer {
     const er_state *s;
     const td_erode_params *p;
     er_acc *acc;
-    double dtc, vstop2;
+    double dtc, vstop2, rest2;
     int max_moves;
     long next, end; /* the cells of the thread's current chunk */
     long *chunk;    /* shared by the threads: the next chunk's first cell */
@@ -214,7 +214,7 @@ static int launch(tracer *t, lanes *q, int l)
  * branches: it vectorises. */
 static TD_NOINLINE void lanes_aim(const tracer *t, lanes *q)
 {
-    const double dtc = t->dtc, vstop2 = t->vstop2;
+    const double dtc = t->dtc, vstop2 = t->vstop2, rest2 = t->rest2;
     const double w = t->s->w, h = t->s->h;
     const int32_t iw = t->s->w, maxm = t->max_moves;
     int l;
@@ -227,7 +227,8 @@ static TD_NOINLINE void lanes_aim(const tracer *t, lanes *q)
         q->nx[l] = nx, q->ny[l] = ny;
         q->to[l] = in ? iy * iw + ix : -1;
         q->done[l] = (q->k[l] >= maxm) |
-                     ((q->cax[l] == 0) & (q->cay[l] == 0) &
+                     ((q->cax[l] * q->cax[l] + q->cay[l] * q->cay[l] <=
+                       rest2) &
                       (q->hsp[l] * q->hsp[l] < vstop2));
     }
 }
@@ -477,6 +478,7 @@ static void trace(const er_state *s, const td_erode_params *p,
     t.s = s, t.p = p, t.acc = acc;
     t.dtc = p->dt / p->cell;
     t.vstop2 = p->v_stop * p->v_stop;
+    t.rest2 = p->rest_accel * p->rest_accel; /* 0: a == 0 only */
     t.max_moves = max_moves;
     t.next = t.end = 0;
     t.chunk = chunk;

@@ -13,7 +13,34 @@ typedef struct run_state {
     td_erode_step_stats *log;
     int nlog;
     td_ctx *cx;
+    double z; /* heights in the model x z = heights in the files */
 } run_state;
+
+/* g's cells with data times z, in place. */
+static void scale_heights(td_grid_f32 *g, double z)
+{
+    int x, y;
+    for (y = 0; y < g->h; y++)
+        for (x = 0; x < g->w; x++) {
+            float *v = &TD_AT(g, x, y);
+            if (!(g->has_nodata && *v == g->nodata))
+                *v = (float)(*v * z);
+        }
+}
+
+/* A copy of g with its heights times z. */
+static td_grid_f32 *scaled_copy(const td_grid_f32 *g, double z, td_ctx *cx)
+{
+    td_grid_f32 *c = td_grid_f32_new(g->w, g->h, cx);
+    int y;
+    if (!c)
+        return NULL;
+    c->nodata = g->nodata, c->has_nodata = g->has_nodata;
+    for (y = 0; y < g->h; y++)
+        memcpy(&TD_AT(c, 0, y), &TD_AT(g, 0, y), (size_t)g->w * sizeof(float));
+    scale_heights(c, z);
+    return c;
+}
 
 /* OUT-stem_stepNNNN.ext */
 static void snapshot_path(const char *out, int step, char *buf, size_t n)
@@ -38,8 +65,14 @@ static int on_step(const td_erode_step_stats *s, const td_grid_f32 *dem,
     }
     if (dem) {
         char path[4096];
+        td_grid_f32 *c = o->z != 1 ? scaled_copy(dem, o->z, o->cx) : NULL;
+        int bad;
+        if (o->z != 1 && !c)
+            return 1;
         snapshot_path(o->o->out, s->step, path, sizeof path);
-        if (td_dem_write(path, dem, o->geo, o->cx) != 0)
+        bad = td_dem_write(path, c ? c : dem, o->geo, o->cx) != 0;
+        td_grid_f32_free(c);
+        if (bad)
             return 1;
     }
     return 0;
@@ -111,13 +144,26 @@ int td_pipeline_erode(const td_grid_f32 *in, const td_georef *geo,
     td_grid_f32 *out = NULL;
     td_erode_fields f = {NULL, NULL, NULL};
     td_erode_params q = *p;
-    run_state R = {files, geo, NULL, 0, cx};
+    run_state R = {files, geo, NULL, 0, cx, 1.0};
+    td_grid_f32 *scaled = NULL;
     int rc;
     q.on_step = on_step;
     q.user = &R;
+    if (files->cell_units > 0 && files->cell_units != 1) {
+        R.z = files->cell_units;
+        q.cell = 1;
+        if (!(scaled = scaled_copy(in, 1.0 / R.z, cx)))
+            return TD_ENOMEM;
+    }
     rc = alloc_grids(files, in, &out, &f, cx);
     if (rc == 0)
-        rc = td_erode_run(in, &q, out, &f, st, cx);
+        rc = td_erode_run(scaled ? scaled : in, &q, out, &f, st, cx);
+    if (rc == 0 && R.z != 1) {
+        scale_heights(out, R.z);
+        if (f.sediment)
+            scale_heights(f.sediment, R.z);
+    }
+    td_grid_f32_free(scaled);
     if (rc == 0)
         rc = write_outputs(&R, out, &f, geo, cx);
     td_grid_f32_free(out);

@@ -116,6 +116,11 @@ void td_run_result_free(td_run_result *r);
  * every p->snapshot_every steps as OUT-stem_stepNNNN.ext. */
 typedef struct td_erode_files {
     const char *out, *water, *energy, *sediment, *mass_log;
+    double cell_units; /* > 0: run the model in cell units: the heights
+                          divided by this (the cell size) and the model's
+                          cell 1, the DEM, its snapshots and the sediment
+                          multiplied back (water, energy and the volumes
+                          of the log stay in cell units); 0: as given */
 } td_erode_files;
 
 /* Erode in (p as td_erode_run takes it; its on_step and user are used
