@@ -57,6 +57,9 @@
 #define W_UNTICKED 1.0 /* one without, on a sheet that ticks its depressions,
                           rises (a prior) */
 #define W_LABEL 40.0 /* a printed label read with confidence 1 */
+#define NLAB (1 + TD_OCR_ALTS) /* readings of a label kept per chunk */
+#define ALT_SHARE 0.5 /* an alternative reading this sure counts when the
+                         interval is inferred */
 #define SPOT_CONF 0.7 /* spot heights read with less are not used */
 #define MIN_INFER_LABELS 3 /* fewer labels read: no interval inferred */
 #define INFER_MARGIN 20.0  /* the runner-up interval costs at least this
@@ -96,9 +99,10 @@ typedef struct hs {
     size_t nfe, N, C, V; /* lines, chunks, side nodes (2C) */
     /* per chunk */
     double *lknown;               /* level a known point gives (NAN: none) */
-    double *llab, *wlab;          /* level a printed label gives, its weight */
-    double *llab2, *clab, *clab2; /* the read turned round: level; the two
-                                     reads' confidences */
+    double *wlab;                 /* weight of a printed label */
+    double *llab, *clab; /* NLAB per chunk: the levels its label's readings
+                            give and their confidences, most confident
+                            first, 0 after the last */
     int *nknown;                  /* known points on the chunk */
     signed char *idx;             /* +1 thick (index), -1 thin, 0 unknown */
     double *ilen;                 /* weight of the index evidence */
@@ -303,33 +307,72 @@ static size_t nearest_vertex(const td_line *l, double x, double y)
     return bk;
 }
 
-/* One printed label on line l: its level on the chunk next to it, and
+/* The confidence of the reading of chunk c's label that gives level h;
+ * 0: none does. */
+static double lab_conf(const hs *s, size_t c, long h)
+{
+    const double *lv = s->llab + c * NLAB, *cf = s->clab + c * NLAB;
+    int k;
+    for (k = 0; k < NLAB && cf[k] > 0; k++)
+        if (lv[k] == (double)h)
+            return cf[k];
+    return 0.0;
+}
+
+/* The levels a label's readings give, on the grid base + k interval:
+ * lev[], cf[] (most confident first) and whether each was read turned
+ * round; returns how many. */
+static int readings(const hs *s, const td_ocr_read *r, long *lev, double *cf,
+                    int *turned)
+{
+    int k, m = 0;
+    for (k = -1; k < TD_OCR_ALTS; k++) {
+        double v = k < 0 ? r->value : r->alt[k].value;
+        double c = k < 0 ? r->conf : r->alt[k].conf;
+        double f = (v - s->p->base) / s->p->interval;
+        if (!(c > 0))
+            break;
+        if (fabs(f - lround(f)) > 1e-6)
+            continue;
+        lev[m] = lround(f), cf[m] = c, turned[m] = k >= 0 && r->alt[k].turned;
+        m++;
+    }
+    return m;
+}
+
+/* One printed label r on line l, read as the m levels lev (confidences
+ * cf, turned round or not): the levels on the chunk next to it, and
  * (label_up) its top towards the higher side. */
-static void label_on(hs *s, const td_ocr_read *r, size_t l, long level,
-                     long level2)
+static void label_on(hs *s, const td_ocr_read *r, size_t l, const long *lev,
+                     const double *cf, const int *turned, int m)
 {
     const td_line *L = &s->ls->v[l];
     size_t k = nearest_vertex(L, r->x, r->y), a, b;
     long c = td_faces_chunk_at(s->fx, l, k);
     double tx, ty, top;
-    if (c < 0)
+    int j;
+    if (c < 0 || m == 0)
         return;
-    if (s->wlab[c] > 0 && s->llab[c] != (double)level)
+    if (s->wlab[c] > 0 && s->llab[c * NLAB] != (double)lev[0])
         td_label_warn(s->rep,
                       "labels %g and %g on line %ld (near %.0f,%.0f) "
                       "disagree; the solve decides",
-                      s->p->base + s->llab[c] * s->p->interval, r->value, L->id,
+                      s->p->base + s->llab[c * NLAB] * s->p->interval,
+                      s->p->base + (double)lev[0] * s->p->interval, L->id,
                       r->x, r->y);
-    if (r->conf > s->clab[c]) {
+    if (cf[0] > s->clab[c * NLAB]) { /* the surer label speaks */
         s->wlab[c] = W_LABEL;
-        s->llab[c] = (double)level;
-        s->clab[c] = r->conf;
-        s->llab2[c] = (double)level2;
-        s->clab2[c] = level2 == LONG_MIN ? 0.0 : r->alt_conf;
+        for (j = 0; j < NLAB; j++) {
+            s->llab[c * NLAB + j] = j < m ? (double)lev[j] : 0.0;
+            s->clab[c * NLAB + j] = j < m ? cf[j] : 0.0;
+        }
     }
     /* the top's side: only when the text cannot be read the other way */
-    if (!s->p->label_up || level2 != LONG_MIN)
+    if (!s->p->label_up)
         return;
+    for (j = 0; j < m; j++)
+        if (turned[j])
+            return;
     a = k >= 2 ? k - 2 : 0;
     b = k + 2 < L->n ? k + 2 : L->n - 1;
     tx = L->xy[2 * b] - L->xy[2 * a];
@@ -394,31 +437,29 @@ static int setup_spots(hs *s, td_ctx *cx)
     return 0;
 }
 
-/* Printed labels: reads off base + k * interval are refused. */
+/* Printed labels: reads with no reading on base + k * interval are
+ * refused. */
 static void setup_labels(hs *s)
 {
     size_t i;
     int j;
     for (i = 0; i < s->p->nlabels; i++) {
         td_ocr_read *r = &s->p->labels[i];
-        double f = (r->value - s->p->base) / s->p->interval, f2;
-        long lev2;
-        int any = 0;
+        long lev[NLAB];
+        double cf[NLAB];
+        int turned[NLAB], m, any = 0;
         if (r->spot)
             continue; /* setup_spots */
         r->used = 0;
         r->why = NULL;
-        if (fabs(f - lround(f)) > 1e-6) {
+        if ((m = readings(s, r, lev, cf, turned)) == 0) {
             r->why = "not base + a multiple of the interval";
             continue;
         }
-        f2 = (r->alt_value - s->p->base) / s->p->interval;
-        lev2 = r->alt_conf > 0 && fabs(f2 - lround(f2)) < 1e-6 ? lround(f2)
-                                                               : LONG_MIN;
         for (j = 0; j < 2; j++)
             if (r->line[j] >= 0 && (size_t)r->line[j] < s->N &&
                 td_faces_used(s->fx, (size_t)r->line[j])) {
-                label_on(s, r, (size_t)r->line[j], lround(f), lev2);
+                label_on(s, r, (size_t)r->line[j], lev, cf, turned, m);
                 any = 1;
             }
         if (!any)
@@ -426,15 +467,38 @@ static void setup_labels(hs *s)
     }
 }
 
+/* Make alternative k of r its read (the topology chose it): the read
+ * becomes an alternative, the turns follow the new read's way. */
+static void take_alt(td_ocr_read *r, int k)
+{
+    td_ocr_alt a = r->alt[k];
+    int j;
+    r->alt[k].value = r->value, r->alt[k].conf = r->conf;
+    r->value = a.value, r->conf = a.conf;
+    if (a.turned) {
+        r->ux = -r->ux, r->uy = -r->uy;
+        for (j = 0; j < TD_OCR_ALTS; j++)
+            if (j != k && r->alt[j].conf > 0)
+                r->alt[j].turned = !r->alt[j].turned;
+    }
+    for (j = k; j > 0 && r->alt[j].conf > r->alt[j - 1].conf; j--) {
+        td_ocr_alt t = r->alt[j];
+        r->alt[j] = r->alt[j - 1], r->alt[j - 1] = t;
+    }
+    snprintf(r->text, sizeof r->text, "%.10g", r->value);
+}
+
 /* After the solve: which labels the heights agree with (lines' ids are
  * still the chunks' until set_lines). */
 static void judge_labels(hs *s)
 {
     size_t i, overruled = 0;
-    int j;
+    int j, k;
     for (i = 0; i < s->p->nlabels; i++) {
         td_ocr_read *r = &s->p->labels[i];
         double f = (r->value - s->p->base) / s->p->interval;
+        int on = fabs(f - lround(f)) < 1e-6;
+        int alt = -1; /* the alternative the heights agree with */
         if (r->why || r->spot)
             continue;
         for (j = 0; j < 2; j++) {
@@ -443,19 +507,18 @@ static void judge_labels(hs *s)
                 continue;
             c = td_faces_chunk_at(s->fx, (size_t)l,
                                   nearest_vertex(&s->ls->v[l], r->x, r->y));
-            if (c >= 0 && s->band_prior[c] + s->kofs == lround(f))
+            if (c >= 0 && on && s->band_prior[c] + s->kofs == lround(f)) {
                 r->used = 1;
-            else if (c >= 0 && r->alt_conf > 0 &&
-                     fabs((r->alt_value - s->p->base) / s->p->interval -
-                          (double)(s->band_prior[c] + s->kofs)) < 1e-6)
-                r->used = 2; /* read the other way round */
+                continue;
+            }
+            for (k = 0; c >= 0 && k < TD_OCR_ALTS && r->alt[k].conf > 0; k++)
+                if (fabs((r->alt[k].value - s->p->base) / s->p->interval -
+                         (double)(s->band_prior[c] + s->kofs)) < 1e-6 &&
+                    (alt < 0 || r->alt[k].conf > r->alt[alt].conf))
+                    alt = k;
         }
-        if (r->used == 2) { /* the topology chose the other reading */
-            double v = r->value, cf = r->conf;
-            r->value = r->alt_value, r->conf = r->alt_conf;
-            r->alt_value = v, r->alt_conf = cf;
-            r->ux = -r->ux, r->uy = -r->uy;
-            snprintf(r->text, sizeof r->text, "%.10g", r->value);
+        if (!r->used && alt >= 0) { /* the topology chose another reading */
+            take_alt(r, alt);
             r->used = 1;
         }
         if (r->used) {
@@ -722,14 +785,17 @@ static int set_domain(hs *s, td_ctx *cx)
 {
     long lo = LONG_MAX, hi = LONG_MIN, D = 0;
     size_t i;
+    int k;
     for (i = 0; i < s->C; i++) {
         if (s->nknown[i]) {
             lo = lo < s->lknown[i] - 1 ? lo : (long)s->lknown[i] - 1;
             hi = hi > s->lknown[i] ? hi : (long)s->lknown[i];
         }
-        if (s->wlab[i] > 0) {
-            lo = lo < s->llab[i] - 1 ? lo : (long)s->llab[i] - 1;
-            hi = hi > s->llab[i] ? hi : (long)s->llab[i];
+        for (k = 0; s->wlab[i] > 0 && k < NLAB && s->clab[i * NLAB + k] > 0;
+             k++) {
+            double v = s->llab[i * NLAB + k];
+            lo = lo < v - 1 ? lo : (long)v - 1;
+            hi = hi > v ? hi : (long)v;
         }
     }
     for (i = 0; i < s->nun; i++) {
@@ -785,12 +851,8 @@ static double line_cost(const hs *s, size_t l, long a0, long a1)
         c += a0 > a1 ? s->up_prior[2 * l] : s->up_prior[2 * l + 1];
     if (s->nknown[l] && (double)h != s->lknown[l])
         c += WKNOWN * s->nknown[l];
-    if (s->wlab[l] > 0) { /* W (1 - confidence of the read giving h) */
-        double cf = (double)h == s->llab[l]    ? s->clab[l]
-                    : (double)h == s->llab2[l] ? s->clab2[l]
-                                               : 0.0;
-        c += s->wlab[l] * (1.0 - cf);
-    }
+    if (s->wlab[l] > 0) /* W (1 - confidence of the reading giving h) */
+        c += s->wlab[l] * (1.0 - lab_conf(s, l, h));
     if (s->idx[l]) {
         long N = s->p->index_every, m = ((h % N) + N) % N;
         if ((s->idx[l] > 0) != (m == 0))
@@ -1024,8 +1086,8 @@ static int chunk_verdict(const hs *s, size_t c, int *src, double *conf)
         return 0;
     if (gB > GAP_EPS && s->band[c] == s->band_prior[c]) {
         *src = s->nknown[c] && (double)h == s->lknown[c]   ? TD_HS_KNOWN
-               : s->wlab[c] > 0 && (double)h == s->llab[c] ? TD_HS_LABEL
-                                                           : TD_HS_SOLVED;
+               : s->wlab[c] > 0 && lab_conf(s, c, h) > 0 ? TD_HS_LABEL
+                                                         : TD_HS_SOLVED;
         *conf = *src == TD_HS_KNOWN ? 1.0 : 1.0 - exp(-gB / CONF_SCALE);
         return 1;
     }
@@ -1323,11 +1385,9 @@ static int alloc_all(hs *s, td_ctx *cx)
     size_t C = s->C, V = s->V;
     s->lknown = td_calloc(C + 1, sizeof *s->lknown, cx);
     s->nknown = td_calloc(C + 1, sizeof *s->nknown, cx);
-    s->llab = td_calloc(C + 1, sizeof *s->llab, cx);
+    s->llab = td_calloc(NLAB * (C + 1), sizeof *s->llab, cx);
     s->wlab = td_calloc(C + 1, sizeof *s->wlab, cx);
-    s->llab2 = td_calloc(C + 1, sizeof *s->llab2, cx);
-    s->clab = td_calloc(C + 1, sizeof *s->clab, cx);
-    s->clab2 = td_calloc(C + 1, sizeof *s->clab2, cx);
+    s->clab = td_calloc(NLAB * (C + 1), sizeof *s->clab, cx);
     s->idx = td_calloc(C + 1, 1, cx);
     s->ilen = td_calloc(C + 1, sizeof *s->ilen, cx);
     s->up_cost = td_calloc(V + 1, sizeof *s->up_cost, cx);
@@ -1346,8 +1406,8 @@ static int alloc_all(hs *s, td_ctx *cx)
     s->band_prior = td_calloc(C + 1, sizeof *s->band_prior, cx);
     s->gap = td_calloc(C + 1, sizeof *s->gap, cx);
     s->gap_prior = td_calloc(C + 1, sizeof *s->gap_prior, cx);
-    if (!s->lknown || !s->nknown || !s->llab || !s->wlab || !s->llab2 ||
-        !s->clab || !s->clab2 || !s->idx || !s->ilen || !s->up_cost ||
+    if (!s->lknown || !s->nknown || !s->llab || !s->wlab || !s->clab ||
+        !s->idx || !s->ilen || !s->up_cost ||
         !s->up_prior || !s->hole || !s->uf || !s->comp || !s->par ||
         !s->order || !s->pkind || !s->pid || !s->adj_start || !s->compdepth ||
         !s->comp_abs || !s->band || !s->band_prior || !s->gap || !s->gap_prior)
@@ -1358,8 +1418,7 @@ static int alloc_all(hs *s, td_ctx *cx)
 static void free_all(hs *s)
 {
     free(s->lknown), free(s->nknown), free(s->idx), free(s->ilen);
-    free(s->llab), free(s->wlab), free(s->llab2), free(s->clab);
-    free(s->clab2);
+    free(s->llab), free(s->wlab), free(s->clab);
     free(s->up_cost), free(s->up_prior), free(s->hole), free(s->uf);
     free(s->comp);
     free(s->par), free(s->order), free(s->pkind), free(s->pid);
@@ -1766,15 +1825,32 @@ static int is_nice(double v)
 }
 
 /* The share of the labels whose values are base + a multiple of S. */
+/* The confidence of r's surest reading (its read, or an alternative as
+ * sure as least) on base + k S; 0: none. */
+static double on_step(const td_ocr_read *r, double base, double S,
+                      double least)
+{
+    double f = (r->value - base) / S, best = 0;
+    int k;
+    if (fabs(f - lround(f)) < 1e-6)
+        return r->conf;
+    for (k = 0; k < TD_OCR_ALTS && r->alt[k].conf > 0; k++) {
+        f = (r->alt[k].value - base) / S;
+        if (r->alt[k].conf >= least && r->alt[k].conf > best &&
+            fabs(f - lround(f)) < 1e-6)
+            best = r->alt[k].conf;
+    }
+    return best;
+}
+
 static double share_on(const td_label_params *p, double S)
 {
     size_t i, fit = 0;
     size_t m = 0;
     for (i = 0; i < p->nlabels; i++) {
-        double f = (p->labels[i].value - p->base) / S;
         if (p->labels[i].spot)
             continue; /* spot heights are any value */
-        fit += fabs(f - lround(f)) < 1e-6;
+        fit += on_step(&p->labels[i], p->base, S, ALT_SHARE) > 0;
         m++;
     }
     return m ? (double)fit / (double)m : 0.0;
@@ -1836,11 +1912,11 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
                 (si > 0 && (S == Ss[0] || (si == 2 && S == Ss[1]))) ||
                 (p->index_every > 0 && k > 0) || !is_nice(I))
                 continue;
-            for (i = 0; i < p->nlabels; i++) {
-                double f = (p->labels[i].value - p->base) / I;
-                if (!p->labels[i].spot && fabs(f - lround(f)) > 1e-6)
-                    cost += W_LABEL * p->labels[i].conf;
-            }
+            for (i = 0; i < p->nlabels; i++) /* reads off it: not
+                                                   used, or less sure */
+                if (!p->labels[i].spot)
+                    cost += W_LABEL * (p->labels[i].conf -
+                                       on_step(&p->labels[i], p->base, I, 0));
             q.interval = I;
             q.index_every = N; /* the widths speak when index lines are
                                   thick */

@@ -29,6 +29,7 @@ td_ocr_params td_ocr_defaults(void)
  * of its text. */
 /* A read this confident is taken without trying other thresholds. */
 #define SURE_READ 0.9
+#define BIN_LEVEL 0.35 /* the digits binarised: see binarise_digits */
 
 enum { DOT_REACH = 14, DOT_MAX = 7, DOT_MIN_AREA = 5, DOT_MAX_AREA = 40 };
 
@@ -441,14 +442,80 @@ static int smooth_strip(strip *s)
     return 0;
 }
 
-/* Read the digits kept at threshold t (both ways round) into *r when more
- * confident than *best; 1: nothing better read, -1: no memory. */
-static int read_at(TessBaseAPI *api, strip *s, double t,
-                   const td_ocr_params *p, td_ocr_read *r, double *best)
+/* Drop the alternative of r reading value. */
+static void drop_alt(td_ocr_read *r, double value)
 {
-    int b[4], w, h, turn, k, rc = 1;
-    uint8_t *img = NULL;
+    int k;
+    for (k = 0; k < TD_OCR_ALTS && r->alt[k].conf > 0; k++)
+        if (r->alt[k].value == value) {
+            memmove(&r->alt[k], &r->alt[k + 1],
+                    (size_t)(TD_OCR_ALTS - 1 - k) * sizeof r->alt[0]);
+            memset(&r->alt[TD_OCR_ALTS - 1], 0, sizeof r->alt[0]);
+            return;
+        }
+}
+
+/* Another number read for r (turn: the way round, from the strip's
+ * direction): one alternative per value at its best confidence, most
+ * confident first, the least dropped when full. */
+static void add_alt(td_ocr_read *r, double value, double conf, int turn)
+{
+    int k;
+    if (value == r->value)
+        return;
+    for (k = 0; k < TD_OCR_ALTS && r->alt[k].conf > 0; k++)
+        if (r->alt[k].value == value) {
+            if (conf <= r->alt[k].conf)
+                return;
+            drop_alt(r, value);
+            break;
+        }
+    for (k = 0; k < TD_OCR_ALTS && r->alt[k].conf >= conf; k++)
+        ;
+    if (k == TD_OCR_ALTS)
+        return;
+    memmove(&r->alt[k + 1], &r->alt[k],
+            (size_t)(TD_OCR_ALTS - 1 - k) * sizeof r->alt[0]);
+    r->alt[k].value = value, r->alt[k].conf = conf, r->alt[k].turned = turn;
+}
+
+/* Reverse the n pixels of img: the picture turned half round. */
+static void turn_round(uint8_t *img, size_t n)
+{
     size_t i;
+    for (i = 0; i < n / 2; i++) {
+        uint8_t v = img[i];
+        img[i] = img[n - 1 - i];
+        img[n - 1 - i] = v;
+    }
+}
+
+/* Black and white at BIN_LEVEL of the way from the darkest pixel (the
+ * digits' own ink, lighter than a contour's on colour sheets) to white:
+ * the strokes' cores.  Tesseract reads a faint, blurred grey "2" as "7"
+ * and "2250" as "7250" at confidence 0.9; their cores it reads right
+ * (binarised halfway, "2500" became "2300" as often). */
+static void binarise_digits(uint8_t *img, size_t n)
+{
+    size_t i;
+    int m = 255, t;
+    for (i = 0; i < n; i++)
+        m = img[i] < m ? img[i] : m;
+    t = (int)(m + BIN_LEVEL * (255 - m));
+    for (i = 0; i < n; i++)
+        img[i] = img[i] < t ? 0 : 255;
+}
+
+/* Read the digits kept at threshold t (both ways round, as sampled and
+ * binarised) into *r: the most confident number read is the read, the
+ * others its alternatives (turned from the strip's direction: *turn0 is
+ * the read's); 1: nothing better read, -1: no memory. */
+static int read_at(TessBaseAPI *api, strip *s, double t,
+                   const td_ocr_params *p, td_ocr_read *r, double *best,
+                   int *turn0)
+{
+    int b[4], w, h, turn, var, k, rc = 1, cur = 0, bin = 0;
+    uint8_t *img = NULL;
     memset(s->keep, 0, (size_t)s->w * s->h + 1);
     if ((k = components(s, t, b)) < 0)
         return -1;
@@ -456,39 +523,37 @@ static int read_at(TessBaseAPI *api, strip *s, double t,
         return 1;
     if (digits_image(s, b, p->digit_px, &img, &w, &h) != 0)
         return 1;
-    for (turn = 0; turn < 2; turn++) {
-        char text[24];
-        double conf;
-        if (turn) /* half round: reverse the pixels */
-            for (i = 0; i < (size_t)w * h / 2; i++) {
-                uint8_t v = img[i];
-                img[i] = img[(size_t)w * h - 1 - i];
-                img[(size_t)w * h - 1 - i] = v;
+    for (var = 0; var < 2; var++)
+        for (turn = 0; turn < 2; turn++) {
+            char text[24];
+            double conf;
+            if (var == 1 && *best >= 0 && turn != *turn0)
+                continue; /* the cores: only the way the text reads */
+            if (turn != cur) /* half round: reverse the pixels */
+                turn_round(img, (size_t)w * h), cur = turn;
+            if (var == 1 && !bin)
+                binarise_digits(img, (size_t)w * h), bin = 1;
+            if (read_number(api, img, w, h, text, sizeof text, &conf) != 0)
+                continue;
+            if (conf <= *best) { /* read worse than the best so far */
+                add_alt(r, atof(text), conf, turn);
+                continue;
             }
-        if (read_number(api, img, w, h, text, sizeof text, &conf) != 0)
-            continue;
-        if (conf <= *best) { /* read worse than the best so far */
-            if (conf > r->alt_conf && atof(text) != r->value)
-                r->alt_value = atof(text), r->alt_conf = conf;
-            continue;
+            if (*best >= 0) /* the best so far becomes an alternative */
+                add_alt(r, r->value, r->conf, *turn0);
+            drop_alt(r, atof(text));
+            *best = conf;
+            *turn0 = turn;
+            strip_xy(s, 0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3]), &r->x,
+                     &r->y);
+            r->ux = turn ? -s->ux : s->ux, r->uy = turn ? -s->uy : s->uy;
+            r->digit_px = b[3] - b[1] + 1;
+            r->len = b[2] - b[0] + 1;
+            r->value = atof(text);
+            r->conf = conf;
+            snprintf(r->text, sizeof r->text, "%s", text);
+            rc = 0;
         }
-        {
-            double av = r->alt_value, ac = r->alt_conf;
-            if (*best >= 0 && atof(text) != r->value) /* the best so far */
-                av = r->value, ac = r->conf; /* becomes the alternative */
-            memset(r, 0, sizeof *r);
-            r->alt_value = av, r->alt_conf = ac;
-        }
-        *best = conf;
-        strip_xy(s, 0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3]), &r->x, &r->y);
-        r->ux = turn ? -s->ux : s->ux, r->uy = turn ? -s->uy : s->uy;
-        r->digit_px = b[3] - b[1] + 1;
-        r->len = b[2] - b[0] + 1;
-        r->value = atof(text);
-        r->conf = conf;
-        snprintf(r->text, sizeof r->text, "%s", text);
-        rc = 0;
-    }
     free(img);
     return rc;
 }
@@ -505,7 +570,7 @@ static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
                     const td_ocr_params *p, td_ocr_read *r)
 {
     strip s;
-    int rc, k, any;
+    int rc, k, any, turn0 = 0;
     double t[3], best = -1;
     size_t i, n;
     memset(r, 0, sizeof *r);
@@ -521,7 +586,8 @@ static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
     if (s.paper - s.ink < 40)
         goto done;
     t[0] = otsu(s.g, n);
-    if ((any = read_at(api, &s, t[0], p, r, &best)) < 0 || best >= SURE_READ)
+    if ((any = read_at(api, &s, t[0], p, r, &best, &turn0)) < 0 ||
+        best >= SURE_READ)
         goto found;
     if (smooth_strip(&s) != 0) {
         any = -1;
@@ -530,7 +596,7 @@ static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
     t[1] = 0.5 * (s.ink + s.paper);
     t[2] = s.paper - 0.3 * (s.paper - s.ink);
     for (k = 1; k < 3; k++) {
-        int q = read_at(api, &s, t[k], p, r, &best);
+        int q = read_at(api, &s, t[k], p, r, &best, &turn0);
         if (q < 0) {
             any = -1;
             break;
@@ -539,6 +605,8 @@ static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
     }
 found:
     rc = any;
+    for (k = 0; k < TD_OCR_ALTS; k++) /* turned from the read's way */
+        r->alt[k].turned = r->alt[k].conf > 0 && r->alt[k].turned != turn0;
 done:
     strip_free(&s);
     return rc;

@@ -7,8 +7,9 @@
  * components that touch no side of the strip (the digits; the contour's
  * own ends and other lines run out of it) are kept, boxed, scaled to
  * digits about 32 px tall and read by Tesseract as one line of digits
- * (whitelist 0-9 and '-'), once as sampled and once turned half round; the
- * better read wins.
+ * (whitelist 0-9 and '-'), as sampled and binarised (the strokes' cores),
+ * each way round; the most confident read wins and the other numbers read
+ * are kept as its alternatives, for the labeller to choose among.
  *
  *     contour ====      2 3 5 0      ==== contour      strip along the
  *                 |<---- gap ---->|                    chord, both ways
@@ -24,6 +25,13 @@
 extern "C" {
 #endif
 
+/* Another reading of a label, and how sure Tesseract was of it. */
+#define TD_OCR_ALTS 4
+typedef struct td_ocr_alt {
+    double value, conf; /* conf 0: none */
+    int turned;         /* read the other way round from (ux, uy) */
+} td_ocr_alt;
+
 typedef struct td_ocr_read {
     double x, y;      /* the label's middle, scan px */
     double ux, uy;    /* reading direction as read: the text's top is
@@ -32,9 +40,10 @@ typedef struct td_ocr_read {
     double len;       /* length of the text along (ux, uy), px */
     double value;     /* the number read */
     double conf;      /* Tesseract's confidence, 0..1 */
-    double alt_value; /* the read of the text turned half round, when it
-                         is a number too (the labeller weighs both) */
-    double alt_conf;  /* its confidence, 0 when there is none */
+    td_ocr_alt alt[TD_OCR_ALTS]; /* the other numbers read (other
+                         thresholds, the digits binarised, the text turned
+                         half round), most confident first, conf 0 after
+                         the last: the labeller weighs them all */
     long line[2];     /* indexes into the lines: the line through the
                          label (a joined gap), or the one or two lines
                          ending at it (a gap left open); -1: none */

@@ -21,6 +21,9 @@
 #define CROP 2048        /* side of the crop the strokes are measured on */
 #define LONG 40          /* a long stroke's bounding box side, px */
 #define MIN_WIDTH 1.0    /* narrower strokes are scattered noise */
+#define MIN_LINE_LEN 1000.0 /* ... unless they make this many px of long
+                               strokes per Mpx (a thin ink whose edges its
+                               lighter prints took) */
 #define A_MAX 2.0        /* largest coverage fitted */
 #define TINT_LIGHT 90.0  /* tints are this near the paper (RGB) */
 #define SOFT0 4.0        /* the contour ink's strength where it explains a */
@@ -455,7 +458,8 @@ static int drop_noise(td_palette *pal)
     int k, n = 0;
     for (k = pal->n - 1; k > 0; k--)
         if (pal->ink[k].role == TD_INKROLE_INK &&
-            pal->ink[k].width < MIN_WIDTH) {
+            pal->ink[k].width < MIN_WIDTH &&
+            pal->ink[k].line_len < MIN_LINE_LEN) {
             pal->ink[0].share += pal->ink[k].share;
             memmove(&pal->ink[k], &pal->ink[k + 1],
                     (size_t)(pal->n - k - 1) * sizeof pal->ink[0]);

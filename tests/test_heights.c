@@ -172,7 +172,7 @@ static void real_sheet(const char *dem, double scale, int scanned, int index,
  * labelled.  colour: brown ink (the labels lighter than the lines) on
  * cream, a blue river, black lettering. */
 static void labelled_sheet(const char *dem, double scale, int colour,
-                           double want_i, double min_acc)
+                           int hachures, double want_i, double min_acc)
 {
     td_hsheet hs;
     td_grid_f32 *src = dem_sheet(&hs, dem, scale, 1, 1);
@@ -181,12 +181,17 @@ static void labelled_sheet(const char *dem, double scale, int colour,
     if (!src)
         return;
     hs.gp.colour = hs.gp.distractors = colour;
+    hs.gp.hachures = hachures;
     hs.read_labels = 1;
     hs.no_interval = 1;
     TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
-    TT_CHECKF(hs.nreads >= 5 && hs.reads_right >= 0.8 * hs.nreads,
+    TT_CHECKF(hs.nreads >= 5 && hs.reads_right >= 0.7 * hs.nreads,
               "%s%s: %zu of %zu labels read right", dem,
               colour ? " colour" : "", hs.reads_right, hs.nreads);
+    /* a misread's other readings: the topology takes the right one */
+    TT_CHECKF(hs.used_right >= 5 && hs.used_wrong == 0,
+              "%s%s: labels used with the right value %zu, wrong %zu", dem,
+              colour ? " colour" : "", hs.used_right, hs.used_wrong);
     TT_CHECKF(hs.interval == want_i, "%s: interval %g inferred, not %g", dem,
               hs.interval, want_i);
     TT_CHECKF(hs.score.accuracy >= min_acc,
@@ -201,9 +206,14 @@ static void labelled_sheet(const char *dem, double scale, int colour,
 
 static void test_labels_only(void)
 {
-    labelled_sheet("frontrange_srtm3.tif", 10, 0, 50, 0.98);
-    labelled_sheet("orkhon_92m.tif", 10, 0, 25, 0.95);
-    labelled_sheet("orkhon_92m.tif", 10, 1, 25, 0.95);
+    labelled_sheet("frontrange_srtm3.tif", 10, 0, 0, 50, 0.98);
+    labelled_sheet("orkhon_92m.tif", 10, 0, 0, 25, 0.95);
+    labelled_sheet("orkhon_92m.tif", 10, 1, 0, 25, 0.95);
+    /* Tesseract reads three of this draw's faint "2500"s and "2250"s as
+       "7500", "7300" and "7250" (at 0.76-0.94), and 500 fitted them better
+       than 50 (accuracy 0.011) until the other readings of each label
+       (binarised, other thresholds) came into the solve */
+    labelled_sheet("frontrange_srtm3.tif", 10, 1, 1, 50, 0.98);
 }
 
 /* Real terrain: a valley with dissected hills and steep mountains. */

@@ -169,16 +169,24 @@ static int write_labels_geojson(const char *path, const td_lines *ls,
         const td_ocr_read *r = &reads[i];
         double x = r->x, y = r->y;
         td_georef_apply(geo, x, y, &x, &y);
-        char ids[64] = "null";
+        char ids[64] = "null", alts[TD_OCR_ALTS * 48 + 8] = "[";
+        size_t at = 1;
+        int k;
         if (r->line[0] >= 0 && (size_t)r->line[0] < ls->n)
             snprintf(ids, sizeof ids, "%ld", ls->v[r->line[0]].id);
+        for (k = 0; k < TD_OCR_ALTS && r->alt[k].conf > 0; k++)
+            at += (size_t)snprintf(alts + at, sizeof alts - at,
+                                   "%s[%.10g,%.3f]", k ? "," : "",
+                                   r->alt[k].value, r->alt[k].conf);
+        snprintf(alts + at, sizeof alts - at, "]");
         fprintf(f, "%s{\"type\":\"Feature\",\"properties\":{\"text\":\"%s\","
                 "\"value\":%.10g,\"angle\":%.1f,\"confidence\":%.3f,"
+                "\"alternatives\":%s,"
                 "\"digit_px\":%.1f,\"line\":%s,\"used\":%s,\"why\":%s%s%s},"
                 "\"geometry\":{\"type\":\"Point\",\"coordinates\":[%.3f,"
                 "%.3f]}}", i ? ",\n" : "", r->text, r->value,
                 atan2(-r->uy, r->ux) * 180.0 / 3.14159265358979323846,
-                r->conf, r->digit_px, ids, r->used ? "true" : "false",
+                r->conf, alts, r->digit_px, ids, r->used ? "true" : "false",
                 r->why ? "\"" : "", r->why ? r->why : "null",
                 r->why ? "\"" : "", x, y);
     }

@@ -99,7 +99,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
     td_label_params lp = td_label_defaults();
     td_label_point kp[8];
     td_ocr_read *reads = NULL;
-    double t0;
+    double t0, *truth = NULL; /* per read: the true line's height */
     int rc;
     memset(&res, 0, sizeof res);
     memset(&hs->rep, 0, sizeof hs->rep);
@@ -142,6 +142,10 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
                                          &reads, &hs->nreads, cx)) != 0)
                 goto done;
             td_ocr_drop_digits(res.lines, reads, hs->nreads);
+            if (!(truth = calloc(hs->nreads + 1, sizeof *truth))) {
+                rc = TD_ENOMEM;
+                goto done;
+            }
             for (i = 0; i < hs->nreads; i++) { /* right: the true line under */
                 double bd = HUGE_VAL, th = 0;
                 for (j = 0; j < tl->n; j++) {
@@ -151,6 +155,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
                         bd = d, th = tl->v[j].height;
                 }
                 hs->reads_right += fabs(th - reads[i].value) < 1e-6;
+                truth[i] = th;
             }
         }
         ls = res.lines;
@@ -172,6 +177,27 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
     t0 = td_now();
     rc = td_label_auto(ls, &lp, &hs->rep, cx);
     hs->label_secs = td_now() - t0;
+    if (truth) { /* each read against the true line under it, as used */
+        size_t i;
+        for (i = 0; i < hs->nreads; i++) {
+            if (reads[i].used && fabs(truth[i] - reads[i].value) < 1e-6)
+                hs->used_right++;
+            else if (reads[i].used)
+                hs->used_wrong++;
+        }
+        for (i = 0; i < hs->nreads && log; i++) {
+            int k;
+            fprintf(log, "read %-6s at %5.0f,%-5.0f conf %.2f, truth %g:%s %s",
+                    reads[i].text, reads[i].x, reads[i].y, reads[i].conf,
+                    truth[i], reads[i].used ? " used" : "",
+                    reads[i].why ? reads[i].why : "");
+            for (k = 0; k < TD_OCR_ALTS && reads[i].alt[k].conf > 0; k++)
+                fprintf(log, "%s%g (%.2f%s)", k ? ", " : "; or ",
+                        reads[i].alt[k].value, reads[i].alt[k].conf,
+                        reads[i].alt[k].turned ? ", turned" : "");
+            fprintf(log, "\n");
+        }
+    }
     hs->interval = hs->rep.interval > 0 ? hs->rep.interval : hs->interval;
     if (rc == 0) {
         int *verdict = calloc(ls->n + 1, sizeof *verdict);
@@ -185,6 +211,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
         free(verdict);
     }
 done:
+    free(truth);
     free(reads);
     td_scan_result_free(&res);
     td_image_free(im);

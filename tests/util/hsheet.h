@@ -20,6 +20,8 @@ typedef struct td_hsheet {
     int no_interval;            /* infer the interval from the labels */
     size_t nreads, reads_right; /* labels read; read right (the value of
                                    the true line under them) */
+    size_t used_right, used_wrong; /* labels the labeller used, with the
+                                      value it took right and wrong */
     td_labeller method;
     const char *png; /* when set: the verdicts drawn over the sheet
                         (green right, red wrong, blue assumed and
