@@ -160,6 +160,55 @@ static void test_printed_map(void)
     td_grid_f32_free(src);
 }
 
+/* Brown lines on cream with noise 8 (Front Range x10, the labelled sheet
+ * of test_heights with depression ticks): the noise splits the brown into
+ * darker, greyer and yellower clusters that share the lines, each too
+ * thin alone; the brown is still the contour ink (it was dropped as
+ * noise, and the blue river taken) and the lines are found. */
+static void test_split_brown(void)
+{
+    td_grid_f32 *src = NULL;
+    td_gen_params gp = td_gen_defaults();
+    td_image *im = NULL;
+    td_lines *truth = NULL;
+    td_scan_params sp = td_scan_defaults();
+    td_scan_result res;
+    td_scanscore sc;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    TT_CHECKF(td_hsheet_load_dem("tests/data/dems/frontrange_srtm3.tif", &src,
+                                 &cx) == 0,
+              "%s", td_errmsg(&cx));
+    if (!src)
+        return;
+    gp.terrain = TD_GEN_DEM;
+    gp.dem_in = src;
+    gp.w = src->w * 10;
+    gp.h = src->h * 10;
+    gp.line_width = 1.8;
+    gp.index_width = 3.2;
+    gp.blur = 0.8, gp.noise = 8, gp.specks = 200;
+    gp.breaks = 30, gp.break_min = 3, gp.break_max = 10;
+    gp.labels = 3, gp.label_bend = 40, gp.label_font = 1;
+    gp.colour = gp.distractors = gp.hachures = 1;
+    TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
+    TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
+    TT_CHECK(res.palette.chosen >= 0);
+    if (res.palette.chosen >= 0) {
+        const uint8_t *c = res.palette.ink[res.palette.chosen].rgb;
+        TT_CHECKF(c[0] > c[1] + 30 && c[1] > c[2] + 15 && c[0] < 200,
+                  "contour ink #%02x%02x%02x is no brown", c[0], c[1], c[2]);
+    }
+    TT_CHECK(td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
+                           NULL) == 0);
+    TT_CHECKF(sc.recall >= 0.97 && sc.precision >= 0.98,
+              "recall %.3f precision %.3f", sc.recall, sc.precision);
+    td_scan_result_free(&res);
+    td_image_free(im);
+    td_lines_free(truth);
+    td_grid_f32_free(src);
+}
+
 /* A grey scan saved as RGB: auto takes the dark ink, as --ink dark. */
 static void test_grey_as_rgb(void)
 {
@@ -202,6 +251,7 @@ int main(void)
 {
     TT_RUN(test_two_inks);
     TT_RUN(test_printed_map);
+    TT_RUN(test_split_brown);
     TT_RUN(test_grey_as_rgb);
     TT_RUN(test_paper_only);
     return tt_summary();
