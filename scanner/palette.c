@@ -31,6 +31,10 @@
 #define BAD1 60.0
 #define SOFT1 10.0       /* colour within SOFT0 .. SOFT1 of the best model */
 #define LUT_N 33
+#define ALSO_HUE 10.0 /* an ink this near the contour ink's hue (CIELAB,
+                         degrees) is a darker or lighter print of it; the
+                         red roads of the printed sheets came out 14.8
+                         degrees from their brown (22 as printed) */
 
 static double dist3(const double *a, const double *b)
 {
@@ -142,7 +146,7 @@ int td_palette_classify(const td_palette *pal, int r, int g, int b, double *a)
 /* ---- clusters -> colours ------------------------------------------------ */
 
 typedef struct clus {
-    double rgb[3];
+    double rgb[3], mean[3]; /* its colour; the mean of its samples */
     long n;
     double key; /* distance from the paper */
 } clus;
@@ -185,7 +189,7 @@ static void cluster_colours(const uint8_t *rgb, const int *lbl, long m, int k,
         if (q.n == 0)
             continue;
         for (c = 0; c < 3; c++)
-            q.rgb[c] /= (double)q.n;
+            q.mean[c] = q.rgb[c] /= (double)q.n;
         if (strong) {
             for (it = 0; it < 46 && (acc += hist[it]) < 0.95 * q.n; it++)
                 ;
@@ -347,8 +351,10 @@ static void keep_bases(td_palette *pal, const double *paper, clus *cl,
             pal->ink[into].share += share;
             continue;
         }
-        for (i = 0; i < 3; i++)
+        for (i = 0; i < 3; i++) {
             pal->ink[pal->n].rgb[i] = (uint8_t)lrint(cl[j].rgb[i]);
+            pal->ink[pal->n].mean[i] = (float)cl[j].mean[i];
+        }
         pal->ink[pal->n].share = share;
         pal->ink[pal->n].role = TD_INKROLE_INK;
         pal->n++;
@@ -520,9 +526,11 @@ static void tint_contact(const td_palette *pal, const uint8_t *lbl, int cw,
         frac[k] = n[k] > 0 ? in[k] / n[k] : 0;
 }
 
-/* An ink that is another ink printed over a tint is that ink: its colour
- * is explained so, and most of its pixels lie in the tint (red over a
- * green tint looks brown; a brown contour on paper is no red). */
+/* An ink that is another ink printed over a tint is that ink: its mean
+ * colour is explained so, and most of its pixels lie in the tint (red
+ * over a green tint looks brown; a brown contour on paper is no red).
+ * The mean, not the colour extrapolated from the paper: pixels of an
+ * ink over a tint lie on a line from the tint, not from the paper. */
 static void merge_overprints(td_palette *pal, const double *in_tint)
 {
     double p[3];
@@ -532,7 +540,8 @@ static void merge_overprints(td_palette *pal, const double *in_tint)
         double kv[3];
         if (pal->ink[k].role != TD_INKROLE_INK || in_tint[k] < 0.3)
             continue;
-        rgb_of(&pal->ink[k], kv);
+        for (i = 0; i < 3; i++)
+            kv[i] = pal->ink[k].mean[i];
         for (i = 1; i < pal->n; i++) {
             double iv[3], a;
             if (i == k || pal->ink[i].role != TD_INKROLE_INK)
@@ -648,7 +657,7 @@ int td_palette_choose(td_palette *pal, int brown)
             dh = dh > M_PI ? 2 * M_PI - dh : dh;
             if (i != pal->chosen && pal->ink[i].role == TD_INKROLE_INK &&
                 cc > 10 && hypot(l[1], l[2]) > 0.5 * cc &&
-                dh < 15.0 * M_PI / 180.0)
+                dh < ALSO_HUE * M_PI / 180.0)
                 pal->also |= 1u << i;
         }
     }

@@ -39,6 +39,7 @@ typedef enum {
 typedef struct td_ink {
     uint8_t rgb[3];
     float lab[3];
+    float mean[3];   /* the mean colour of its cluster's samples */
     double share;    /* of the sheet (sampled; its mixtures included) */
     double width;    /* mean stroke width, px (0 for the paper) */
     double line_len; /* px of long (>= 40 px) thin strokes per Mpx */
@@ -51,7 +52,7 @@ typedef struct td_palette {
     int paper;     /* index of the paper */
     int chosen;    /* the contour ink, or -1 */
     unsigned also; /* bit k: ink k is contour ink too (a darker or lighter
-                      print of the chosen ink: same hue within 15 deg) */
+                      print of the chosen ink: same hue within 10 deg) */
 } td_palette;
 
 /* Find the palette of an RGB scan (see above).  Deterministic.  Returns 0,
