@@ -23,6 +23,11 @@ typedef struct td_join_params {
                           both ends inside the sheet that do not continue
                           other lines are removed as label/text fragments
                           (default 25; 0: off) */
+    double straight_keep; /* stage 0 (ours): a short piece whose chord is
+                             at least this share of its length, with no
+                             curled piece (a digit) within 12 px, is a
+                             piece of a faded or broken contour and stays
+                             (default 0.8; 0: off, every short piece goes) */
     double long_gap;   /* stage 2: longest label gap joined, px (default
                           70: a 60-px label gap plus the skeleton's pull-back
                           at both ends; <= max_gap: off) */

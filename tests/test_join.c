@@ -233,6 +233,44 @@ static void test_short_piece_kept(void)
     td_lines_free(ls);
 }
 
+/* A faded contour printed in dashes: short straight pieces 20 px apart
+ * (too far for the small-gap stage) are contour, not text: they stay and
+ * the label-gap stage joins them; the "1" of a label, as straight, goes
+ * with the curled "2" beside it. */
+static void test_faded_pieces(void)
+{
+    td_join_params p = td_join_defaults(W, H);
+    td_join_stats st;
+    td_lines *ls = td_lines_new(NULL);
+    const double two[] = {157, 73, 163, 73, 163, 80, 157, 80, 157, 87,
+                          163, 87};
+    const double one[] = {150, 73, 150, 87};
+    double x;
+    size_t i, kept = 0;
+    for (x = 20; x + 18 <= 280; x += 38) /* 18-px pieces, 20-px gaps */
+        add_hline(ls, x, x + 18, 140);
+    add_line(ls, two, 6, 0);
+    add_line(ls, one, 2, 0);
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    for (i = 0; i < ls->n; i++)
+        if (ls->v[i].xy[1] == 140)
+            kept += (size_t)td_line_length(&ls->v[i]);
+    /* kept, and joined across the gaps into one line (stage 2) */
+    TT_CHECKF(kept >= 240 && ls->n == 1 && st.fragments == 2,
+              "%zu px of the faded line kept, %zu lines, %zu fragments "
+              "removed",
+              kept, ls->n, st.fragments);
+    td_lines_free(ls);
+    /* the rule off: every short piece goes */
+    ls = td_lines_new(NULL);
+    for (x = 20; x + 18 <= 280; x += 38)
+        add_hline(ls, x, x + 18, 140);
+    p.straight_keep = 0;
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    TT_CHECKF(ls->n == 0, "%zu lines", ls->n);
+    td_lines_free(ls);
+}
+
 /* Number of proper crossings between segment ab and the lines. */
 static int seg_crossings(const double *a, const double *b, const td_lines *ls)
 {
@@ -419,6 +457,7 @@ int main(void)
     TT_RUN(test_curved_gap);
     TT_RUN(test_label_gap);
     TT_RUN(test_short_piece_kept);
+    TT_RUN(test_faded_pieces);
     TT_RUN(test_labels_off);
     TT_RUN(test_labelled_sheets);
     TT_RUN(test_labelled_noisy);
