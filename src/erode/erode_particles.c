@@ -131,6 +131,19 @@ void er_surface(er_state *s, const td_erode_params *p)
 #else
 #define TD_NOINLINE
 #endif
+/* The vectorised loops compiled for AVX2 + FMA and AVX-512 too, the one
+ * the CPU runs chosen when the program loads (GCC's function
+ * multiversioning): the default build is x86-64 with SSE2, where these
+ * loops ran 3.5x slower (docs/erode.md).  The same operations in the same
+ * order (-std=c11: no contraction into FMA), so the same results. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&     \
+    defined(__linux__) && !defined(__AVX2__)
+#define TD_CLONES                                                          \
+    __attribute__((target_clones("default", "arch=x86-64-v3",             \
+                                 "arch=x86-64-v4")))
+#else
+#define TD_CLONES
+#endif
 
 typedef struct lanes {
     ER_ALIGN double x[ER_LANES], y[ER_LANES]; /* position, cells */
@@ -212,7 +225,7 @@ static int launch(tracer *t, lanes *q, int l)
  * grid: (int)(x + 0.5) is taken only inside it), and whether the particle
  * is done (max_moves made, or at rest where no neighbour is lower).  No
  * branches: it vectorises. */
-static TD_NOINLINE void lanes_aim(const tracer *t, lanes *q)
+TD_CLONES static TD_NOINLINE void lanes_aim(const tracer *t, lanes *q)
 {
     const double dtc = t->dtc, vstop2 = t->vstop2, rest2 = t->rest2;
     const double w = t->s->w, h = t->s->h;
@@ -264,7 +277,7 @@ static void lanes_fetch(tracer *t, lanes *q)
  * entered (fetched) taken over; every other lane gets a = 0 and LN_IDLE,
  * and the live ones among them are flagged odd for lanes_step.  No
  * branches: it vectorises. */
-static TD_NOINLINE void lanes_enter(const tracer *t, lanes *q)
+TD_CLONES static TD_NOINLINE void lanes_enter(const tracer *t, lanes *q)
 {
     int l;
 #pragma omp simd
@@ -399,7 +412,7 @@ static inline void er_exp(jam *z, int l)
  * Every value is computed, then selected with ?: on doubles: no branches
  * and no trapping operation under a condition, so the loop vectorises;
  * hs > 0 and dot > 0 as in the scalar form. */
-static TD_NOINLINE void lanes_move(const tracer *t, lanes *q)
+TD_CLONES static TD_NOINLINE void lanes_move(const tracer *t, lanes *q)
 {
     const double alpha = t->p->alpha, water = t->p->water, dt = t->p->dt;
     const double bw = -t->p->beta * t->p->water;
@@ -467,7 +480,7 @@ static TD_NOINLINE void lanes_move(const tracer *t, lanes *q)
 /* Trace particles ER_LANES at a time, one move of each lane per round,
  * from the chunks of cells taken through *chunk until every particle has
  * stopped or drained.  Adds the moves and drained particles to *mv, *dr. */
-static void trace(const er_state *s, const td_erode_params *p,
+TD_CLONES static void trace(const er_state *s, const td_erode_params *p,
                   int max_moves, long *chunk, er_acc *acc, int64_t *mv,
                   int64_t *dr)
 {
