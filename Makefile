@@ -61,7 +61,7 @@ $(BUILD)/%.o: %.cpp
 
 # sun/horizon.c: row kernels with square roots and guarded divisions vectorise
 # only without errno and FP traps (neither is used).
-$(BUILD)/src/sun/horizon.o: CFLAGS += -fno-math-errno -fno-trapping-math
+$(BUILD)/src/sun/horizon.o: CFLAGS += -fno-math-errno -fno-trapping-math -fvect-cost-model=dynamic
 
 $(BUILD)/libtopodig.a: $(LIB_O)
 	@rm -f $@

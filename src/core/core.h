@@ -33,6 +33,23 @@ enum {
 /* Largest accepted width or height, and largest pixel count of one grid.
  * 2^31 pixels keep every pixel index inside uint32_t and keep the scanner's
  * peak memory (under 6 bytes per pixel) within a 24 GB machine. */
+/* A hot loop compiled for AVX2 + FMA (x86-64-v3) and AVX-512 (-v4) as
+ * well as the default x86-64, the one the CPU runs chosen when the program
+ * loads (GCC's function multiversioning, glibc's ifunc): the default build
+ * is -O2 for plain x86-64, where some loops ran 3.5-5x slower than with
+ * -march=native (docs/benchmarks.md).  The same operations in the same
+ * order (-std=c11 contracts nothing into FMA), so the same bytes out.
+ * Empty where the build already targets AVX2, or elsewhere. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&     \
+    defined(__linux__) && !defined(__AVX2__) && !defined(TD_NO_CLONES)
+#define TD_CLONES                                                          \
+    __attribute__((noinline,                                               \
+                   target_clones("default", "arch=x86-64-v3",             \
+                                 "arch=x86-64-v4")))
+#else
+#define TD_CLONES
+#endif
+
 #define TD_MAX_DIM (1 << 20)
 #define TD_MAX_PIXELS ((size_t)1 << 31)
 

@@ -131,19 +131,6 @@ void er_surface(er_state *s, const td_erode_params *p)
 #else
 #define TD_NOINLINE
 #endif
-/* The vectorised loops compiled for AVX2 + FMA and AVX-512 too, the one
- * the CPU runs chosen when the program loads (GCC's function
- * multiversioning): the default build is x86-64 with SSE2, where these
- * loops ran 3.5x slower (docs/erode.md).  The same operations in the same
- * order (-std=c11: no contraction into FMA), so the same results. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&     \
-    defined(__linux__) && !defined(__AVX2__)
-#define TD_CLONES                                                          \
-    __attribute__((target_clones("default", "arch=x86-64-v3",             \
-                                 "arch=x86-64-v4")))
-#else
-#define TD_CLONES
-#endif
 
 typedef struct lanes {
     ER_ALIGN double x[ER_LANES], y[ER_LANES]; /* position, cells */

@@ -613,8 +613,8 @@ static float atan_deg(float t)
  * be - 2 sqrt(al ga) (al < 0, ga < 0); into row (max).  Pieces shorter
  * than 0.05 cell keep their middle only (float cancellation).  The
  * Makefile builds this file with -fno-math-errno, so sqrtf vectorises. */
-static void piece_peak(const taps *tt, const qtap *q, const float *z, int w,
-                       float *restrict row)
+TD_CLONES static void piece_peak(const taps *tt, const qtap *q,
+                                 const float *z, int w, float *restrict row)
 {
     const tap *a = &tt->pat[q->ia], *b = &tt->pat[q->ib];
     const float *restrict m0 = z + q->o[0], *restrict m1 = z + q->o[1];
@@ -651,8 +651,9 @@ static void piece_peak(const taps *tt, const qtap *q, const float *z, int w,
 
 /* Row y of the work grid: the far-field blend, the near-field taps, the
  * tail; degrees clamped at 0 (nodata cells: nodata) into o[x * ostep]. */
-static void finish_row(const work *wk, const float *sum, const taps *tt,
-                       int y, float *row, float *o, size_t ostep, float nod)
+TD_CLONES static void finish_row(const work *wk, const float *sum,
+                                 const taps *tt, int y, float *row, float *o,
+                                 size_t ostep, float nod)
 {
     const int w = wk->w, h = wk->h;
     const float *z = wk->z + (ptrdiff_t)y * wk->stride;
