@@ -112,7 +112,7 @@ $(BUILD)/tests/test_flow_native: $(BUILD)/tests/test_flow.o $(NATIVE_FLOW_O) $(T
 # link CGAL, which is header-only here but for GMP/MPFR).
 $(BUILD)/tests/test_skeleton_cgal: tests/test_skeleton_cgal.cpp $(BUILD)/libtopodig.a
 	@mkdir -p $(dir $@)
-	$(CXX) $(CPPFLAGS) $(CXXFLAGS) $(LDFLAGS) $^ $(LDLIBS) -lgmp -lmpfr -o $@
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) $(LDFLAGS) $(filter %.cpp %.a,$^) $(LDLIBS) -lgmp -lmpfr -o $@
 
 test: deps
 	$(MAKE) all $(TESTS) $(BUILD)/tests/test_flow_native $(BUILD)/tests/test_skeleton_cgal
