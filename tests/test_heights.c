@@ -6,8 +6,11 @@
 
 #include "scanner/faces.h"
 #include "scanner/label.h"
+#include "scanner/ocr.h"
+#include "scanner/scan.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -216,6 +219,52 @@ static void test_labels_only(void)
     labelled_sheet("frontrange_srtm3.tif", 10, 1, 1, 50, 0.98);
 }
 
+/* The labels of a scanned sheet read on one thread and on two: the same
+ * reads in the same order (each candidate is read alone, by the thread's
+ * own Tesseract reader). */
+static void test_ocr_threads(void)
+{
+    td_hsheet hs;
+    td_grid_f32 *src = dem_sheet(&hs, "frontrange_srtm3.tif", 10, 1, 1);
+    td_image *im = NULL;
+    td_lines *truth = NULL;
+    td_scan_params sp = td_scan_defaults();
+    td_scan_result res;
+    td_ocr_read *r[2] = {NULL, NULL};
+    size_t n[2] = {0, 0}, i;
+    int t, save = omp_get_max_threads();
+    td_ctx cx;
+    td_ctx_init(&cx);
+    if (!src)
+        return;
+    TT_CHECK(td_gen_sheet(&hs.gp, &im, &truth, NULL, &cx) == 0);
+    sp.join.record = 1;
+    TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
+    for (t = 0; t < 2; t++) {
+        omp_set_num_threads(t + 1);
+        TT_CHECKF(td_ocr_scan_labels(im, res.lines, &res.join, NULL, NULL,
+                                     &r[t], &n[t], &cx) == 0,
+                  "%s", td_errmsg(&cx));
+    }
+    omp_set_num_threads(save);
+    /* 18 labels: two readers (one per 8 candidates) */
+    TT_CHECKF(n[0] >= 10 && n[0] == n[1], "%zu reads on one thread, %zu on two",
+              n[0], n[1]);
+    for (i = 0; i < n[0] && i < n[1]; i++)
+        TT_CHECKF(r[0][i].value == r[1][i].value &&
+                      r[0][i].conf == r[1][i].conf &&
+                      r[0][i].x == r[1][i].x && r[0][i].y == r[1][i].y &&
+                      r[0][i].line[0] == r[1][i].line[0] &&
+                      !memcmp(r[0][i].alt, r[1][i].alt, sizeof r[0][i].alt),
+                  "read %zu: %g and %g", i, r[0][i].value, r[1][i].value);
+    free(r[0]);
+    free(r[1]);
+    td_scan_result_free(&res);
+    td_image_free(im);
+    td_lines_free(truth);
+    td_grid_f32_free(src);
+}
+
 /* Real terrain: a valley with dissected hills and steep mountains. */
 static void test_real_orkhon(void)
 {
@@ -316,6 +365,7 @@ int main(void)
     TT_RUN(test_real_frontrange);
     TT_RUN(test_real_elkhorn);
     TT_RUN(test_labels_only);
+    TT_RUN(test_ocr_threads);
     TT_RUN(test_ambiguous);
     TT_RUN(test_ticked_pit);
     TT_RUN(test_contradiction);
