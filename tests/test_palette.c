@@ -97,6 +97,41 @@ static void test_two_inks(void)
     td_image_free(im);
 }
 
+/* A sheet drawn from the Front Range DEM at scale times its size, lines
+ * 1.8 px and index lines 3.2 px, into *gp (the caller adds the defects);
+ * the DEM, to free after the sheet is drawn, or NULL when it did not
+ * load. */
+static td_grid_f32 *front_range(td_gen_params *gp, int scale)
+{
+    td_grid_f32 *src = NULL;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    TT_CHECKF(td_hsheet_load_dem("tests/data/dems/frontrange_srtm3.tif", &src,
+                                 &cx) == 0,
+              "%s", td_errmsg(&cx));
+    if (!src)
+        return NULL;
+    *gp = td_gen_defaults();
+    gp->terrain = TD_GEN_DEM;
+    gp->dem_in = src;
+    gp->w = src->w * scale;
+    gp->h = src->h * scale;
+    gp->line_width = 1.8;
+    gp->index_width = 3.2;
+    return src;
+}
+
+/* The contour ink taken is a brown. */
+static void check_brown(const td_palette *pal)
+{
+    TT_CHECK(pal->chosen >= 0);
+    if (pal->chosen >= 0) {
+        const uint8_t *c = pal->ink[pal->chosen].rgb;
+        TT_CHECKF(c[0] > c[1] + 30 && c[1] > c[2] + 15 && c[0] < 200,
+                  "contour ink #%02x%02x%02x is no brown", c[0], c[1], c[2]);
+    }
+}
+
 /* A printed map drawn from the Front Range DEM (x8), scanned as it comes
  * (fringing, blur 0.8, noise 6, JPEG): --ink auto finds the contour brown,
  * keeps the red roads and the green tint apart, and the traced lines
@@ -104,8 +139,8 @@ static void test_two_inks(void)
  * selection) recovers far less. */
 static void test_printed_map(void)
 {
-    td_grid_f32 *src = NULL;
-    td_gen_params gp = td_gen_defaults();
+    td_gen_params gp;
+    td_grid_f32 *src = front_range(&gp, 8);
     td_image *im = NULL;
     td_lines *truth = NULL;
     td_scan_params sp = td_scan_defaults();
@@ -114,17 +149,8 @@ static void test_printed_map(void)
     td_ctx cx;
     int i, tint = 0;
     td_ctx_init(&cx);
-    TT_CHECKF(td_hsheet_load_dem("tests/data/dems/frontrange_srtm3.tif", &src,
-                                 &cx) == 0,
-              "%s", td_errmsg(&cx));
     if (!src)
         return;
-    gp.terrain = TD_GEN_DEM;
-    gp.dem_in = src;
-    gp.w = src->w * 8;
-    gp.h = src->h * 8;
-    gp.line_width = 1.8;
-    gp.index_width = 3.2;
     gp.colour = gp.distractors = gp.print = 1;
     gp.blur = 0.8;
     gp.noise = 6;
@@ -133,12 +159,7 @@ static void test_printed_map(void)
     for (i = 0; i < res.palette.n; i++)
         tint += res.palette.ink[i].role == TD_INKROLE_TINT;
     TT_CHECK(tint >= 1);
-    TT_CHECK(res.palette.chosen >= 0);
-    if (res.palette.chosen >= 0) {
-        const uint8_t *c = res.palette.ink[res.palette.chosen].rgb;
-        TT_CHECKF(c[0] > c[1] + 30 && c[1] > c[2] + 15 && c[0] < 200,
-                  "contour ink #%02x%02x%02x is no brown", c[0], c[1], c[2]);
-    }
+    check_brown(&res.palette);
     TT_CHECK(td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
                            NULL) == 0);
     td_scan_result_free(&res);
@@ -167,8 +188,8 @@ static void test_printed_map(void)
  * noise, and the blue river taken) and the lines are found. */
 static void test_split_brown(void)
 {
-    td_grid_f32 *src = NULL;
-    td_gen_params gp = td_gen_defaults();
+    td_gen_params gp;
+    td_grid_f32 *src = front_range(&gp, 10);
     td_image *im = NULL;
     td_lines *truth = NULL;
     td_scan_params sp = td_scan_defaults();
@@ -176,29 +197,15 @@ static void test_split_brown(void)
     td_scanscore sc;
     td_ctx cx;
     td_ctx_init(&cx);
-    TT_CHECKF(td_hsheet_load_dem("tests/data/dems/frontrange_srtm3.tif", &src,
-                                 &cx) == 0,
-              "%s", td_errmsg(&cx));
     if (!src)
         return;
-    gp.terrain = TD_GEN_DEM;
-    gp.dem_in = src;
-    gp.w = src->w * 10;
-    gp.h = src->h * 10;
-    gp.line_width = 1.8;
-    gp.index_width = 3.2;
     gp.blur = 0.8, gp.noise = 8, gp.specks = 200;
     gp.breaks = 30, gp.break_min = 3, gp.break_max = 10;
     gp.labels = 3, gp.label_bend = 40, gp.label_font = 1;
     gp.colour = gp.distractors = gp.hachures = 1;
     TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
     TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
-    TT_CHECK(res.palette.chosen >= 0);
-    if (res.palette.chosen >= 0) {
-        const uint8_t *c = res.palette.ink[res.palette.chosen].rgb;
-        TT_CHECKF(c[0] > c[1] + 30 && c[1] > c[2] + 15 && c[0] < 200,
-                  "contour ink #%02x%02x%02x is no brown", c[0], c[1], c[2]);
-    }
+    check_brown(&res.palette);
     TT_CHECK(td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
                            NULL) == 0);
     TT_CHECKF(sc.recall >= 0.97 && sc.precision >= 0.98,
@@ -216,8 +223,8 @@ static void test_split_brown(void)
  * printed sheets keep precision >= 0.99). */
 static void test_crowded_print(void)
 {
-    td_grid_f32 *src = NULL;
-    td_gen_params gp = td_gen_defaults();
+    td_gen_params gp;
+    td_grid_f32 *src = front_range(&gp, 10);
     td_image *im = NULL;
     td_lines *truth = NULL;
     td_scan_params sp = td_scan_defaults();
@@ -226,16 +233,9 @@ static void test_crowded_print(void)
     td_ctx cx;
     int i;
     td_ctx_init(&cx);
-    TT_CHECKF(td_hsheet_load_dem("tests/data/dems/frontrange_srtm3.tif", &src,
-                                 &cx) == 0,
-              "%s", td_errmsg(&cx));
     if (!src)
         return;
-    gp.terrain = TD_GEN_DEM;
-    gp.dem_in = src;
     gp.interval = 20;
-    gp.w = src->w * 10;
-    gp.h = src->h * 10;
     td_hsheet_defects(&gp, 3);
     TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
     TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
