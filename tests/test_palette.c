@@ -181,6 +181,32 @@ static void test_printed_map(void)
     td_grid_f32_free(src);
 }
 
+/* Draw the sheet of gp, scan it with the defaults: its palette into *pal
+ * and its lines scored against the truth (within 2 px) into *sc. */
+static void scan_scored(const td_gen_params *gp, td_palette *pal,
+                        td_scanscore *sc)
+{
+    td_image *im = NULL;
+    td_lines *truth = NULL;
+    td_scan_params sp = td_scan_defaults();
+    td_scan_result res;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    memset(pal, 0, sizeof *pal);
+    memset(sc, 0, sizeof *sc);
+    pal->chosen = -1;
+    TT_CHECK(td_gen_sheet(gp, &im, &truth, NULL, &cx) == 0);
+    if (!im)
+        return;
+    TT_CHECKF(td_scan(im, &sp, &res, &cx) == 0, "%s", td_errmsg(&cx));
+    *pal = res.palette;
+    TT_CHECK(td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, sc,
+                           NULL) == 0);
+    td_scan_result_free(&res);
+    td_image_free(im);
+    td_lines_free(truth);
+}
+
 /* Brown lines on cream with noise 8 (Front Range x10, the labelled sheet
  * of test_heights with depression ticks): the noise splits the brown into
  * darker, greyer and yellower clusters that share the lines, each too
@@ -190,29 +216,18 @@ static void test_split_brown(void)
 {
     td_gen_params gp;
     td_grid_f32 *src = front_range(&gp, 10);
-    td_image *im = NULL;
-    td_lines *truth = NULL;
-    td_scan_params sp = td_scan_defaults();
-    td_scan_result res;
+    td_palette pal;
     td_scanscore sc;
-    td_ctx cx;
-    td_ctx_init(&cx);
     if (!src)
         return;
     gp.blur = 0.8, gp.noise = 8, gp.specks = 200;
     gp.breaks = 30, gp.break_min = 3, gp.break_max = 10;
     gp.labels = 3, gp.label_bend = 40, gp.label_font = 1;
     gp.colour = gp.distractors = gp.hachures = 1;
-    TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
-    TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
-    check_brown(&res.palette);
-    TT_CHECK(td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
-                           NULL) == 0);
+    scan_scored(&gp, &pal, &sc);
+    check_brown(&pal);
     TT_CHECKF(sc.recall >= 0.97 && sc.precision >= 0.98,
               "recall %.3f precision %.3f", sc.recall, sc.precision);
-    td_scan_result_free(&res);
-    td_image_free(im);
-    td_lines_free(truth);
     td_grid_f32_free(src);
 }
 
@@ -225,38 +240,27 @@ static void test_crowded_print(void)
 {
     td_gen_params gp;
     td_grid_f32 *src = front_range(&gp, 10);
-    td_image *im = NULL;
-    td_lines *truth = NULL;
-    td_scan_params sp = td_scan_defaults();
-    td_scan_result res;
+    td_palette pal;
     td_scanscore sc;
-    td_ctx cx;
     int i;
-    td_ctx_init(&cx);
     if (!src)
         return;
     gp.interval = 20;
     td_hsheet_defects(&gp, 3);
-    TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
-    TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
-    for (i = 0; i < res.palette.n; i++) {
-        const uint8_t *c = res.palette.ink[i].rgb;
-        int contour = i == res.palette.chosen || (res.palette.also >> i & 1);
+    scan_scored(&gp, &pal, &sc);
+    for (i = 0; i < pal.n; i++) {
+        const uint8_t *c = pal.ink[i].rgb;
+        int contour = i == pal.chosen || (pal.also >> i & 1);
         TT_CHECKF(!contour || c[0] < c[1] + 100,
                   "ink %d #%02x%02x%02x, a red, is contour ink", i, c[0], c[1],
                   c[2]);
         TT_CHECKF(!(c[1] > c[0] && c[1] > c[2] + 40 &&
-                    res.palette.ink[i].role == TD_INKROLE_INK),
+                    pal.ink[i].role == TD_INKROLE_INK),
                   "ink %d #%02x%02x%02x: an olive ink (brown over the tint)",
                   i, c[0], c[1], c[2]);
     }
-    TT_CHECK(td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
-                           NULL) == 0);
     TT_CHECKF(sc.recall >= 0.8 && sc.precision >= 0.99,
               "recall %.3f precision %.3f", sc.recall, sc.precision);
-    td_scan_result_free(&res);
-    td_image_free(im);
-    td_lines_free(truth);
     td_grid_f32_free(src);
 }
 

@@ -16,19 +16,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct sheet_case {
-    const char *name, *dem;
-    double scale, interval;
-} sheet_case;
-
-static const sheet_case cases[] = {
-    {"elkhorn", "elkhorn_srtm3.tif", 6, 0},
-    {"frontrange", "frontrange_srtm3.tif", 10, 0},
-    {"orkhon", "orkhon_92m.tif", 10, 0},
-    {"frontrange20", "frontrange_srtm3.tif", 10, 20},
-};
-static const char *const scan_name[4] = {"clean", "scanned", "colour",
-                                         "printed"};
 
 /* The largest distance from a vertex of l to the nearest true line. */
 static double off_truth(const td_line *l, const td_lines *truth)
@@ -61,8 +48,8 @@ int main(int argc, char **argv)
             a++;
     }
     printf("sheet scan class len chord box\n");
-    for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-        const sheet_case *k = &cases[c];
+    for (c = 0; c < sizeof td_real_sheets / sizeof td_real_sheets[0]; c++) {
+        const td_real_sheet *k = &td_real_sheets[c];
         td_grid_f32 *src = NULL;
         td_ctx cx;
         int kind;
@@ -103,7 +90,7 @@ int main(int argc, char **argv)
                         b[3] = fmax(b[3], l->xy[2 * q + 1]);
                     }
                     printf("%s %s %s %.1f %.2f %.1f %.0f %.0f\n", k->name,
-                           scan_name[kind],
+                           td_defect_names[kind],
                            off_truth(l, truth) <= 2.0 ? "contour" : "text",
                            len, len > 0 ? ch / len : 0,
                            fmax(b[2] - b[0], b[3] - b[1]), l->xy[0],

@@ -18,20 +18,6 @@
 #include <string.h>
 #include <time.h>
 
-typedef struct sheet_case {
-    const char *name, *dem;
-    double scale, interval;
-} sheet_case;
-
-static const sheet_case cases[] = {
-    {"elkhorn", "elkhorn_srtm3.tif", 6, 0},
-    {"frontrange", "frontrange_srtm3.tif", 10, 0},
-    {"orkhon", "orkhon_92m.tif", 10, 0},
-    {"frontrange20", "frontrange_srtm3.tif", 10, 20},
-};
-
-static const char *const scan_name[4] = {"clean", "scanned", "colour",
-                                         "printed"};
 
 
 int main(int argc, char **argv)
@@ -54,8 +40,8 @@ int main(int argc, char **argv)
     printf("%-12s %-7s %-10s %6s %6s %6s %6s %6s %6s %6s\n", "sheet", "scan",
            "junctions", "truth", "traced", "recall", "prec", "own", "jumps",
            "secs");
-    for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-        const sheet_case *k = &cases[c];
+    for (c = 0; c < sizeof td_real_sheets / sizeof td_real_sheets[0]; c++) {
+        const td_real_sheet *k = &td_real_sheets[c];
         td_grid_f32 *src = NULL;
         td_ctx cx;
         int kind, v;
@@ -80,7 +66,7 @@ int main(int argc, char **argv)
             td_hsheet_defects(&gp, kind);
             if (td_gen_sheet(&gp, &im, &truth, NULL, &cx) != 0) {
                 printf("%-12s %-7s generate failed: %s\n", k->name,
-                       scan_name[kind], td_errmsg(&cx));
+                       td_defect_names[kind], td_errmsg(&cx));
                 td_ctx_clear(&cx);
                 continue;
             }
@@ -113,19 +99,19 @@ int main(int argc, char **argv)
                 clock_gettime(CLOCK_MONOTONIC, &t0);
                 if (td_scan(im, &sp, &res, &cx) != 0) {
                     printf("%-12s %-7s scan failed: %s\n", k->name,
-                           scan_name[kind], td_errmsg(&cx));
+                           td_defect_names[kind], td_errmsg(&cx));
                     td_ctx_clear(&cx);
                     continue;
                 }
                 clock_gettime(CLOCK_MONOTONIC, &t1);
                 if (logit)
-                    printf("-- %s %s %s\n", k->name, scan_name[kind],
+                    printf("-- %s %s %s\n", k->name, td_defect_names[kind],
                            vname[v]);
                 td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
                               logit ? stdout : NULL);
                 printf("%-12s %-7s %-10s %6ld %6ld %6.3f %6.3f %6.3f %6.3f "
                        "%6.2f\n",
-                          k->name, scan_name[kind], vname[v],
+                          k->name, td_defect_names[kind], vname[v],
                        sc.n_truth, sc.n_traced, sc.recall, sc.precision,
                        sc.own, (double)sc.n_jump / (double)(sc.n_traced + !sc.n_traced),
                        (double)(t1.tv_sec - t0.tv_sec) +
@@ -133,15 +119,15 @@ int main(int argc, char **argv)
                 fflush(stdout);
                 if (out && v == 2) {
                     snprintf(path, sizeof path, "%s/%s_%s.png", out, k->name,
-                             scan_name[kind]);
+                             td_defect_names[kind]);
                     if (td_png_write(path, im, &cx) != 0)
                         td_ctx_clear(&cx);
                     snprintf(path, sizeof path, "%s/%s_%s_truth.geojson", out,
-                             k->name, scan_name[kind]);
+                             k->name, td_defect_names[kind]);
                     if (td_geojson_write_lines(path, truth, NULL, &cx) != 0)
                         td_ctx_clear(&cx);
                     snprintf(path, sizeof path, "%s/%s_%s_lines.geojson", out,
-                             k->name, scan_name[kind]);
+                             k->name, td_defect_names[kind]);
                     if (td_geojson_write_lines(path, res.lines, NULL, &cx) != 0)
                         td_ctx_clear(&cx);
                 }

@@ -222,6 +222,16 @@ done:
 }
 
 /* Contract in hsheet.h. */
+const td_real_sheet td_real_sheets[4] = {
+    {"elkhorn", "elkhorn_srtm3.tif", 6, 0},
+    {"frontrange", "frontrange_srtm3.tif", 10, 0},
+    {"orkhon", "orkhon_92m.tif", 10, 0},
+    {"frontrange20", "frontrange_srtm3.tif", 10, 20},
+};
+const char *const td_defect_names[4] = {"clean", "scanned", "colour",
+                                        "printed"};
+
+/* Contract in hsheet.h. */
 void td_hsheet_defects(td_gen_params *p, int kind)
 {
     p->line_width = 1.8;

@@ -38,6 +38,16 @@ typedef struct td_hsheet {
  * vertex.  log (may be NULL) gets the wrong sure lines. */
 int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx);
 
+/* The scanner benchmarks' sheets drawn from the real DEMs
+ * (tests/data/dems): name, DEM file, scale, interval (0: automatic); and
+ * the names of td_hsheet_defects' kinds 0-3. */
+typedef struct td_real_sheet {
+    const char *name, *dem;
+    double scale, interval;
+} td_real_sheet;
+extern const td_real_sheet td_real_sheets[4];
+extern const char *const td_defect_names[4];
+
 /* The benchmarks' sheet defects: kind 0 clean (lines 1.8 px, index
  * contours 3.2 px), 1 scanned (blur 0.8, noise 8, 300 specks, 40 breaks of
  * 3-10 px, printed DejaVu labels), 2 the same in colour (brown on cream,
