@@ -661,7 +661,7 @@ static int setup_index(hs *s, td_ctx *cx)
         m = line_chunks(s, i, &c0);
         for (k = 0; k < m; k++) {
             s->idx[c0 + k] = l->width >= cut ? 1 : -1;
-            s->ilen[c0 + k] = W_INDEX * fmin(1.0, len / 200.0) / m;
+            s->ilen[c0 + k] = W_INDEX * fmin(1.0, len / 80.0) / m;
         }
     }
     return 0;
