@@ -107,3 +107,102 @@ fail:
     td_grid_f32_free(g);
     return rc;
 }
+
+/* (x,y) in the band of width m around the w x h sheet. */
+static int in_band(const double *q, double m, int w, int h)
+{
+    int out = q[0] >= -m && q[0] < w + m && q[1] >= -m && q[1] < h + m;
+    return out && !(q[0] >= 0 && q[0] < w && q[1] >= 0 && q[1] < h);
+}
+
+/* The runs of l in the band of width m around the sheet, shifted by
+ * (m, m), as open lines of ls; a run goes one point on where it leaves
+ * the band outwards (the rasteriser clips), never into the sheet.  0 or
+ * TD_ENOMEM. */
+static int add_beside(td_lines *ls, const td_line *l, double m, int w,
+                      int h, td_ctx *cx)
+{
+    size_t n = l->n + (l->closed && l->n > 2), k = 0, a, b, j;
+    while (k < n) {
+        const double *q;
+        td_line *c;
+        if (!in_band(&l->xy[2 * (k % l->n)], m, w, h)) {
+            k++;
+            continue;
+        }
+        for (b = k; b + 1 < n && in_band(&l->xy[2 * ((b + 1) % l->n)], m,
+                                         w, h); b++)
+            ;
+        a = k;
+        if (a > 0 && (q = &l->xy[2 * ((a - 1) % l->n)]) &&
+            !(q[0] >= 0 && q[0] < w && q[1] >= 0 && q[1] < h))
+            a--;
+        j = b;
+        if (b + 1 < n && (q = &l->xy[2 * ((b + 1) % l->n)]) &&
+            !(q[0] >= 0 && q[0] < w && q[1] >= 0 && q[1] < h))
+            b++;
+        k = j + 1;
+        if (!(c = td_lines_add(ls, cx)))
+            return TD_ENOMEM;
+        c->has_height = 1, c->height = l->height, c->width = l->width;
+        for (j = a; j <= b; j++)
+            if (td_line_push(c, l->xy[2 * (j % l->n)] + m,
+                             l->xy[2 * (j % l->n) + 1] + m, cx) != 0)
+                return TD_ENOMEM;
+    }
+    return 0;
+}
+
+int td_interp_lines_beside(const td_lines *ls, const td_lines *beside,
+                           int margin, int w, int h,
+                           const td_interp_params *p, td_grid_f32 **out,
+                           td_ctx *cx)
+{
+    td_interp_params q = *p;
+    td_lines *all = NULL;
+    td_grid_f32 *big = NULL, *g = NULL;
+    int rc, step = p->step < 1 ? 1 : p->step, m, y, gw, gh, mc;
+    size_t i, k;
+    *out = NULL;
+    if (!beside || beside->n == 0 || margin <= 0)
+        return td_interp_lines(ls, w, h, p, out, cx);
+    if ((rc = td_check_dims(w, h, "scan", cx)) != 0)
+        return rc;
+    m = (margin + step - 1) / step * step;
+    if (m > TD_MAX_DIM || w > TD_MAX_DIM - 2 * m || h > TD_MAX_DIM - 2 * m)
+        return td_seterr(cx, TD_ETOOBIG, "the sheet with a margin of %d "
+                         "px is too big", m);
+    if (!(q.interval > 0))
+        q.interval = td_interp_interval(ls);
+    if (!(all = td_lines_new(cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < ls->n; i++) {
+        td_line *c;
+        if ((rc = td_lines_append_copy(all, &ls->v[i], cx)) != 0)
+            goto done;
+        c = &all->v[all->n - 1];
+        for (k = 0; k < c->n; k++)
+            c->xy[2 * k] += m, c->xy[2 * k + 1] += m;
+    }
+    for (i = 0; i < beside->n; i++)
+        if (beside->v[i].has_height && isfinite(beside->v[i].height) &&
+            (rc = add_beside(all, &beside->v[i], m, w, h, cx)) != 0)
+            goto done;
+    if ((rc = td_interp_lines(all, w + 2 * m, h + 2 * m, &q, &big, cx)) != 0)
+        goto done;
+    gw = (w + step - 1) / step, gh = (h + step - 1) / step, mc = m / step;
+    if (!(g = td_grid_f32_new(gw, gh, cx))) {
+        rc = TD_ENOMEM;
+        goto done;
+    }
+    for (y = 0; y < gh; y++)
+        memcpy(&g->data[(size_t)y * g->stride],
+               &big->data[(size_t)(y + mc) * big->stride + mc],
+               (size_t)gw * sizeof *g->data);
+    g->nodata = big->nodata, g->has_nodata = big->has_nodata;
+    *out = g;
+done:
+    td_grid_f32_free(big);
+    td_lines_free(all);
+    return rc;
+}

@@ -55,6 +55,19 @@ int td_interp_lines(const td_lines *ls, int w, int h,
                     const td_interp_params *p, td_grid_f32 **out,
                     td_ctx *cx);
 
+/* As td_interp_lines, with the lines beyond the sheet's edges beside it
+ * (a neighbouring sheet's labelled lines, in this sheet's pixel frame):
+ * the grid is interpolated margin px (rounded up to a multiple of step)
+ * wider on every side, with the parts of `beside` that reach into that
+ * band, and cut back to the sheet, so two neighbours interpolated so meet
+ * at their shared edge.  The interval, when not given, is found from ls
+ * alone; beside lines without a height are left out.  beside NULL or
+ * empty, or margin <= 0: td_interp_lines. */
+int td_interp_lines_beside(const td_lines *ls, const td_lines *beside,
+                           int margin, int w, int h,
+                           const td_interp_params *p, td_grid_f32 **out,
+                           td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

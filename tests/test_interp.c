@@ -647,10 +647,81 @@ static void test_multidir_brute(void)
     td_grid_f32_free(a);
 }
 
+/* td_interp_lines_beside: a plane z = x cut into two sheets at x = 100.
+ * Alone, the left sheet ends 9 columns past its last line (nodata or a
+ * guess); with the right sheet's lines beside it, those columns are the
+ * plane, exactly, and the right sheet's first columns likewise: the two
+ * DEMs meet at the cut. */
+static void test_beside(void)
+{
+    int w = 203, h = 157, cut = 100, x, y, s;
+    td_lines *all = plane_lines(w, h, 1), *side[2];
+    td_interp_params p = td_interp_defaults();
+    td_grid_f32 *g[2] = {NULL, NULL}, *alone = NULL;
+    td_ctx cx;
+    size_t i, k;
+    double worst = 0, worst_alone = 0;
+    td_ctx_init(&cx);
+    for (s = 0; s < 2; s++) { /* each sheet's own lines, in its frame */
+        side[s] = td_lines_new(NULL);
+        for (i = 0; i < all->n; i++)
+            if ((all->v[i].xy[0] < cut) == (s == 0)) {
+                td_lines_append_copy(side[s], &all->v[i], NULL);
+                for (k = 0; s && k < side[s]->v[side[s]->n - 1].n; k++)
+                    side[s]->v[side[s]->n - 1].xy[2 * k] -= cut;
+            }
+    }
+    {   /* the other sheet's lines in each sheet's frame; one line without
+           a height and one far beyond the margin are left out */
+        td_lines *b0 = td_lines_copy(side[1], NULL), *b1 = td_lines_copy(side[0], NULL);
+        td_line *l;
+        for (i = 0; i < b0->n; i++)
+            for (k = 0; k < b0->v[i].n; k++)
+                b0->v[i].xy[2 * k] += cut;
+        for (i = 0; i < b1->n; i++)
+            for (k = 0; k < b1->v[i].n; k++)
+                b1->v[i].xy[2 * k] -= cut;
+        l = td_lines_add(b0, NULL);
+        td_line_push(l, 150.5, 1, NULL), td_line_push(l, 150.5, h - 1, NULL);
+        l = td_lines_add(b0, NULL);
+        l->has_height = 1, l->height = 1e4;
+        td_line_push(l, 5000, 1, NULL), td_line_push(l, 5000, h - 1, NULL);
+        TT_CHECK(td_interp_lines_beside(side[0], b0, 64, cut, h, &p, &g[0],
+                                        &cx) == 0);
+        TT_CHECK(td_interp_lines_beside(side[1], b1, 64, w - cut, h, &p,
+                                        &g[1], &cx) == 0);
+        TT_CHECK(td_interp_lines(side[0], cut, h, &p, &alone, &cx) == 0);
+        td_lines_free(b0), td_lines_free(b1);
+    }
+    if (!g[0] || !g[1] || !alone)
+        goto done;
+    TT_CHECK(g[0]->w == cut && g[0]->h == h && g[1]->w == w - cut);
+    for (y = 0; y < h; y++)
+        for (x = 91; x < cut; x++) { /* past the left sheet's last line */
+            float a = TD_AT(alone, x, y), b = TD_AT(g[0], x, y);
+            worst_alone = fmax(worst_alone, a == alone->nodata ? INFINITY
+                                                               : fabs(a - x));
+            worst = fmax(worst, b == g[0]->nodata ? INFINITY : fabs(b - x));
+        }
+    for (y = 0; y < h; y++)
+        for (x = 0; x < 10; x++) {
+            float b = TD_AT(g[1], x, y);
+            worst = fmax(worst, b == g[1]->nodata ? INFINITY
+                                                  : fabs(b - (x + cut)));
+        }
+    TT_CHECKF(worst < 1e-3, "with the neighbour beside: max error %g", worst);
+    TT_CHECKF(worst_alone > 1, "alone: max error %g (the test sees nothing)",
+              worst_alone);
+done:
+    td_grid_f32_free(g[0]), td_grid_f32_free(g[1]), td_grid_f32_free(alone);
+    td_lines_free(side[0]), td_lines_free(side[1]), td_lines_free(all);
+}
+
 int main(void)
 {
     TT_RUN(test_rasterise_4connected);
     TT_RUN(test_interval);
+    TT_RUN(test_beside);
     TT_RUN(test_plane_exact);
     TT_RUN(test_plane_tilted);
     TT_RUN(test_cone);

@@ -16,6 +16,7 @@
 #include "src/cli/cli.h"
 
 #include "src/io/io.h"
+#include "interp/interp.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -40,11 +41,16 @@ typedef struct sheet {
     double t0;
     int state;     /* 0 waiting, 1 running, 2 done */
     int ok;
+    int stage;     /* 0 the run, 1 its seams (interp with the neighbours) */
+    int placed;    /* georeferenced: x0..y1 its map extent */
+    double x0, y0, x1, y1, res;
+    int epsg;
+    char *beside;  /* the neighbours the seams step took, or NULL */
 } sheet;
 
 typedef struct bt_opts {
     const char *manifest, *out;
-    int jobs, resume, emit, quiet, neighbours;
+    int jobs, resume, emit, quiet, neighbours, seams, margin;
 } bt_opts;
 
 static int parse_args(int argc, char **argv, bt_opts *o)
@@ -63,6 +69,13 @@ static int parse_args(int argc, char **argv, bt_opts *o)
          "takes the interval and, as\nknown points, the heights of the "
          "lines its\nlabelled neighbours carry across the shared\nedge "
          "(georeferenced sheets)"},
+        {"no-seams", 0, TD_OPT_OFF, &o->seams,
+         .help = "keep each sheet's DEM as its own run made it\n(default: "
+         "georeferenced sheets are\ninterpolated again with the lines of "
+         "the\nsheets beside them, so the DEMs meet at the\nshared edges)"},
+        {"margin", 0, TD_OPT_INT, &o->margin, 1, 65536, .meta = "PX",
+         .help = "seams: how far beyond its edges a sheet sees\nits "
+         "neighbours' lines"},
         {"emit", 0, TD_OPT_CHOICE, &o->emit, .choices = "none|parallel|make|"
          "slurm", .meta = "E", .help = "print the jobs for GNU parallel, a "
          "Makefile\nor a Slurm array script instead of running\nthem"},
@@ -219,7 +232,7 @@ static void free_sheets(sheet *v, size_t n)
     size_t i;
     for (i = 0; i < n; i++)
         free(v[i].path), free(v[i].opts), free(v[i].stem), free(v[i].dir),
-            free(v[i].seeded);
+            free(v[i].seeded), free(v[i].beside);
     free(v);
 }
 
@@ -322,19 +335,11 @@ static int mkdir_p(const char *path)
     return mkdir(tmp, 0777) != 0 && errno != EEXIST ? -1 : 0;
 }
 
-static pid_t start(const char *exe, sheet *s)
+/* Fork and exec av with stdout and stderr to log; the pid or -1. */
+static pid_t spawn(char **av, const char *log)
 {
-    char *av[MAX_ARGS], buf[4096], *dem = join(s->dir, "dem.tif"),
-         *lines = join(s->dir, "lines.geojson"),
-         *sum = join(s->dir, "summary.json"), *dbg = join(s->dir, "debug"),
-         *log = join(s->dir, "run.log");
-    pid_t pid = -1;
+    pid_t pid;
     int fd;
-    if (!dem || !lines || !sum || !dbg || !log ||
-        run_argv(exe, s, av, buf, sizeof buf) < 0)
-        goto done;
-    av[4] = dem, av[6] = lines, av[8] = sum, av[10] = dbg;
-    unlink(sum); /* a stale summary would read as this run's */
     fflush(NULL);
     pid = fork();
     if (pid == 0) {
@@ -343,9 +348,25 @@ static pid_t start(const char *exe, sheet *s)
             dup2(fd, 1), dup2(fd, 2);
             close(fd);
         }
-        execv(exe, av);
+        execv(av[0], av);
         _exit(127);
     }
+    return pid;
+}
+
+static pid_t start(const char *exe, sheet *s)
+{
+    char *av[MAX_ARGS], buf[4096], *dem = join(s->dir, "dem.tif"),
+         *lines = join(s->dir, "lines.geojson"),
+         *sum = join(s->dir, "summary.json"), *dbg = join(s->dir, "debug"),
+         *log = join(s->dir, "run.log");
+    pid_t pid = -1;
+    if (!dem || !lines || !sum || !dbg || !log ||
+        run_argv(exe, s, av, buf, sizeof buf) < 0)
+        goto done;
+    av[4] = dem, av[6] = lines, av[8] = sum, av[10] = dbg;
+    unlink(sum); /* a stale summary would read as this run's */
+    pid = spawn(av, log);
 done:
     free(dem), free(lines), free(sum), free(dbg), free(log);
     return pid;
@@ -438,6 +459,132 @@ static void write_hash(const sheet *s)
     free(hp);
 }
 
+/* ---- seams: each sheet interpolated again with its neighbours' lines ----
+ *
+ * Georeferenced sheets that share an edge (or a corner) in one CRS are
+ * neighbours; `topodig interp` takes a sheet's labelled lines with theirs
+ * (--beside) within --margin of its edges, so the DEMs meet at the
+ * edges.  Sheets that overlap instead of sharing an edge are not used for
+ * each other (batch.log says so). */
+
+#define EDGE_TOL 1.5 /* cells: a gap or an overlap this small is an edge */
+
+static void place_sheet(sheet *s)
+{
+    td_georef g;
+    td_ctx cx;
+    int w, h, ch;
+    td_ctx_init(&cx);
+    td_georef_init(&g);
+    s->placed = 0;
+    if (td_image_info(s->path, &w, &h, &ch, &g, &cx) == 0 && g.valid &&
+        g.gt[2] == 0 && g.gt[4] == 0 && g.gt[1] > 0 && g.gt[5] < 0) {
+        s->x0 = g.gt[0], s->x1 = g.gt[0] + w * g.gt[1];
+        s->y1 = g.gt[3], s->y0 = g.gt[3] + h * g.gt[5];
+        s->res = g.gt[1] > -g.gt[5] ? g.gt[1] : -g.gt[5];
+        s->epsg = g.epsg;
+        s->placed = 1;
+    }
+    td_georef_clear(&g);
+    td_ctx_clear(&cx);
+}
+
+/* 1: a and b share an edge or a corner; 0: apart; -1: they overlap. */
+static int beside(const sheet *a, const sheet *b)
+{
+    double tol = EDGE_TOL * (a->res > b->res ? a->res : b->res);
+    double ox = (a->x1 < b->x1 ? a->x1 : b->x1) - (a->x0 > b->x0 ? a->x0 : b->x0);
+    double oy = (a->y1 < b->y1 ? a->y1 : b->y1) - (a->y0 > b->y0 ? a->y0 : b->y0);
+    if (!a->placed || !b->placed || a->epsg != b->epsg || ox < -tol || oy < -tol)
+        return 0;
+    return ox > tol && oy > tol ? -1 : 1;
+}
+
+/* Appends "--NAME VALUE" pairs of s's options that interp knows (the
+ * interpolation options) to av from ac; returns the new ac. */
+static int interp_opts(char *opts, char **av, int ac)
+{
+    td_opt t[TD_CLI_INTERP_OPTS];
+    td_interp_params p;
+    char *o, *save = NULL;
+    size_t n = td_cli_interp_opts(t, &p), k;
+    for (o = strtok_r(opts, " \t", &save); o && ac < MAX_ARGS - 3;
+         o = strtok_r(NULL, " \t", &save)) {
+        char *eq = strchr(o, '=');
+        size_t nl = eq ? (size_t)(eq - o) - 2 : strlen(o) - 2;
+        if (strncmp(o, "--", 2) != 0)
+            continue;
+        for (k = 0; k < n; k++)
+            if (strlen(t[k].name) == nl && !strncmp(o + 2, t[k].name, nl))
+                break;
+        if (k == n)
+            continue;
+        av[ac++] = o;
+        if (!eq && (o = strtok_r(NULL, " \t", &save)) != NULL)
+            av[ac++] = o;
+    }
+    return ac;
+}
+
+/* interp of sheet s with its neighbours' lines into its dem.tif. */
+static pid_t start_seam(const char *exe, sheet *s, const sheet *v, size_t n,
+                        const bt_opts *o)
+{
+    char *av[MAX_ARGS], buf[4096], mg[32], *paths[MAX_ARGS];
+    char *lines = join(s->dir, "lines.geojson"), *dem = join(s->dir, "dem.tif"),
+         *log = join(s->dir, "seams.log");
+    size_t i, np = 0, bl = 0;
+    int ac = 0;
+    pid_t pid = -1;
+    if (!lines || !dem || !log)
+        goto done;
+    snprintf(buf, sizeof buf, "%s", s->opts);
+    snprintf(mg, sizeof mg, "%d", o->margin);
+    av[ac++] = (char *)exe, av[ac++] = "interp", av[ac++] = lines;
+    av[ac++] = "--like", av[ac++] = s->path, av[ac++] = "-o", av[ac++] = dem;
+    av[ac++] = "-q", av[ac++] = "--margin", av[ac++] = mg;
+    for (i = 0; i < n && ac < 200; i++)
+        if (&v[i] != s && v[i].ok && beside(s, &v[i]) == 1 &&
+            (paths[np] = join(v[i].dir, "lines.geojson")) != NULL) {
+            av[ac++] = "--beside", av[ac++] = paths[np++];
+            bl += strlen(v[i].stem) + 2;
+        }
+    free(s->beside);
+    if ((s->beside = calloc(1, bl + 1)) != NULL)
+        for (i = 0; i < n; i++)
+            if (&v[i] != s && v[i].ok && beside(s, &v[i]) == 1)
+                sprintf(s->beside + strlen(s->beside), "%s%s",
+                        *s->beside ? ", " : "", v[i].stem);
+    ac = interp_opts(buf, av, ac);
+    av[ac] = NULL;
+    pid = spawn(av, log);
+    for (i = 0; i < np; i++)
+        free(paths[i]);
+done:
+    free(lines), free(dem), free(log);
+    return pid;
+}
+
+/* One seams step into batch.log. */
+static void log_seam(FILE *lg, const sheet *s, double secs, int code)
+{
+    char *lp = join(s->dir, "seams.log");
+    char *err = lp && code ? slurp(lp, 1) : NULL;
+    fputs("{\"sheet\": ", lg);
+    json_str(lg, s->path);
+    fprintf(lg, ", \"step\": \"seams\", \"status\": \"%s\", \"exit\": %d, "
+            "\"seconds\": %.3f, \"beside\": ", code ? "failed" : "ok", code,
+            secs);
+    json_str(lg, s->beside ? s->beside : "");
+    if (err) {
+        fputs(", \"error\": ", lg);
+        json_str(lg, err);
+    }
+    fputs("}\n", lg);
+    fflush(lg);
+    free(lp), free(err);
+}
+
 /* Run the waiting sheets, jobs at a time. */
 static void run_all(const char *exe, sheet *v, size_t n, const bt_opts *o,
                     FILE *lg)
@@ -450,14 +597,19 @@ static void run_all(const char *exe, sheet *v, size_t n, const bt_opts *o,
             sheet *s = &v[next++];
             if (s->state != 0)
                 continue;
-            if (o->resume && !s->seeded && up_to_date(s)) {
+            if (o->resume && !s->stage && !s->seeded && up_to_date(s)) {
                 s->state = 2, s->ok = 1, done++;
                 log_sheet(lg, s, "skipped", 0, 0);
                 continue;
             }
-            if (mkdir_p(s->dir) != 0 || (s->pid = start(exe, s)) < 0) {
-                s->state = 2, s->ok = 0, done++;
-                log_sheet(lg, s, "failed", 0, -1);
+            if (mkdir_p(s->dir) != 0 ||
+                (s->pid = s->stage ? start_seam(exe, s, v, n, o)
+                                   : start(exe, s)) < 0) {
+                s->state = 2, done++;
+                if (s->stage)
+                    log_seam(lg, s, 0, -1);
+                else
+                    s->ok = 0, log_sheet(lg, s, "failed", 0, -1);
                 continue;
             }
             s->state = 1, s->t0 = td_now(), running++;
@@ -468,7 +620,12 @@ static void run_all(const char *exe, sheet *v, size_t n, const bt_opts *o,
             for (i = 0; pid > 0 && i < n; i++)
                 if (v[i].state == 1 && v[i].pid == pid) {
                     int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-                    v[i].state = 2, v[i].ok = code == 0, done++, running--;
+                    v[i].state = 2, done++, running--;
+                    if (v[i].stage) { /* the sheet's own DEM stays on failure */
+                        log_seam(lg, &v[i], td_now() - v[i].t0, code);
+                        continue;
+                    }
+                    v[i].ok = code == 0;
                     if (code == 0)
                         write_hash(&v[i]);
                     log_sheet(lg, &v[i], code == 0 ? "ok" : "failed",
@@ -648,6 +805,164 @@ static void seed_passes(const char *exe, sheet *v, size_t n,
     }
 }
 
+/* ---- edge matching: the heights on both sides of each shared edge ----
+ * A contour crossing a shared edge ends on both sheets within a cell or
+ * two of it: the two ends are paired (the nearest within MATCH_TOL cells)
+ * and their heights compared; batch.log gets one line per edge. */
+
+#define MATCH_TOL 3.0
+#define MAX_REPORT 8
+
+typedef struct endpt {
+    double X, Y, h, conf;
+} endpt;
+
+/* The ends of s's labelled open lines that lie on its border, in map
+ * coordinates (*out, free()); their number, -1 when unreadable. */
+static long edge_ends(const sheet *s, endpt **out)
+{
+    char *lp = join(s->dir, "lines.geojson");
+    td_lines *ls = NULL;
+    td_georef fr;
+    td_ctx cx;
+    size_t i, n = 0;
+    int e;
+    long rc = -1;
+    double tol = EDGE_TOL * s->res;
+    *out = NULL;
+    td_ctx_init(&cx);
+    td_georef_init(&fr);
+    if (!lp || td_vector_read_lines(lp, NULL, &ls, NULL, &fr, &cx) != 0 ||
+        !(*out = malloc((2 * ls->n + 1) * sizeof **out)))
+        goto done;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        if (!l->has_height || l->closed || l->n < 2)
+            continue;
+        for (e = 0; e < 2; e++) {
+            double X = l->xy[e ? 2 * l->n - 2 : 0], Y = l->xy[e ? 2 * l->n - 1 : 1];
+            if (fr.valid)
+                td_georef_apply(&fr, X, Y, &X, &Y);
+            else
+                Y = -Y;
+            if (X - s->x0 > tol && s->x1 - X > tol && Y - s->y0 > tol &&
+                s->y1 - Y > tol)
+                continue; /* inside: not at the border */
+            (*out)[n++] = (endpt){X, Y, l->height, l->confidence};
+        }
+    }
+    rc = (long)n;
+done:
+    if (rc < 0)
+        free(*out), *out = NULL;
+    td_lines_free(ls);
+    free(lp);
+    td_georef_clear(&fr);
+    td_ctx_clear(&cx);
+    return rc;
+}
+
+/* Pair the ends of a and b along their shared edge; one line in lg.
+ * Adds to *cross and *conf. */
+static void match_edge(FILE *lg, const sheet *a, const endpt *ea, long na,
+                       const sheet *b, const endpt *eb, long nb,
+                       size_t *cross, size_t *conf)
+{
+    double tol = MATCH_TOL * (a->res > b->res ? a->res : b->res);
+    double bt = EDGE_TOL * (a->res > b->res ? a->res : b->res);
+    long i, j, best, nc = 0, nx = 0;
+    fputs("{\"edge\": [", lg);
+    json_str(lg, a->stem);
+    fputs(", ", lg);
+    json_str(lg, b->stem);
+    fputs("], \"step\": \"seams\", \"conflicts\": [", lg);
+    for (i = 0; i < na; i++) {
+        double bd = tol * tol;
+        /* only ends on b's side of a: within b's extent */
+        if (ea[i].X < b->x0 - bt || ea[i].X > b->x1 + bt ||
+            ea[i].Y < b->y0 - bt || ea[i].Y > b->y1 + bt)
+            continue;
+        for (j = 0, best = -1; j < nb; j++) {
+            double dx = ea[i].X - eb[j].X, dy = ea[i].Y - eb[j].Y;
+            if (dx * dx + dy * dy <= bd)
+                bd = dx * dx + dy * dy, best = j;
+        }
+        if (best < 0)
+            continue;
+        nx++;
+        if (ea[i].h != eb[best].h) {
+            if (nc < MAX_REPORT)
+                fprintf(lg, "%s{\"x\": %.10g, \"y\": %.10g, \"heights\": "
+                        "[%.10g, %.10g], \"confidence\": [%.3f, %.3f]}",
+                        nc ? ", " : "", ea[i].X, ea[i].Y, ea[i].h, eb[best].h,
+                        ea[i].conf, eb[best].conf);
+            nc++;
+        }
+    }
+    fprintf(lg, "], \"crossings\": %ld, \"conflicting\": %ld}\n", nx, nc);
+    *cross += (size_t)nx, *conf += (size_t)nc;
+}
+
+/* Every pair of neighbours; a line on stderr. */
+static void match_edges(FILE *lg, const sheet *v, size_t n, int quiet)
+{
+    endpt **E = calloc(n + 1, sizeof *E);
+    long *ne = calloc(n + 1, sizeof *ne);
+    size_t i, j, edges = 0, cross = 0, conf = 0;
+    if (!E || !ne)
+        goto done;
+    for (i = 0; i < n; i++)
+        ne[i] = v[i].ok && v[i].placed ? edge_ends(&v[i], &E[i]) : -1;
+    for (i = 0; i < n; i++)
+        for (j = i + 1; ne[i] >= 0 && j < n; j++)
+            if (ne[j] >= 0 && beside(&v[i], &v[j]) == 1) {
+                match_edge(lg, &v[i], E[i], ne[i], &v[j], E[j], ne[j], &cross,
+                           &conf);
+                edges++;
+            }
+    fflush(lg);
+    if (!quiet && edges)
+        fprintf(stderr, "batch: %zu shared edges, %zu contour crossings, %zu "
+                "with different heights on the two sides (batch.log)\n",
+                edges, cross, conf);
+done:
+    for (i = 0; E && i < n; i++)
+        free(E[i]);
+    free(E), free(ne);
+}
+
+/* The seams step of every sheet that has a neighbour; overlapping sheets
+ * are named in the log. */
+static void seams(const char *exe, sheet *v, size_t n, const bt_opts *o,
+                  FILE *lg)
+{
+    size_t i, j, any = 0;
+    for (i = 0; i < n; i++)
+        if (v[i].ok)
+            place_sheet(&v[i]);
+    for (i = 0; i < n; i++) {
+        int has = 0;
+        for (j = 0; v[i].ok && j < n; j++) {
+            int b = j != i && v[j].ok ? beside(&v[i], &v[j]) : 0;
+            has |= b == 1;
+            if (b == -1 && j > i) {
+                fputs("{\"sheet\": ", lg);
+                json_str(lg, v[i].path);
+                fputs(", \"step\": \"seams\", \"warning\": \"overlaps ", lg);
+                td_cli_json_str(lg, v[j].path, SIZE_MAX);
+                fputs(" instead of sharing an edge: neither is used for the "
+                      "other\"}\n", lg);
+            }
+        }
+        v[i].stage = 1;
+        v[i].state = has ? 0 : 2;
+        any += has;
+    }
+    match_edges(lg, v, n, o->quiet);
+    if (any)
+        run_all(exe, v, n, o, lg);
+}
+
 /* ---- --emit ---- */
 
 static int emit(const char *exe, sheet *v, size_t n, const bt_opts *o)
@@ -697,6 +1012,8 @@ int td_cmd_batch(int argc, char **argv)
     int rc;
     memset(&o, 0, sizeof o);
     o.jobs = 1;
+    o.seams = 1;
+    o.margin = 256;
     if ((rc = parse_args(argc, argv, &o)) != 0)
         return rc == 2 ? 0 : 1;
     if ((el = readlink("/proc/self/exe", exe, sizeof exe - 1)) <= 0)
@@ -725,6 +1042,8 @@ int td_cmd_batch(int argc, char **argv)
     run_all(exe, v, n, &o, lg);
     if (o.neighbours)
         seed_passes(exe, v, n, &o, lg);
+    if (o.seams)
+        seams(exe, v, n, &o, lg);
     for (i = 0; i < n; i++)
         failed += !v[i].ok;
     if (!o.quiet)

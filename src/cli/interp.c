@@ -59,19 +59,44 @@ int td_cli_interp_check(const char *cmd, td_interp_params *p)
     return 0;
 }
 
+#define MAX_BESIDE 16
+
+typedef struct beside_list {
+    const char *v[MAX_BESIDE];
+    int n;
+} beside_list;
+
 typedef struct ip_opts {
     const char *in, *out, *like;
-    int quiet;
+    int quiet, margin;
+    beside_list beside;
     td_interp_params p;
 } ip_opts;
 
+static int add_beside(const char *arg, void *t, td_ctx *cx)
+{
+    beside_list *b = t;
+    if (b->n == MAX_BESIDE)
+        return td_seterr(cx, TD_EINVAL, "--beside: at most %d files",
+                         MAX_BESIDE);
+    b->v[b->n++] = arg;
+    return 0;
+}
+
 static int parse_args(int argc, char **argv, ip_opts *o)
 {
-    td_opt opts[TD_CLI_INTERP_OPTS + 2] = {
+    td_opt opts[TD_CLI_INTERP_OPTS + 4] = {
         {"like", 0, TD_OPT_STRING, &o->like, .meta = "SCAN", .help = "the "
          "scan the lines were traced from (required:\nsize and "
-         "georeferencing)"}};
-    size_t n = 1 + td_cli_interp_opts(opts + 1, &o->p);
+         "georeferencing)"},
+        {"beside", 0, TD_OPT_FUNC, &o->beside, .fn = add_beside,
+         .meta = "LINES", .help = "a neighbouring sheet's labelled lines "
+         "(in map\ncoordinates; repeatable): interpolated with\nthis "
+         "sheet's within --margin of its edges,\nso the two DEMs meet at "
+         "the shared edge", .no_default = 1},
+        {"margin", 0, TD_OPT_INT, &o->margin, 1, 65536, .meta = "PX",
+         .help = "how far beyond the edges --beside lines count"}};
+    size_t n = 3 + td_cli_interp_opts(opts + 3, &o->p);
     const td_cmd c = {
         "interp", "LABELLED.geojson -o DEM.tif --like SCAN\n"
         "                      [--method multidir|scanline|homotopy] [--step N]",
@@ -91,6 +116,9 @@ static int parse_args(int argc, char **argv, ip_opts *o)
     if (!o->like)
         return td_cli_failf("interp", "no grid: give --like SCAN (the scan "
                             "the lines come from)");
+    if (o->beside.n > 0 && !strcmp(o->beside.v[0], o->in))
+        return td_cli_failf("interp", "--beside %s: that is the input "
+                            "itself", o->in);
     return td_cli_interp_check("interp", &o->p);
 }
 
@@ -123,19 +151,67 @@ static void name_file(td_ctx *cx, const char *path)
     memcpy(cx->msg, m, sizeof m);
 }
 
+/* Lines a labeller left without a height (as run leaves them out of its
+ * DEM) are left out, with a warning, when others have heights; with none
+ * at all the rasteriser says to label the lines first. */
+static void drop_unlabelled(td_lines *ls, int quiet)
+{
+    size_t i, with = 0, n0 = ls->n;
+    for (i = 0; i < ls->n; i++)
+        with += ls->v[i].has_height;
+    if (with == 0 || with == ls->n)
+        return;
+    for (i = ls->n; i-- > 0;)
+        if (!ls->v[i].has_height)
+            td_lines_remove(ls, i);
+    if (!quiet)
+        fprintf(stderr, "interp: warning: %zu line%s without a height left "
+                "out\n", n0 - ls->n, n0 - ls->n == 1 ? "" : "s");
+}
+
+/* The --beside files' lines, taken through their map coordinates into
+ * the scan's pixel frame (geo), into one set (*out; NULL when none). */
+static int read_beside(const ip_opts *o, const td_georef *geo,
+                       td_lines **out, td_ctx *cx)
+{
+    int i, rc = 0;
+    size_t k;
+    *out = NULL;
+    if (o->beside.n == 0)
+        return 0;
+    if (!geo->valid)
+        return td_seterr(cx, TD_EINVAL, "%s: not georeferenced: --beside "
+                         "needs the sheets' map coordinates", o->like);
+    if (!(*out = td_lines_new(cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < o->beside.n && rc == 0; i++) {
+        td_lines *b = NULL;
+        if ((rc = td_vector_read_lines(o->beside.v[i], geo, &b, NULL, NULL,
+                                       cx)) != 0) {
+            name_file(cx, o->beside.v[i]);
+            break;
+        }
+        for (k = 0; k < b->n && rc == 0; k++)
+            rc = td_lines_append_copy(*out, &b->v[k], cx);
+        td_lines_free(b);
+    }
+    return rc;
+}
+
 int td_cmd_interp(int argc, char **argv)
 {
     ip_opts o;
     td_ctx cx;
     td_cli_progress pr;
     td_georef geo;
-    td_lines *ls = NULL;
+    td_lines *ls = NULL, *nb = NULL;
     td_grid_f32 *dem = NULL;
     td_homotopy_stats hs;
     double t0 = td_now();
     int rc, w, h, ch;
     memset(&o, 0, sizeof o);
     o.p = td_interp_defaults();
+    o.margin = 256;
     memset(&hs, 0, sizeof hs);
     o.p.hstats = &hs;
     if ((rc = parse_args(argc, argv, &o)) != 0)
@@ -147,7 +223,11 @@ int td_cmd_interp(int argc, char **argv)
         goto fail;
     if ((rc = td_vector_read_lines(o.in, &geo, &ls, NULL, NULL, &cx)) != 0)
         goto fail;
-    if ((rc = td_interp_lines(ls, w, h, &o.p, &dem, &cx)) != 0) {
+    if ((rc = read_beside(&o, &geo, &nb, &cx)) != 0)
+        goto fail;
+    drop_unlabelled(ls, o.quiet);
+    if ((rc = td_interp_lines_beside(ls, nb, o.margin, w, h, &o.p, &dem,
+                                     &cx)) != 0) {
         name_file(&cx, o.in);
         goto fail;
     }
@@ -161,6 +241,7 @@ fail:
     td_cli_progress_done(&pr);
     td_grid_f32_free(dem);
     td_lines_free(ls);
+    td_lines_free(nb);
     td_georef_clear(&geo);
     return rc == 0 ? 0 : td_cli_fail_on("interp", o.in, o.out, &cx);
 }

@@ -236,8 +236,11 @@ int td_georef_from_tiff(TIFF *tif, td_georef *g, td_ctx *cx)
         g->gt[0] -= 0.5 * g->gt[1] + 0.5 * g->gt[2];
         g->gt[3] -= 0.5 * g->gt[4] + 0.5 * g->gt[5];
     }
-    if (g->valid && g->geoascii && strstr(g->geoascii, TD_PIXEL_CRS))
-        g->pixel = 1;
+    if (g->valid && g->geoascii && strstr(g->geoascii, TD_PIXEL_CRS) &&
+        g->gt[0] == 0.0 && g->gt[3] == 0.0 && g->gt[2] == 0.0 &&
+        g->gt[4] == 0.0 && g->gt[1] == -g->gt[5])
+        g->pixel = 1; /* a piece cut from such a sheet (gdal_translate
+                         -srcwin) keeps the sheet's frame: map units */
     if (td_georef_geokey(g, KEY_PROJECTED, &v) && v >= 1 && v <= 32766)
         g->epsg = v;
     else if (td_georef_geokey(g, KEY_GEOGRAPHIC, &v) && v >= 1 && v <= 32766)
