@@ -17,14 +17,14 @@ CPPFLAGS+= -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -I. -I/usr/include/geotif
            -I/usr/include/freetype2 -I/usr/include/leptonica -I/usr/include/gdal
 CV_CFLAGS = $(shell pkg-config --cflags opencv4 2>/dev/null || echo -I/usr/include/opencv4)
 CV_LIBS   = -lopencv_imgcodecs -lopencv_imgproc -lopencv_core
-LDLIBS  += $(CV_LIBS) -lgdal -ltesseract -llept -lfreetype -lgeotiff -ltiff -lpng -lgif -lcairo -ljpeg -lz -lstdc++ -lgomp -lm
+LDLIBS  += $(CV_LIBS) -lgdal -ltesseract -llept -lfreetype -lgeotiff -ltiff -ldeflate -lpng -lgif -lcairo -ljpeg -lz -lstdc++ -lgomp -lm
 
 # Debian packages the build and tests use; the benchmarks' anchor tools.
 DEB_PKGS = gcc g++ make pkg-config libopencv-dev libopencv-contrib-dev \
            libtiff-dev libpng-dev libjpeg-dev libgeotiff-dev zlib1g-dev gdal-bin \
            libtesseract-dev tesseract-ocr-eng libfreetype-dev fonts-dejavu-core \
            libgdal-dev libcgal-dev admesh assimp-utils libgif-dev \
-           libcairo2-dev poppler-utils parallel
+           libcairo2-dev poppler-utils parallel libdeflate-dev
 BENCH_PKGS = grass-core
 
 LIB_DIRS := src/core src/io src/erode src/flow src/sun src/render src/mesh src/compare src/model src/pipeline scanner interp

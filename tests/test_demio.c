@@ -9,6 +9,8 @@
 #include "src/io/io.h"
 
 #include <float.h>
+#include <math.h>
+#include <omp.h>
 #include <png.h>
 #include <stdlib.h>
 #include <string.h>
@@ -467,10 +469,104 @@ static void test_gdalinfo_asc(void)
     td_grid_f32_free(g);
 }
 
+/* Bytes of a file (*n), or NULL. */
+static unsigned char *slurp_file(const char *path, size_t *n)
+{
+    FILE *f = fopen(path, "rb");
+    unsigned char *b = NULL;
+    long k;
+    if (!f)
+        return NULL;
+    if (fseek(f, 0, SEEK_END) == 0 && (k = ftell(f)) > 0 &&
+        fseek(f, 0, SEEK_SET) == 0 && (b = malloc((size_t)k)) != NULL)
+        *n = fread(b, 1, (size_t)k, f);
+    fclose(f);
+    return b;
+}
+
+/* Grids over 1024 px are written in 256 x 256 tiles that we predict and
+ * compress on threads (src/io/tiffio.c): decoded by libtiff itself (its
+ * own predictor and inflate) they are the grid, cell for cell (negative,
+ * tiny, huge, NaN, the nodata value, edge tiles padded), and the file is
+ * the same bytes on 1 thread and on 2. */
+static void test_tiled_write_threads(void)
+{
+    int w = 1300, h = 1037, x, y, t, bad = 0;
+    td_grid_f32 *g = td_grid_f32_new(w, h, NULL);
+    td_grid_u8 *m = td_grid_u8_new(1100, 1029, NULL);
+    td_ctx cx;
+    unsigned char *a = NULL, *b = NULL;
+    size_t na = 0, nb = 0;
+    char *p1 = tmp("tiled1.tif"), *p2 = tmp("tiled2.tif"), *pm = tmp("tiledm.tif");
+    TIFF *tif;
+    td_ctx_init(&cx);
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++)
+            TD_AT(g, x, y) = (float)((x - 600) * 0.37 + sin(y * 0.05) * 1e3 +
+                                     ((x * 31 + y * 17) % 97) * 1e-3);
+    TD_AT(g, 3, 5) = NAN, TD_AT(g, 1299, 1036) = -9999.0f;
+    TD_AT(g, 700, 700) = 3e38f, TD_AT(g, 701, 700) = 1e-38f;
+    g->has_nodata = 1, g->nodata = -9999.0f;
+    for (y = 0; y < m->h; y++)
+        for (x = 0; x < m->w; x++)
+            m->data[(size_t)y * m->stride + x] = (uint8_t)(x * 7 + y * 3);
+    for (t = 1; t <= 2; t++) {
+        omp_set_num_threads(t);
+        TT_CHECKF(td_dem_write(t == 1 ? p1 : p2, g, NULL, &cx) == 0, "%s",
+                  td_errmsg(&cx));
+    }
+    omp_set_num_threads(omp_get_num_procs());
+    TT_CHECK(td_geotiff_write_u8(pm, m, NULL, &cx) == 0);
+    a = slurp_file(p1, &na), b = slurp_file(p2, &nb);
+    TT_CHECKF(a && b && na == nb && memcmp(a, b, na) == 0,
+              "1 and 2 threads: %zu and %zu bytes", na, nb);
+    if ((tif = TIFFOpen(p1, "r")) != NULL) {
+        uint32_t tw = 0;
+        TIFFGetField(tif, TIFFTAG_TILEWIDTH, &tw);
+        TT_CHECK(TIFFIsTiled(tif) && tw == 256);
+        {   /* libtiff's decoder, tile by tile */
+            float *tb = malloc((size_t)TIFFTileSize(tif));
+            uint32_t tx, ty;
+            for (ty = 0; tb && ty < (uint32_t)h; ty += 256)
+                for (tx = 0; tx < (uint32_t)w; tx += 256) {
+                    TIFFReadTile(tif, tb, tx, ty, 0, 0);
+                    for (y = 0; y < 256; y++)
+                        for (x = 0; x < 256; x++) {
+                            float v = tb[y * 256 + x], e;
+                            int gx = (int)tx + x, gy = (int)ty + y;
+                            e = gx < w && gy < h ? TD_AT(g, gx, gy) : -9999.0f;
+                            bad += !(v == e || (isnan(v) && isnan(e)));
+                        }
+                }
+            free(tb);
+        }
+        TIFFClose(tif);
+    } else {
+        TT_CHECK(!"libtiff opens the file");
+    }
+    TT_CHECKF(bad == 0, "%d cells differ", bad);
+    if ((tif = TIFFOpen(pm, "r")) != NULL) {
+        uint8_t *tb = malloc((size_t)TIFFTileSize(tif));
+        int badm = 0;
+        TIFFReadTile(tif, tb, 768, 1024, 0, 0); /* an edge tile */
+        for (y = 0; tb && y < 5; y++)
+            for (x = 0; x < 256; x++)
+                badm += tb[y * 256 + x] !=
+                        (768 + x < 1100 ? (uint8_t)((768 + x) * 7 + (1024 + y) * 3) : 0);
+        TT_CHECKF(badm == 0, "bytes grid: %d cells differ", badm);
+        free(tb);
+        TIFFClose(tif);
+    }
+    free(a), free(b);
+    td_grid_f32_free(g);
+    td_grid_u8_free(m);
+}
+
 int main(void)
 {
     TT_RUN(test_tiff_sample_types);
     TT_RUN(test_geotiff_georef);
+    TT_RUN(test_tiled_write_threads);
     TT_RUN(test_asc_round_trip);
     TT_RUN(test_asc_center_and_case);
     TT_RUN(test_asc_bad);

@@ -9,6 +9,7 @@
  * "FILE: unsupported TIFF layout (...)". */
 #include "src/io/io_int.h"
 
+#include <libdeflate.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdarg.h>
@@ -671,21 +672,113 @@ static void fill_block(const tiff_out *d, uint8_t *buf, int x0, int y0,
     }
 }
 
-/* Encode every strip or tile. */
+/* The TIFF predictor of one row of n elements in place: floating point
+ * (TIFF Technical Note 3, as libtiff's fpDiff: the bytes of each float
+ * regrouped most significant first, one plane after another, then each
+ * byte minus the one before it) for 4-byte elements, horizontal
+ * differencing for bytes.  tmp: room for the row. */
+static void predict_row(uint8_t *row, int n, int bytes, uint8_t *tmp)
+{
+    size_t i, cc = (size_t)n * (size_t)bytes;
+    if (bytes == 4) {
+        memcpy(tmp, row, cc);
+        for (i = 0; i < (size_t)n; i++) { /* little-endian host: byte b of
+                                             a float is plane 3 - b */
+            row[3 * (size_t)n + i] = tmp[4 * i];
+            row[2 * (size_t)n + i] = tmp[4 * i + 1];
+            row[(size_t)n + i] = tmp[4 * i + 2];
+            row[i] = tmp[4 * i + 3];
+        }
+    }
+    for (i = cc; i-- > 1;)
+        row[i] = (uint8_t)(row[i] - row[i - 1]);
+}
+
+/* One row of tiles (tile row ty) encoded on threads: each tile copied,
+ * predicted and Deflate-compressed (libdeflate, zlib format, level 1)
+ * into out[t] (out_n[t] bytes).  The bytes depend only on the tile, not
+ * on the thread count.  0, or -1 (a tile that does not compress into its
+ * bound: cannot happen). */
+static int encode_tile_row(const tiff_out *d, int ty, int nt, int bw,
+                           int bh, uint8_t *raw, uint8_t *tmp, uint8_t **out,
+                           size_t *out_n, size_t bound)
+{
+    size_t tb = (size_t)bw * (size_t)bh * (size_t)d->bytes;
+    int t, bad = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(| : bad)
+    for (t = 0; t < nt; t++) {
+        static __thread struct libdeflate_compressor *z;
+        uint8_t *b = raw + (size_t)t * tb;
+        int r;
+        if (!z && !(z = libdeflate_alloc_compressor(1))) {
+            bad = 1;
+            continue;
+        }
+        fill_block(d, b, t * bw, ty * bh, bw, bh);
+        for (r = 0; r < bh; r++)
+            predict_row(b + (size_t)r * bw * d->bytes, bw, d->bytes,
+                        tmp + (size_t)t * (size_t)bw * d->bytes);
+        out_n[t] = libdeflate_zlib_compress(z, b, tb, out[t], bound);
+        bad |= out_n[t] == 0;
+    }
+    return bad ? -1 : 0;
+}
+
+/* Every tile, a row of them at a time compressed on threads and written
+ * in order (TIFFWriteRawTile). */
+static int write_tiles(TIFF *tif, const tiff_out *d, int bw, int bh,
+                       td_ctx *cx)
+{
+    int nx = (d->w + bw - 1) / bw, ny = (d->h + bh - 1) / bh, tx, ty, rc = 0;
+    size_t tb = (size_t)bw * (size_t)bh * (size_t)d->bytes;
+    size_t bound = tb + tb / 8 + 1024, *out_n = NULL;
+    uint8_t *raw = NULL, *tmp = NULL, **out = NULL;
+    if (!(raw = td_malloc((size_t)nx * tb, cx)) ||
+        !(tmp = td_malloc((size_t)nx * (size_t)bw * (size_t)d->bytes, cx)) ||
+        !(out = td_calloc((size_t)nx, sizeof *out, cx)) ||
+        !(out_n = td_calloc((size_t)nx, sizeof *out_n, cx))) {
+        rc = TD_ENOMEM;
+        goto done;
+    }
+    for (tx = 0; tx < nx; tx++)
+        if (!(out[tx] = td_malloc(bound, cx))) {
+            rc = TD_ENOMEM;
+            goto done;
+        }
+    for (ty = 0; ty < ny && rc == 0; ty++) {
+        if (encode_tile_row(d, ty, nx, bw, bh, raw, tmp, out, out_n, bound)) {
+            rc = td_seterr(cx, TD_ENOMEM, "cannot compress a tile");
+            break;
+        }
+        for (tx = 0; tx < nx && rc == 0; tx++)
+            if (TIFFWriteRawTile(tif, TIFFComputeTile(tif, (uint32_t)(tx * bw),
+                                                      (uint32_t)(ty * bh), 0, 0),
+                                 out[tx], (tmsize_t)out_n[tx]) < 0)
+                rc = -1;
+        if (rc == 0)
+            rc = td_progress(cx, "write", (double)(ty + 1) / ny);
+    }
+done:
+    for (tx = 0; out && tx < nx; tx++)
+        free(out[tx]);
+    free(out), free(out_n), free(raw), free(tmp);
+    return rc;
+}
+
+/* Encode every strip (small grids; libtiff compresses) or tile (ours). */
 static int write_blocks(TIFF *tif, const tiff_out *d, int tiled, int bw,
                         int bh, uint8_t *buf, td_ctx *cx)
 {
     int x, y, rc;
+    if (tiled)
+        return write_tiles(tif, d, bw, bh, cx);
     for (y = 0; y < d->h; y += bh) {
-        int rows = tiled || d->h - y > bh ? bh : d->h - y;
+        int rows = d->h - y > bh ? bh : d->h - y;
         for (x = 0; x < d->w; x += bw) {
             tmsize_t n = (tmsize_t)bw * rows * d->bytes;
             fill_block(d, buf, x, y, bw, rows);
-            if (tiled ? TIFFWriteEncodedTile(tif, TIFFComputeTile(tif, x, y,
-                                                                  0, 0),
-                                             buf, n) < 0
-                      : TIFFWriteEncodedStrip(tif, TIFFComputeStrip(tif, y, 0),
-                                              buf, n) < 0)
+            if (TIFFWriteEncodedStrip(tif, TIFFComputeStrip(tif, y, 0), buf,
+                                      n) < 0)
                 return -1;
         }
         if ((rc = td_progress(cx, "write", (double)(y + rows) / d->h)) != 0)
