@@ -27,9 +27,30 @@ typedef struct md_sum {
 
 typedef struct md_state {
     const td_grid_f32 *g;
-    md_sum *sum;
+    md_sum *sum;      /* per cell, or (nr set) per undetermined cell */
     const td_multidir_params *p;
+    const td_nan_runs *nr; /* phase 2: sum holds only the runs' cells */
+    size_t *base;     /* phase 2: the first slot of each run */
 } md_state;
+
+/* The sums of cell (c, r): phase 2 keeps them only for the cells phase 1
+ * left undetermined (a few percent of the grid), found by the row's runs
+ * (c is in one of them: phase 2's spans run over them only). */
+static md_sum *slot(const md_state *st, int c, int r, size_t i)
+{
+    size_t lo, hi;
+    if (!st->nr)
+        return &st->sum[i];
+    lo = st->nr->off[r], hi = st->nr->off[r + 1];
+    while (hi - lo > 1) { /* the last run starting at or before c */
+        size_t mid = lo + (hi - lo) / 2;
+        if (st->nr->run[mid][0] <= c)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return &st->sum[st->base[lo] + (size_t)(c - st->nr->run[lo][0])];
+}
 
 static double weight(td_multidir_weight m, double d1, double d2)
 {
@@ -49,8 +70,9 @@ static void add(md_state *st, const td_span *s, int k, double z)
 {
     size_t i = s->ia + (ptrdiff_t)k * s->di;
     double w = weight(st->p->weight, k * s->sl, (s->n - k) * s->sl);
-    st->sum[i].wz += (float)(w * z);
-    st->sum[i].w += (float)w;
+    md_sum *p = slot(st, s->ca + k * s->dc, s->ra + k * s->dr, i);
+    p->wz += (float)(w * z);
+    p->w += (float)w;
 }
 
 /* One line's linear estimate between two contour cells of different
@@ -70,6 +92,15 @@ static void linear_span(const td_span *s, void *user)
         return;
     }
     w = td_multidir_span_weight(st->p->weight, s->n, s->sl);
+    if (st->nr) { /* phase 2: the same operations, into the runs' slots */
+        for (k = 1; k < s->n; k++) {
+            md_sum *q = slot(st, s->ca + k * s->dc, s->ra + k * s->dr, 0);
+            z += dz;
+            q->wz += w * z;
+            q->w += w;
+        }
+        return;
+    }
     for (k = 1; k < s->n; k++) {
         p += s->di;
         z += dz;
@@ -128,23 +159,37 @@ static int phase1_walk(td_grid_f32 *g, md_state *st, td_ctx *cx)
 }
 
 /* Phase 2 walks only over the runs of cells phase 1 left undetermined
- * (found once: the walks write st->sum, not g) and blends them. */
+ * (found once: the walks write the sums, not g) and blends them; the sums
+ * are kept for those cells only (8 bytes each, not 8 per grid cell). */
 static int phase2(td_grid_f32 *g, md_state *st, td_ctx *cx)
 {
     td_nan_runs nr;
-    size_t i, k;
+    md_sum *sum = NULL;
+    size_t *base = NULL, i, k, cells = 0;
     int d, rc, r, c;
     memset(&nr, 0, sizeof nr);
     rc = td_nan_runs_find(g, &nr, cx);
+    if (rc == 0 && !(base = td_malloc((nr.n + 1) * sizeof *base, cx)))
+        rc = TD_ENOMEM;
+    for (i = 0; rc == 0 && i < nr.n; i++) {
+        base[i] = cells;
+        cells += (size_t)(nr.run[i][1] - nr.run[i][0]);
+    }
+    if (rc == 0 && !(sum = td_calloc(cells + 1, sizeof *sum, cx)))
+        rc = TD_ENOMEM;
+    st->sum = sum, st->nr = &nr, st->base = base;
     for (d = 0; d < st->p->ndir && rc == 0; d++)
         rc = td_interp_walk_runs(g, &nr, d, summit_span, st, "summit", cx);
     for (r = 0; r < g->h && rc == 0; r++)
         for (i = nr.off[r]; i < nr.off[r + 1]; i++)
             for (c = nr.run[i][0]; c < nr.run[i][1]; c++) {
+                const md_sum *q = &sum[base[i] + (size_t)(c - nr.run[i][0])];
                 k = (size_t)r * g->stride + (size_t)c;
-                if (st->sum[k].w > 0)
-                    g->data[k] = st->sum[k].wz / st->sum[k].w;
+                if (q->w > 0)
+                    g->data[k] = q->wz / q->w;
             }
+    st->sum = NULL, st->nr = NULL, st->base = NULL;
+    free(sum), free(base);
     td_nan_runs_free(&nr);
     return rc;
 }
@@ -160,20 +205,20 @@ int td_multidir_fill(td_grid_f32 *g, const td_multidir_params *p,
                          "must be > 0");
     if (p->ndir != 2 && p->ndir != 4)
         return td_seterr(cx, TD_EINVAL, "multidir: 2 or 4 directions");
+    memset(&st, 0, sizeof st);
     st.g = g;
     st.p = p;
-    st.sum = NULL;
-    if (p->weight != TD_MULTIDIR_PROD &&
-        (rc = td_multidir_sweep(g, p, "interpolate", cx)) != 0)
-        goto fail;
-    st.sum = td_calloc(n, sizeof *st.sum, cx);
-    rc = TD_ENOMEM;
-    if (!st.sum)
-        goto fail;
-    if (p->weight == TD_MULTIDIR_PROD && (rc = phase1_walk(g, &st, cx)) != 0)
-        goto fail;
-    rc = phase2(g, &st, cx);
-fail:
-    free(st.sum);
-    return rc;
+    if (p->weight != TD_MULTIDIR_PROD) {
+        if ((rc = td_multidir_sweep(g, p, "interpolate", cx)) != 0)
+            return rc;
+    } else { /* the walk's sums, per cell */
+        if (!(st.sum = td_calloc(n, sizeof *st.sum, cx)))
+            return TD_ENOMEM;
+        rc = phase1_walk(g, &st, cx);
+        free(st.sum);
+        st.sum = NULL;
+        if (rc != 0)
+            return rc;
+    }
+    return phase2(g, &st, cx);
 }
