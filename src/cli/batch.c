@@ -12,15 +12,24 @@
  *
  * --resume skips a sheet whose dem.tif exists and whose hash (FNV-1a of
  * the sheet's bytes, its options and this program's version) is unchanged.
- * The exit code is 0 when every sheet succeeded. */
+ * The exit code is 0 when every sheet succeeded.
+ *
+ * After the runs, for georeferenced sheets that share edges: the joint
+ * solve (td_series_label: every sheet's lines labelled again as one, the
+ * contours the edges cut joined; --no-joint), the edge matching (each
+ * contour's heights on both sides of an edge compared, in batch.log), and
+ * each sheet interpolated again with its neighbours' lines beside it
+ * (topodig interp --beside; --no-seams). */
 #include "src/cli/cli.h"
 
 #include "src/io/io.h"
+#include "src/pipeline/pipeline.h"
 #include "interp/interp.h"
 
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -50,7 +59,7 @@ typedef struct sheet {
 
 typedef struct bt_opts {
     const char *manifest, *out;
-    int jobs, resume, emit, quiet, neighbours, seams, margin;
+    int jobs, resume, emit, quiet, neighbours, seams, margin, joint;
 } bt_opts;
 
 static int parse_args(int argc, char **argv, bt_opts *o)
@@ -69,6 +78,10 @@ static int parse_args(int argc, char **argv, bt_opts *o)
          "takes the interval and, as\nknown points, the heights of the "
          "lines its\nlabelled neighbours carry across the shared\nedge "
          "(georeferenced sheets)"},
+        {"no-joint", 0, TD_OPT_OFF, &o->joint,
+         .help = "keep each sheet's heights as its own run\ngave them "
+         "(default: georeferenced sheets\nthat share edges are labelled "
+         "again as one,\nthe contours cut by the edges joined)"},
         {"no-seams", 0, TD_OPT_OFF, &o->seams,
          .help = "keep each sheet's DEM as its own run made it\n(default: "
          "georeferenced sheets are\ninterpolated again with the lines of "
@@ -543,7 +556,7 @@ static pid_t start_seam(const char *exe, sheet *s, const sheet *v, size_t n,
     av[ac++] = (char *)exe, av[ac++] = "interp", av[ac++] = lines;
     av[ac++] = "--like", av[ac++] = s->path, av[ac++] = "-o", av[ac++] = dem;
     av[ac++] = "-q", av[ac++] = "--margin", av[ac++] = mg;
-    for (i = 0; i < n && ac < 200; i++)
+    for (i = 0; o->seams && i < n && ac < 200; i++)
         if (&v[i] != s && v[i].ok && beside(s, &v[i]) == 1 &&
             (paths[np] = join(v[i].dir, "lines.geojson")) != NULL) {
             av[ac++] = "--beside", av[ac++] = paths[np++];
@@ -551,7 +564,7 @@ static pid_t start_seam(const char *exe, sheet *s, const sheet *v, size_t n,
         }
     free(s->beside);
     if ((s->beside = calloc(1, bl + 1)) != NULL)
-        for (i = 0; i < n; i++)
+        for (i = 0; o->seams && i < n; i++)
             if (&v[i] != s && v[i].ok && beside(s, &v[i]) == 1)
                 sprintf(s->beside + strlen(s->beside), "%s%s",
                         *s->beside ? ", " : "", v[i].stem);
@@ -572,9 +585,9 @@ static void log_seam(FILE *lg, const sheet *s, double secs, int code)
     char *err = lp && code ? slurp(lp, 1) : NULL;
     fputs("{\"sheet\": ", lg);
     json_str(lg, s->path);
-    fprintf(lg, ", \"step\": \"seams\", \"status\": \"%s\", \"exit\": %d, "
-            "\"seconds\": %.3f, \"beside\": ", code ? "failed" : "ok", code,
-            secs);
+    fprintf(lg, ", \"step\": \"%s\", \"status\": \"%s\", \"exit\": %d, "
+            "\"seconds\": %.3f, \"beside\": ", s->beside && *s->beside
+            ? "seams" : "interp", code ? "failed" : "ok", code, secs);
     json_str(lg, s->beside ? s->beside : "");
     if (err) {
         fputs(", \"error\": ", lg);
@@ -875,7 +888,7 @@ static void match_edge(FILE *lg, const sheet *a, const endpt *ea, long na,
     json_str(lg, a->stem);
     fputs(", ", lg);
     json_str(lg, b->stem);
-    fputs("], \"step\": \"seams\", \"conflicts\": [", lg);
+    fputs("], \"step\": \"edges\", \"conflicts\": [", lg);
     for (i = 0; i < na; i++) {
         double bd = tol * tol;
         /* only ends on b's side of a: within b's extent */
@@ -931,34 +944,154 @@ done:
     free(E), free(ne);
 }
 
-/* The seams step of every sheet that has a neighbour; overlapping sheets
+/* ---- the heights of the series in one solve (td_series_label) ---- */
+
+/* "index contours every N" in a sheet's summary warnings, or 0. */
+static int index_of(const sheet *s)
+{
+    char *sp = join(s->dir, "summary.json"), *j = sp ? slurp(sp, 0) : NULL,
+         *k = j ? strstr(j, "index contours every ") : NULL;
+    int v = k ? atoi(k + 21) : 0;
+    free(sp), free(j);
+    return v > 1 ? v : 0;
+}
+
+/* Label the placed sheets again as one; their lines.geojson rewritten.
+ * Returns 1 when it did. */
+static int joint(sheet *v, size_t n, FILE *lg, int quiet)
+{
+    td_series_sheet *ss = calloc(n + 1, sizeof *ss);
+    td_georef *g = calloc(n + 1, sizeof *g);
+    size_t *idx = calloc(n + 1, sizeof *idx), m = 0, i, k, changed = 0,
+           lines = 0;
+    double x0 = INFINITY, y1 = -INFINITY, res = 0, *old = NULL;
+    td_label_params lp = td_label_defaults();
+    td_label_report rep;
+    td_ctx cx;
+    const char *why = NULL;
+    int ok = 0, ch, w, h;
+    td_ctx_init(&cx);
+    memset(&rep, 0, sizeof rep);
+    if (!ss || !g || !idx)
+        goto done;
+    for (i = 0; i < n; i++) {
+        char *lp_ = join(v[i].dir, "lines.geojson");
+        td_georef_init(&g[m]);
+        if (v[i].ok && v[i].placed && lp_ &&
+            td_image_info(v[i].path, &w, &h, &ch, &g[m], &cx) == 0 &&
+            td_vector_read_lines(lp_, &g[m], &ss[m].lines, NULL, NULL,
+                                 &cx) == 0) {
+            if (m > 0 && (fabs(v[i].res - res) > 1e-9 * res ||
+                          v[i].epsg != v[idx[0]].epsg))
+                why = "the sheets differ in cell size or CRS";
+            res = v[i].res;
+            x0 = fmin(x0, v[i].x0), y1 = fmax(y1, v[i].y1);
+            ss[m].w = w, ss[m].h = h;
+            ss[m].evidence = !v[i].seeded;
+            if (!(lp.interval > 0) && !v[i].seeded)
+                lp.interval = interval_of(&v[i]);
+            else if (!v[i].seeded && interval_of(&v[i]) > 0 &&
+                     interval_of(&v[i]) != lp.interval)
+                why = "the sheets were labelled at different intervals";
+            if (!lp.index_every && !v[i].seeded)
+                lp.index_every = index_of(&v[i]);
+            lines += ss[m].lines->n;
+            idx[m++] = i;
+        } else {
+            td_georef_clear(&g[m]);
+            cx.msg[0] = 0, cx.code = 0;
+        }
+        free(lp_);
+    }
+    if (m < 2)
+        goto done;
+    if (!why && !(lp.interval > 0))
+        why = "no sheet's interval is known";
+    if (!why && !(old = malloc((lines + 1) * sizeof *old)))
+        why = "out of memory";
+    for (i = 0, lines = 0; !why && i < m; i++)
+        for (k = 0; k < ss[i].lines->n; k++)
+            old[lines++] = ss[i].lines->v[k].has_height
+                               ? ss[i].lines->v[k].height : NAN;
+    for (i = 0; !why && i < m; i++) {
+        ss[i].ox = (v[idx[i]].x0 - x0) / res;
+        ss[i].oy = (y1 - v[idx[i]].y1) / res;
+    }
+    lp.index_auto = 1;
+    if (!why && td_series_label(ss, m, &lp, &rep, &cx) != 0)
+        why = cx.msg;
+    for (i = 0, lines = 0; !why && i < m; i++) {
+        char *lp_ = join(v[idx[i]].dir, "lines.geojson");
+        for (k = 0; k < ss[i].lines->n; k++, lines++) {
+            const td_line *l = &ss[i].lines->v[k];
+            changed += l->has_height ? !(l->height == old[lines])
+                                     : old[lines] == old[lines];
+        }
+        if (!lp_ || td_vector_write_lines(lp_, ss[i].lines, &g[i], &cx) != 0)
+            why = cx.msg[0] ? cx.msg : "cannot write the lines";
+        free(lp_);
+    }
+    ok = !why;
+    fprintf(lg, "{\"step\": \"joint\", \"status\": \"%s\", \"sheets\": %zu, "
+            "\"lines\": %zu, \"changed\": %zu, \"labelled\": %zu",
+            ok ? "ok" : "skipped", m, lines, changed, rep.labelled);
+    if (why) {
+        fputs(", \"why\": ", lg);
+        json_str(lg, why);
+    }
+    fputs("}\n", lg);
+    fflush(lg);
+    if (!quiet && ok)
+        fprintf(stderr, "batch: the %zu sheets labelled as one: %zu of %zu "
+                "lines changed height\n", m, changed, lines);
+    else if (!quiet)
+        fprintf(stderr, "batch: the sheets keep their own heights (%s)\n",
+                why);
+done:
+    for (i = 0; ss && i < m; i++)
+        td_lines_free(ss[i].lines), td_georef_clear(&g[i]);
+    free(ss), free(g), free(idx), free(old);
+    td_label_report_free(&rep);
+    td_ctx_clear(&cx);
+    return ok;
+}
+
+/* After the runs: the joint solve (o->joint), the edge matching, and each
+ * sheet interpolated again (with its neighbours' lines beside it when
+ * o->seams; every sheet the joint solve relabelled); overlapping sheets
  * are named in the log. */
 static void seams(const char *exe, sheet *v, size_t n, const bt_opts *o,
                   FILE *lg)
 {
     size_t i, j, any = 0;
+    int relabelled;
     for (i = 0; i < n; i++)
         if (v[i].ok)
             place_sheet(&v[i]);
-    for (i = 0; i < n; i++) {
-        int has = 0;
-        for (j = 0; v[i].ok && j < n; j++) {
-            int b = j != i && v[j].ok ? beside(&v[i], &v[j]) : 0;
-            has |= b == 1;
-            if (b == -1 && j > i) {
+    for (i = 0; i < n; i++)
+        for (j = i + 1; v[i].ok && j < n; j++)
+            if (v[j].ok && beside(&v[i], &v[j]) == -1) {
                 fputs("{\"sheet\": ", lg);
                 json_str(lg, v[i].path);
-                fputs(", \"step\": \"seams\", \"warning\": \"overlaps ", lg);
+                fputs(", \"step\": \"edges\", \"warning\": \"overlaps ", lg);
                 td_cli_json_str(lg, v[j].path, SIZE_MAX);
-                fputs(" instead of sharing an edge: neither is used for the "
-                      "other\"}\n", lg);
+                fputs(" instead of sharing an edge: neither takes part in "
+                      "the joint steps\"}\n", lg);
+                v[i].stage = v[j].stage = -1; /* marked */
             }
-        }
-        v[i].stage = 1;
-        v[i].state = has ? 0 : 2;
-        any += has;
-    }
+    for (i = 0; i < n; i++) /* overlapping sheets are left as they are */
+        if (v[i].stage == -1)
+            v[i].placed = 0, v[i].stage = 0;
+    relabelled = o->joint && joint(v, n, lg, o->quiet);
     match_edges(lg, v, n, o->quiet);
+    for (i = 0; i < n; i++) {
+        int has = 0;
+        for (j = 0; o->seams && v[i].ok && j < n; j++)
+            has |= j != i && v[j].ok && beside(&v[i], &v[j]) == 1;
+        v[i].stage = 1;
+        v[i].state = has || (relabelled && v[i].ok && v[i].placed) ? 0 : 2;
+        any += v[i].state == 0;
+    }
     if (any)
         run_all(exe, v, n, o, lg);
 }
@@ -1013,6 +1146,7 @@ int td_cmd_batch(int argc, char **argv)
     memset(&o, 0, sizeof o);
     o.jobs = 1;
     o.seams = 1;
+    o.joint = 1;
     o.margin = 256;
     if ((rc = parse_args(argc, argv, &o)) != 0)
         return rc == 2 ? 0 : 1;
@@ -1042,7 +1176,7 @@ int td_cmd_batch(int argc, char **argv)
     run_all(exe, v, n, &o, lg);
     if (o.neighbours)
         seed_passes(exe, v, n, &o, lg);
-    if (o.seams)
+    if (o.seams || o.joint)
         seams(exe, v, n, &o, lg);
     for (i = 0; i < n; i++)
         failed += !v[i].ok;

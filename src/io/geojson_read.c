@@ -42,6 +42,7 @@ typedef struct fprops {
     long id, parent;
     double height, width, confidence;
     int depression;
+    int hsource; /* td_hsource of "height_source" */
 } fprops;
 
 /* Reader state: the points of the current geometry (positions with their
@@ -397,6 +398,21 @@ static int read_prop(jp *p, const jkey *k, fprops *P, size_t fi)
     int kind, rc;
     double v;
     int is_int;
+    if (is(k, "height_source")) { /* as td_geojson_write_lines names them */
+        static const char *const src[] = {"", "known", "label", "solved",
+                                          "assumed"};
+        jkey t;
+        int i;
+        ws(p);
+        if (*p->s != '"')
+            return jskip(p, 1);
+        if ((rc = jstr(p, &t)) != 0)
+            return rc;
+        for (i = 1; i < 5; i++)
+            if (is(&t, src[i]))
+                P->hsource = i;
+        return 0;
+    }
     if (!is(k, "id") && !is(k, "height") && !is(k, "closed") &&
         !is(k, "edge") && !is(k, "parent") && !is(k, "bridged") &&
         !is(k, "width") && !is(k, "confidence") && !is(k, "depression"))
@@ -575,6 +591,7 @@ static int emit(rd *R, size_t a, size_t b, const fprops *P, long id,
     l->parent = P->parent;
     l->width = P->width;
     l->confidence = P->confidence;
+    l->hsource = P->has_height ? P->hsource : TD_HS_NONE;
     return 0;
 }
 
@@ -609,7 +626,7 @@ static int emit_feature(jp *p, rd *R, const jkey *t, const fprops *P,
 /* One feature object (cursor at '{'). */
 static int feature(jp *p, rd *R, size_t fi)
 {
-    fprops P = {0, 0, -1, 0, 0, 0, -1, 0.0, 0.0, 0.0, 0};
+    fprops P = {0, 0, -1, 0, 0, 0, -1, 0.0, 0.0, 0.0, 0, 0};
     jkey k, t = {"", 0}, ft = {"Feature", 7};
     int first = 1, r;
     R->n = R->np = 0;

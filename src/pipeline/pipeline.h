@@ -110,6 +110,33 @@ int td_pipeline_run(const char *path, const td_run_params *p,
                     td_run_result *r, td_ctx *cx);
 void td_run_result_free(td_run_result *r);
 
+/* ---- a map series: one solve over every sheet (series.c) ---- */
+
+typedef struct td_series_sheet {
+    td_lines *lines;  /* the sheet's lines in its pixel frame, as its own
+                         run labelled them; out: the joint solve's
+                         heights (height, source, confidence, reason) */
+    int w, h;         /* its size, px */
+    double ox, oy;    /* its pixel (0, 0) in the series frame (>= 0; one
+                         cell size for all sheets) */
+    int evidence;     /* its lines labelled from a known point count as
+                         evidence (0: its known points came from its
+                         neighbours, batch --neighbours); those labelled
+                         from a printed label always do */
+} td_series_sheet;
+
+/* The heights of a series of sheets in one solve: every sheet's lines in
+ * one frame, the pieces of a contour that a shared sheet edge cuts (ends
+ * on both sheets' edges within 8 px, the lines leaving them in opposite
+ * directions; closest pairs first) joined into one line, and the
+ * faces labeller over all of them (p: interval required; base,
+ * index_every, index_auto, label_up, search as td_label_auto takes them),
+ * its evidence the lines each sheet labelled from a printed label or a
+ * known point (confidence >= 0.6) as reads of that height.  rep: the
+ * joint report.  0, TD_EINVAL (no evidence), TD_ENOMEM, the labeller's. */
+int td_series_label(td_series_sheet *v, size_t n, const td_label_params *p,
+                    td_label_report *rep, td_ctx *cx);
+
 /* The files of an erosion run: out (the eroded DEM; required), and each
  * of the others when not NULL: the W, E and deposited-sediment fields of
  * the last step, mass_log (CSV, one line per step); snapshots of the DEM
