@@ -93,6 +93,23 @@ cross=$(grep '"edge"' "$T/s2/batch.log" | sed 's/.*"crossings": \([0-9]*\).*/\1/
 conf=$(grep '"edge"' "$T/s2/batch.log" | sed 's/.*"conflicting": \([0-9]*\).*/\1/' | awk '{ s += $1 } END { print s + 0 }')
 check "edge matching: 11 neighbour pairs, $cross contour crossings paired (> 80), $conf with two heights (<= 1)" \
   "[ \$(grep -c '\"edge\": \\[\"t' '$T/s2/batch.log') = 11 ] && [ $cross -gt 80 ] && [ $conf -le 1 ]"
+cp "$T/s2/t11/dem.tif" "$T/t11_first.tif"
+"$TD" batch "$T/s.csv" --out "$T/s2" --jobs 2 --neighbours --resume -q
+check "--resume on a series: the runs skipped, the joint solve from the same lines, the same DEMs" \
+  "[ \$(grep -c '\"status\": \"skipped\"' '$T/s2/batch.log') = 6 ] && cmp -s '$T/s2/t11/dem.tif' '$T/t11_first.tif'"
+(cd "$T" && "$TDA" batch --emit parallel s.csv --out spar >sjobs.txt)
+if command -v parallel >/dev/null 2>&1; then
+  (cd "$T" && parallel -j 2 <sjobs.txt >/dev/null 2>&1)
+else
+  (cd "$T" && sh sjobs.txt >/dev/null 2>&1)
+fi
+(cd "$T" && "$TDA" batch --joint-only s.csv --out spar -q)
+"$TD" batch "$T/s.csv" --out "$T/s4" --jobs 2 -q
+check "the emitted jobs, then batch --joint-only: the DEMs batch makes itself" \
+  "grep -q '\"step\": \"joint\", \"status\": \"ok\"' '$T/spar/batch.log' && cmp -s '$T/spar/t00/dem.tif' '$T/s4/t00/dem.tif' && cmp -s '$T/spar/t10/dem.tif' '$T/s4/t10/dem.tif'"
+(cd "$T" && "$TDA" batch --emit make s.csv --out smk >s.mk)
+check "--emit make: the joint step after every sheet" \
+  "grep -q 'smk/joint.done: smk/t00/dem.tif' '$T/s.mk' && grep -q 'batch --joint-only s.csv --out smk' '$T/s.mk' && (cd '$T' && make -n -f s.mk >/dev/null 2>&1)"
 "$TD" batch "$T/s.csv" --out "$T/s3" --jobs 2 --neighbours --no-seams --no-joint -q
 "$TD" mosaic "$T"/s3/*/dem.tif -o "$T/series3.tif" -q
 cov3=$("$TD" compare "$T/series3.tif" "$T/truth.tif" | awk '$1 == "coverage" { print $2 }')

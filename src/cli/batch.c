@@ -60,6 +60,7 @@ typedef struct sheet {
 typedef struct bt_opts {
     const char *manifest, *out;
     int jobs, resume, emit, quiet, neighbours, seams, margin, joint;
+    int joint_only;
 } bt_opts;
 
 static int parse_args(int argc, char **argv, bt_opts *o)
@@ -78,6 +79,9 @@ static int parse_args(int argc, char **argv, bt_opts *o)
          "takes the interval and, as\nknown points, the heights of the "
          "lines its\nlabelled neighbours carry across the shared\nedge "
          "(georeferenced sheets)"},
+        {"joint-only", 0, TD_OPT_FLAG, &o->joint_only,
+         .help = "run no sheet: the joint steps only, on the\noutputs in "
+         "DIR (after the jobs of --emit)"},
         {"no-joint", 0, TD_OPT_OFF, &o->joint,
          .help = "keep each sheet's heights as its own run\ngave them "
          "(default: georeferenced sheets\nthat share edges are labelled "
@@ -578,6 +582,46 @@ done:
     return pid;
 }
 
+/* Copy a small file; 0 or -1. */
+static int copy_file(const char *from, const char *to)
+{
+    FILE *a = fopen(from, "rb"), *b = a ? fopen(to, "wb") : NULL;
+    char buf[65536];
+    size_t k;
+    int rc = a && b ? 0 : -1;
+    while (rc == 0 && (k = fread(buf, 1, sizeof buf, a)) > 0)
+        rc = fwrite(buf, 1, k, b) == k ? 0 : -1;
+    if (a)
+        fclose(a);
+    if (b && fclose(b) != 0)
+        rc = -1;
+    return rc;
+}
+
+/* The lines as the sheet's own run labelled them, own.geojson: copied
+ * from lines.geojson when the run is newer (its run.log), so the joint
+ * solve (which rewrites lines.geojson) starts from them every time, also
+ * after jobs run by --emit.  Its path, or NULL. */
+static char *own_lines(const sheet *s)
+{
+    char *a = join(s->dir, "lines.geojson"), *b = join(s->dir, "own.geojson"),
+         *r = join(s->dir, "run.log");
+    struct stat so, sr_;
+    if (a && b && r && (stat(b, &so) != 0 ||
+                        (stat(r, &sr_) == 0 &&
+                         (sr_.st_mtim.tv_sec > so.st_mtim.tv_sec ||
+                          (sr_.st_mtim.tv_sec == so.st_mtim.tv_sec &&
+                           sr_.st_mtim.tv_nsec > so.st_mtim.tv_nsec))))) {
+        if (copy_file(a, b) != 0) {
+            unlink(b);
+            free(b);
+            b = a, a = NULL;
+        }
+    }
+    free(a), free(r);
+    return b;
+}
+
 /* One seams step into batch.log. */
 static void log_seam(FILE *lg, const sheet *s, double secs, int code)
 {
@@ -598,6 +642,28 @@ static void log_seam(FILE *lg, const sheet *s, double secs, int code)
     free(lp), free(err);
 }
 
+/* DIR/<stem>/seeded names the neighbours a sheet's heights came from
+ * (--neighbours): written after its run (write 1; removed when it had
+ * none), read back when --resume skips it (write 0), so the joint solve
+ * knows its known points were its neighbours'. */
+static void seeded_mark(sheet *s, int write)
+{
+    char *p = join(s->dir, "seeded");
+    FILE *f;
+    if (!p)
+        return;
+    if (!write) {
+        free(s->seeded);
+        s->seeded = slurp(p, 0);
+    } else if (!s->seeded) {
+        unlink(p);
+    } else if ((f = fopen(p, "w")) != NULL) {
+        fprintf(f, "%s\n", s->seeded);
+        fclose(f);
+    }
+    free(p);
+}
+
 /* Run the waiting sheets, jobs at a time. */
 static void run_all(const char *exe, sheet *v, size_t n, const bt_opts *o,
                     FILE *lg)
@@ -612,6 +678,7 @@ static void run_all(const char *exe, sheet *v, size_t n, const bt_opts *o,
                 continue;
             if (o->resume && !s->stage && !s->seeded && up_to_date(s)) {
                 s->state = 2, s->ok = 1, done++;
+                seeded_mark(s, 0);
                 log_sheet(lg, s, "skipped", 0, 0);
                 continue;
             }
@@ -639,8 +706,10 @@ static void run_all(const char *exe, sheet *v, size_t n, const bt_opts *o,
                         continue;
                     }
                     v[i].ok = code == 0;
-                    if (code == 0)
+                    if (code == 0) {
                         write_hash(&v[i]);
+                        seeded_mark(&v[i], 1);
+                    }
                     log_sheet(lg, &v[i], code == 0 ? "ok" : "failed",
                               td_now() - v[i].t0, code);
                     if (!o->quiet)
@@ -975,7 +1044,7 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet)
     if (!ss || !g || !idx)
         goto done;
     for (i = 0; i < n; i++) {
-        char *lp_ = join(v[i].dir, "lines.geojson");
+        char *lp_ = v[i].ok && v[i].placed ? own_lines(&v[i]) : NULL;
         td_georef_init(&g[m]);
         if (v[i].ok && v[i].placed && lp_ &&
             td_image_info(v[i].path, &w, &h, &ch, &g[m], &cx) == 0 &&
@@ -1098,22 +1167,60 @@ static void seams(const char *exe, sheet *v, size_t n, const bt_opts *o,
 
 /* ---- --emit ---- */
 
+/* The joint step's command line (after the per-sheet jobs). */
+static void joint_line(FILE *f, const char *exe, const bt_opts *o)
+{
+    char mg[32];
+    sh_word(f, exe);
+    fputs(" batch --joint-only ", f);
+    sh_word(f, o->manifest);
+    fputs(" --out ", f);
+    sh_word(f, o->out);
+    if (!o->joint)
+        fputs(" --no-joint", f);
+    if (!o->seams)
+        fputs(" --no-seams", f);
+    if (o->margin != 256) {
+        snprintf(mg, sizeof mg, " --margin %d", o->margin);
+        fputs(mg, f);
+    }
+}
+
 static int emit(const char *exe, sheet *v, size_t n, const bt_opts *o)
 {
     size_t i;
-    if (o->emit == 2) /* make */
-        fputs("# topodig batch --emit make: make -j N -f THIS\nall:", stdout);
+    char *stamp = join(o->out, "joint.done");
+    if (!stamp)
+        return td_cli_failf("batch", "out of memory");
+    if (o->emit == 2) { /* make: the sheets, then the joint step */
+        fputs("# topodig batch --emit make: make -j N -f THIS\nall: ", stdout);
+        sh_word(stdout, stamp);
+        fputs("\n\n", stdout);
+        sh_word(stdout, stamp);
+        fputc(':', stdout);
+    }
     for (i = 0; o->emit == 2 && i < n; i++) {
         fputc(' ', stdout);
         sh_word(stdout, v[i].dir);
         fputs("/dem.tif", stdout);
     }
-    if (o->emit == 2)
+    if (o->emit == 2) {
+        fputs("\n\t", stdout);
+        joint_line(stdout, exe, o);
+        fputs(" && touch ", stdout);
+        sh_word(stdout, stamp);
         fputs("\n", stdout);
+    }
     if (o->emit == 3)
-        printf("#!/bin/sh\n# topodig batch --emit slurm: sbatch THIS\n"
-               "#SBATCH --job-name=topodig\n#SBATCH --array=1-%zu\n"
+        printf("#!/bin/sh\n# topodig batch --emit slurm: sbatch THIS; when the "
+               "array is done, the joint step\n# (edge matching, the series "
+               "labelled as one, seams) as one job:\n#   sbatch "
+               "--dependency=afterany:ARRAY_JOB_ID --wrap \"...\" with:\n#   ");
+    if (o->emit == 3) {
+        joint_line(stdout, exe, o);
+        printf("\n#SBATCH --job-name=topodig\n#SBATCH --array=1-%zu\n"
                "case \"$SLURM_ARRAY_TASK_ID\" in\n", n);
+    }
     for (i = 0; i < n; i++) {
         if (o->emit == 2) {
             fputc('\n', stdout);
@@ -1124,13 +1231,16 @@ static int emit(const char *exe, sheet *v, size_t n, const bt_opts *o)
         } else if (o->emit == 3) {
             printf("%zu) ", i + 1);
         }
-        if (emit_line(stdout, exe, &v[i], v[i].dir) != 0)
+        if (emit_line(stdout, exe, &v[i], v[i].dir) != 0) {
+            free(stamp);
             return td_cli_failf("batch", "%s: too many options", v[i].path);
+        }
         if (o->emit == 3)
             fputs("    ;;\n", stdout);
     }
     if (o->emit == 3)
         fputs("esac\n", stdout);
+    free(stamp);
     return 0;
 }
 
@@ -1173,8 +1283,18 @@ int td_cmd_batch(int argc, char **argv)
                           strerror(errno));
         goto done;
     }
-    run_all(exe, v, n, &o, lg);
-    if (o.neighbours)
+    if (o.joint_only) /* the sheets whose run left its outputs */
+        for (i = 0; i < n; i++) {
+            char *d = join(v[i].dir, "dem.tif"), *l = join(v[i].dir,
+                                                           "lines.geojson");
+            struct stat st;
+            v[i].state = 2;
+            v[i].ok = d && l && stat(d, &st) == 0 && stat(l, &st) == 0;
+            free(d), free(l);
+        }
+    else
+        run_all(exe, v, n, &o, lg);
+    if (o.neighbours && !o.joint_only)
         seed_passes(exe, v, n, &o, lg);
     if (o.seams || o.joint)
         seams(exe, v, n, &o, lg);
