@@ -85,10 +85,11 @@ cov=$("$TD" compare "$T/series.tif" "$T/truth.tif" | awk '$1 == "coverage" { pri
 whole=$("$TD" compare "$T/whole.tif" "$T/truth.tif" | awk '$1 == "rmse" { print $2 }')
 check "the series' mosaic against the true DEM: RMSE $rmse m, within 5 % of the whole sheet run as one ($whole m); coverage $cov (> 0.998: the seams fill the edges)" \
   "awk -v r='$rmse' -v w='$whole' -v c='$cov' 'BEGIN { exit !(r > 0 && r <= 1.05 * w && c > 0.998) }'"
-check "the joint solve: the six sheets labelled as one" \
-  "grep -q '\"step\": \"joint\", \"status\": \"ok\", \"sheets\": 6' '$T/s2/batch.log'"
-check "seams: each sheet interpolated again beside its neighbours" \
-  "[ \$(grep '\"step\": \"seams\", \"status\": \"ok\"' '$T/s2/batch.log' | wc -l) = 6 ] && grep '\"sheet\": \"[^\"]*t11.tif\", \"step\"' '$T/s2/batch.log' | grep -q '\"beside\": \"t00, t01, t02, t10, t12\"'"
+check "the joint solve: the six sheets labelled as one, their DEMs cut from one interpolation" \
+  "grep '\"step\": \"joint\", \"status\": \"ok\", \"sheets\": 6' '$T/s2/batch.log' | grep -q '\"dems\": \"one interpolation\"'"
+"$TD" batch "$T/s.csv" --out "$T/s5" --jobs 2 --neighbours --no-joint -q
+check "--no-joint: seams, each sheet interpolated again beside its neighbours" \
+  "[ \$(grep '\"step\": \"seams\", \"status\": \"ok\"' '$T/s5/batch.log' | wc -l) = 6 ] && grep '\"sheet\": \"[^\"]*t11.tif\", \"step\"' '$T/s5/batch.log' | grep -q '\"beside\": \"t00, t01, t02, t10, t12\"'"
 cross=$(grep '"edge"' "$T/s2/batch.log" | sed 's/.*"crossings": \([0-9]*\).*/\1/' | awk '{ s += $1 } END { print s + 0 }')
 conf=$(grep '"edge"' "$T/s2/batch.log" | sed 's/.*"conflicting": \([0-9]*\).*/\1/' | awk '{ s += $1 } END { print s + 0 }')
 check "edge matching: 11 neighbour pairs, $cross contour crossings paired (> 80), $conf with two heights (<= 1)" \

@@ -184,6 +184,29 @@ static void test_series_two_sheets(void)
               same, cutlines);
     TT_CHECKF(right_ok >= 0.98 * right_all, "right sheet: %.3f right",
               right_ok / right_all);
+    {   /* one interpolation cut in two: across the cut as within a sheet */
+        td_interp_params ip = td_interp_defaults();
+        td_grid_f32 *d[2] = {NULL, NULL};
+        double across = 0, inside = 0;
+        int y, wl = ss[0].w;
+        ip.interval = interval;
+        TT_CHECKF(td_series_interp(ss, 2, &ip, d, &cx) == 0, "%s",
+                  td_errmsg(&cx));
+        for (y = 0; d[0] && d[1] && y < p.h; y++) {
+            float a = TD_AT(d[0], wl - 2, y), b = TD_AT(d[0], wl - 1, y),
+                  c = TD_AT(d[1], 0, y), e = TD_AT(d[1], 1, y);
+            if (a == d[0]->nodata || b == d[0]->nodata ||
+                c == d[1]->nodata || e == d[1]->nodata)
+                continue;
+            across += fabs(c - b);
+            inside += 0.5 * (fabs(b - a) + fabs(e - c));
+        }
+        fprintf(stderr, "  mean |step| across the cut %.3f, beside it %.3f\n",
+                across / p.h, inside / p.h);
+        TT_CHECKF(across <= 1.5 * inside, "across %g, inside %g", across,
+                  inside);
+        td_grid_f32_free(d[0]), td_grid_f32_free(d[1]);
+    }
 done:
     for (j = 0; j < 2; j++)
         td_lines_free(S[j].ls), free(S[j].th), free(S[j].tid);

@@ -1025,9 +1025,59 @@ static int index_of(const sheet *s)
     return v > 1 ? v : 0;
 }
 
+/* Whole-series interpolation limits: every sheet with the default
+ * interpolation (no interpolation option in its manifest line) and the
+ * series' extent at most this many cells. */
+#define WHOLE_CELLS 3e8
+
+/* The sheets' DEMs cut from one interpolation of all their lines
+ * (td_series_interp), written to their dem.tif: 0, or -1 (then each sheet
+ * is interpolated with its neighbours beside it instead). */
+static int whole_dems(const sheet *v, const size_t *idx,
+                      const td_series_sheet *ss, const td_georef *g,
+                      size_t m, double interval)
+{
+    static const char *const iopt[] = {"--method", "--step", "--summit",
+        "--peninsula", "--weight", "--dirs", "--smooth", "--epsilon",
+        "--fallback", "--nodata", NULL};
+    td_interp_params ip = td_interp_defaults();
+    td_grid_f32 **d = calloc(m + 1, sizeof *d);
+    td_ctx cx;
+    double W = 0, H = 0;
+    size_t i;
+    int k, rc = -1;
+    td_ctx_init(&cx);
+    for (i = 0; i < m; i++) {
+        W = fmax(W, ss[i].ox + ss[i].w), H = fmax(H, ss[i].oy + ss[i].h);
+        for (k = 0; iopt[k]; k++)
+            if (strstr(v[idx[i]].opts, iopt[k]))
+                goto done;
+    }
+    if (!d || W * H > WHOLE_CELLS)
+        goto done;
+    ip.interval = interval;
+    if (td_series_interp(ss, m, &ip, d, &cx) != 0)
+        goto done;
+    for (i = 0; i < m; i++) {
+        char *p = join(v[idx[i]].dir, "dem.tif");
+        if (!p || td_dem_write(p, d[i], &g[i], &cx) != 0) {
+            free(p);
+            goto done;
+        }
+        free(p);
+    }
+    rc = 0;
+done:
+    for (i = 0; d && i < m; i++)
+        td_grid_f32_free(d[i]);
+    free(d);
+    td_ctx_clear(&cx);
+    return rc;
+}
+
 /* Label the placed sheets again as one; their lines.geojson rewritten.
  * Returns 1 when it did. */
-static int joint(sheet *v, size_t n, FILE *lg, int quiet)
+static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole)
 {
     td_series_sheet *ss = calloc(n + 1, sizeof *ss);
     td_georef *g = calloc(n + 1, sizeof *g);
@@ -1101,9 +1151,12 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet)
         free(lp_);
     }
     ok = !why;
+    if (ok && whole && whole_dems(v, idx, ss, g, m, lp.interval) == 0)
+        ok = 2; /* the DEMs cut from one interpolation */
     fprintf(lg, "{\"step\": \"joint\", \"status\": \"%s\", \"sheets\": %zu, "
-            "\"lines\": %zu, \"changed\": %zu, \"labelled\": %zu",
-            ok ? "ok" : "skipped", m, lines, changed, rep.labelled);
+            "\"lines\": %zu, \"changed\": %zu, \"labelled\": %zu, "
+            "\"dems\": \"%s\"", ok ? "ok" : "skipped", m, lines, changed,
+            rep.labelled, ok == 2 ? "one interpolation" : "each sheet");
     if (why) {
         fputs(", \"why\": ", lg);
         json_str(lg, why);
@@ -1151,14 +1204,15 @@ static void seams(const char *exe, sheet *v, size_t n, const bt_opts *o,
     for (i = 0; i < n; i++) /* overlapping sheets are left as they are */
         if (v[i].stage == -1)
             v[i].placed = 0, v[i].stage = 0;
-    relabelled = o->joint && joint(v, n, lg, o->quiet);
+    relabelled = o->joint ? joint(v, n, lg, o->quiet, o->seams) : 0;
     match_edges(lg, v, n, o->quiet);
     for (i = 0; i < n; i++) {
         int has = 0;
         for (j = 0; o->seams && v[i].ok && j < n; j++)
             has |= j != i && v[j].ok && beside(&v[i], &v[j]) == 1;
         v[i].stage = 1;
-        v[i].state = has || (relabelled && v[i].ok && v[i].placed) ? 0 : 2;
+        v[i].state = relabelled != 2 && (has || (relabelled && v[i].ok &&
+                                                 v[i].placed)) ? 0 : 2;
         any += v[i].state == 0;
     }
     if (any)

@@ -137,6 +137,16 @@ typedef struct td_series_sheet {
 int td_series_label(td_series_sheet *v, size_t n, const td_label_params *p,
                     td_label_report *rep, td_ctx *cx);
 
+/* The DEM of every sheet of the series cut from one interpolation of all
+ * their labelled lines (ip; step 1) over the series' extent, so the
+ * sheets meet at their edges as cells inside a sheet do: dems[s] (free
+ * with td_grid_f32_free) is sheet s's w x h part.  The sheets must lie on
+ * one grid (whole-pixel offsets).  0, TD_EINVAL, TD_ETOOBIG (the extent),
+ * TD_ENOMEM, the interpolation's. */
+int td_series_interp(const td_series_sheet *v, size_t n,
+                     const td_interp_params *ip, td_grid_f32 **dems,
+                     td_ctx *cx);
+
 /* The files of an erosion run: out (the eroded DEM; required), and each
  * of the others when not NULL: the W, E and deposited-sediment fields of
  * the last step, mass_log (CSV, one line per step); snapshots of the DEM

@@ -264,3 +264,59 @@ done:
     free(rd);
     return rc;
 }
+
+/* See pipeline.h. */
+int td_series_interp(const td_series_sheet *v, size_t n,
+                     const td_interp_params *ip, td_grid_f32 **dems,
+                     td_ctx *cx)
+{
+    td_lines *all = NULL;
+    td_grid_f32 *big = NULL;
+    double W = 0, H = 0;
+    size_t s, i, k;
+    int rc = TD_ENOMEM, y;
+    for (s = 0; s < n; s++) {
+        dems[s] = NULL;
+        if (v[s].ox != floor(v[s].ox) || v[s].oy != floor(v[s].oy))
+            return td_seterr(cx, TD_EINVAL, "the sheets are not on one grid");
+        W = fmax(W, v[s].ox + v[s].w), H = fmax(H, v[s].oy + v[s].h);
+    }
+    if (ip->step > 1)
+        return td_seterr(cx, TD_EINVAL, "one DEM cell per pixel only");
+    if ((rc = td_check_dims((int)W, (int)H, "the series", cx)) != 0)
+        return rc;
+    if (!(all = td_lines_new(cx)))
+        return TD_ENOMEM;
+    for (s = 0; s < n; s++)
+        for (i = 0; i < v[s].lines->n; i++) {
+            td_line *c;
+            if (!v[s].lines->v[i].has_height)
+                continue;
+            if ((rc = td_lines_append_copy(all, &v[s].lines->v[i], cx)) != 0)
+                goto done;
+            c = &all->v[all->n - 1];
+            for (k = 0; k < c->n; k++)
+                c->xy[2 * k] += v[s].ox, c->xy[2 * k + 1] += v[s].oy;
+        }
+    if ((rc = td_interp_lines(all, (int)W, (int)H, ip, &big, cx)) != 0)
+        goto done;
+    for (s = 0; s < n; s++) {
+        if (!(dems[s] = td_grid_f32_new(v[s].w, v[s].h, cx))) {
+            rc = TD_ENOMEM;
+            goto done;
+        }
+        for (y = 0; y < v[s].h; y++)
+            memcpy(&dems[s]->data[(size_t)y * dems[s]->stride],
+                   &big->data[((size_t)y + (size_t)v[s].oy) * big->stride +
+                              (size_t)v[s].ox],
+                   (size_t)v[s].w * sizeof *big->data);
+        dems[s]->nodata = big->nodata, dems[s]->has_nodata = big->has_nodata;
+    }
+done:
+    if (rc != 0)
+        for (s = 0; s < n; s++)
+            td_grid_f32_free(dems[s]), dems[s] = NULL;
+    td_grid_f32_free(big);
+    td_lines_free(all);
+    return rc;
+}
