@@ -369,15 +369,12 @@ fail:
     return rc;
 }
 
-/* Append line src to dst, reversed when rev, skipping nothing. */
+/* Append line src to dst, reversed when rev, skipping nothing; its
+ * bridges and edge flag go with it. */
 static int append(td_line *dst, const td_line *src, int rev, td_ctx *cx)
 {
-    size_t i;
-    for (i = 0; i < src->n; i++) {
-        size_t k = rev ? src->n - 1 - i : i;
-        if (td_line_push(dst, src->xy[2 * k], src->xy[2 * k + 1], cx) != 0)
-            return TD_ENOMEM;
-    }
+    if (td_line_append(dst, src, rev, cx) != 0)
+        return TD_ENOMEM;
     dst->bridged += src->bridged;
     dst->edge |= src->edge;
     return 0;

@@ -224,6 +224,8 @@ td_line *td_lines_add(td_lines *ls, td_ctx *cx);
 int td_line_push(td_line *l, double x, double y, td_ctx *cx);
 /* Reverse a line's point order in place. */
 void td_line_reverse(td_line *l);
+/* Append src's points to dst, reversed when rev.  0 or TD_ENOMEM. */
+int td_line_append(td_line *dst, const td_line *src, int rev, td_ctx *cx);
 /* Remove line i (order of the others kept; ids unchanged). */
 void td_lines_remove(td_lines *ls, size_t i);
 /* Length of the polyline (closing segment included when closed). */

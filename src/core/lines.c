@@ -283,3 +283,15 @@ int td_lines_extent(const td_lines *ls, int *w, int *h, td_ctx *cx)
     *h = (int)ceil(my + 0.5 - 1e-9);
     return 0;
 }
+
+/* See core.h. */
+int td_line_append(td_line *dst, const td_line *src, int rev, td_ctx *cx)
+{
+    size_t i;
+    for (i = 0; i < src->n; i++) {
+        size_t k = rev ? src->n - 1 - i : i;
+        if (td_line_push(dst, src->xy[2 * k], src->xy[2 * k + 1], cx) != 0)
+            return TD_ENOMEM;
+    }
+    return 0;
+}

@@ -69,18 +69,6 @@ static int cmp_pair(const void *pa, const void *pb)
     return (a->a > b->a) - (a->a < b->a); /* the same order every time */
 }
 
-/* Append piece l to t from its end e0 (0: in order, 1: reversed). */
-static int append(td_line *t, const td_line *l, int e0, td_ctx *cx)
-{
-    size_t k;
-    for (k = 0; k < l->n; k++) {
-        size_t j = e0 ? l->n - 1 - k : k;
-        if (td_line_push(t, l->xy[2 * j], l->xy[2 * j + 1], cx) != 0)
-            return TD_ENOMEM;
-    }
-    return 0;
-}
-
 /* The pieces of contours cut by the sheet edges: each end on an edge is
  * paired with an end of another sheet's line on an edge (within
  * JOIN_ALONG, the two lines leaving their ends in about opposite
@@ -161,7 +149,7 @@ static int join_edges(sr *R, td_lines *T, td_ctx *cx)
                 long nx;
                 seen[cur] = 1;
                 R->owner[cur] = t0;
-                if (append(&T->v[t0], &R->S->v[cur], from, cx) != 0)
+                if (td_line_append(&T->v[t0], &R->S->v[cur], from, cx) != 0)
                     goto done;
                 nx = link[2 * cur + (size_t)(1 - from)];
                 if (nx < 0 || seen[nx / 2] || ++guard > N)
