@@ -1083,7 +1083,7 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole)
     td_georef *g = calloc(n + 1, sizeof *g);
     size_t *idx = calloc(n + 1, sizeof *idx), m = 0, i, k, changed = 0,
            lines = 0;
-    double x0 = INFINITY, y1 = -INFINITY, res = 0, *old = NULL;
+    double x0 = INFINITY, y1 = -INFINITY, res = 0, iv, *old = NULL;
     td_label_params lp = td_label_defaults();
     td_label_report rep;
     td_ctx cx;
@@ -1107,10 +1107,10 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole)
             x0 = fmin(x0, v[i].x0), y1 = fmax(y1, v[i].y1);
             ss[m].w = w, ss[m].h = h;
             ss[m].evidence = !v[i].seeded;
-            if (!(lp.interval > 0) && !v[i].seeded)
-                lp.interval = interval_of(&v[i]);
-            else if (!v[i].seeded && interval_of(&v[i]) > 0 &&
-                     interval_of(&v[i]) != lp.interval)
+            iv = v[i].seeded ? 0 : interval_of(&v[i]);
+            if (!(lp.interval > 0))
+                lp.interval = iv;
+            else if (iv > 0 && iv != lp.interval)
                 why = "the sheets were labelled at different intervals";
             if (!lp.index_every && !v[i].seeded)
                 lp.index_every = index_of(&v[i]);

@@ -24,10 +24,9 @@
 typedef struct sr {
     td_lines *S;     /* every line, series frame */
     size_t *sheet, *line; /* where each came from */
-    size_t *owner;   /* union-find: the line it was joined into */
+    size_t *owner;   /* the joined line (of T) each went into */
     double *mid;     /* a point on each line as it came (x, y) */
     const td_series_sheet *v;
-    size_t n;
 } sr;
 
 
@@ -173,19 +172,18 @@ int td_series_label(td_series_sheet *v, size_t n, const td_label_params *p,
     sr R;
     td_lines *T = NULL;
     td_ocr_read *rd = NULL;
-    size_t *sheet0 = NULL, i, k, s, N = 0, nr = 0;
+    size_t i, k, s, N = 0, nr = 0;
     double W = 0, H = 0;
     td_label_params lp = *p;
     int rc = TD_ENOMEM;
     memset(&R, 0, sizeof R);
-    R.v = v, R.n = n;
+    R.v = v;
     for (s = 0; s < n; s++) {
         N += v[s].lines ? v[s].lines->n : 0;
         W = fmax(W, v[s].ox + v[s].w), H = fmax(H, v[s].oy + v[s].h);
     }
     if (!(R.S = td_lines_new(cx)) || !(T = td_lines_new(cx)) ||
         !(R.sheet = td_malloc((N + 1) * sizeof *R.sheet, cx)) ||
-        !(sheet0 = td_malloc((N + 1) * sizeof *sheet0, cx)) ||
         !(R.line = td_malloc((N + 1) * sizeof *R.line, cx)) ||
         !(R.owner = td_malloc((N + 1) * sizeof *R.owner, cx)) ||
         !(R.mid = td_malloc((2 * N + 1) * sizeof *R.mid, cx)) ||
@@ -203,7 +201,7 @@ int td_series_label(td_series_sheet *v, size_t n, const td_label_params *p,
             k = c->n / 2;
             R.mid[2 * j] = c->n ? c->xy[2 * k] : 0;
             R.mid[2 * j + 1] = c->n ? c->xy[2 * k + 1] : 0;
-            R.sheet[j] = sheet0[j] = s, R.line[j] = i, R.owner[j] = j;
+            R.sheet[j] = s, R.line[j] = i, R.owner[j] = j;
         }
     if ((rc = join_edges(&R, T, cx)) != 0)
         goto done;
@@ -214,11 +212,11 @@ int td_series_label(td_series_sheet *v, size_t n, const td_label_params *p,
         c->why = NULL, c->edge = 0;
     }
     for (i = 0; i < N; i++) { /* what each sheet read: the evidence */
-        const td_line *l = &v[sheet0[i]].lines->v[R.line[i]];
+        const td_line *l = &v[R.sheet[i]].lines->v[R.line[i]];
         td_ocr_read *r = &rd[nr];
         if (!l->has_height || l->confidence < EVIDENCE_CONF ||
             !(l->hsource == TD_HS_LABEL ||
-              (l->hsource == TD_HS_KNOWN && v[sheet0[i]].evidence)))
+              (l->hsource == TD_HS_KNOWN && v[R.sheet[i]].evidence)))
             continue;
         r->x = R.mid[2 * i], r->y = R.mid[2 * i + 1];
         r->value = l->height, r->conf = l->confidence;
@@ -239,7 +237,7 @@ int td_series_label(td_series_sheet *v, size_t n, const td_label_params *p,
         goto done;
     for (i = 0; i < N; i++) { /* the joint heights back onto each sheet */
         const td_line *t = &T->v[R.owner[i]];
-        td_line *l = &v[sheet0[i]].lines->v[R.line[i]];
+        td_line *l = &v[R.sheet[i]].lines->v[R.line[i]];
         l->has_height = t->has_height, l->height = t->height;
         l->hsource = t->hsource, l->confidence = t->confidence;
         l->why = t->why;
@@ -248,7 +246,7 @@ int td_series_label(td_series_sheet *v, size_t n, const td_label_params *p,
 done:
     td_lines_free(R.S);
     td_lines_free(T);
-    free(R.sheet), free(sheet0), free(R.line), free(R.owner), free(R.mid);
+    free(R.sheet), free(R.line), free(R.owner), free(R.mid);
     free(rd);
     return rc;
 }
