@@ -1,5 +1,6 @@
 /* blobring.c: tiny summit rings from dots of ink (contract in blobring.h). */
 #include "scanner/blobring.h"
+#include "scanner/width.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -13,30 +14,6 @@ static int bit_at(const uint8_t *bits, int w, int h, int x, int y)
     if (x < 0 || y < 0 || x >= w || y >= h)
         return 0;
     return bits[(size_t)y * rb + ((size_t)x >> 3)] >> (x & 7) & 1;
-}
-
-static int cmp_d(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* The median width of the measured lines 30 px and longer, 0 if none. */
-static double pen_width(const td_lines *ls, td_ctx *cx)
-{
-    double *v = td_malloc((ls->n + 1) * sizeof *v, cx), med = 0;
-    size_t i, n = 0;
-    if (!v)
-        return -1;
-    for (i = 0; i < ls->n; i++)
-        if (ls->v[i].width > 0 && td_line_length(&ls->v[i]) >= 30)
-            v[n++] = ls->v[i].width;
-    if (n) {
-        qsort(v, n, sizeof *v, cmp_d);
-        med = v[n / 2];
-    }
-    free(v);
-    return med;
 }
 
 /* The dot under (cx0, cy0): its area and centroid, by a flood fill within
@@ -78,7 +55,7 @@ static int dot(const uint8_t *bits, int w, int h, int cx0, int cy0,
 long td_blob_rings(const uint8_t *bits, int w, int h, td_lines *ls,
                    td_ctx *cx)
 {
-    double pen = pen_width(ls, cx);
+    double pen = td_pen_width(ls, cx);
     long done = 0;
     size_t i, k;
     if (pen < 0)

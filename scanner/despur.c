@@ -291,20 +291,6 @@ static long despur_round(td_grid_u8 *g, const td_despur_params *p,
     for (i = 0; i < nsp; i++) {
         if (sp[i].n == 0)
             continue;
-        if (p->record) {
-            size_t t = pool.v[sp[i].off], j = sp[i].junction;
-            if (st->nrec == st->caprec) {
-                size_t nc = st->caprec ? 2 * st->caprec : 256;
-                td_spur_rec *r = realloc(st->rec, nc * sizeof *r);
-                if (!r)
-                    goto fail;
-                st->rec = r;
-                st->caprec = nc;
-            }
-            st->rec[st->nrec++] = (td_spur_rec){
-                (float)(t % g->stride), (float)(t / g->stride),
-                (float)(j % g->stride), (float)(j / g->stride)};
-        }
         spurs++;
         st->pixels += sp[i].n;
         for (k = 0; k < sp[i].n; k++)
@@ -329,24 +315,13 @@ fail:
     return rc ? rc : spurs;
 }
 
-void td_despur_stats_free(td_despur_stats *st)
-{
-    free(st->rec);
-    st->rec = NULL;
-    st->nrec = st->caprec = 0;
-}
-
 int td_despur(td_grid_u8 *skel, const td_despur_params *p,
               td_despur_stats *st, td_ctx *cx)
 {
     td_despur_stats local;
-    td_despur_params q = *p;
     int round, rounds;
-    if (!st) {
+    if (!st)
         st = &local;
-        q.record = 0;
-    }
-    p = &q;
     memset(st, 0, sizeof *st);
     if (p->mode == TD_SPUR_NONE)
         return 0;

@@ -24,24 +24,13 @@ typedef struct td_despur_params {
     double max_len; /* TD_SPUR_LENGTH: longest spur in px along the skeleton
                        (default 10) */
     int rounds;     /* TD_SPUR_LENGTH: rounds (spurs of spurs), default 3 */
-    int record;     /* keep every erased spur's tip and junction in the
-                       stats (td_despur_stats_free) */
 } td_despur_params;
-
-/* An erased spur: its end point (tip) and the junction it left. */
-typedef struct td_spur_rec {
-    float tx, ty, jx, jy;
-} td_spur_rec;
 
 typedef struct td_despur_stats {
     size_t endpoints, junctions; /* found before the first round */
     size_t spurs;                /* branches erased */
     size_t pixels;               /* pixels erased */
-    td_spur_rec *rec;            /* with p->record: the spurs erased */
-    size_t nrec, caprec;
 } td_despur_stats;
-
-void td_despur_stats_free(td_despur_stats *st);
 
 td_despur_params td_despur_defaults(void);
 
@@ -50,8 +39,7 @@ int td_despur_parse_mode(const char *s, td_despur_params *p, td_ctx *cx);
 
 /* Remove spurs from a thinned skeleton (cells 0/1) in place; junction
  * corners left 2 px thick are re-thinned (td_thin_hilditch_near).
- * st may be NULL (then nothing is recorded); free it with
- * td_despur_stats_free.  Returns 0, TD_ENOMEM or TD_ECANCEL. */
+ * st may be NULL.  Returns 0, TD_ENOMEM or TD_ECANCEL. */
 int td_despur(td_grid_u8 *skel, const td_despur_params *p,
               td_despur_stats *st, td_ctx *cx);
 

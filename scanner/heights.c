@@ -54,8 +54,6 @@
 #define W_RING 0.25
 #define W_DEPR 50.0
 #define W_TICKED 20.0  /* a ring read with depression ticks falls inwards */
-#define W_UNTICKED 1.0 /* one without, on a sheet that ticks its depressions,
-                          rises (a prior) */
 #define W_LABEL 40.0 /* a printed label read with confidence 1 */
 #define NLAB (1 + TD_OCR_ALTS) /* readings of a label kept per chunk */
 #define ALT_SHARE 0.5 /* an alternative reading this sure counts when the
@@ -607,9 +605,9 @@ static void setup_directions(hs *s, const unsigned char *touched)
                  s->ls->v[i].depression;
     if (marks && !s->cost_only)
         td_label_warn(s->rep, "%zu ring%s marked as depression%s (ticks on "
-                      "the inside) fall inwards; rings without ticks are "
-                      "taken to rise", marks, marks == 1 ? "" : "s",
-                      marks == 1 ? "" : "s");
+                      "the inside) fall%s inwards", marks,
+                      marks == 1 ? "" : "s", marks == 1 ? "" : "s",
+                      marks == 1 ? "s" : "");
     for (i = 0; i < s->N; i++) {
         const td_line *l = &s->ls->v[i];
         int in, empty = 1;
@@ -624,14 +622,12 @@ static void setup_directions(hs *s, const unsigned char *touched)
         for (k = 0; k < m; k++)
             s->up_prior[2 * (c0 + k) + (1 - in)] +=
                 (W_RING + (empty ? W_SUMMIT : 0)) / m;
-        for (k = 0; marks && k < m; k++) { /* ticked: falls inwards (read);
-                                                not: rises (the map's rule,
-                                                a prior: ticks go unread) */
-            if (l->depression)
-                s->up_cost[2 * (c0 + k) + in] += W_TICKED / m;
-            else
-                s->up_prior[2 * (c0 + k) + (1 - in)] += W_UNTICKED / m;
-        }
+        /* ticked: falls inwards (read).  Rings without ticks get no
+         * more than the ring prior: small depressions carry none, and
+         * taking unticked rings to rise lost 0.015 of the length on the
+         * ticked Front Range sheet (docs/label.md) */
+        for (k = 0; l->depression && k < m; k++)
+            s->up_cost[2 * (c0 + k) + in] += W_TICKED / m;
     }
     for (k = 0; k < s->p->ndepressions; k++)
         depression(s, s->p->depressions[2 * k], s->p->depressions[2 * k + 1]);

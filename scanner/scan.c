@@ -28,7 +28,6 @@ void td_scan_result_free(td_scan_result *res)
 {
     td_lines_free(res->lines);
     td_join_stats_free(&res->join);
-    td_despur_stats_free(&res->spur);
     td_grid_u8_free(res->mask);
     td_grid_u8_free(res->skeleton);
     td_grid_u8_free(res->despurred);
@@ -41,7 +40,6 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     td_grid_u8 *g = NULL;
     uint8_t *bits = NULL;
     td_join_params jp = p->join;
-    td_despur_params dp = p->spur;
     double t0;
     int rc;
     memset(res, 0, sizeof *res);
@@ -66,8 +64,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     if (p->keep_debug && !(res->skeleton = td_grid_u8_dup(g, cx)))
         goto fail;
     t0 = td_now();
-    dp.record = dp.record || p->ticks > 0;
-    if ((rc = td_despur(g, &dp, &res->spur, cx)) != 0)
+    if ((rc = td_despur(g, &p->spur, &res->spur, cx)) != 0)
         goto fail;
     res->seconds[2] = td_now() - t0;
     t0 = td_now();
@@ -91,9 +88,9 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         }
         res->blob_rings = (size_t)nr;
     }
-    if (p->ticks > 0) {
-        long nd = td_ticks_mark(res->lines, res->spur.rec, res->spur.nrec,
-                                p->ticks, cx);
+    if (p->measure_width && p->ticks > 0) {
+        long nd = td_ticks_mark(res->lines, bits, im->w, im->h, p->ticks,
+                                cx);
         if (nd < 0) {
             rc = (int)nd;
             goto fail;

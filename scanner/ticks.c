@@ -1,114 +1,175 @@
 /* ticks.c: see ticks.h. */
 #include "scanner/ticks.h"
+#include "scanner/width.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define CELL 8     /* px: the bucket grid of the closed lines' vertices */
-#define NEAR 2.0   /* a spur's junction within this of the line */
-#define MIN_TIP 1.5
-#define MAX_TIP 10.0
+#define RAY_MAX 12.0      /* px: the longest run of ink followed */
+#define RAY_STEP 0.25     /* px between the samples of a run */
+#define TICK_OVER 1.25    /* px: a tick widens the ink at least this much */
+#define TICK_REACH 8.0    /* px: and at most this much */
+#define TICK_SIDE 2.0     /* px: paper either side of a tick */
+#define TICK_SPACING 40.0 /* pen widths of ring per tick, at least */
+#define NARROW 4          /* vertices: a tick is about one pen wide */
 
-typedef struct vref {
-    uint32_t line, k;
-} vref;
+static int bit_at(const uint8_t *bits, int w, int h, double x, double y)
+{
+    size_t rb = ((size_t)w + 7) / 8;
+    long c = (long)floor(x), r = (long)floor(y);
+    if (c < 0 || r < 0 || c >= w || r >= h)
+        return 0;
+    return bits[(size_t)r * rb + ((size_t)c >> 3)] >> (c & 7) & 1;
+}
 
-long td_ticks_mark(td_lines *ls, const td_spur_rec *rec, size_t n,
+/* The ink run from (x, y) along (ux, uy): the distance to its last ink
+ * sample, RAY_MAX when the ink goes on (a blot, another line). */
+static double ray(const uint8_t *bits, int w, int h, double x, double y,
+                  double ux, double uy)
+{
+    double s = 0.0;
+    while (s + RAY_STEP <= RAY_MAX &&
+           bit_at(bits, w, h, x + (s + RAY_STEP) * ux, y + (s + RAY_STEP) * uy))
+        s += RAY_STEP;
+    return s + RAY_STEP > RAY_MAX ? RAY_MAX : s;
+}
+
+/* The unit normal of ring l at vertex k towards its side 0 (left on the
+ * screen, y down), from the chord 5 vertices either side (shorter chords
+ * tilt the normal on the steps of a traced line, across its own ink). */
+static void normal_at(const td_line *l, size_t k, double *nx, double *ny)
+{
+    size_t m = l->n, a = (k + m - 5) % m, b = (k + 5) % m;
+    double tx = l->xy[2 * b] - l->xy[2 * a];
+    double ty = l->xy[2 * b + 1] - l->xy[2 * a + 1], d = sqrt(tx * tx + ty * ty);
+    *nx = d > 0 ? ty / d : 0;
+    *ny = d > 0 ? -tx / d : 0;
+}
+
+/* Whether the ink beyond vertex (x, y) along (nx, ny), at `at` px, is a
+ * thin stroke: paper TICK_SIDE px to either side of it (a bend's other
+ * arm or a blot is broad). */
+static int thin_stroke(const uint8_t *bits, int w, int h, double x, double y,
+                       double nx, double ny, double at)
+{
+    double px = x + at * nx, py = y + at * ny;
+    return bit_at(bits, w, h, px, py) &&
+           !bit_at(bits, w, h, px - TICK_SIDE * ny, py + TICK_SIDE * nx) &&
+           !bit_at(bits, w, h, px + TICK_SIDE * ny, py - TICK_SIDE * nx);
+}
+
+/* The median of the 2 WIN + 1 widths of a ring of m vertices about
+ * vertex k. */
+#define WIN 6
+static double local_width(const double *wd, size_t m, size_t k)
+{
+    double v[2 * WIN + 1];
+    size_t j, a;
+    for (j = 0; j < 2 * WIN + 1; j++) {
+        double x = wd[(k + m + j - WIN) % m];
+        for (a = j; a > 0 && v[a - 1] > x; a--)
+            v[a] = v[a - 1];
+        v[a] = x;
+    }
+    return v[WIN];
+}
+
+/* Ticks of ring l counted on the mask: runs of at most NARROW vertices
+ * where the ink across the line is TICK_OVER..TICK_REACH px wider than
+ * about them (the median of the nearby vertices'), the extra ink on one
+ * side (the traced centre sits off the ink's middle on diagonals, so the
+ * two sides' runs alone do not tell), and a thin stroke there (a bend's
+ * other arm or a blot is broad).  r holds 3 numbers per vertex, f 2
+ * flags.  cnt[0] the inward ticks, cnt[1] the outward. */
+static void profile_ticks(const uint8_t *bits, int w, int h, const td_line *l,
+                          double *r, uint8_t *f, size_t *cnt)
+{
+    size_t m = l->n, k, side;
+    int inner = td_line_signed_area(l) > 0 ? 1 : 0;
+    double *wd = r + 2 * m;
+    for (k = 0; k < m; k++) {
+        double x = l->xy[2 * k], y = l->xy[2 * k + 1], nx, ny, r0, r1;
+        normal_at(l, k, &nx, &ny);
+        r0 = ray(bits, w, h, x, y, nx, ny);
+        r1 = ray(bits, w, h, x, y, -nx, -ny);
+        r[2 * k + (inner == 0 ? 0 : 1)] = r0; /* [0] inward, [1] outward */
+        r[2 * k + (inner == 0 ? 1 : 0)] = r1;
+        wd[k] = r0 + r1;
+    }
+    memset(f, 0, 2 * m);
+    for (k = 0; k < m; k++) {
+        double base, nx, ny, v, o;
+        side = r[2 * k] >= r[2 * k + 1] ? 0 : 1; /* the longer run's */
+        v = r[2 * k + side], o = r[2 * k + 1 - side];
+        if (v < o + TICK_OVER) /* the cheap test first: most fail it */
+            continue;
+        base = local_width(wd, m, k);
+        if (wd[k] < base + TICK_OVER || wd[k] > base + TICK_REACH)
+            continue;
+        normal_at(l, k, &nx, &ny); /* towards the line's side 0, which
+                                      is the inside when inner == 0 */
+        if ((side == 0) != (inner == 0))
+            nx = -nx, ny = -ny;
+        f[2 * k + side] = (uint8_t)thin_stroke(
+            bits, w, h, l->xy[2 * k], l->xy[2 * k + 1], nx, ny, v - 0.5);
+    }
+    for (side = 0; side < 2; side++) {
+        size_t start = m, run = 0, j;
+        for (k = 0; k < m && start == m; k++)
+            if (!f[2 * k + side])
+                start = k; /* walk the ring from a vertex off any tick */
+        for (j = 1; start < m && j <= m; j++) {
+            if (f[2 * ((start + j) % m) + side]) {
+                run++;
+                continue;
+            }
+            if (run > 0 && run <= NARROW)
+                cnt[side]++;
+            run = 0;
+        }
+    }
+}
+
+long td_ticks_mark(td_lines *ls, const uint8_t *bits, int w, int h,
                    int min_in, td_ctx *cx)
 {
-    size_t i, k, nv = 0, *start = NULL, *cnt = NULL;
-    vref *v = NULL;
-    long gw = 0, gh = 0, marked = 0;
-    double maxx = 0, maxy = 0;
+    size_t i, mx = 0;
+    long marked = 0;
+    double *r, pen = td_pen_width(ls, cx);
+    uint8_t *f;
+    if (pen < 0)
+        return TD_ENOMEM;
+    pen = fmax(pen, 1.5);
     for (i = 0; i < ls->n; i++)
-        if (ls->v[i].closed)
-            for (k = 0; k < ls->v[i].n; k++) {
-                maxx = fmax(maxx, ls->v[i].xy[2 * k]);
-                maxy = fmax(maxy, ls->v[i].xy[2 * k + 1]);
-                nv++;
-            }
-    if (nv == 0 || n == 0)
-        return 0;
-    gw = (long)(maxx / CELL) + 2;
-    gh = (long)(maxy / CELL) + 2;
-    if (!(start = td_calloc((size_t)(gw * gh) + 1, sizeof *start, cx)) ||
-        !(v = td_malloc(nv * sizeof *v, cx)) ||
-        !(cnt = td_calloc(2 * ls->n + 1, sizeof *cnt, cx))) {
-        marked = TD_ENOMEM;
-        goto done;
-    }
-    /* counting sort of the vertices by cell */
-    for (i = 0; i < ls->n; i++)
-        if (ls->v[i].closed)
-            for (k = 0; k < ls->v[i].n; k++) {
-                const double *p = ls->v[i].xy + 2 * k;
-                if (p[0] >= 0 && p[1] >= 0)
-                    start[(long)(p[1] / CELL) * gw + (long)(p[0] / CELL) +
-                          1]++;
-            }
-    for (i = 0; i < (size_t)(gw * gh); i++)
-        start[i + 1] += start[i];
-    {
-        size_t *fill = td_malloc((size_t)(gw * gh) * sizeof *fill, cx);
-        if (!fill) {
-            marked = TD_ENOMEM;
-            goto done;
-        }
-        memcpy(fill, start, (size_t)(gw * gh) * sizeof *fill);
-        for (i = 0; i < ls->n; i++)
-            if (ls->v[i].closed)
-                for (k = 0; k < ls->v[i].n; k++) {
-                    const double *p = ls->v[i].xy + 2 * k;
-                    if (p[0] >= 0 && p[1] >= 0)
-                        v[fill[(long)(p[1] / CELL) * gw + (long)(p[0] / CELL)]++] =
-                            (vref){(uint32_t)i, (uint32_t)k};
-                }
-        free(fill);
-    }
-    /* each spur to the nearest closed line's vertex: its side */
-    for (i = 0; i < n; i++) {
-        const td_spur_rec *r = &rec[i];
-        long cx0 = (long)(r->jx / CELL), cy0 = (long)(r->jy / CELL), gx, gy;
-        double bd = NEAR * NEAR, len = hypot(r->tx - r->jx, r->ty - r->jy);
-        const vref *best = NULL;
-        if (len < MIN_TIP || len > MAX_TIP)
-            continue;
-        for (gy = cy0 - 1; gy <= cy0 + 1; gy++)
-            for (gx = cx0 - 1; gx <= cx0 + 1; gx++) {
-                size_t a;
-                if (gx < 0 || gy < 0 || gx >= gw || gy >= gh)
-                    continue;
-                for (a = start[gy * gw + gx]; a < start[gy * gw + gx + 1];
-                     a++) {
-                    const double *p = ls->v[v[a].line].xy + 2 * v[a].k;
-                    double d = (p[0] - r->jx) * (p[0] - r->jx) +
-                               (p[1] - r->jy) * (p[1] - r->jy);
-                    if (d < bd)
-                        bd = d, best = &v[a];
-                }
-            }
-        if (best) {
-            const td_line *l = &ls->v[best->line];
-            size_t m = l->n, a = (best->k + m - 2) % m, b = (best->k + 2) % m;
-            double tx = l->xy[2 * b] - l->xy[2 * a],
-                   ty = l->xy[2 * b + 1] - l->xy[2 * a + 1];
-            double ux = r->tx - r->jx, uy = r->ty - r->jy;
-            /* side 0 (left on the screen, y down) is towards (ty, -tx) */
-            int side = ux * ty - uy * tx > 0 ? 0 : 1;
-            int inner = td_line_signed_area(l) > 0 ? 1 : 0;
-            cnt[2 * best->line + (side == inner ? 0 : 1)]++;
-        }
+        if (ls->v[i].closed && ls->v[i].n > mx)
+            mx = ls->v[i].n;
+    r = td_malloc(3 * mx * sizeof *r + 1, cx);
+    f = td_malloc(2 * mx + 1, cx);
+    if (!r || !f) {
+        free(r);
+        free(f);
+        return TD_ENOMEM;
     }
     for (i = 0; i < ls->n; i++) {
-        size_t in = cnt[2 * i], out = cnt[2 * i + 1];
-        ls->v[i].depression =
-            ls->v[i].closed && in >= (size_t)min_in && in > 2 * out;
-        marked += ls->v[i].depression;
+        td_line *l = &ls->v[i];
+        size_t c[2] = {0, 0};
+        double per = td_line_length(l);
+        double half = 2.0 * fabs(td_line_signed_area(l)) / fmax(per, 1.0);
+        l->depression = 0;
+        /* a ring too narrow inside for a tick to show (the mean
+         * half-width 2 area / perimeter) */
+        if (!l->closed || l->n < 12 || half < pen + 2.0)
+            continue;
+        profile_ticks(bits, w, h, l, r, f, c);
+        /* printed ticks come every few line widths: a long ring with a
+         * few bumps inside is noise, not a depression */
+        l->depression = c[0] >= (size_t)min_in &&
+                        (double)c[0] >= per / (TICK_SPACING * pen) &&
+                        c[0] > 2 * c[1];
+        marked += l->depression;
     }
-done:
-    free(start);
-    free(v);
-    free(cnt);
+    free(r);
+    free(f);
     return marked;
 }

@@ -100,6 +100,24 @@ static int widths(const wmask *mask, td_lines *ls, td_ctx *cx)
 }
 
 /* Contract in width.h. */
+double td_pen_width(const td_lines *ls, td_ctx *cx)
+{
+    double *v = td_malloc((ls->n + 1) * sizeof *v, cx), med = 0;
+    size_t i, n = 0;
+    if (!v)
+        return -1;
+    for (i = 0; i < ls->n; i++)
+        if (ls->v[i].width > 0 && td_line_length(&ls->v[i]) >= 30)
+            v[n++] = ls->v[i].width;
+    if (n) {
+        qsort(v, n, sizeof *v, cmp_d);
+        med = v[n / 2];
+    }
+    free(v);
+    return med;
+}
+
+/* Contract in width.h. */
 int td_line_widths(const td_grid_u8 *mask, td_lines *ls, td_ctx *cx)
 {
     wmask m = {mask->w, mask->h, mask->stride, mask->data, NULL};

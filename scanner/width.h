@@ -32,6 +32,10 @@ uint8_t *td_width_pack(const td_grid_u8 *mask, td_ctx *cx);
 int td_line_widths_packed(const uint8_t *bits, int w, int h, td_lines *ls,
                           td_ctx *cx);
 
+/* The sheet's pen: the median width of the measured lines 30 px and
+ * longer, 0 if none, -1 on TD_ENOMEM. */
+double td_pen_width(const td_lines *ls, td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

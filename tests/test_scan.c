@@ -3,6 +3,7 @@
  * traced line following two contours, closed/open/edge flags right, breaks
  * of 1-4 px bridged (each contour in one piece). */
 #include "tests/tt.h"
+#include "tests/util/hsheet.h"
 #include "tests/util/match.h"
 #include "samples/gen/gen.h"
 #include "scanner/scan.h"
@@ -249,6 +250,74 @@ static void test_depression_ticks(void)
     td_image_free(im);
 }
 
+/* Depression ticks on a sheet drawn from a real DEM (Front Range x10,
+ * scanned): of its 14 SRTM pits, 5 are wide enough for the generator's
+ * ticks (mean half-width >= the pen + 3 px); at least 3 are read, every
+ * ring read is a pit, and the same sheet without ticks has none read. */
+static void test_ticks_real_dem(void)
+{
+    td_grid_f32 *src = NULL;
+    int t;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    TT_CHECKF(td_hsheet_load_dem("tests/data/dems/frontrange_srtm3.tif", &src,
+                                 &cx) == 0,
+              "%s", td_errmsg(&cx));
+    if (!src)
+        return;
+    for (t = 0; t < 2; t++) {
+        td_gen_params gp = td_gen_defaults();
+        td_scan_params sp = td_scan_defaults();
+        td_image *im = NULL;
+        td_lines *truth = NULL;
+        td_scan_result res;
+        size_t i, k, j, q, marked = 0, right = 0;
+        gp.terrain = TD_GEN_DEM;
+        gp.dem_in = src;
+        gp.w = src->w * 10;
+        gp.h = src->h * 10;
+        td_hsheet_defects(&gp, 1);
+        gp.hachures = t;
+        TT_CHECKF(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0, "%s",
+                  td_errmsg(&cx));
+        if (!im)
+            break;
+        TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
+        for (i = 0; res.lines && i < res.lines->n; i++) {
+            const td_line *l = &res.lines->v[i];
+            double best = 1e30;
+            int pit = 0;
+            if (!l->depression)
+                continue;
+            marked++;
+            /* the true line nearest to the ring's vertices */
+            for (j = 0; j < truth->n; j++)
+                for (q = 0; q < truth->v[j].n; q++)
+                    for (k = 0; k < l->n; k += 4) {
+                        double dx = truth->v[j].xy[2 * q] - l->xy[2 * k];
+                        double dy =
+                            truth->v[j].xy[2 * q + 1] - l->xy[2 * k + 1];
+                        if (dx * dx + dy * dy < best)
+                            best = dx * dx + dy * dy,
+                            pit = truth->v[j].depression;
+                    }
+            right += pit;
+        }
+        if (t == 0)
+            TT_CHECKF(marked == 0, "%zu rings read as pits without ticks",
+                      marked);
+        else
+            TT_CHECKF(marked >= 3 && right == marked,
+                      "%zu rings read as pits, %zu of them pits", marked,
+                      right);
+        if (res.lines)
+            td_scan_result_free(&res);
+        td_lines_free(truth);
+        td_image_free(im);
+    }
+    td_grid_f32_free(src);
+}
+
 /* A blank sheet is an error, not an empty result. */
 static void test_blank(void)
 {
@@ -274,6 +343,7 @@ int main(void)
     TT_RUN(test_brown);
     TT_RUN(test_blob_ring);
     TT_RUN(test_depression_ticks);
+    TT_RUN(test_ticks_real_dem);
     TT_RUN(test_blank);
     return tt_summary();
 }

@@ -63,9 +63,10 @@ int main(int argc, char **argv)
             a++; /* make bench's common options */
     }
     printf("%-11s %-7s %-13s %6s %6s %6s  %5s %5s %5s %5s %5s  %5s %6s "
-           "%5s %9s %5s\n",
+           "%5s %9s %5s %5s\n",
            "sheet", "scan", "hints", "lines", "acc", "null", "known", "solvd",
-           "assum", "none", "sure!", "confl", "secs", "own", "labels", "intvl");
+           "assum", "none", "sure!", "confl", "secs", "own", "labels", "intvl",
+           "sure");
     for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         const sheet_case *k = &cases[c];
         td_grid_f32 *src = NULL;
@@ -123,7 +124,7 @@ int main(int argc, char **argv)
                     continue;
                 }
                 printf("%-11s %-7s %-13s %6zu %6.3f %6.3f  %5zu %5zu %5zu "
-                       "%5zu %5ld  %5zu %6.2f %5.3f %4zu/%-4zu %5g\n",
+                       "%5zu %5ld  %5zu %6.2f %5.3f %4zu/%-4zu %5g %5.3f\n",
                        k->name, scan_name[scanned], hint_name[hint], hs.traced,
                        hs.score.accuracy,
                        hs.score.null_len / (hs.score.right + hs.score.wrong +
@@ -135,7 +136,10 @@ int main(int argc, char **argv)
                        hs.score.n_wrong_sure, hs.rep.conflicts, hs.label_secs,
                        hs.score.own / (hs.score.right + hs.score.wrong +
                                        hs.score.null_len + 1e-9),
-                       hs.reads_right, hs.nreads, hs.interval);
+                       hs.reads_right, hs.nreads, hs.interval,
+                       hs.score.right_sure /
+                           (hs.score.right + hs.score.wrong +
+                            hs.score.null_len + 1e-9));
                 if (logit && hs.rep.text)
                     printf("%s\n", hs.rep.text);
                 fflush(stdout);

@@ -563,6 +563,8 @@ int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
             verdict[i] = off > same + other ? 3 : !l->has_height ? 2
                          : same >= other    ? 0
                                             : 1;
+        if (l->has_height && l->confidence >= 0.9)
+            r->right_sure += same;
         if (l->has_height && l->confidence >= 0.9 && other > same) {
             r->n_wrong_sure++;
             r->wrong_sure_len += other;

@@ -85,6 +85,7 @@ typedef struct td_hscore {
     double right, wrong, null_len, off, accuracy;
     long n_lines, n_wrong_sure;
     double wrong_sure_len;
+    double right_sure; /* right length on lines with confidence >= 0.9 */
     double own; /* traced length near the line's own (majority) truth line:
                    own / (right + wrong + null) is the share of traced length
                    that stays on its own contour (the scanner's merges) */
