@@ -55,6 +55,7 @@ typedef struct sheet {
     double x0, y0, x1, y1, res;
     int epsg;
     char *beside;  /* the neighbours the seams step took, or NULL */
+    size_t *nb, nnb; /* the sheets it shares an edge with (find_neighbours) */
 } sheet;
 
 typedef struct bt_opts {
@@ -249,7 +250,7 @@ static void free_sheets(sheet *v, size_t n)
     size_t i;
     for (i = 0; i < n; i++)
         free(v[i].path), free(v[i].opts), free(v[i].stem), free(v[i].dir),
-            free(v[i].seeded), free(v[i].beside);
+            free(v[i].seeded), free(v[i].beside), free(v[i].nb);
     free(v);
 }
 
@@ -517,6 +518,89 @@ static int beside(const sheet *a, const sheet *b)
     return ox > tol && oy > tol ? -1 : 1;
 }
 
+static int cmp_size(const void *pa, const void *pb)
+{
+    size_t a = *(const size_t *)pa, b = *(const size_t *)pb;
+    return (a > b) - (a < b);
+}
+
+typedef struct xkey {
+    double x;
+    size_t i;
+} xkey;
+
+static int cmp_xkey(const void *pa, const void *pb)
+{
+    const xkey *a = pa, *b = pb;
+    return (a->x > b->x) - (a->x < b->x);
+}
+
+/* The placed sheets' neighbours (s->nb: those sharing an edge or a
+ * corner), by a sweep along x (linear in the sheets for a grid of them,
+ * not quadratic).  Sheets that overlap instead are named in lg and left
+ * unplaced (out of the joint steps).  0, or -1 out of memory. */
+static int find_neighbours(sheet *v, size_t n, FILE *lg)
+{
+    xkey *ord = malloc((n + 1) * sizeof *ord);
+    size_t m = 0, a, b, np = 0, cap = 0, i, *pr = NULL;
+    double tol = 0;
+    int rc = -1;
+    if (!ord)
+        return -1;
+    for (i = 0; i < n; i++) {
+        free(v[i].nb), v[i].nb = NULL, v[i].nnb = 0;
+        if (v[i].ok && v[i].placed) {
+            ord[m].x = v[i].x0, ord[m++].i = i;
+            tol = fmax(tol, EDGE_TOL * v[i].res);
+        }
+    }
+    qsort(ord, m, sizeof *ord, cmp_xkey);
+    for (a = 0; a < m; a++)
+        for (b = a + 1; b < m && ord[b].x <= v[ord[a].i].x1 + tol; b++) {
+            sheet *p = &v[ord[a].i], *q = &v[ord[b].i];
+            int r = beside(p, q);
+            if (r == -1) {
+                fputs("{\"sheet\": ", lg);
+                json_str(lg, p->path);
+                fputs(", \"step\": \"edges\", \"warning\": \"overlaps ", lg);
+                td_cli_json_str(lg, q->path, SIZE_MAX);
+                fputs(" instead of sharing an edge: neither takes part in "
+                      "the joint steps\"}\n", lg);
+                p->stage = q->stage = -1; /* marked */
+            } else if (r == 1) {
+                if (np == cap) {
+                    size_t *t = realloc(pr, 2 * (cap = 2 * cap + 64) *
+                                                sizeof *pr);
+                    if (!t)
+                        goto done;
+                    pr = t;
+                }
+                pr[2 * np] = ord[a].i, pr[2 * np++ + 1] = ord[b].i;
+            }
+        }
+    for (i = 0; i < n; i++) /* overlapping sheets are left as they are */
+        if (v[i].stage == -1)
+            v[i].placed = 0, v[i].stage = 0;
+    for (i = 0; i < 2 * np; i++) /* count, then fill */
+        if (v[pr[i]].placed && v[pr[i ^ 1]].placed)
+            v[pr[i]].nnb++;
+    for (i = 0; i < n; i++)
+        if (v[i].nnb && !(v[i].nb = malloc(v[i].nnb * sizeof *v[i].nb)))
+            goto done;
+    for (i = 0; i < n; i++)
+        v[i].nnb = 0;
+    for (i = 0; i < 2 * np; i++)
+        if (v[pr[i]].placed && v[pr[i ^ 1]].placed)
+            v[pr[i]].nb[v[pr[i]].nnb++] = pr[i ^ 1];
+    for (i = 0; i < n; i++) /* in manifest order */
+        if (v[i].nnb > 1)
+            qsort(v[i].nb, v[i].nnb, sizeof *v[i].nb, cmp_size);
+    rc = 0;
+done:
+    free(ord), free(pr);
+    return rc;
+}
+
 /* Appends "--NAME VALUE" pairs of s's options that interp knows (the
  * interpolation options) to av from ac; returns the new ac. */
 static int interp_opts(char *opts, char **av, int ac)
@@ -544,7 +628,7 @@ static int interp_opts(char *opts, char **av, int ac)
 }
 
 /* interp of sheet s with its neighbours' lines into its dem.tif. */
-static pid_t start_seam(const char *exe, sheet *s, const sheet *v, size_t n,
+static pid_t start_seam(const char *exe, sheet *s, const sheet *v,
                         const bt_opts *o)
 {
     char *av[MAX_ARGS], buf[4096], mg[32], *paths[MAX_ARGS];
@@ -560,18 +644,16 @@ static pid_t start_seam(const char *exe, sheet *s, const sheet *v, size_t n,
     av[ac++] = (char *)exe, av[ac++] = "interp", av[ac++] = lines;
     av[ac++] = "--like", av[ac++] = s->path, av[ac++] = "-o", av[ac++] = dem;
     av[ac++] = "-q", av[ac++] = "--margin", av[ac++] = mg;
-    for (i = 0; o->seams && i < n && ac < 200; i++)
-        if (&v[i] != s && v[i].ok && beside(s, &v[i]) == 1 &&
-            (paths[np] = join(v[i].dir, "lines.geojson")) != NULL) {
+    for (i = 0; o->seams && i < s->nnb && ac < 200; i++)
+        if ((paths[np] = join(v[s->nb[i]].dir, "lines.geojson")) != NULL) {
             av[ac++] = "--beside", av[ac++] = paths[np++];
-            bl += strlen(v[i].stem) + 2;
+            bl += strlen(v[s->nb[i]].stem) + 2;
         }
     free(s->beside);
     if ((s->beside = calloc(1, bl + 1)) != NULL)
-        for (i = 0; o->seams && i < n; i++)
-            if (&v[i] != s && v[i].ok && beside(s, &v[i]) == 1)
-                sprintf(s->beside + strlen(s->beside), "%s%s",
-                        *s->beside ? ", " : "", v[i].stem);
+        for (i = 0; o->seams && i < np; i++)
+            sprintf(s->beside + strlen(s->beside), "%s%s",
+                    *s->beside ? ", " : "", v[s->nb[i]].stem);
     ac = interp_opts(buf, av, ac);
     av[ac] = NULL;
     pid = spawn(av, log);
@@ -683,7 +765,7 @@ static void run_all(const char *exe, sheet *v, size_t n, const bt_opts *o,
                 continue;
             }
             if (mkdir_p(s->dir) != 0 ||
-                (s->pid = s->stage ? start_seam(exe, s, v, n, o)
+                (s->pid = s->stage ? start_seam(exe, s, v, o)
                                    : start(exe, s)) < 0) {
                 s->state = 2, done++;
                 if (s->stage)
@@ -990,14 +1072,14 @@ static void match_edges(FILE *lg, const sheet *v, size_t n, int quiet)
 {
     endpt **E = calloc(n + 1, sizeof *E);
     long *ne = calloc(n + 1, sizeof *ne);
-    size_t i, j, edges = 0, cross = 0, conf = 0;
+    size_t i, j, k, edges = 0, cross = 0, conf = 0;
     if (!E || !ne)
         goto done;
     for (i = 0; i < n; i++)
         ne[i] = v[i].ok && v[i].placed ? edge_ends(&v[i], &E[i]) : -1;
     for (i = 0; i < n; i++)
-        for (j = i + 1; ne[i] >= 0 && j < n; j++)
-            if (ne[j] >= 0 && beside(&v[i], &v[j]) == 1) {
+        for (k = 0; ne[i] >= 0 && k < v[i].nnb; k++)
+            if ((j = v[i].nb[k]) > i && ne[j] >= 0) {
                 match_edge(lg, &v[i], E[i], ne[i], &v[j], E[j], ne[j], &cross,
                            &conf);
                 edges++;
@@ -1075,10 +1157,13 @@ done:
     return rc;
 }
 
-/* Label the placed sheets again as one; their lines.geojson rewritten.
- * Returns 1 when it did. */
-static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole)
+/* Label the placed sheets sel[0..nsel) again as one; their lines.geojson
+ * rewritten.  Returns 1 when it did, 2 when it also cut their DEMs from
+ * one interpolation (whole). */
+static int joint_block(sheet *v, const size_t *sel, size_t nsel, FILE *lg,
+                       int quiet, int whole, long block)
 {
+    size_t n = nsel;
     td_series_sheet *ss = calloc(n + 1, sizeof *ss);
     td_georef *g = calloc(n + 1, sizeof *g);
     size_t *idx = calloc(n + 1, sizeof *idx), m = 0, i, k, changed = 0,
@@ -1093,29 +1178,30 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole)
     memset(&rep, 0, sizeof rep);
     if (!ss || !g || !idx)
         goto done;
-    for (i = 0; i < n; i++) {
-        char *lp_ = v[i].ok && v[i].placed ? own_lines(&v[i]) : NULL;
+    for (k = 0; k < n; k++) {
+        size_t si = sel[k];
+        char *lp_ = v[si].ok && v[si].placed ? own_lines(&v[si]) : NULL;
         td_georef_init(&g[m]);
-        if (v[i].ok && v[i].placed && lp_ &&
-            td_image_info(v[i].path, &w, &h, &ch, &g[m], &cx) == 0 &&
+        if (v[si].ok && v[si].placed && lp_ &&
+            td_image_info(v[si].path, &w, &h, &ch, &g[m], &cx) == 0 &&
             td_vector_read_lines(lp_, &g[m], &ss[m].lines, NULL, NULL,
                                  &cx) == 0) {
-            if (m > 0 && (fabs(v[i].res - res) > 1e-9 * res ||
-                          v[i].epsg != v[idx[0]].epsg))
+            if (m > 0 && (fabs(v[si].res - res) > 1e-9 * res ||
+                          v[si].epsg != v[idx[0]].epsg))
                 why = "the sheets differ in cell size or CRS";
-            res = v[i].res;
-            x0 = fmin(x0, v[i].x0), y1 = fmax(y1, v[i].y1);
+            res = v[si].res;
+            x0 = fmin(x0, v[si].x0), y1 = fmax(y1, v[si].y1);
             ss[m].w = w, ss[m].h = h;
-            ss[m].evidence = !v[i].seeded;
-            iv = v[i].seeded ? 0 : interval_of(&v[i]);
+            ss[m].evidence = !v[si].seeded;
+            iv = v[si].seeded ? 0 : interval_of(&v[si]);
             if (!(lp.interval > 0))
                 lp.interval = iv;
             else if (iv > 0 && iv != lp.interval)
                 why = "the sheets were labelled at different intervals";
-            if (!lp.index_every && !v[i].seeded)
-                lp.index_every = index_of(&v[i]);
+            if (!lp.index_every && !v[si].seeded)
+                lp.index_every = index_of(&v[si]);
             lines += ss[m].lines->n;
-            idx[m++] = i;
+            idx[m++] = si;
         } else {
             td_georef_clear(&g[m]);
             cx.msg[0] = 0, cx.code = 0;
@@ -1157,15 +1243,18 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole)
             "\"lines\": %zu, \"changed\": %zu, \"labelled\": %zu, "
             "\"dems\": \"%s\"", ok ? "ok" : "skipped", m, lines, changed,
             rep.labelled, ok == 2 ? "one interpolation" : "each sheet");
+    if (block >= 0)
+        fprintf(lg, ", \"block\": %ld", block);
     if (why) {
         fputs(", \"why\": ", lg);
         json_str(lg, why);
     }
     fputs("}\n", lg);
     fflush(lg);
-    if (!quiet && ok)
-        fprintf(stderr, "batch: the %zu sheets labelled as one: %zu of %zu "
-                "lines changed height\n", m, changed, lines);
+    if (!quiet && ok && m >= 2)
+        fprintf(stderr, "batch: the %zu sheets%s labelled as one: %zu of %zu "
+                "lines changed height\n", m, block >= 0 ? " of a block" : "",
+                changed, lines);
     else if (!quiet)
         fprintf(stderr, "batch: the sheets keep their own heights (%s)\n",
                 why);
@@ -1178,6 +1267,84 @@ done:
     return ok;
 }
 
+/* The joint solve holds the whole series' raster: a series larger than
+ * this many cells is solved in blocks of about this size (sheets by their
+ * centres), each block as one; the edge matching then reports what
+ * differs across the blocks' edges. */
+#define JOINT_CELLS 1e8
+
+typedef struct bkey {
+    size_t block, sheet;
+} bkey;
+
+static int cmp_bkey(const void *pa, const void *pb)
+{
+    const bkey *a = pa, *b = pb;
+    if (a->block != b->block)
+        return a->block < b->block ? -1 : 1;
+    return (a->sheet > b->sheet) - (a->sheet < b->sheet);
+}
+
+/* The joint solve of the placed sheets, in one piece or in blocks.
+ * Returns what joint_block does (2 only for one piece). */
+static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole)
+{
+    double X0 = INFINITY, Y1 = -INFINITY, X1 = -INFINITY, Y0 = INFINITY,
+           res = 0, side;
+    size_t i, m = 0, *sel = NULL, a, b, nb = 0;
+    bkey *key = NULL;
+    int ok = 0, r;
+    for (i = 0; i < n; i++)
+        if (v[i].ok && v[i].placed) {
+            X0 = fmin(X0, v[i].x0), X1 = fmax(X1, v[i].x1);
+            Y0 = fmin(Y0, v[i].y0), Y1 = fmax(Y1, v[i].y1);
+            res = fmax(res, v[i].res);
+            m++;
+        }
+    if (m < 2 || !(res > 0))
+        return 0;
+    if ((X1 - X0) / res * ((Y1 - Y0) / res) <= JOINT_CELLS) {
+        if (!(sel = malloc(m * sizeof *sel)))
+            return 0;
+        for (i = 0, m = 0; i < n; i++)
+            if (v[i].ok && v[i].placed)
+                sel[m++] = i;
+        ok = joint_block(v, sel, m, lg, quiet, whole, -1);
+        free(sel);
+        return ok;
+    }
+    side = sqrt(JOINT_CELLS) * res;
+    sel = malloc(m * sizeof *sel), key = malloc(m * sizeof *key);
+    if (!sel || !key) {
+        free(sel), free(key);
+        return 0;
+    }
+    for (i = 0, m = 0; i < n; i++)
+        if (v[i].ok && v[i].placed) {
+            size_t bx = (size_t)((0.5 * (v[i].x0 + v[i].x1) - X0) / side);
+            size_t by = (size_t)((Y1 - 0.5 * (v[i].y0 + v[i].y1)) / side);
+            key[m].block = by * (size_t)((X1 - X0) / side + 2) + bx;
+            key[m++].sheet = i;
+        }
+    qsort(key, m, sizeof *key, cmp_bkey); /* by block, then manifest order */
+    for (i = 0; i < m; i++)
+        sel[i] = key[i].sheet;
+    for (a = 0; a < m; a = b, nb++) {
+        for (b = a; b < m && key[b].block == key[a].block; b++)
+            ;
+        r = b - a >= 2 ? joint_block(v, sel + a, b - a, lg, quiet, 0,
+                                     (long)nb)
+                       : 0;
+        ok |= r ? 1 : 0;
+    }
+    if (!quiet)
+        fprintf(stderr, "batch: the series (%.3g cells) was labelled in %zu "
+                "blocks of up to %.3g cells\n",
+                (X1 - X0) / res * ((Y1 - Y0) / res), nb, JOINT_CELLS);
+    free(sel), free(key);
+    return ok;
+}
+
 /* After the runs: the joint solve (o->joint), the edge matching, and each
  * sheet interpolated again (with its neighbours' lines beside it when
  * o->seams; every sheet the joint solve relabelled); overlapping sheets
@@ -1185,31 +1352,20 @@ done:
 static void seams(const char *exe, sheet *v, size_t n, const bt_opts *o,
                   FILE *lg)
 {
-    size_t i, j, any = 0;
+    size_t i, any = 0;
     int relabelled;
     for (i = 0; i < n; i++)
         if (v[i].ok)
             place_sheet(&v[i]);
-    for (i = 0; i < n; i++)
-        for (j = i + 1; v[i].ok && j < n; j++)
-            if (v[j].ok && beside(&v[i], &v[j]) == -1) {
-                fputs("{\"sheet\": ", lg);
-                json_str(lg, v[i].path);
-                fputs(", \"step\": \"edges\", \"warning\": \"overlaps ", lg);
-                td_cli_json_str(lg, v[j].path, SIZE_MAX);
-                fputs(" instead of sharing an edge: neither takes part in "
-                      "the joint steps\"}\n", lg);
-                v[i].stage = v[j].stage = -1; /* marked */
-            }
-    for (i = 0; i < n; i++) /* overlapping sheets are left as they are */
-        if (v[i].stage == -1)
-            v[i].placed = 0, v[i].stage = 0;
+    if (find_neighbours(v, n, lg) != 0) {
+        fputs("{\"step\": \"edges\", \"error\": \"out of memory\"}\n", lg);
+        for (i = 0; i < n; i++)
+            v[i].placed = 0;
+    }
     relabelled = o->joint ? joint(v, n, lg, o->quiet, o->seams) : 0;
     match_edges(lg, v, n, o->quiet);
     for (i = 0; i < n; i++) {
-        int has = 0;
-        for (j = 0; o->seams && v[i].ok && j < n; j++)
-            has |= j != i && v[j].ok && beside(&v[i], &v[j]) == 1;
+        int has = o->seams && v[i].ok && v[i].nnb > 0;
         v[i].stage = 1;
         v[i].state = relabelled != 2 && (has || (relabelled && v[i].ok &&
                                                  v[i].placed)) ? 0 : 2;
