@@ -94,6 +94,11 @@ cross=$(grep '"edge"' "$T/s2/batch.log" | sed 's/.*"crossings": \([0-9]*\).*/\1/
 conf=$(grep '"edge"' "$T/s2/batch.log" | sed 's/.*"conflicting": \([0-9]*\).*/\1/' | awk '{ s += $1 } END { print s + 0 }')
 check "edge matching: 11 neighbour pairs, $cross contour crossings paired (> 80), $conf with two heights (<= 1)" \
   "[ \$(grep -c '\"edge\": \\[\"t' '$T/s2/batch.log') = 11 ] && [ $cross -gt 80 ] && [ $conf -le 1 ]"
+"$TD" batch "$T/s.csv" --out "$T/s6" --jobs 2 --neighbours --joint-cells 2e6 -q
+"$TD" mosaic "$T"/s6/*/dem.tif -o "$T/series6.tif" -q
+rmse6=$("$TD" compare "$T/series6.tif" "$T/truth.tif" | awk '$1 == "rmse" { print $2 }')
+check "--joint-cells: the series solved in 2 blocks (4 and 2 sheets), the mosaic RMSE $rmse6 m within 5 % of the whole sheet's" \
+  "[ \$(grep '\"step\": \"joint\", \"status\": \"ok\"' '$T/s6/batch.log' | grep -c '\"block\"') = 2 ] && grep -q '\"sheets\": 4,.*\"block\"' '$T/s6/batch.log' && awk -v r='$rmse6' -v w='$whole' 'BEGIN { exit !(r > 0 && r <= 1.05 * w) }'"
 cp "$T/s2/t11/dem.tif" "$T/t11_first.tif"
 "$TD" batch "$T/s.csv" --out "$T/s2" --jobs 2 --neighbours --resume -q
 check "--resume on a series: the runs skipped, the joint solve from the same lines, the same DEMs" \

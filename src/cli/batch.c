@@ -62,6 +62,7 @@ typedef struct bt_opts {
     const char *manifest, *out;
     int jobs, resume, emit, quiet, neighbours, seams, margin, joint;
     int joint_only;
+    double joint_cells; /* the joint solve in blocks of up to this */
 } bt_opts;
 
 static int parse_args(int argc, char **argv, bt_opts *o)
@@ -91,6 +92,10 @@ static int parse_args(int argc, char **argv, bt_opts *o)
          .help = "keep each sheet's DEM as its own run made it\n(default: "
          "georeferenced sheets are\ninterpolated again with the lines of "
          "the\nsheets beside them, so the DEMs meet at the\nshared edges)"},
+        {"joint-cells", 0, TD_OPT_DOUBLE, &o->joint_cells, 1e4, 1e10,
+         .meta = "N", .help = "the joint solve holds the series' raster:\n"
+         "a larger series is solved in blocks of\nabout N cells, each as one "
+         "(default 1e8,\nabout 2.5 GB)"},
         {"margin", 0, TD_OPT_INT, &o->margin, 1, 65536, .meta = "PX",
          .help = "seams: how far beyond its edges a sheet sees\nits "
          "neighbours' lines"},
@@ -1267,12 +1272,6 @@ done:
     return ok;
 }
 
-/* The joint solve holds the whole series' raster: a series larger than
- * this many cells is solved in blocks of about this size (sheets by their
- * centres), each block as one; the edge matching then reports what
- * differs across the blocks' edges. */
-#define JOINT_CELLS 1e8
-
 typedef struct bkey {
     size_t block, sheet;
 } bkey;
@@ -1285,9 +1284,13 @@ static int cmp_bkey(const void *pa, const void *pb)
     return (a->sheet > b->sheet) - (a->sheet < b->sheet);
 }
 
-/* The joint solve of the placed sheets, in one piece or in blocks.
+/* The joint solve of the placed sheets, in one piece or, for a series
+ * larger than `cells` cells (the solve holds the whole series' raster), in
+ * blocks of about that size (sheets by their centres), each block as one;
+ * the edge matching then reports what differs across the blocks' edges.
  * Returns what joint_block does (2 only for one piece). */
-static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole)
+static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole,
+                 double cells)
 {
     double X0 = INFINITY, Y1 = -INFINITY, X1 = -INFINITY, Y0 = INFINITY,
            res = 0, side;
@@ -1303,7 +1306,7 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole)
         }
     if (m < 2 || !(res > 0))
         return 0;
-    if ((X1 - X0) / res * ((Y1 - Y0) / res) <= JOINT_CELLS) {
+    if ((X1 - X0) / res * ((Y1 - Y0) / res) <= cells) {
         if (!(sel = malloc(m * sizeof *sel)))
             return 0;
         for (i = 0, m = 0; i < n; i++)
@@ -1313,7 +1316,7 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole)
         free(sel);
         return ok;
     }
-    side = sqrt(JOINT_CELLS) * res;
+    side = sqrt(cells) * res;
     sel = malloc(m * sizeof *sel), key = malloc(m * sizeof *key);
     if (!sel || !key) {
         free(sel), free(key);
@@ -1340,7 +1343,7 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole)
     if (!quiet)
         fprintf(stderr, "batch: the series (%.3g cells) was labelled in %zu "
                 "blocks of up to %.3g cells\n",
-                (X1 - X0) / res * ((Y1 - Y0) / res), nb, JOINT_CELLS);
+                (X1 - X0) / res * ((Y1 - Y0) / res), nb, cells);
     free(sel), free(key);
     return ok;
 }
@@ -1362,7 +1365,8 @@ static void seams(const char *exe, sheet *v, size_t n, const bt_opts *o,
         for (i = 0; i < n; i++)
             v[i].placed = 0;
     }
-    relabelled = o->joint ? joint(v, n, lg, o->quiet, o->seams) : 0;
+    relabelled =
+        o->joint ? joint(v, n, lg, o->quiet, o->seams, o->joint_cells) : 0;
     match_edges(lg, v, n, o->quiet);
     for (i = 0; i < n; i++) {
         int has = o->seams && v[i].ok && v[i].nnb > 0;
@@ -1380,7 +1384,7 @@ static void seams(const char *exe, sheet *v, size_t n, const bt_opts *o,
 /* The joint step's command line (after the per-sheet jobs). */
 static void joint_line(FILE *f, const char *exe, const bt_opts *o)
 {
-    char mg[32];
+    char mg[64];
     sh_word(f, exe);
     fputs(" batch --joint-only ", f);
     sh_word(f, o->manifest);
@@ -1392,6 +1396,10 @@ static void joint_line(FILE *f, const char *exe, const bt_opts *o)
         fputs(" --no-seams", f);
     if (o->margin != 256) {
         snprintf(mg, sizeof mg, " --margin %d", o->margin);
+        fputs(mg, f);
+    }
+    if (o->joint_cells != 1e8) {
+        snprintf(mg, sizeof mg, " --joint-cells %.17g", o->joint_cells);
         fputs(mg, f);
     }
 }
@@ -1468,6 +1476,7 @@ int td_cmd_batch(int argc, char **argv)
     o.seams = 1;
     o.joint = 1;
     o.margin = 256;
+    o.joint_cells = 1e8;
     if ((rc = parse_args(argc, argv, &o)) != 0)
         return rc == 2 ? 0 : 1;
     if ((el = readlink("/proc/self/exe", exe, sizeof exe - 1)) <= 0)
@@ -1506,8 +1515,8 @@ int td_cmd_batch(int argc, char **argv)
         run_all(exe, v, n, &o, lg);
     if (o.neighbours && !o.joint_only)
         seed_passes(exe, v, n, &o, lg);
-    if (o.seams || o.joint)
-        seams(exe, v, n, &o, lg);
+    seams(exe, v, n, &o, lg); /* the edge matching always; the joint solve
+                                 and the seams unless turned off */
     for (i = 0; i < n; i++)
         failed += !v[i].ok;
     if (!o.quiet)
