@@ -85,6 +85,17 @@ cov=$("$TD" compare "$T/series.tif" "$T/truth.tif" | awk '$1 == "coverage" { pri
 whole=$("$TD" compare "$T/whole.tif" "$T/truth.tif" | awk '$1 == "rmse" { print $2 }')
 check "the series' mosaic against the true DEM: RMSE $rmse m, within 5 % of the whole sheet run as one ($whole m); coverage $cov (> 0.998: the seams fill the edges)" \
   "awk -v r='$rmse' -v w='$whole' -v c='$cov' 'BEGIN { exit !(r > 0 && r <= 1.05 * w && c > 0.998) }'"
+gdal_translate -q -of AAIGrid "$T/series.tif" "$T/series.asc"
+steps=$(awk 'NR > 6 { r = NR - 7; for (c = 1; c <= NF; c++) {
+    if (c > 1 && (c - 1) % 800 == 0) { e += ($c > p[c-1] ? $c - p[c-1] : p[c-1] - $c); ne++ }
+    else if (c > 1 && (c - 1) % 800 == 400) { i += ($c > p[c-1] ? $c - p[c-1] : p[c-1] - $c); ni++ }
+    if (r > 0 && r % 720 == 0) { e += ($c > q[c] ? $c - q[c] : q[c] - $c); ne++ }
+    else if (r > 0 && r % 720 == 360) { i += ($c > q[c] ? $c - q[c] : q[c] - $c); ni++ }
+    p[c] = $c }
+  for (c = 1; c <= NF; c++) q[c] = $c }
+  END { printf "%.3f %.3f", e / ne, i / ni }' "$T/series.asc")
+check "the steps across the sheet edges no larger than inside a sheet (mean |step| across, inside: $steps m)" \
+  "echo $steps | awk '{ exit !(\$1 > 0 && \$1 <= \$2) }'"
 check "the joint solve: the six sheets labelled as one, their DEMs cut from one interpolation" \
   "grep '\"step\": \"joint\", \"status\": \"ok\", \"sheets\": 6' '$T/s2/batch.log' | grep -q '\"dems\": \"one interpolation\"'"
 "$TD" batch "$T/s.csv" --out "$T/s5" --jobs 2 --neighbours --no-joint -q

@@ -27,6 +27,7 @@ typedef struct sr {
     size_t *owner;   /* the joined line (of T) each went into */
     double *mid;     /* a point on each line as it came (x, y) */
     const td_series_sheet *v;
+    int same_height; /* join only pieces of one height */
 } sr;
 
 
@@ -92,8 +93,11 @@ static int join_edges(sr *R, td_lines *T, td_ctx *cx)
         if (l->closed || l->n < 2)
             continue;
         for (e = 0; e < 2; e++) {
-            size_t k = e ? l->n - 1 : 0, q = e ? (l->n > 6 ? l->n - 6 : 0)
-                                               : (l->n > 6 ? 5 : l->n - 1);
+            /* the way out from 5 vertices in, or from the middle of a
+             * shorter piece (from its other end, a contour's tip poking
+             * across the edge would point along the edge) */
+            size_t in = l->n > 11 ? 5 : (l->n - 1) / 2;
+            size_t k = e ? l->n - 1 : 0, q = e ? l->n - 1 - in : in;
             double dx = l->xy[2 * k] - l->xy[2 * q],
                    dy = l->xy[2 * k + 1] - l->xy[2 * q + 1], d = hypot(dx, dy);
             if (!on_edge(R, i, &l->xy[2 * k]))
@@ -108,7 +112,9 @@ static int join_edges(sr *R, td_lines *T, td_ctx *cx)
             double dx = E[j].x - E[i].x, dy = E[j].y - E[i].y;
             double d = hypot(dx, dy), dot = E[i].dx * E[j].dx + E[i].dy * E[j].dy;
             if (R->sheet[E[i].i] == R->sheet[E[j].i] || d > JOIN_ALONG ||
-                dot > -0.5)
+                dot > -0.5 ||
+                (R->same_height &&
+                 R->S->v[E[i].i].height != R->S->v[E[j].i].height))
                 continue;
             if (np == cap) {
                 lpair *nv = realloc(P, (cap ? 2 * cap : 64) * sizeof *P);
@@ -165,6 +171,52 @@ done:
     return rc;
 }
 
+static void sr_free(sr *R)
+{
+    td_lines_free(R->S);
+    free(R->sheet), free(R->line), free(R->owner), free(R->mid);
+    memset(R, 0, sizeof *R);
+}
+
+/* Every sheet's lines (with a height only, when `heights`) into R->S in
+ * the series frame.  0 or TD_ENOMEM (R then freed). */
+static int gather(sr *R, const td_series_sheet *v, size_t n, int heights,
+                  td_ctx *cx)
+{
+    size_t s, i, k, N = 0;
+    memset(R, 0, sizeof *R);
+    R->v = v;
+    R->same_height = heights;
+    for (s = 0; s < n; s++)
+        N += v[s].lines ? v[s].lines->n : 0;
+    if (!(R->S = td_lines_new(cx)) ||
+        !(R->sheet = td_malloc((N + 1) * sizeof *R->sheet, cx)) ||
+        !(R->line = td_malloc((N + 1) * sizeof *R->line, cx)) ||
+        !(R->owner = td_malloc((N + 1) * sizeof *R->owner, cx)) ||
+        !(R->mid = td_malloc((2 * N + 1) * sizeof *R->mid, cx)))
+        goto fail;
+    for (s = 0; s < n; s++)
+        for (i = 0; v[s].lines && i < v[s].lines->n; i++) {
+            td_line *c;
+            size_t j = R->S->n;
+            if (heights && !v[s].lines->v[i].has_height)
+                continue;
+            if (td_lines_append_copy(R->S, &v[s].lines->v[i], cx) != 0)
+                goto fail;
+            c = &R->S->v[j];
+            for (k = 0; k < c->n; k++)
+                c->xy[2 * k] += v[s].ox, c->xy[2 * k + 1] += v[s].oy;
+            k = c->n / 2;
+            R->mid[2 * j] = c->n ? c->xy[2 * k] : 0;
+            R->mid[2 * j + 1] = c->n ? c->xy[2 * k + 1] : 0;
+            R->sheet[j] = s, R->line[j] = i, R->owner[j] = j;
+        }
+    return 0;
+fail:
+    sr_free(R);
+    return TD_ENOMEM;
+}
+
 /* See pipeline.h. */
 int td_series_label(td_series_sheet *v, size_t n, const td_label_params *p,
                     td_label_report *rep, td_ctx *cx)
@@ -172,39 +224,22 @@ int td_series_label(td_series_sheet *v, size_t n, const td_label_params *p,
     sr R;
     td_lines *T = NULL;
     td_ocr_read *rd = NULL;
-    size_t i, k, s, N = 0, nr = 0;
+    size_t i, s, N = 0, nr = 0;
     double W = 0, H = 0;
     td_label_params lp = *p;
     int rc = TD_ENOMEM;
     memset(&R, 0, sizeof R);
-    R.v = v;
     for (s = 0; s < n; s++) {
         N += v[s].lines ? v[s].lines->n : 0;
         W = fmax(W, v[s].ox + v[s].w), H = fmax(H, v[s].oy + v[s].h);
     }
-    if (!(R.S = td_lines_new(cx)) || !(T = td_lines_new(cx)) ||
-        !(R.sheet = td_malloc((N + 1) * sizeof *R.sheet, cx)) ||
-        !(R.line = td_malloc((N + 1) * sizeof *R.line, cx)) ||
-        !(R.owner = td_malloc((N + 1) * sizeof *R.owner, cx)) ||
-        !(R.mid = td_malloc((2 * N + 1) * sizeof *R.mid, cx)) ||
-        !(rd = td_calloc(N + 1, sizeof *rd, cx)))
+    if (!(T = td_lines_new(cx)) ||
+        !(rd = td_calloc(N + 1, sizeof *rd, cx)) ||
+        (rc = gather(&R, v, n, 0, cx)) != 0 ||
+        (rc = join_edges(&R, T, cx)) != 0) {
+        rc = rc ? rc : TD_ENOMEM;
         goto done;
-    for (s = 0; s < n; s++)
-        for (i = 0; v[s].lines && i < v[s].lines->n; i++) {
-            td_line *c;
-            size_t j = R.S->n;
-            if (td_lines_append_copy(R.S, &v[s].lines->v[i], cx) != 0)
-                goto done;
-            c = &R.S->v[j];
-            for (k = 0; k < c->n; k++)
-                c->xy[2 * k] += v[s].ox, c->xy[2 * k + 1] += v[s].oy;
-            k = c->n / 2;
-            R.mid[2 * j] = c->n ? c->xy[2 * k] : 0;
-            R.mid[2 * j + 1] = c->n ? c->xy[2 * k + 1] : 0;
-            R.sheet[j] = s, R.line[j] = i, R.owner[j] = j;
-        }
-    if ((rc = join_edges(&R, T, cx)) != 0)
-        goto done;
+    }
     for (i = 0; i < T->n; i++) { /* the joined lines, without heights */
         td_line *c = &T->v[i];
         c->id = (long)i;
@@ -244,9 +279,8 @@ int td_series_label(td_series_sheet *v, size_t n, const td_label_params *p,
     }
     rc = 0;
 done:
-    td_lines_free(R.S);
+    sr_free(&R);
     td_lines_free(T);
-    free(R.sheet), free(R.line), free(R.owner), free(R.mid);
     free(rd);
     return rc;
 }
@@ -258,9 +292,11 @@ int td_series_interp(const td_series_sheet *v, size_t n,
 {
     td_lines *all = NULL;
     td_grid_f32 *big = NULL;
+    sr R;
     double W = 0, H = 0;
-    size_t s, i, k;
+    size_t s;
     int rc = TD_ENOMEM, y;
+    memset(&R, 0, sizeof R);
     for (s = 0; s < n; s++) {
         dems[s] = NULL;
         if (v[s].ox != floor(v[s].ox) || v[s].oy != floor(v[s].oy))
@@ -271,19 +307,14 @@ int td_series_interp(const td_series_sheet *v, size_t n,
         return td_seterr(cx, TD_EINVAL, "one DEM cell per pixel only");
     if ((rc = td_check_dims((int)W, (int)H, "the series", cx)) != 0)
         return rc;
-    if (!(all = td_lines_new(cx)))
-        return TD_ENOMEM;
-    for (s = 0; s < n; s++)
-        for (i = 0; i < v[s].lines->n; i++) {
-            td_line *c;
-            if (!v[s].lines->v[i].has_height)
-                continue;
-            if ((rc = td_lines_append_copy(all, &v[s].lines->v[i], cx)) != 0)
-                goto done;
-            c = &all->v[all->n - 1];
-            for (k = 0; k < c->n; k++)
-                c->xy[2 * k] += v[s].ox, c->xy[2 * k + 1] += v[s].oy;
-        }
+    /* the pieces of a contour an edge cuts joined again (when their
+     * heights agree): one line across the edge, not two ends a pixel or
+     * more apart on either side of it */
+    if (!(all = td_lines_new(cx)) || (rc = gather(&R, v, n, 1, cx)) != 0 ||
+        (rc = join_edges(&R, all, cx)) != 0) {
+        rc = rc ? rc : TD_ENOMEM;
+        goto done;
+    }
     if ((rc = td_interp_lines(all, (int)W, (int)H, ip, &big, cx)) != 0)
         goto done;
     for (s = 0; s < n; s++) {
@@ -304,5 +335,6 @@ done:
             td_grid_f32_free(dems[s]), dems[s] = NULL;
     td_grid_f32_free(big);
     td_lines_free(all);
+    sr_free(&R);
     return rc;
 }
