@@ -124,6 +124,11 @@ fi
 "$TD" batch "$T/s.csv" --out "$T/s4" --jobs 2 -q
 check "the emitted jobs, then batch --joint-only: the DEMs batch makes itself" \
   "grep -q '\"step\": \"joint\", \"status\": \"ok\"' '$T/spar/batch.log' && cmp -s '$T/spar/t00/dem.tif' '$T/s4/t00/dem.tif' && cmp -s '$T/spar/t10/dem.tif' '$T/s4/t10/dem.tif'"
+(cd "$T" && "$TDA" batch --emit parallel s.csv --out snb --neighbours >snjobs.txt)
+(cd "$T" && sh snjobs.txt >/dev/null 2>&1)
+(cd "$T" && "$TDA" batch --joint-only s.csv --out snb --neighbours -q)
+check "--emit with --neighbours: the jobs tolerate the sheets that cannot start, the joint step seeds and runs them: the DEMs of batch --neighbours" \
+  "grep -q '|| :\$' '$T/snjobs.txt' && [ \$(grep -c '\"heights_from\"' '$T/snb/batch.log') = 3 ] && cmp -s '$T/snb/t11/dem.tif' '$T/s2/t11/dem.tif' && cmp -s '$T/snb/t00/dem.tif' '$T/s2/t00/dem.tif'"
 (cd "$T" && "$TDA" batch --emit make s.csv --out smk >s.mk)
 check "--emit make: the joint step after every sheet" \
   "grep -q 'smk/joint.done: smk/t00/dem.tif' '$T/s.mk' && grep -q 'batch --joint-only s.csv --out smk' '$T/s.mk' && (cd '$T' && make -n -f s.mk >/dev/null 2>&1)"

@@ -314,7 +314,8 @@ static void sh_word(FILE *f, const char *w)
 }
 
 /* The shell line of one sheet: mkdir, run, the log; the hash last. */
-static int emit_line(FILE *f, const char *exe, const sheet *s, const char *dir)
+static int emit_line(FILE *f, const char *exe, const sheet *s, const char *dir,
+                     int tolerate)
 {
     char *av[MAX_ARGS], buf[4096], *dem = join(dir, "dem.tif"),
          *lines = join(dir, "lines.geojson"), *sum = join(dir, "summary.json"),
@@ -334,7 +335,9 @@ static int emit_line(FILE *f, const char *exe, const sheet *s, const char *dir)
     }
     fputs("> ", f); /* the log, on the same line: one job, one line */
     sh_word(f, log);
-    fputs(" 2>&1\n", f);
+    /* --neighbours: a sheet that cannot start is the joint step's to
+     * seed and run, not a failed job that stops make */
+    fputs(tolerate ? " 2>&1 || :\n" : " 2>&1\n", f);
 done:
     free(dem), free(lines), free(sum), free(dbg), free(log);
     return rc;
@@ -1394,6 +1397,8 @@ static void joint_line(FILE *f, const char *exe, const bt_opts *o)
         fputs(" --no-joint", f);
     if (!o->seams)
         fputs(" --no-seams", f);
+    if (o->neighbours)
+        fputs(" --neighbours", f);
     if (o->margin != 256) {
         snprintf(mg, sizeof mg, " --margin %d", o->margin);
         fputs(mg, f);
@@ -1449,7 +1454,7 @@ static int emit(const char *exe, sheet *v, size_t n, const bt_opts *o)
         } else if (o->emit == 3) {
             printf("%zu) ", i + 1);
         }
-        if (emit_line(stdout, exe, &v[i], v[i].dir) != 0) {
+        if (emit_line(stdout, exe, &v[i], v[i].dir, o->neighbours) != 0) {
             free(stamp);
             return td_cli_failf("batch", "%s: too many options", v[i].path);
         }
@@ -1513,7 +1518,7 @@ int td_cmd_batch(int argc, char **argv)
         }
     else
         run_all(exe, v, n, &o, lg);
-    if (o.neighbours && !o.joint_only)
+    if (o.neighbours) /* also after emitted jobs: the joint step seeds */
         seed_passes(exe, v, n, &o, lg);
     seams(exe, v, n, &o, lg); /* the edge matching always; the joint solve
                                  and the seams unless turned off */
