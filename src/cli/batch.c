@@ -14,12 +14,14 @@
  * the sheet's bytes, its options and this program's version) is unchanged.
  * The exit code is 0 when every sheet succeeded.
  *
- * After the runs, for georeferenced sheets that share edges: the joint
- * solve (td_series_label: every sheet's lines labelled again as one, the
- * contours the edges cut joined; --no-joint), the edge matching (each
- * contour's heights on both sides of an edge compared, in batch.log), and
- * each sheet interpolated again with its neighbours' lines beside it
- * (topodig interp --beside; --no-seams). */
+ * After the runs, for georeferenced sheets that share edges (found once,
+ * by a sweep along x): the joint solve (td_series_label: every sheet's
+ * lines labelled again as one, the contours the edges cut joined; in
+ * blocks of about --joint-cells cells for a larger series; --no-joint),
+ * the edge matching (each contour's heights on both sides of an edge
+ * compared, in batch.log), and the DEMs cut from one interpolation of the
+ * series (td_series_interp) or each sheet interpolated again with its
+ * neighbours' lines beside it (topodig interp --beside; --no-seams). */
 #include "src/cli/cli.h"
 
 #include "src/io/io.h"
