@@ -1169,9 +1169,10 @@ done:
 
 /* Label the placed sheets sel[0..nsel) again as one; their lines.geojson
  * rewritten.  Returns 1 when it did, 2 when it also cut their DEMs from
- * one interpolation (whole). */
+ * one interpolation (whole).  With solve 0, only that interpolation, of
+ * the lines as they are (the blocks labelled before). */
 static int joint_block(sheet *v, const size_t *sel, size_t nsel, FILE *lg,
-                       int quiet, int whole, long block)
+                       int quiet, int whole, long block, int solve)
 {
     size_t n = nsel;
     td_series_sheet *ss = calloc(n + 1, sizeof *ss);
@@ -1190,7 +1191,9 @@ static int joint_block(sheet *v, const size_t *sel, size_t nsel, FILE *lg,
         goto done;
     for (k = 0; k < n; k++) {
         size_t si = sel[k];
-        char *lp_ = v[si].ok && v[si].placed ? own_lines(&v[si]) : NULL;
+        char *lp_ = !(v[si].ok && v[si].placed) ? NULL
+                    : solve ? own_lines(&v[si])
+                            : join(v[si].dir, "lines.geojson");
         td_georef_init(&g[m]);
         if (v[si].ok && v[si].placed && lp_ &&
             td_image_info(v[si].path, &w, &h, &ch, &g[m], &cx) == 0 &&
@@ -1233,6 +1236,15 @@ static int joint_block(sheet *v, const size_t *sel, size_t nsel, FILE *lg,
         ss[i].oy = (y1 - v[idx[i]].y1) / res;
     }
     lp.index_auto = 1;
+    if (!solve) {
+        ok = !why && whole_dems(v, idx, ss, g, m, lp.interval) == 0 ? 2 : 0;
+        fprintf(lg, "{\"step\": \"dems\", \"status\": \"%s\", "
+                "\"sheets\": %zu, \"dems\": \"%s\"}\n",
+                ok ? "ok" : "skipped", m,
+                ok ? "one interpolation" : "each sheet");
+        fflush(lg);
+        goto done;
+    }
     if (!why && td_series_label(ss, m, &lp, &rep, &cx) != 0)
         why = cx.msg;
     for (i = 0, lines = 0; !why && i < m; i++) {
@@ -1317,7 +1329,7 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole,
         for (i = 0, m = 0; i < n; i++)
             if (v[i].ok && v[i].placed)
                 sel[m++] = i;
-        ok = joint_block(v, sel, m, lg, quiet, whole, -1);
+        ok = joint_block(v, sel, m, lg, quiet, whole, -1, 1);
         free(sel);
         return ok;
     }
@@ -1341,10 +1353,14 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole,
         for (b = a; b < m && key[b].block == key[a].block; b++)
             ;
         r = b - a >= 2 ? joint_block(v, sel + a, b - a, lg, quiet, 0,
-                                     (long)nb)
+                                     (long)nb, 1)
                        : 0;
         ok |= r ? 1 : 0;
     }
+    /* the DEMs still from one interpolation of the whole series when it
+     * fits (whole_dems' limit), the blocks' heights as they came */
+    if (whole && ok && joint_block(v, sel, m, lg, quiet, 1, -1, 0) == 2)
+        ok = 2;
     if (!quiet)
         fprintf(stderr, "batch: the series (%.3g cells) was labelled in %zu "
                 "blocks of up to %.3g cells\n",
