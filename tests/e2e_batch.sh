@@ -110,6 +110,20 @@ check "edge matching: 11 neighbour pairs, $cross contour crossings paired (> 80)
 rmse6=$("$TD" compare "$T/series6.tif" "$T/truth.tif" | awk '$1 == "rmse" { print $2 }')
 check "--joint-cells: the series solved in 2 blocks (4 and 2 sheets), the DEMs from one interpolation after them, the mosaic RMSE $rmse6 m within 5 % of the whole sheet's" \
   "[ \$(grep '\"step\": \"joint\", \"status\": \"ok\"' '$T/s6/batch.log' | grep -c '\"block\"') = 2 ] && grep -q '\"sheets\": 4,.*\"block\"' '$T/s6/batch.log' && grep -q '\"step\": \"dems\", \"status\": \"ok\", \"sheets\": 6' '$T/s6/batch.log' && awk -v r='$rmse6' -v w='$whole' 'BEGIN { exit !(r > 0 && r <= 1.05 * w) }'"
+"$TD" batch "$T/s.csv" --out "$T/s7" --jobs 1 --neighbours -q &
+bp=$!
+k=0
+while [ $k -lt 600 ]; do
+  n=$(grep -c '"status": "ok"' "$T/s7/batch.log" 2>/dev/null)
+  [ "${n:-0}" -ge 2 ] && break
+  sleep 0.1; k=$((k + 1))
+done
+kill $bp; wait $bp; krc=$?
+check "batch killed after two sheets (SIGTERM): exit 143, the running sheet logged as interrupted, no run left behind" \
+  "[ $krc = 143 ] && grep -q '\"status\": \"interrupted\"' '$T/s7/batch.log' && ! grep -asl 's7/[t]' /proc/[0-9]*/cmdline >/dev/null"
+"$TD" batch "$T/s.csv" --out "$T/s7" --jobs 1 --neighbours --resume -q
+check "then --resume: the finished sheets skipped, the same DEMs as a run never stopped" \
+  "[ \$(grep -c '\"status\": \"skipped\"' '$T/s7/batch.log') -ge 2 ] && cmp -s '$T/s7/t11/dem.tif' '$T/s2/t11/dem.tif' && cmp -s '$T/s7/t00/dem.tif' '$T/s2/t00/dem.tif' && cmp -s '$T/s7/t12/dem.tif' '$T/s2/t12/dem.tif'"
 cp "$T/s2/t11/dem.tif" "$T/t11_first.tif"
 "$TD" batch "$T/s.csv" --out "$T/s2" --jobs 2 --neighbours --resume -q
 check "--resume on a series: the runs skipped, the joint solve from the same lines, the same DEMs" \

@@ -32,6 +32,7 @@
 #include <fcntl.h>
 #include <limits.h>
 #include <math.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -757,14 +758,44 @@ static void seeded_mark(sheet *s, int write)
 }
 
 /* Run the waiting sheets, jobs at a time. */
+/* SIGINT or SIGTERM: the running sheets are stopped, nothing new starts,
+ * and batch exits 128 + the signal (--resume goes on from there). */
+static volatile sig_atomic_t bt_stop;
+
+static void on_signal(int sig)
+{
+    bt_stop = sig;
+}
+
+/* Stop the running sheets (a signal came): each is killed, waited for and
+ * logged as interrupted; its outputs, written atomically, are the last
+ * whole ones or none. */
+static void stop_all(sheet *v, size_t n, FILE *lg)
+{
+    size_t i;
+    for (i = 0; i < n; i++)
+        if (v[i].state == 1)
+            kill(v[i].pid, SIGTERM);
+    for (i = 0; i < n; i++)
+        if (v[i].state == 1) {
+            int status;
+            while (waitpid(v[i].pid, &status, 0) < 0 && errno == EINTR)
+                ;
+            v[i].state = 2, v[i].ok = 0;
+            if (!v[i].stage)
+                log_sheet(lg, &v[i], "interrupted", td_now() - v[i].t0, -1);
+        }
+    fflush(lg);
+}
+
 static void run_all(const char *exe, sheet *v, size_t n, const bt_opts *o,
                     FILE *lg)
 {
     size_t next = 0, running = 0, i, total = 0, done = 0;
     for (i = 0; i < n; i++)
         total += v[i].state == 0;
-    while (done < total) {
-        while (running < (size_t)o->jobs && next < n) {
+    while (done < total && !bt_stop) {
+        while (running < (size_t)o->jobs && next < n && !bt_stop) {
             sheet *s = &v[next++];
             if (s->state != 0)
                 continue;
@@ -789,6 +820,8 @@ static void run_all(const char *exe, sheet *v, size_t n, const bt_opts *o,
         if (running > 0) {
             int status;
             pid_t pid = wait(&status);
+            if (pid < 0 && bt_stop)
+                break;
             for (i = 0; pid > 0 && i < n; i++)
                 if (v[i].state == 1 && v[i].pid == pid) {
                     int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128;
@@ -814,6 +847,8 @@ static void run_all(const char *exe, sheet *v, size_t n, const bt_opts *o,
             break;
         }
     }
+    if (bt_stop)
+        stop_all(v, n, lg);
 }
 
 /* ---- heights from the neighbours (a first step of edge matching) ----
@@ -968,7 +1003,7 @@ static void seed_passes(const char *exe, sheet *v, size_t n,
 {
     int pass, more = 1;
     size_t i;
-    for (pass = 0; pass < 8 && more; pass++) {
+    for (pass = 0; pass < 8 && more && !bt_stop; pass++) {
         more = 0;
         for (i = 0; i < n; i++)
             if (!v[i].ok && !v[i].seeded && v[i].state == 2 &&
@@ -1525,6 +1560,14 @@ int td_cmd_batch(int argc, char **argv)
                           strerror(errno));
         goto done;
     }
+    {
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_signal; /* no SA_RESTART: wait() returns */
+        sigemptyset(&sa.sa_mask);
+        sigaction(SIGINT, &sa, NULL);
+        sigaction(SIGTERM, &sa, NULL);
+    }
     if (o.joint_only) /* the sheets whose run left its outputs */
         for (i = 0; i < n; i++) {
             char *d = join(v[i].dir, "dem.tif"), *l = join(v[i].dir,
@@ -1536,10 +1579,19 @@ int td_cmd_batch(int argc, char **argv)
         }
     else
         run_all(exe, v, n, &o, lg);
-    if (o.neighbours) /* also after emitted jobs: the joint step seeds */
+    if (o.neighbours && !bt_stop) /* also after emitted jobs: the joint
+                                     step seeds */
         seed_passes(exe, v, n, &o, lg);
-    seams(exe, v, n, &o, lg); /* the edge matching always; the joint solve
-                                 and the seams unless turned off */
+    if (!bt_stop)
+        seams(exe, v, n, &o, lg); /* the edge matching always; the joint
+                                     solve and the seams unless turned off */
+    if (bt_stop) {
+        if (!o.quiet)
+            fprintf(stderr, "batch: interrupted; --resume goes on from "
+                    "here\n");
+        rc = 128 + (int)bt_stop;
+        goto done;
+    }
     for (i = 0; i < n; i++)
         failed += !v[i].ok;
     if (!o.quiet)
@@ -1551,5 +1603,5 @@ done:
         fclose(lg);
     free(logp);
     free_sheets(v, n);
-    return rc ? 1 : 0;
+    return bt_stop ? 128 + (int)bt_stop : rc ? 1 : 0;
 }
