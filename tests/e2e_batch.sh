@@ -157,6 +157,11 @@ printf 'sheet,options\nt00.tif,--interval 50 --known 300,300,2700\no1.tif,--inte
 "$TD" batch "$T/ov.csv" --out "$T/ov" -q
 check "two sheets that overlap: said in the log, not used for each other" \
   "grep -q 'overlaps .*o1.tif instead of sharing an edge' '$T/ov/batch.log' && ! grep -q '\"step\": \"\\(seams\\|interp\\|joint\\)\"' '$T/ov/batch.log'"
+gdal_translate -q -a_srs EPSG:32613 "$T/t10.tif" "$T/c10.tif"
+printf 'sheet,options\nt00.tif,\nc10.tif,\n' >"$T/crs.csv"
+"$TD" batch "$T/crs.csv" --out "$T/crs" -q
+check "two sheets in different CRSs: both run, a line in the log names both, not matched with each other" \
+  "[ \$? = 0 ] && grep -q 'in a CRS without an EPSG code, .*c10.tif in EPSG:32613: not matched' '$T/crs/batch.log' && ! grep -q '\"edge\": ' '$T/crs/batch.log'"
 "$TD" interp "$T/s2/t00/lines.geojson" --like "$T/elk6.png" --beside "$T/s2/t01/lines.geojson" -o "$T/x.tif" 2>"$T/err"
 check "interp --beside on a sheet without georeferencing: one error naming it" \
   "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'elk6.png: not georeferenced' '$T/err' && [ ! -e '$T/x.tif' ]"

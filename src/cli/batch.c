@@ -546,6 +546,14 @@ static int cmp_xkey(const void *pa, const void *pb)
     return (a->x > b->x) - (a->x < b->x);
 }
 
+static void crs_name(FILE *f, int epsg)
+{
+    if (epsg > 0)
+        fprintf(f, "EPSG:%d", epsg);
+    else
+        fputs("a CRS without an EPSG code", f);
+}
+
 /* The placed sheets' neighbours (s->nb: those sharing an edge or a
  * corner), by a sweep along x (linear in the sheets for a grid of them,
  * not quadratic).  Sheets that overlap instead are named in lg and left
@@ -570,6 +578,24 @@ static int find_neighbours(sheet *v, size_t n, FILE *lg)
         for (b = a + 1; b < m && ord[b].x <= v[ord[a].i].x1 + tol; b++) {
             sheet *p = &v[ord[a].i], *q = &v[ord[b].i];
             int r = beside(p, q);
+            if (r == 0 && p->epsg != q->epsg) {
+                int pe = p->epsg, qe = q->epsg;
+                p->epsg = qe; /* where they would meet in one CRS */
+                r = beside(p, q);
+                p->epsg = pe;
+                if (r != 0) {
+                    fputs("{\"sheet\": ", lg);
+                    json_str(lg, p->path);
+                    fputs(", \"step\": \"edges\", \"warning\": \"in ", lg);
+                    crs_name(lg, pe);
+                    fputs(", ", lg);
+                    td_cli_json_str(lg, q->path, SIZE_MAX);
+                    fputs(" in ", lg);
+                    crs_name(lg, qe);
+                    fputs(": not matched with each other\"}\n", lg);
+                }
+                continue;
+            }
             if (r == -1) {
                 fputs("{\"sheet\": ", lg);
                 json_str(lg, p->path);
