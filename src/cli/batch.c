@@ -98,7 +98,7 @@ static int parse_args(int argc, char **argv, bt_opts *o)
         {"joint-cells", 0, TD_OPT_DOUBLE, &o->joint_cells, 1e4, 1e10,
          .meta = "N", .help = "the joint solve holds the series' raster:\n"
          "a larger series is solved in blocks of\nabout N cells, each as one "
-         "(default 1e8,\nabout 2.5 GB)"},
+         "(default 1e8:\nabout 1.7 GB)"},
         {"margin", 0, TD_OPT_INT, &o->margin, 1, 65536, .meta = "PX",
          .help = "seams: how far beyond its edges a sheet sees\nits "
          "neighbours' lines"},
