@@ -162,6 +162,10 @@ printf 'sheet,options\nt00.tif,\nc10.tif,\n' >"$T/crs.csv"
 "$TD" batch "$T/crs.csv" --out "$T/crs" -q
 check "two sheets in different CRSs: both run, a line in the log names both, not matched with each other" \
   "[ \$? = 0 ] && grep -q 'in a CRS without an EPSG code, .*c10.tif in EPSG:32613: not matched' '$T/crs/batch.log' && ! grep -q '\"edge\": ' '$T/crs/batch.log'"
+printf 'sheet,options\nnope.tif,\nt00.tif,--bogus-opt 3\nt02.tif,\n' >"$T/bad.csv"
+"$TD" batch "$T/bad.csv" --out "$T/bad" --no-joint --no-seams -q
+check "a missing sheet and a line with a bad option: each a failed line naming it, the good sheet done, exit 1" \
+  "[ \$? = 1 ] && grep -q 'nope.tif: cannot open' '$T/bad/batch.log' && grep -q \"bad or incomplete option '--bogus-opt'\" '$T/bad/batch.log' && grep 't02.tif' '$T/bad/batch.log' | grep -q '\"status\": \"ok\"'"
 "$TD" interp "$T/s2/t00/lines.geojson" --like "$T/elk6.png" --beside "$T/s2/t01/lines.geojson" -o "$T/x.tif" 2>"$T/err"
 check "interp --beside on a sheet without georeferencing: one error naming it" \
   "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q 'elk6.png: not georeferenced' '$T/err' && [ ! -e '$T/x.tif' ]"
