@@ -117,22 +117,14 @@ static void test_probes_parallel(void)
 static td_grid_f32 *dem_sheet(td_hsheet *hs, const char *dem, double scale,
                               int scanned, int font)
 {
-    char path[256];
-    td_grid_f32 *src = NULL;
+    td_grid_f32 *src;
     td_ctx cx;
     td_ctx_init(&cx);
     memset(hs, 0, sizeof *hs);
-    snprintf(path, sizeof path, "tests/data/dems/%s", dem);
-    TT_CHECKF(td_hsheet_load_dem(path, &src, &cx) == 0, "%s", td_errmsg(&cx));
+    src = td_hsheet_dem_sheet(dem, scale, &hs->gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
     if (!src)
         return NULL;
-    hs->gp = td_gen_defaults();
-    hs->gp.terrain = TD_GEN_DEM;
-    hs->gp.dem_in = src;
-    hs->gp.w = (int)(src->w * scale);
-    hs->gp.h = (int)(src->h * scale);
-    hs->gp.line_width = 1.8;
-    hs->gp.index_width = 3.2;
     if (scanned) {
         hs->gp.blur = 0.8, hs->gp.noise = 8, hs->gp.specks = 200;
         hs->gp.breaks = 30, hs->gp.break_min = 3, hs->gp.break_max = 10;

@@ -103,21 +103,11 @@ static void test_two_inks(void)
  * load. */
 static td_grid_f32 *front_range(td_gen_params *gp, int scale)
 {
-    td_grid_f32 *src = NULL;
     td_ctx cx;
+    td_grid_f32 *src;
     td_ctx_init(&cx);
-    TT_CHECKF(td_hsheet_load_dem("tests/data/dems/frontrange_srtm3.tif", &src,
-                                 &cx) == 0,
-              "%s", td_errmsg(&cx));
-    if (!src)
-        return NULL;
-    *gp = td_gen_defaults();
-    gp->terrain = TD_GEN_DEM;
-    gp->dem_in = src;
-    gp->w = src->w * scale;
-    gp->h = src->h * scale;
-    gp->line_width = 1.8;
-    gp->index_width = 3.2;
+    src = td_hsheet_dem_sheet("frontrange_srtm3.tif", scale, gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
     return src;
 }
 

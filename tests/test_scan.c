@@ -256,26 +256,22 @@ static void test_depression_ticks(void)
  * ring read is a pit, and the same sheet without ticks has none read. */
 static void test_ticks_real_dem(void)
 {
-    td_grid_f32 *src = NULL;
+    td_gen_params g0;
+    td_grid_f32 *src;
     int t;
     td_ctx cx;
     td_ctx_init(&cx);
-    TT_CHECKF(td_hsheet_load_dem("tests/data/dems/frontrange_srtm3.tif", &src,
-                                 &cx) == 0,
-              "%s", td_errmsg(&cx));
+    src = td_hsheet_dem_sheet("frontrange_srtm3.tif", 10, &g0, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
     if (!src)
         return;
     for (t = 0; t < 2; t++) {
-        td_gen_params gp = td_gen_defaults();
+        td_gen_params gp = g0;
         td_scan_params sp = td_scan_defaults();
         td_image *im = NULL;
         td_lines *truth = NULL;
         td_scan_result res;
         size_t i, k, j, q, marked = 0, right = 0;
-        gp.terrain = TD_GEN_DEM;
-        gp.dem_in = src;
-        gp.w = src->w * 10;
-        gp.h = src->h * 10;
         td_hsheet_defects(&gp, 1);
         gp.hachures = t;
         TT_CHECKF(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0, "%s",

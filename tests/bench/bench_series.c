@@ -116,7 +116,7 @@ done:
  * (kB, 0 when /usr/bin/time is missing) in *rss. */
 static double timed(const char *cmd, const char *base, long *rss)
 {
-    char full[8192], path[1024];
+    char full[20000], path[1024];
     FILE *f;
     double t0, t;
     int st;
@@ -154,6 +154,27 @@ static long sum_field(const char *path, const char *tag, const char *key)
     return s;
 }
 
+/* `batch --joint-only EXTRA` on the series in base, timed; one line. */
+static void step(const char *base, const char *td, const char *extra,
+                 const char *what)
+{
+    char cmd[8192], path[1024];
+    long rss;
+    double t;
+    snprintf(cmd, sizeof cmd,
+             "cd '%s' && '%s' batch manifest.csv --out out --joint-only %s "
+             "-q 2>/dev/null",
+             base, td, extra);
+    t = timed(cmd, base, &rss);
+    snprintf(path, sizeof path, "%s/out/batch.log", base);
+    printf("%-40s %7.2f s %7.0f MB  %ld crossings paired, %ld with two "
+           "heights, %ld lines changed height\n",
+           what, t, rss / 1024.0,
+           sum_field(path, "\"edge\"", "\"crossings\": "),
+           sum_field(path, "\"edge\"", "\"conflicting\": "),
+           sum_field(path, "\"step\": \"joint\"", "\"changed\": "));
+}
+
 int main(int argc, char **argv)
 {
     const char *td = NULL, *dir = "build-bench/data";
@@ -165,10 +186,9 @@ int main(int argc, char **argv)
     td_lines *truth = NULL, **sh = NULL;
     td_ctx cx;
     double interval, t0;
-    char path[1024], cmd[8192], base[512];
+    char path[1024], cmd[2048], base[512];
     size_t i, nsh, pieces = 0;
     FILE *man;
-    long rss;
     td_ctx_init(&cx);
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--topodig") && a + 1 < argc)
@@ -267,29 +287,8 @@ int main(int argc, char **argv)
     td_grid_f32_free(tiny);
     td_grid_u8_free(paper);
     free(sh);
-    snprintf(cmd, sizeof cmd,
-             "cd '%s' && '%s' batch manifest.csv --out out --joint-only "
-             "--no-joint --no-seams -q 2>/dev/null",
-             base, tdabs);
-    {
-        double t = timed(cmd, base, &rss);
-        snprintf(path, sizeof path, "%s/out/batch.log", base);
-        printf("%-46s %7.2f s %7.0f MB  %ld crossings paired, %ld with two "
-               "heights\n",
-               "placing + neighbours + edge matching", t, rss / 1024.0,
-               sum_field(path, "\"edge\"", "\"crossings\": "),
-               sum_field(path, "\"edge\"", "\"conflicting\": "));
-    }
-    snprintf(cmd, sizeof cmd,
-             "cd '%s' && '%s' batch manifest.csv --out out --joint-only -q "
-             "2>/dev/null",
-             base, tdabs);
-    {
-        double t = timed(cmd, base, &rss);
-        snprintf(path, sizeof path, "%s/out/batch.log", base);
-        printf("%-46s %7.2f s %7.0f MB  %ld lines changed height\n",
-               "the joint steps (solve, edges, DEMs)", t, rss / 1024.0,
-               sum_field(path, "\"step\": \"joint\"", "\"changed\": "));
-    }
+    step(base, tdabs, "--no-joint --no-seams",
+         "placing + neighbours + edge matching");
+    step(base, tdabs, "", "the joint steps (solve, edges, DEMs)");
     return 0;
 }

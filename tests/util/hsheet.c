@@ -20,6 +20,25 @@ int td_hsheet_load_dem(const char *path, td_grid_f32 **out, td_ctx *cx)
     return rc;
 }
 
+/* Contract in hsheet.h. */
+td_grid_f32 *td_hsheet_dem_sheet(const char *dem, double scale,
+                                 td_gen_params *gp, td_ctx *cx)
+{
+    char path[256];
+    td_grid_f32 *src = NULL;
+    snprintf(path, sizeof path, "tests/data/dems/%s", dem);
+    if (td_hsheet_load_dem(path, &src, cx) != 0)
+        return NULL;
+    *gp = td_gen_defaults();
+    gp->terrain = TD_GEN_DEM;
+    gp->dem_in = src;
+    gp->w = (int)(src->w * scale);
+    gp->h = (int)(src->h * scale);
+    gp->line_width = 1.8;
+    gp->index_width = 3.2;
+    return src;
+}
+
 static int cmp_len_desc(const void *pa, const void *pb)
 {
     const double *a = pa, *b = pb;

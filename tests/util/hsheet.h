@@ -54,6 +54,13 @@ extern const char *const td_defect_names[4];
  * blue river, black lettering), 3 a printed map (tdgen --print). */
 void td_hsheet_defects(td_gen_params *p, int kind);
 
+/* *gp (td_gen_defaults) set for a sheet drawn from tests/data/dems/<dem>
+ * at scale x its size, lines 1.8 px and index lines 3.2 px (the caller
+ * adds the defects); the DEM, to free once the sheet is drawn, or NULL
+ * with the error in cx. */
+td_grid_f32 *td_hsheet_dem_sheet(const char *dem, double scale,
+                                 td_gen_params *gp, td_ctx *cx);
+
 /* Load a real DEM (../shared/dems/NAME) into *out, or return nonzero. */
 int td_hsheet_load_dem(const char *path, td_grid_f32 **out, td_ctx *cx);
 
