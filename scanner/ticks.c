@@ -12,6 +12,7 @@
 #define TICK_REACH 8.0    /* px: and at most this much */
 #define TICK_SIDE 2.0     /* px: paper either side of a tick */
 #define TICK_SPACING 40.0 /* pen widths of ring per tick, at least */
+#define ONE_SIDE 0.75     /* px: a tick widens its side this much more */
 #define NARROW 4          /* vertices: a tick is about one pen wide */
 
 static int bit_at(const uint8_t *bits, int w, int h, double x, double y)
@@ -59,15 +60,15 @@ static int thin_stroke(const uint8_t *bits, int w, int h, double x, double y,
            !bit_at(bits, w, h, px + TICK_SIDE * ny, py - TICK_SIDE * nx);
 }
 
-/* The median of the 2 WIN + 1 widths of a ring of m vertices about
- * vertex k. */
+/* The median of the 2 WIN + 1 values a[i * stride] of a ring of m
+ * vertices about vertex k. */
 #define WIN 6
-static double local_width(const double *wd, size_t m, size_t k)
+static double local_med(const double *a0, size_t stride, size_t m, size_t k)
 {
     double v[2 * WIN + 1];
     size_t j, a;
     for (j = 0; j < 2 * WIN + 1; j++) {
-        double x = wd[(k + m + j - WIN) % m];
+        double x = a0[((k + m + j - WIN) % m) * stride];
         for (a = j; a > 0 && v[a - 1] > x; a--)
             v[a] = v[a - 1];
         v[a] = x;
@@ -99,20 +100,24 @@ static void profile_ticks(const uint8_t *bits, int w, int h, const td_line *l,
     }
     memset(f, 0, 2 * m);
     for (k = 0; k < m; k++) {
-        double base, nx, ny, v, o;
-        side = r[2 * k] >= r[2 * k + 1] ? 0 : 1; /* the longer run's */
-        v = r[2 * k + side], o = r[2 * k + 1 - side];
-        if (v < o + TICK_OVER) /* the cheap test first: most fail it */
-            continue;
-        base = local_width(wd, m, k);
+        double base = local_med(wd, 1, m, k), nx, ny, e[2];
         if (wd[k] < base + TICK_OVER || wd[k] > base + TICK_REACH)
+            continue; /* the cheap test first: most fail it */
+        /* the side that widened: its run against its own runs about it
+         * (the traced centre sits off the ink's middle, more so on
+         * diagonals and where blur widens both sides) */
+        e[0] = r[2 * k] - local_med(r, 2, m, k);
+        e[1] = r[2 * k + 1] - local_med(r + 1, 2, m, k);
+        side = e[0] >= e[1] ? 0 : 1;
+        if (e[side] < ONE_SIDE + e[1 - side])
             continue;
         normal_at(l, k, &nx, &ny); /* towards the line's side 0, which
                                       is the inside when inner == 0 */
         if ((side == 0) != (inner == 0))
             nx = -nx, ny = -ny;
-        f[2 * k + side] = (uint8_t)thin_stroke(
-            bits, w, h, l->xy[2 * k], l->xy[2 * k + 1], nx, ny, v - 0.5);
+        f[2 * k + side] = (uint8_t)thin_stroke(bits, w, h, l->xy[2 * k],
+                                               l->xy[2 * k + 1], nx, ny,
+                                               r[2 * k + side] - 0.5);
     }
     for (side = 0; side < 2; side++) {
         size_t start = m, run = 0, j;
