@@ -97,8 +97,8 @@ static int parse_args(int argc, char **argv, bt_opts *o)
          "the\nsheets beside them, so the DEMs meet at the\nshared edges)"},
         {"joint-cells", 0, TD_OPT_DOUBLE, &o->joint_cells, 1e4, 1e10,
          .meta = "N", .help = "the joint solve holds the series' raster:\n"
-         "a larger series is solved in blocks of\nabout N cells, each as one "
-         "(default 1e8:\nabout 1.7 GB)"},
+         "a larger series is solved in blocks of\nabout N cells, each as one, "
+         "the solved\nsheets beside it as evidence (1e8: about\n1.7 GB)"},
         {"margin", 0, TD_OPT_INT, &o->margin, 1, 65536, .meta = "PX",
          .help = "seams: how far beyond its edges a sheet sees\nits "
          "neighbours' lines"},
@@ -1232,10 +1232,11 @@ done:
  * rewritten.  Returns 1 when it did, 2 when it also cut their DEMs from
  * one interpolation (whole).  With solve 0, only that interpolation, of
  * the lines as they are (the blocks labelled before). */
-static int joint_block(sheet *v, const size_t *sel, size_t nsel, FILE *lg,
-                       int quiet, int whole, long block, int solve)
+static int joint_block(sheet *v, const size_t *sel, size_t nsel,
+                       const size_t *ctx, size_t nctx, FILE *lg, int quiet,
+                       int whole, long block, int solve)
 {
-    size_t n = nsel;
+    size_t n = nsel + nctx, nown = 0, ctx_lines = 0;
     td_series_sheet *ss = calloc(n + 1, sizeof *ss);
     td_georef *g = calloc(n + 1, sizeof *g);
     size_t *idx = calloc(n + 1, sizeof *idx), m = 0, i, k, changed = 0,
@@ -1251,10 +1252,10 @@ static int joint_block(sheet *v, const size_t *sel, size_t nsel, FILE *lg,
     if (!ss || !g || !idx)
         goto done;
     for (k = 0; k < n; k++) {
-        size_t si = sel[k];
+        size_t si = k < nsel ? sel[k] : ctx[k - nsel];
         char *lp_ = !(v[si].ok && v[si].placed) ? NULL
-                    : solve ? own_lines(&v[si])
-                            : join(v[si].dir, "lines.geojson");
+                    : solve && k < nsel ? own_lines(&v[si])
+                                        : join(v[si].dir, "lines.geojson");
         td_georef_init(&g[m]);
         if (v[si].ok && v[si].placed && lp_ &&
             td_image_info(v[si].path, &w, &h, &ch, &g[m], &cx) == 0 &&
@@ -1266,7 +1267,8 @@ static int joint_block(sheet *v, const size_t *sel, size_t nsel, FILE *lg,
             res = v[si].res;
             x0 = fmin(x0, v[si].x0), y1 = fmax(y1, v[si].y1);
             ss[m].w = w, ss[m].h = h;
-            ss[m].evidence = !v[si].seeded;
+            ss[m].evidence = k >= nsel ? 2 : !v[si].seeded;
+            nown += k < nsel;
             iv = v[si].seeded ? 0 : interval_of(&v[si]);
             if (!(lp.interval > 0))
                 lp.interval = iv;
@@ -1282,7 +1284,7 @@ static int joint_block(sheet *v, const size_t *sel, size_t nsel, FILE *lg,
         }
         free(lp_);
     }
-    if (m < 2)
+    if (m < 2 || nown < 1)
         goto done;
     if (!why && !(lp.interval > 0))
         why = "no sheet's interval is known";
@@ -1309,7 +1311,12 @@ static int joint_block(sheet *v, const size_t *sel, size_t nsel, FILE *lg,
     if (!why && td_series_label(ss, m, &lp, &rep, &cx) != 0)
         why = cx.msg;
     for (i = 0, lines = 0; !why && i < m; i++) {
-        char *lp_ = join(v[idx[i]].dir, "lines.geojson");
+        char *lp_;
+        if (ss[i].evidence == 2) { /* a solved neighbour: left as it is */
+            lines += ss[i].lines->n, ctx_lines += ss[i].lines->n;
+            continue;
+        }
+        lp_ = join(v[idx[i]].dir, "lines.geojson");
         for (k = 0; k < ss[i].lines->n; k++, lines++) {
             const td_line *l = &ss[i].lines->v[k];
             changed += l->has_height ? !(l->height == old[lines])
@@ -1324,10 +1331,11 @@ static int joint_block(sheet *v, const size_t *sel, size_t nsel, FILE *lg,
         ok = 2; /* the DEMs cut from one interpolation */
     fprintf(lg, "{\"step\": \"joint\", \"status\": \"%s\", \"sheets\": %zu, "
             "\"lines\": %zu, \"changed\": %zu, \"labelled\": %zu, "
-            "\"dems\": \"%s\"", ok ? "ok" : "skipped", m, lines, changed,
-            rep.labelled, ok == 2 ? "one interpolation" : "each sheet");
+            "\"dems\": \"%s\"", ok ? "ok" : "skipped", nown,
+            lines - ctx_lines, changed, rep.labelled,
+            ok == 2 ? "one interpolation" : "each sheet");
     if (block >= 0)
-        fprintf(lg, ", \"block\": %ld", block);
+        fprintf(lg, ", \"block\": %ld, \"beside\": %zu", block, m - nown);
     if (why) {
         fputs(", \"why\": ", lg);
         json_str(lg, why);
@@ -1336,8 +1344,8 @@ static int joint_block(sheet *v, const size_t *sel, size_t nsel, FILE *lg,
     fflush(lg);
     if (!quiet && ok && m >= 2)
         fprintf(stderr, "batch: the %zu sheets%s labelled as one: %zu of %zu "
-                "lines changed height\n", m, block >= 0 ? " of a block" : "",
-                changed, lines);
+                "lines changed height\n", nown,
+                block >= 0 ? " of a block" : "", changed, lines - ctx_lines);
     else if (!quiet)
         fprintf(stderr, "batch: the sheets keep their own heights (%s)\n",
                 why);
@@ -1372,7 +1380,7 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole,
 {
     double X0 = INFINITY, Y1 = -INFINITY, X1 = -INFINITY, Y0 = INFINITY,
            res = 0, side;
-    size_t i, m = 0, *sel = NULL, a, b, nb = 0;
+    size_t i, m = 0, *sel = NULL, a, b, nb = 0, *ctx = NULL, *blk = NULL;
     bkey *key = NULL;
     int ok = 0, r;
     for (i = 0; i < n; i++)
@@ -1390,7 +1398,7 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole,
         for (i = 0, m = 0; i < n; i++)
             if (v[i].ok && v[i].placed)
                 sel[m++] = i;
-        ok = joint_block(v, sel, m, lg, quiet, whole, -1, 1);
+        ok = joint_block(v, sel, m, NULL, 0, lg, quiet, whole, -1, 1);
         free(sel);
         return ok;
     }
@@ -1410,17 +1418,42 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole,
     qsort(key, m, sizeof *key, cmp_bkey); /* by block, then manifest order */
     for (i = 0; i < m; i++)
         sel[i] = key[i].sheet;
+    if (!(ctx = malloc(m * sizeof *ctx)) ||
+        !(blk = malloc(n * sizeof *blk))) {
+        free(sel), free(key), free(ctx);
+        return 0;
+    }
+    for (i = 0; i < n; i++)
+        blk[i] = SIZE_MAX;
+    for (i = 0; i < m; i++)
+        blk[key[i].sheet] = key[i].block;
     for (a = 0; a < m; a = b, nb++) {
+        size_t nc = 0, q, t;
         for (b = a; b < m && key[b].block == key[a].block; b++)
             ;
-        r = b - a >= 2 ? joint_block(v, sel + a, b - a, lg, quiet, 0,
-                                     (long)nb, 1)
-                       : 0;
+        /* the sheets of blocks solved before that touch this block: their
+         * heights are evidence here, so a contour crossing the blocks'
+         * edge gets one height */
+        for (q = a; q < b; q++)
+            for (t = 0; t < v[sel[q]].nnb; t++) {
+                size_t j = v[sel[q]].nb[t], u;
+                if (blk[j] == SIZE_MAX || blk[j] >= key[a].block)
+                    continue;
+                for (u = 0; u < nc && ctx[u] != j; u++)
+                    ;
+                if (u == nc && nc < m)
+                    ctx[nc++] = j;
+            }
+        r = b - a + nc >= 2 ? joint_block(v, sel + a, b - a, ctx, nc, lg,
+                                          quiet, 0, (long)nb, 1)
+                            : 0;
         ok |= r ? 1 : 0;
     }
+    free(ctx), free(blk);
     /* the DEMs still from one interpolation of the whole series when it
      * fits (whole_dems' limit), the blocks' heights as they came */
-    if (whole && ok && joint_block(v, sel, m, lg, quiet, 1, -1, 0) == 2)
+    if (whole && ok &&
+        joint_block(v, sel, m, NULL, 0, lg, quiet, 1, -1, 0) == 2)
         ok = 2;
     if (!quiet)
         fprintf(stderr, "batch: the series (%.3g cells) was labelled in %zu "

@@ -122,7 +122,9 @@ typedef struct td_series_sheet {
     int evidence;     /* its lines labelled from a known point count as
                          evidence (0: its known points came from its
                          neighbours, batch --neighbours); those labelled
-                         from a printed label always do */
+                         from a printed label always do; 2: every line
+                         with a height (confidence >= 0.6) does (a sheet
+                         of a block solved before, beside this block) */
 } td_series_sheet;
 
 /* The heights of a series of sheets in one solve: every sheet's lines in

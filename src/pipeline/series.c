@@ -250,7 +250,7 @@ int td_series_label(td_series_sheet *v, size_t n, const td_label_params *p,
         const td_line *l = &v[R.sheet[i]].lines->v[R.line[i]];
         td_ocr_read *r = &rd[nr];
         if (!l->has_height || l->confidence < EVIDENCE_CONF ||
-            !(l->hsource == TD_HS_LABEL ||
+            !(l->hsource == TD_HS_LABEL || v[R.sheet[i]].evidence == 2 ||
               (l->hsource == TD_HS_KNOWN && v[R.sheet[i]].evidence)))
             continue;
         r->x = R.mid[2 * i], r->y = R.mid[2 * i + 1];
