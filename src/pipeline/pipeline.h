@@ -123,7 +123,7 @@ typedef struct td_series_sheet {
                          evidence (0: its known points came from its
                          neighbours, batch --neighbours); those labelled
                          from a printed label always do; 2: every line
-                         with a height (confidence >= 0.6) does (a sheet
+                         with a height does, at its confidence (a sheet
                          of a block solved before, beside this block) */
 } td_series_sheet;
 

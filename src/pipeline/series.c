@@ -249,9 +249,14 @@ int td_series_label(td_series_sheet *v, size_t n, const td_label_params *p,
     for (i = 0; i < N; i++) { /* what each sheet read: the evidence */
         const td_line *l = &v[R.sheet[i]].lines->v[R.line[i]];
         td_ocr_read *r = &rd[nr];
-        if (!l->has_height || l->confidence < EVIDENCE_CONF ||
-            !(l->hsource == TD_HS_LABEL || v[R.sheet[i]].evidence == 2 ||
-              (l->hsource == TD_HS_KNOWN && v[R.sheet[i]].evidence)))
+        /* a solved neighbour's lines all count (at their confidence):
+         * a contour crossing into this block keeps the height it has */
+        if (!l->has_height ||
+            (v[R.sheet[i]].evidence == 2 ? !(l->confidence > 0)
+                                         : l->confidence < EVIDENCE_CONF ||
+                                               !(l->hsource == TD_HS_LABEL ||
+                                                 (l->hsource == TD_HS_KNOWN &&
+                                                  v[R.sheet[i]].evidence))))
             continue;
         r->x = R.mid[2 * i], r->y = R.mid[2 * i + 1];
         r->value = l->height, r->conf = l->confidence;
