@@ -1372,9 +1372,11 @@ static int cmp_bkey(const void *pa, const void *pb)
 
 /* The joint solve of the placed sheets, in one piece or, for a series
  * larger than `cells` cells (the solve holds the whole series' raster), in
- * blocks of about that size (sheets by their centres), each block as one;
- * the edge matching then reports what differs across the blocks' edges.
- * Returns what joint_block does (2 only for one piece). */
+ * blocks of about that size (sheets by their centres), one after another,
+ * each with the solved sheets beside it as evidence; the edge matching
+ * then reports what differs across the blocks' edges.  Returns 0 when
+ * nothing was labelled again, 1 when it was, 2 when the DEMs were cut
+ * from one interpolation too. */
 static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole,
                  double cells)
 {
@@ -1382,7 +1384,7 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole,
            res = 0, side;
     size_t i, m = 0, *sel = NULL, a, b, nb = 0, *ctx = NULL, *blk = NULL;
     bkey *key = NULL;
-    int ok = 0, r;
+    int ok = 0, r, one;
     for (i = 0; i < n; i++)
         if (v[i].ok && v[i].placed) {
             X0 = fmin(X0, v[i].x0), X1 = fmax(X1, v[i].x1);
@@ -1392,17 +1394,8 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole,
         }
     if (m < 2 || !(res > 0))
         return 0;
-    if ((X1 - X0) / res * ((Y1 - Y0) / res) <= cells) {
-        if (!(sel = malloc(m * sizeof *sel)))
-            return 0;
-        for (i = 0, m = 0; i < n; i++)
-            if (v[i].ok && v[i].placed)
-                sel[m++] = i;
-        ok = joint_block(v, sel, m, NULL, 0, lg, quiet, whole, -1, 1);
-        free(sel);
-        return ok;
-    }
-    side = sqrt(cells) * res;
+    one = (X1 - X0) / res * ((Y1 - Y0) / res) <= cells; /* one block */
+    side = one ? INFINITY : sqrt(cells) * res;
     sel = malloc(m * sizeof *sel), key = malloc(m * sizeof *key);
     if (!sel || !key) {
         free(sel), free(key);
@@ -1444,18 +1437,19 @@ static int joint(sheet *v, size_t n, FILE *lg, int quiet, int whole,
                 if (u == nc && nc < m)
                     ctx[nc++] = j;
             }
-        r = b - a + nc >= 2 ? joint_block(v, sel + a, b - a, ctx, nc, lg,
-                                          quiet, 0, (long)nb, 1)
-                            : 0;
-        ok |= r ? 1 : 0;
+        r = b - a + nc >= 2
+                ? joint_block(v, sel + a, b - a, ctx, nc, lg, quiet,
+                              one && whole, one ? -1 : (long)nb, 1)
+                : 0;
+        ok = one ? r : ok | (r ? 1 : 0);
     }
     free(ctx), free(blk);
     /* the DEMs still from one interpolation of the whole series when it
      * fits (whole_dems' limit), the blocks' heights as they came */
-    if (whole && ok &&
+    if (!one && whole && ok &&
         joint_block(v, sel, m, NULL, 0, lg, quiet, 1, -1, 0) == 2)
         ok = 2;
-    if (!quiet)
+    if (!quiet && !one)
         fprintf(stderr, "batch: the series (%.3g cells) was labelled in %zu "
                 "blocks of up to %.3g cells\n",
                 (X1 - X0) / res * ((Y1 - Y0) / res), nb, cells);
