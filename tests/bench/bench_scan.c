@@ -9,14 +9,12 @@
 #include "samples/gen/gen.h"
 #include "scanner/scan.h"
 #include "src/io/io.h"
+#include "tests/util/bench.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 static double mpx(int w, int h, double s)
 {
@@ -26,32 +24,6 @@ static double mpx(int w, int h, double s)
 static void row(const char *what, int w, int h, double s)
 {
     printf("  %-28s %8.3f s  %8.1f Mpx/s\n", what, s, mpx(w, h, s));
-}
-
-/* Make (or reuse) the benchmark sheet as a Deflate TIFF. */
-static int make_sheet(const char *path, int size, td_ctx *cx)
-{
-    td_gen_params gp = td_gen_defaults();
-    td_image *im = NULL;
-    td_grid_u8 g;
-    struct stat sb;
-    int rc;
-    if (stat(path, &sb) == 0)
-        return 0;
-    gp.w = gp.h = size;
-    gp.terrain = TD_GEN_RIDGES;
-    gp.line_width = 3.0;
-    gp.seed = 7;
-    fprintf(stderr, "generating %dx%d sheet %s ...\n", size, size, path);
-    if ((rc = td_gen_sheet(&gp, &im, NULL, NULL, cx)) != 0)
-        return rc;
-    g.w = im->w;
-    g.h = im->h;
-    g.stride = im->stride;
-    g.data = im->data;
-    rc = td_geotiff_write_u8(path, &g, NULL, cx);
-    td_image_free(im);
-    return rc;
 }
 
 /* Make (or reuse) a 6000 x 6000 pair: the same sheet as a printed colour
@@ -82,23 +54,13 @@ static int make_pair(const char *colour, const char *grey, int size,
     return rc;
 }
 
-/* Run the CLI once; wall seconds and peak RSS (bytes) of the child. */
+/* Run the CLI's scan once; wall seconds and peak RSS (bytes). */
 static int run_cli(const char *exe, const char *sheet, const char *out,
                    double *secs, double *peak)
 {
-    double t0 = td_now();
-    struct rusage ru;
-    int status;
-    pid_t pid = fork();
-    if (pid == 0) {
-        execl(exe, exe, "scan", sheet, "-o", out, "--quiet", (char *)NULL);
-        _exit(127);
-    }
-    if (pid < 0 || wait4(pid, &status, 0, &ru) < 0)
-        return -1;
-    *secs = td_now() - t0;
-    *peak = (double)ru.ru_maxrss * 1024.0;
-    return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 0 : -1;
+    char *argv[] = {(char *)exe, "scan", (char *)sheet, "-o", (char *)out,
+                    "--quiet", NULL};
+    return td_bench_child(argv, NULL, secs, peak, NULL);
 }
 
 static int stages(const char *sheet, td_ctx *cx)
@@ -184,7 +146,7 @@ int main(int argc, char **argv)
     mkdir(dir, 0777);
     snprintf(sheet, sizeof sheet, "%s/ridges%d.tif", dir, size);
     snprintf(out, sizeof out, "%s/ridges%d.geojson", dir, size);
-    if (make_sheet(sheet, size, &cx) != 0) {
+    if (td_bench_ridges_sheet(sheet, size, NULL, &cx) != 0) {
         fprintf(stderr, "bench_scan: %s\n", td_errmsg(&cx));
         return 1;
     }

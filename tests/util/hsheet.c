@@ -45,9 +45,9 @@ static int cmp_len_desc(const void *pa, const void *pb)
     return (a[0] < b[0]) - (a[0] > b[0]);
 }
 
-/* Up to n known points on the longest index contours of distinct heights. */
-static int pick_known(const td_lines *tl, double interval, int n,
-                      td_label_point *kp)
+/* Contract in hsheet.h. */
+int td_hsheet_pick_known(const td_lines *tl, double interval, int n,
+                         td_label_point *kp)
 {
     double *v = malloc((tl->n + 1) * 2 * sizeof *v);
     size_t i, m = 0;
@@ -190,8 +190,8 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
     lp.w = im->w;
     lp.h = im->h;
     lp.index_every = hs->index_every;
-    lp.nknown = (size_t)pick_known(tl, hs->interval,
-                                   hs->nknown > 8 ? 8 : hs->nknown, kp);
+    lp.nknown = (size_t)td_hsheet_pick_known(
+        tl, hs->interval, hs->nknown > 8 ? 8 : hs->nknown, kp);
     lp.known = kp;
     t0 = td_now();
     rc = td_label_auto(ls, &lp, &hs->rep, cx);

@@ -33,6 +33,12 @@ typedef struct td_hsheet {
     double interval, label_secs;
 } td_hsheet;
 
+/* Up to n known points (into kp) on the longest index contours (levels
+ * a multiple of 5 intervals) of tl with distinct heights, each at its
+ * middle vertex; how many. */
+int td_hsheet_pick_known(const td_lines *tl, double interval, int n,
+                         td_label_point *kp);
+
 /* Run *hs; 0, or an error in cx.  Hints: the nknown longest index contours
  * (levels multiple of 5) with distinct heights, each at its middle
  * vertex.  log (may be NULL) gets the wrong sure lines. */

@@ -1,0 +1,22 @@
+/* bench.h: what the benchmarks share: the generated 10000 x 10000 sheet
+ * and running a child process for its time and memory. */
+#ifndef TD_TEST_BENCH_H
+#define TD_TEST_BENCH_H
+
+#include "samples/gen/gen.h"
+
+/* Make the benchmark sheet at path unless it exists: TD_GEN_RIDGES,
+ * size x size, 3-px lines, seed 7, an 8-bit Deflate TIFF.  With truth
+ * non-NULL the sheet is generated (again) and its truth lines returned
+ * (free with td_lines_free).  0, or an error in cx. */
+int td_bench_ridges_sheet(const char *path, int size, td_lines **truth,
+                          td_ctx *cx);
+
+/* Run argv[0] with argv; its stderr to err_path (NULL: /dev/null), its
+ * stdout to /dev/null.  *secs gets the wall seconds, *peak the peak
+ * resident bytes, *cpu the user + system seconds (any may be NULL).
+ * Returns 0 when it exits 0, else -1. */
+int td_bench_child(char *const argv[], const char *err_path, double *secs,
+                   double *peak, double *cpu);
+
+#endif
