@@ -11,6 +11,7 @@
 #include "scanner/scan.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -455,6 +456,40 @@ static void test_crossings(void)
     free_truth(&t);
 }
 
+/* A lattice of 30 horizontal and 30 vertical lines over 800 px (a vertex
+ * per px, so the grid's cells hold many pieces): every pair crosses once,
+ * at its lattice point, and one thread finds what two find, in order. */
+static void test_crossings_lattice(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_crossing *v[2] = {NULL, NULL};
+    size_t n[2] = {0, 0}, i;
+    int k, th, bad = 0;
+    for (k = 0; k < 60; k++) {
+        td_line *l = td_lines_add(ls, NULL);
+        double c = 20.5 + 25.0 * (k % 30), x;
+        for (x = 5.5; x <= 800.5; x += 1)
+            td_line_push(l, k < 30 ? x : c, k < 30 ? c : x, NULL);
+    }
+    for (th = 0; th < 2; th++) {
+        omp_set_num_threads(th + 1);
+        TT_CHECK(td_contain_crossings(ls, &v[th], &n[th], NULL) == 0);
+    }
+    omp_set_num_threads(omp_get_num_procs());
+    TT_CHECKF(n[0] == 900 && n[1] == 900, "%zu and %zu crossings", n[0],
+              n[1]);
+    for (i = 0; i < n[0] && i < n[1]; i++) {
+        const td_crossing *c = &v[0][i];
+        bad += memcmp(c, &v[1][i], sizeof *c) != 0 || c->a >= 30 ||
+               c->b < 30 || fabs(c->y - (20.5 + 25.0 * (double)c->a)) > 1e-9 ||
+               fabs(c->x - (20.5 + 25.0 * (double)(c->b - 30))) > 1e-9;
+    }
+    TT_CHECKF(bad == 0, "%d crossings differ or are misplaced", bad);
+    free(v[0]);
+    free(v[1]);
+    td_lines_free(ls);
+}
+
 /* The cone's closed rings, outermost first (they nest: longer is
  * outside); the open corner lines removed from t. */
 static size_t cone_chain(truth *t, long *chain, size_t max)
@@ -633,6 +668,7 @@ int main(void)
     TT_RUN(test_contradiction);
     TT_RUN(test_warnings);
     TT_RUN(test_crossings);
+    TT_RUN(test_crossings_lattice);
     TT_RUN(test_missing_line);
     TT_RUN(test_spot_on_multiple);
     TT_RUN(test_index_widths);

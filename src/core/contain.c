@@ -249,7 +249,11 @@ static int cmp_cross(const void *pa, const void *pb)
     const td_crossing *a = pa, *b = pb;
     if (a->a != b->a)
         return (a->a > b->a) - (a->a < b->a);
-    return (a->b > b->b) - (a->b < b->b);
+    if (a->b != b->b)
+        return (a->b > b->b) - (a->b < b->b);
+    if (a->y != b->y) /* a total order: the same result from any thread */
+        return (a->y > b->y) - (a->y < b->y);
+    return (a->x > b->x) - (a->x < b->x);
 }
 
 /* A bucket grid of segment pieces: every segment goes into each cell its
@@ -370,30 +374,54 @@ int td_contain_crossings(const td_lines *ls, td_crossing **out, size_t *nout,
 {
     xgrid g;
     td_crossing *v = NULL;
-    size_t n = 0, cap = 0, c, i, j, w;
-    int rc = xgrid_build(ls, &g, cx);
+    size_t n = 0, cap = 0, i, w, nc;
+    int rc = xgrid_build(ls, &g, cx), fail = 0;
     *out = NULL, *nout = 0;
     if (rc || !g.segs)
         goto done;
-    for (c = 0; c < (size_t)g.cw * g.ch; c++)
-        for (i = g.start[c]; i < g.start[c + 1]; i++)
-            for (j = g.start[c]; j < g.start[c + 1]; j++) {
-                const xseg *s = &g.segs[i], *t = &g.segs[j];
-                double x, y;
-                if (t->line <= s->line ||
-                    !proper_cross(seg_pt(ls, s, 0), seg_pt(ls, s, 1),
-                                  seg_pt(ls, t, 0), seg_pt(ls, t, 1), &x, &y))
-                    continue;
-                /* each crossing once: in the cell that holds it */
-                if ((size_t)(xcell(&g, y, g.y0, g.ch) * g.cw +
-                             xcell(&g, x, g.x0, g.cw)) != c)
-                    continue;
-                if (add_cross(&v, &n, &cap, ls->v[s->line].id,
-                              ls->v[t->line].id, x, y) != 0) {
-                    rc = td_seterr(cx, TD_ENOMEM, "crossings: out of memory");
-                    goto done;
+    nc = (size_t)g.cw * g.ch;
+#pragma omp parallel
+    { /* cells on threads, each its own list; sorted after, so the
+         result does not depend on the threads */
+        td_crossing *tv = NULL;
+        size_t tn = 0, tcap = 0, c, a, b;
+        int tfail = 0;
+#pragma omp for schedule(dynamic, 256) nowait
+        for (c = 0; c < nc; c++)
+            for (a = g.start[c]; a < g.start[c + 1] && !tfail; a++)
+                for (b = a + 1; b < g.start[c + 1]; b++) {
+                    const xseg *s = &g.segs[a], *t = &g.segs[b];
+                    double x, y;
+                    /* a cell's pieces come in line order */
+                    if (t->line <= s->line ||
+                        !proper_cross(seg_pt(ls, s, 0), seg_pt(ls, s, 1),
+                                      seg_pt(ls, t, 0), seg_pt(ls, t, 1), &x,
+                                      &y))
+                        continue;
+                    /* each crossing once: in the cell that holds it */
+                    if ((size_t)(xcell(&g, y, g.y0, g.ch) * g.cw +
+                                 xcell(&g, x, g.x0, g.cw)) != c)
+                        continue;
+                    if (add_cross(&tv, &tn, &tcap, ls->v[s->line].id,
+                                  ls->v[t->line].id, x, y) != 0) {
+                        tfail = 1;
+                        break;
+                    }
                 }
-            }
+#pragma omp critical(td_crossings)
+        {
+            if (tfail || (tn && td_grow((void **)&v, &cap, n + tn,
+                                        sizeof *v, NULL) != 0))
+                fail = 1;
+            else if (tn)
+                memcpy(v + n, tv, tn * sizeof *v), n += tn;
+        }
+        free(tv);
+    }
+    if (fail) {
+        rc = td_seterr(cx, TD_ENOMEM, "crossings: out of memory");
+        goto done;
+    }
     if (n > 1) /* one per pair */
         qsort(v, n, sizeof *v, cmp_cross);
     for (i = 0, w = 0; i < n; i++)
