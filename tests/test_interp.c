@@ -15,6 +15,7 @@
 #include "samples/gen/gen.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -346,6 +347,26 @@ static void test_summit_capped(void)
         td_grid_f32_free(g);
         g = NULL;
     }
+    td_grid_f32_free(dem);
+}
+
+/* Multidir on the hills with 1 and 2 threads: the same bytes (the summit
+ * phase runs its direction pairs on two threads, each into its own sums). */
+static void test_multidir_threads(void)
+{
+    td_grid_f32 *dem = truth(S_HILLS, 400, 300), *g[2] = {NULL, NULL};
+    td_compare_stats st;
+    int t;
+    for (t = 0; t < 2; t++) {
+        omp_set_num_threads(t + 1);
+        TT_CHECK(run(dem, 10, method(TD_INTERP_MULTIDIR), &st, &g[t]) == 0);
+    }
+    omp_set_num_threads(omp_get_num_procs());
+    TT_CHECK(g[0] && g[1] &&
+             memcmp(g[0]->data, g[1]->data,
+                    (size_t)g[0]->h * g[0]->stride * sizeof *g[0]->data) == 0);
+    td_grid_f32_free(g[0]);
+    td_grid_f32_free(g[1]);
     td_grid_f32_free(dem);
 }
 
@@ -731,6 +752,7 @@ int main(void)
     TT_RUN(test_multidir_brute);
     TT_RUN(test_summit_beats_flat);
     TT_RUN(test_summit_capped);
+    TT_RUN(test_multidir_threads);
     TT_RUN(test_step);
     TT_RUN(test_single_ring);
     TT_RUN(test_bad_input);
