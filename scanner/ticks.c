@@ -139,42 +139,48 @@ static void profile_ticks(const uint8_t *bits, int w, int h, const td_line *l,
 long td_ticks_mark(td_lines *ls, const uint8_t *bits, int w, int h,
                    int min_in, td_ctx *cx)
 {
-    size_t i, mx = 0;
+    size_t mx = 0, i;
     long marked = 0;
-    double *r, pen = td_pen_width(ls, cx);
-    uint8_t *f;
+    int fail = 0;
+    double pen = td_pen_width(ls, cx);
     if (pen < 0)
         return TD_ENOMEM;
     pen = fmax(pen, 1.5);
     for (i = 0; i < ls->n; i++)
         if (ls->v[i].closed && ls->v[i].n > mx)
             mx = ls->v[i].n;
-    r = td_malloc(3 * mx * sizeof *r + 1, cx);
-    f = td_malloc(2 * mx + 1, cx);
-    if (!r || !f) {
+#pragma omp parallel reduction(+ : marked) reduction(| : fail)
+    { /* rings on threads, each with its own profile buffers */
+        double *r = malloc(3 * mx * sizeof *r + 1);
+        uint8_t *f = malloc(2 * mx + 1);
+        size_t j;
+        fail |= !r || !f;
+#pragma omp for schedule(dynamic, 16)
+        for (j = 0; j < ls->n; j++) {
+            td_line *l = &ls->v[j];
+            size_t c[2] = {0, 0};
+            double per, half;
+            l->depression = 0;
+            if (!r || !f || !l->closed || l->n < 12)
+                continue;
+            per = td_line_length(l);
+            half = 2.0 * fabs(td_line_signed_area(l)) / fmax(per, 1.0);
+            /* a ring too narrow inside for a tick to show (the mean
+             * half-width 2 area / perimeter) */
+            if (half < pen + 2.0)
+                continue;
+            profile_ticks(bits, w, h, l, r, f, c);
+            /* printed ticks come every few line widths: a long ring with
+             * a few bumps inside is noise, not a depression */
+            l->depression = c[0] >= (size_t)min_in &&
+                            (double)c[0] >= per / (TICK_SPACING * pen) &&
+                            c[0] > 2 * c[1];
+            marked += l->depression;
+        }
         free(r);
         free(f);
-        return TD_ENOMEM;
     }
-    for (i = 0; i < ls->n; i++) {
-        td_line *l = &ls->v[i];
-        size_t c[2] = {0, 0};
-        double per = td_line_length(l);
-        double half = 2.0 * fabs(td_line_signed_area(l)) / fmax(per, 1.0);
-        l->depression = 0;
-        /* a ring too narrow inside for a tick to show (the mean
-         * half-width 2 area / perimeter) */
-        if (!l->closed || l->n < 12 || half < pen + 2.0)
-            continue;
-        profile_ticks(bits, w, h, l, r, f, c);
-        /* printed ticks come every few line widths: a long ring with a
-         * few bumps inside is noise, not a depression */
-        l->depression = c[0] >= (size_t)min_in &&
-                        (double)c[0] >= per / (TICK_SPACING * pen) &&
-                        c[0] > 2 * c[1];
-        marked += l->depression;
-    }
-    free(r);
-    free(f);
+    if (fail)
+        return td_seterr(cx, TD_ENOMEM, "ticks: out of memory");
     return marked;
 }
