@@ -29,6 +29,7 @@ typedef struct tspec {
     int alpha;      /* 0, EXTRASAMPLE_UNASSALPHA or EXTRASAMPLE_ASSOCALPHA */
     int grey_pal;   /* palette whose entries are all grey */
     const char *mode;
+    int pred;       /* TIFFTAG_PREDICTOR when set */
 } tspec;
 
 static int pat(int x, int y) { return (x * 7 + y * 13 + ((x * y) % 5) * 3) & 255; }
@@ -166,6 +167,8 @@ static int write_spec(const char *path, const tspec *t)
     TIFFSetField(tif, TIFFTAG_PHOTOMETRIC, t->photo);
     TIFFSetField(tif, TIFFTAG_PLANARCONFIG, t->planar);
     TIFFSetField(tif, TIFFTAG_COMPRESSION, t->comp);
+    if (t->pred)
+        TIFFSetField(tif, TIFFTAG_PREDICTOR, t->pred);
     if (t->alpha) {
         uint16_t es = (uint16_t)t->alpha;
         TIFFSetField(tif, TIFFTAG_EXTRASAMPLES, 1, &es);
@@ -233,7 +236,7 @@ static void check_layout(const tspec *t, const char *name)
 static tspec grey8(int comp, int tiled)
 {
     tspec t = {37, 23, K_GREY, 8, 1, PHOTOMETRIC_MINISBLACK, PLANARCONFIG_CONTIG,
-               comp, tiled, 5, 0, 0, NULL};
+               comp, tiled, 5, 0, 0, NULL, 0};
     return t;
 }
 
@@ -256,7 +259,7 @@ static void test_tiff_grey8_all_codecs(void)
 static void test_tiff_bilevel(void)
 {
     tspec t = {61, 29, K_GREY, 1, 1, PHOTOMETRIC_MINISWHITE, PLANARCONFIG_CONTIG,
-               COMPRESSION_CCITTFAX4, 0, 29, 0, 0, NULL};
+               COMPRESSION_CCITTFAX4, 0, 29, 0, 0, NULL, 0};
     check_layout(&t, "g4_miniswhite.tif");
     t.photo = PHOTOMETRIC_MINISBLACK;
     check_layout(&t, "g4_minisblack.tif");
@@ -295,7 +298,7 @@ static void test_tiff_grey_depths(void)
 static void test_tiff_rgb(void)
 {
     tspec t = {41, 19, K_RGB, 8, 3, PHOTOMETRIC_RGB, PLANARCONFIG_CONTIG,
-               COMPRESSION_LZW, 0, 4, 0, 0, NULL};
+               COMPRESSION_LZW, 0, 4, 0, 0, NULL, 0};
     check_layout(&t, "rgb8_contig.tif");
     t.planar = PLANARCONFIG_SEPARATE;
     check_layout(&t, "rgb8_separate.tif");
@@ -313,7 +316,7 @@ static void test_tiff_rgb(void)
 static void test_tiff_alpha(void)
 {
     tspec t = {33, 17, K_RGB, 8, 4, PHOTOMETRIC_RGB, PLANARCONFIG_CONTIG,
-               COMPRESSION_ADOBE_DEFLATE, 0, 3, EXTRASAMPLE_UNASSALPHA, 0, NULL};
+               COMPRESSION_ADOBE_DEFLATE, 0, 3, EXTRASAMPLE_UNASSALPHA, 0, NULL, 0};
     check_layout(&t, "rgba_unassoc.tif");
     t.planar = PLANARCONFIG_SEPARATE;
     check_layout(&t, "rgba_unassoc_separate.tif");
@@ -321,14 +324,70 @@ static void test_tiff_alpha(void)
     t.planar = PLANARCONFIG_CONTIG;
     check_layout(&t, "rgba_assoc.tif");
     t = (tspec){33, 17, K_GREY, 8, 2, PHOTOMETRIC_MINISBLACK, PLANARCONFIG_CONTIG,
-                COMPRESSION_NONE, 1, 0, EXTRASAMPLE_UNASSALPHA, 0, NULL};
+                COMPRESSION_NONE, 1, 0, EXTRASAMPLE_UNASSALPHA, 0, NULL, 0};
     check_layout(&t, "greyalpha_tiled.tif");
+}
+
+/* Deflate with the horizontal predictor, 8-bit: the blocks are inflated
+ * on threads (src/io/tiffio.c), enough of them for several batches of 64:
+ * every layout reads back exactly, and a tile whose data is damaged gives
+ * the reader's error, not wrong pixels. */
+static void test_tiff_deflate_threads(void)
+{
+    tspec t = {300, 203, K_GREY, 8, 1, PHOTOMETRIC_MINISBLACK,
+               PLANARCONFIG_CONTIG, COMPRESSION_ADOBE_DEFLATE, 1, 3, 0, 0,
+               NULL, PREDICTOR_HORIZONTAL};
+    td_ctx cx;
+    td_image *im = NULL;
+    char *path = tmpfile_path("deflate_damaged.tif");
+    TIFF *tif;
+    uint64_t off = 0;
+    FILE *f;
+    check_layout(&t, "deflate_grey_tiled.tif");
+    t.tiled = 0;
+    check_layout(&t, "deflate_grey_striped.tif");
+    t.pred = 0;
+    check_layout(&t, "deflate_grey_nopred.tif");
+    t = (tspec){300, 203, K_RGB, 8, 3, PHOTOMETRIC_RGB, PLANARCONFIG_CONTIG,
+                COMPRESSION_ADOBE_DEFLATE, 1, 3, 0, 0, NULL,
+                PREDICTOR_HORIZONTAL};
+    check_layout(&t, "deflate_rgb_tiled.tif");
+    t.planar = PLANARCONFIG_SEPARATE;
+    check_layout(&t, "deflate_rgb_separate_tiled.tif");
+    t.tiled = 0;
+    check_layout(&t, "deflate_rgb_separate_striped.tif");
+    t = (tspec){300, 203, K_RGB, 8, 4, PHOTOMETRIC_RGB, PLANARCONFIG_CONTIG,
+                COMPRESSION_ADOBE_DEFLATE, 1, 3, EXTRASAMPLE_UNASSALPHA, 0,
+                NULL, PREDICTOR_HORIZONTAL};
+    check_layout(&t, "deflate_rgba_tiled.tif");
+    /* damage tile 100's data */
+    t = (tspec){300, 203, K_GREY, 8, 1, PHOTOMETRIC_MINISBLACK,
+                PLANARCONFIG_CONTIG, COMPRESSION_ADOBE_DEFLATE, 1, 3, 0, 0,
+                NULL, PREDICTOR_HORIZONTAL};
+    TT_CHECK(write_spec(path, &t) == 0);
+    if ((tif = TIFFOpen(path, "r"))) {
+        off = TIFFGetStrileOffset(tif, 100);
+        TIFFClose(tif);
+    }
+    TT_CHECK(off > 0);
+    if (off > 0 && (f = fopen(path, "r+b"))) {
+        static const char junk[8] = "\xff\x00\xff\x00\xff\x00\xff";
+        fseek(f, (long)off + 2, SEEK_SET);
+        fwrite(junk, 1, sizeof junk, f);
+        fclose(f);
+    }
+    td_ctx_init(&cx);
+    TT_CHECK(td_image_read(path, &im, NULL, &cx) != 0);
+    TT_CHECKF(strstr(cx.msg, "deflate_damaged.tif") &&
+                  strstr(cx.msg, "corrupt"),
+              "%s", cx.msg);
+    td_image_free(im);
 }
 
 static void test_tiff_palette(void)
 {
     tspec t = {35, 21, K_PAL, 8, 1, PHOTOMETRIC_PALETTE, PLANARCONFIG_CONTIG,
-               COMPRESSION_PACKBITS, 0, 6, 0, 0, NULL};
+               COMPRESSION_PACKBITS, 0, 6, 0, 0, NULL, 0};
     check_layout(&t, "pal8.tif");
     t.grey_pal = 1;
     check_layout(&t, "pal8_grey.tif");
@@ -1296,6 +1355,7 @@ int main(void)
     TT_RUN(test_tiff_grey_depths);
     TT_RUN(test_tiff_rgb);
     TT_RUN(test_tiff_alpha);
+    TT_RUN(test_tiff_deflate_threads);
     TT_RUN(test_tiff_palette);
     TT_RUN(test_tiff_jpeg_ycbcr);
     TT_RUN(test_jpeg_by_magic);

@@ -442,22 +442,11 @@ static int blocks_get(TIFF *tif, const tiff_layout *L, tiff_blocks *B,
     return 0;
 }
 
-/* Decode block (x0,y0) of plane p into buf and copy its rows into im. */
-static int read_block(TIFF *tif, const tiff_layout *L, const tiff_blocks *B,
-                      uint32_t x0, uint32_t y0, int p, uint8_t *buf,
-                      td_image *im)
+/* Copy the rows of decoded block (x0,y0) of plane p in buf into im. */
+static void put_block(const tiff_layout *L, const tiff_blocks *B, uint32_t x0,
+                      uint32_t y0, int p, const uint8_t *buf, td_image *im)
 {
-    tmsize_t got;
     uint32_t r, rows = B->bh, cols = B->bw;
-    if (B->tiled)
-        got = TIFFReadEncodedTile(tif, TIFFComputeTile(tif, x0, y0, 0,
-                                                       (uint16_t)p),
-                                  buf, B->size);
-    else
-        got = TIFFReadEncodedStrip(tif, TIFFComputeStrip(tif, y0, (uint16_t)p),
-                                   buf, B->size);
-    if (got < 0)
-        return -1;
     if (y0 + rows > L->h)
         rows = L->h - y0;
     if (x0 + cols > L->w)
@@ -471,7 +460,171 @@ static int read_block(TIFF *tif, const tiff_layout *L, const tiff_blocks *B,
         else
             convert_contig(L, src, dst, cols);
     }
+}
+
+/* The index of block (x0,y0) of plane p. */
+static uint32_t block_index(TIFF *tif, const tiff_blocks *B, uint32_t x0,
+                            uint32_t y0, int p)
+{
+    return B->tiled ? TIFFComputeTile(tif, x0, y0, 0, (uint16_t)p)
+                    : TIFFComputeStrip(tif, y0, (uint16_t)p);
+}
+
+/* Decode block (x0,y0) of plane p through libtiff into buf and copy its
+ * rows into im. */
+static int read_block(TIFF *tif, const tiff_layout *L, const tiff_blocks *B,
+                      uint32_t x0, uint32_t y0, int p, uint8_t *buf,
+                      td_image *im)
+{
+    tmsize_t got;
+    uint32_t i = block_index(tif, B, x0, y0, p);
+    if (B->tiled)
+        got = TIFFReadEncodedTile(tif, i, buf, B->size);
+    else
+        got = TIFFReadEncodedStrip(tif, i, buf, B->size);
+    if (got < 0)
+        return -1;
+    put_block(L, B, x0, y0, p, buf, im);
     return 0;
+}
+
+/* ---- Deflate blocks on threads ------------------------------------------
+ * 8-bit samples, Deflate (zlib streams), no predictor or the horizontal
+ * one, bytes in file order as they are (8 bits: no swapping): blocks are
+ * read raw in order, BATCH at a time, then inflated (libdeflate), the
+ * predictor undone and the rows converted on threads.  A block libdeflate
+ * refuses goes through libtiff after the batch, so its error (or its
+ * tolerance) is libtiff's: the same pixels and messages as the plain path
+ * (test_tiff_deflate_threads). */
+
+#define BATCH 64
+
+typedef struct raw_slot {
+    uint8_t *raw;
+    size_t cap, n;
+    uint32_t x0, y0;
+    int p, ok;
+} raw_slot;
+
+static int deflate_fast(TIFF *tif, const tiff_layout *L)
+{
+    uint16_t comp = 0, pred = 1, fill = FILLORDER_MSB2LSB;
+    TIFFGetFieldDefaulted(tif, TIFFTAG_COMPRESSION, &comp);
+    TIFFGetFieldDefaulted(tif, TIFFTAG_PREDICTOR, &pred);
+    TIFFGetFieldDefaulted(tif, TIFFTAG_FILLORDER, &fill);
+    return (comp == COMPRESSION_ADOBE_DEFLATE ||
+            comp == COMPRESSION_DEFLATE) &&
+           (pred == 1 || pred == 2) && L->bps == 8 &&
+           fill == FILLORDER_MSB2LSB;
+}
+
+/* Inflate slot s into buf (want bytes), undo the predictor; 0 or -1. */
+static int inflate_slot(const raw_slot *s, uint8_t *buf, size_t want,
+                        const tiff_layout *L, const tiff_blocks *B, int pred)
+{
+    static __thread struct libdeflate_decompressor *z;
+    size_t got = 0, r, i, step;
+    if (!z && !(z = libdeflate_alloc_decompressor()))
+        return -1;
+    if (libdeflate_zlib_decompress(z, s->raw, s->n, buf, want, &got) !=
+            LIBDEFLATE_SUCCESS || got != want)
+        return -1;
+    if (pred != 2)
+        return 0;
+    step = L->planar == PLANARCONFIG_SEPARATE ? 1 : L->spp;
+    for (r = 0; r < want / (size_t)B->rowbytes; r++) {
+        uint8_t *row = buf + r * (size_t)B->rowbytes;
+        for (i = step; i < (size_t)B->rowbytes; i++)
+            row[i] = (uint8_t)(row[i] + row[i - step]);
+    }
+    return 0;
+}
+
+/* The decoded size of block (x0, y0): a tile's, or the strip's rows. */
+static size_t block_bytes(TIFF *tif, const tiff_blocks *B, uint32_t y0,
+                          uint32_t h)
+{
+    uint32_t rows = B->bh;
+    (void)tif;
+    if (B->tiled)
+        return (size_t)B->size;
+    if (y0 + rows > h)
+        rows = h - y0;
+    return (size_t)rows * (size_t)B->rowbytes;
+}
+
+static int read_pixels_deflate(TIFF *tif, const tiff_layout *L,
+                               const tiff_blocks *B, td_image *im, int np,
+                               const char *path, td_tiff_err *e, td_ctx *cx)
+{
+    raw_slot slot[BATCH];
+    uint8_t *dec = NULL, *one = NULL;
+    uint16_t pred = 1;
+    uint32_t x = 0, y = 0;
+    int p = 0, n, k, rc = 0, done = 0;
+    TIFFGetFieldDefaulted(tif, TIFFTAG_PREDICTOR, &pred);
+    memset(slot, 0, sizeof slot);
+    if (!(dec = td_malloc((size_t)BATCH * (size_t)B->size, cx)) ||
+        !(one = td_malloc((size_t)B->size, cx))) {
+        rc = TD_ENOMEM;
+        goto done;
+    }
+    while (!done && rc == 0) {
+        for (n = 0; n < BATCH && !done; n++) { /* read raw, in file order */
+            raw_slot *s = &slot[n];
+            uint32_t i = block_index(tif, B, x, y, p);
+            uint64_t bc = TIFFGetStrileByteCount(tif, i);
+            tmsize_t got;
+            s->x0 = x, s->y0 = y, s->p = p, s->ok = 0, s->n = 0;
+            if (bc > 0 && bc < ((uint64_t)1 << 40) && bc > s->cap) {
+                uint8_t *v = realloc(s->raw, (size_t)bc);
+                if (!v) {
+                    rc = td_seterr(cx, TD_ENOMEM, "%s: out of memory", path);
+                    break;
+                }
+                s->raw = v, s->cap = (size_t)bc;
+            }
+            if (bc > 0 && bc <= s->cap) {
+                got = B->tiled ? TIFFReadRawTile(tif, i, s->raw, (tmsize_t)bc)
+                               : TIFFReadRawStrip(tif, i, s->raw, (tmsize_t)bc);
+                s->ok = got == (tmsize_t)bc;
+                s->n = s->ok ? (size_t)bc : 0;
+            }
+            if ((x += B->bw) >= L->w) {
+                x = 0;
+                if ((y += B->bh) >= L->h)
+                    y = 0, done = ++p >= np;
+            }
+        }
+        if (rc != 0)
+            break;
+#pragma omp parallel for schedule(dynamic, 1)
+        for (k = 0; k < n; k++) {
+            raw_slot *s = &slot[k];
+            uint8_t *buf = dec + (size_t)k * (size_t)B->size;
+            if (s->ok)
+                s->ok = inflate_slot(s, buf,
+                                     block_bytes(tif, B, s->y0, L->h), L, B,
+                                     pred) == 0;
+            if (s->ok)
+                put_block(L, B, s->x0, s->y0, s->p, buf, im);
+        }
+        for (k = 0; k < n && rc == 0; k++) /* what libdeflate refused */
+            if (!slot[k].ok && read_block(tif, L, B, slot[k].x0, slot[k].y0,
+                                          slot[k].p, one, im) != 0)
+                rc = td_tiff_fail(cx, TD_EFORMAT, path,
+                                  "corrupt or truncated image data", e);
+        if (rc == 0)
+            rc = td_progress(cx, "read",
+                             done ? 1.0
+                                  : ((double)p + (double)y / L->h) / np);
+    }
+done:
+    for (k = 0; k < BATCH; k++)
+        free(slot[k].raw);
+    free(dec);
+    free(one);
+    return rc;
 }
 
 /* Read every block of every needed plane into im. */
@@ -484,11 +637,13 @@ static int read_pixels(TIFF *tif, const tiff_layout *L, td_image *im,
     int p, np = 1, rc;
     if ((rc = blocks_get(tif, L, &B, path, cx)) != 0)
         return rc;
+    if (L->planar == PLANARCONFIG_SEPARATE)
+        np = L->alpha ? L->ncol + 1 : L->ncol;
+    if (deflate_fast(tif, L))
+        return read_pixels_deflate(tif, L, &B, im, np, path, e, cx);
     buf = td_calloc((size_t)B.size, 1, cx);
     if (!buf)
         return TD_ENOMEM;
-    if (L->planar == PLANARCONFIG_SEPARATE)
-        np = L->alpha ? L->ncol + 1 : L->ncol;
     for (p = 0; p < np; p++) {
         for (y = 0; y < L->h; y += B.bh) {
             for (x = 0; x < L->w; x += B.bw) {
@@ -508,6 +663,7 @@ fail:
     free(buf);
     return rc;
 }
+
 
 /* Open path and read its first directory's layout (and georef); on
  * success *tifp holds the open handle. */
