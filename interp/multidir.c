@@ -5,7 +5,6 @@
 #include "interp/rasterise.h"
 
 #include <math.h>
-#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -161,20 +160,16 @@ static int phase1_walk(td_grid_f32 *g, md_state *st, td_ctx *cx)
 
 /* Phase 2 walks only over the runs of cells phase 1 left undetermined
  * (found once: the walks write the sums, not g) and blends them; the sums
- * are kept for those cells only (8 bytes each, not 8 per grid cell).  With
- * four directions the two pairs run on two threads, each pair into its own
- * sums, added pair 0-1 first: the same bytes on any number of threads. */
+ * are kept for those cells only (8 bytes each, not 8 per grid cell).  Each
+ * direction's lines are walked on threads (td_interp_walk_runs): a cell
+ * gets its directions' sums in order, the same bytes on any thread count. */
 static int phase2(td_grid_f32 *g, md_state *st, td_ctx *cx)
 {
     td_nan_runs nr;
     md_sum *sum = NULL;
-    md_state st2;
-    td_ctx cx2;
-    size_t *base = NULL, i, k, cells = 0, half;
-    int rc, rc2 = 0, r, c, two = st->p->ndir == 4;
-    int nth = two && omp_get_max_threads() > 1 ? 2 : 1;
+    size_t *base = NULL, i, k, cells = 0;
+    int d, rc, r, c;
     memset(&nr, 0, sizeof nr);
-    td_ctx_init(&cx2);
     rc = td_nan_runs_find(g, &nr, cx);
     if (rc == 0 && !(base = td_malloc((nr.n + 1) * sizeof *base, cx)))
         rc = TD_ENOMEM;
@@ -182,43 +177,18 @@ static int phase2(td_grid_f32 *g, md_state *st, td_ctx *cx)
         base[i] = cells;
         cells += (size_t)(nr.run[i][1] - nr.run[i][0]);
     }
-    half = cells + 1;
-    if (rc == 0 && !(sum = td_calloc(two ? 2 * half : half, sizeof *sum, cx)))
+    if (rc == 0 && !(sum = td_calloc(cells + 1, sizeof *sum, cx)))
         rc = TD_ENOMEM;
     st->sum = sum, st->nr = &nr, st->base = base;
-    st2 = *st;
-    st2.sum = sum + half;
-    if (rc == 0) {
-#pragma omp parallel sections num_threads(nth)
-        {
-#pragma omp section
-            {
-                int d;
-                for (d = 0; d < 2 && rc == 0; d++)
-                    rc = td_interp_walk_runs(g, &nr, d, summit_span, st,
-                                             "summit", cx);
-            }
-#pragma omp section
-            {
-                int d;
-                for (d = 2; two && d < 4 && rc2 == 0; d++)
-                    rc2 = td_interp_walk_runs(g, &nr, d, summit_span, &st2,
-                                              NULL, &cx2);
-            }
-        }
-    }
-    if (rc == 0 && rc2 != 0)
-        rc = td_seterr(cx, rc2, "%s", td_errmsg(&cx2));
+    for (d = 0; d < st->p->ndir && rc == 0; d++)
+        rc = td_interp_walk_runs(g, &nr, d, summit_span, st, "summit", cx);
     for (r = 0; r < g->h && rc == 0; r++)
         for (i = nr.off[r]; i < nr.off[r + 1]; i++)
             for (c = nr.run[i][0]; c < nr.run[i][1]; c++) {
-                size_t j = base[i] + (size_t)(c - nr.run[i][0]);
-                float wz = sum[j].wz, w = sum[j].w;
-                if (two)
-                    wz += sum[half + j].wz, w += sum[half + j].w;
+                const md_sum *q = &sum[base[i] + (size_t)(c - nr.run[i][0])];
                 k = (size_t)r * g->stride + (size_t)c;
-                if (w > 0)
-                    g->data[k] = wz / w;
+                if (q->w > 0)
+                    g->data[k] = q->wz / q->w;
             }
     st->sum = NULL, st->nr = NULL, st->base = NULL;
     free(sum), free(base);
