@@ -62,13 +62,15 @@ static double band_base(const td_lines *ls, double interval)
     return 0;
 }
 
-int td_interp_lines(const td_lines *ls, int w, int h,
-                    const td_interp_params *p, td_grid_f32 **out,
-                    td_ctx *cx)
+/* td_interp_lines; with take set, *take (the same lines as ls) is freed
+ * and set NULL as soon as the method needs them no more. */
+static int interp_core(const td_lines *ls, td_lines **take, int w, int h,
+                       const td_interp_params *p, td_grid_f32 **out,
+                       td_ctx *cx)
 {
     td_grid_f32 *g = NULL;
     uint8_t *fixed = NULL;
-    double interval;
+    double interval, base;
     size_t i, n;
     int rc, step = p->step < 1 ? 1 : p->step;
     *out = NULL;
@@ -82,6 +84,12 @@ int td_interp_lines(const td_lines *ls, int w, int h,
     interval = p->interval > 0 ? p->interval : td_interp_interval(ls);
     if (interval <= 0)
         interval = 1e30; /* one height only: nothing to cap against */
+    base = band_base(ls, interval);
+    if (take && p->method != TD_INTERP_HOMOTOPY) { /* rasterised: done */
+        td_lines_free(*take);
+        *take = NULL;
+        ls = NULL;
+    }
     if (p->smooth > 0 && interval < 1e30 &&
         !(fixed = line_mask(g, cx))) {
         rc = TD_ENOMEM;
@@ -89,8 +97,12 @@ int td_interp_lines(const td_lines *ls, int w, int h,
     }
     if ((rc = fill(g, ls, w, h, p, interval, cx)) != 0)
         goto fail;
-    if (fixed && (rc = td_smooth_bands(g, fixed, band_base(ls, interval),
-                                       interval, p->smooth, cx)) != 0)
+    if (take && *take) {
+        td_lines_free(*take);
+        *take = NULL;
+    }
+    if (fixed && (rc = td_smooth_bands(g, fixed, base, interval, p->smooth,
+                                       cx)) != 0)
         goto fail;
     free(fixed);
     fixed = NULL;
@@ -106,6 +118,21 @@ fail:
     free(fixed);
     td_grid_f32_free(g);
     return rc;
+}
+
+int td_interp_lines(const td_lines *ls, int w, int h,
+                    const td_interp_params *p, td_grid_f32 **out,
+                    td_ctx *cx)
+{
+    return interp_core(ls, NULL, w, h, p, out, cx);
+}
+
+/* Contract in interp.h. */
+int td_interp_lines_take(td_lines **ls, int w, int h,
+                         const td_interp_params *p, td_grid_f32 **out,
+                         td_ctx *cx)
+{
+    return interp_core(*ls, ls, w, h, p, out, cx);
 }
 
 /* (x,y) in the band of width m around the w x h sheet. */

@@ -55,6 +55,15 @@ int td_interp_lines(const td_lines *ls, int w, int h,
                     const td_interp_params *p, td_grid_f32 **out,
                     td_ctx *cx);
 
+/* As td_interp_lines, and *ls (lines the caller gives up) is freed and
+ * set NULL as soon as the method needs them no more: right after they are
+ * rasterised for multidir and scanline (4 bytes per cell of the DEM
+ * then, not also 16 per line vertex), after the fill for homotopy; on an
+ * error it may be freed too.  The same DEM as td_interp_lines. */
+int td_interp_lines_take(td_lines **ls, int w, int h,
+                         const td_interp_params *p, td_grid_f32 **out,
+                         td_ctx *cx);
+
 /* As td_interp_lines, with the lines beyond the sheet's edges beside it
  * (a neighbouring sheet's labelled lines, in this sheet's pixel frame):
  * the grid is interpolated margin px (rounded up to a multiple of step)

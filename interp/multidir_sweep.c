@@ -23,6 +23,7 @@
 #include "interp/interp_int.h"
 #include "interp/rasterise.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -68,11 +69,11 @@ static int row_anchors(const float *row, int w, int *ac)
     return na;
 }
 
-/* Room for na more anchors (grown by half, so 1.5-2.5 times the final
- * 16 bytes per anchor while it grows). */
+/* Room for na more anchors (lookahead asks once for all of them: 16
+ * bytes per anchor, no slack; grown by half when asked again). */
 static int reserve(sw_state *s, int na, td_ctx *cx)
 {
-    size_t cap = s->cap + s->cap / 2 + 1024;
+    size_t cap = s->cap ? s->cap + s->cap / 2 + 1024 : 0;
     sw_next *v;
     if (s->nnext + (size_t)na <= s->cap)
         return 0;
@@ -93,6 +94,12 @@ static int lookahead(sw_state *s, td_ctx *cx)
 {
     const td_grid_f32 *g = s->g;
     int r, i, j, na;
+    size_t all = 0;
+    for (r = 0; r < g->h; r++) /* the anchors counted first: one block */
+        all += (size_t)row_anchors(g->data + (size_t)r * g->stride, g->w,
+                                   s->ac);
+    if (reserve(s, (int)(all < INT_MAX ? all : INT_MAX), cx) != 0)
+        return TD_ENOMEM;
     for (j = 0; j < s->nv; j++)
         memset(s->nextrow[j], 0xff, s->nl * sizeof **s->nextrow); /* -1 */
     for (r = g->h - 1; r >= 0; r--) {

@@ -121,10 +121,10 @@ static int do_interp(const td_run_params *p, td_run_result *r, td_ctx *cx)
     int rc;
     ip.interval = r->rep.interval > 0 ? r->rep.interval : p->label.interval;
     ip.hstats = &r->hs;
-    if ((rc = td_interp_lines(r->lines, r->w, r->h, &ip, &r->dem, cx)) != 0)
+    /* the lines go once they are rasterised: the run's peak is here */
+    if ((rc = td_interp_lines_take(&r->lines, r->w, r->h, &ip, &r->dem,
+                                   cx)) != 0)
         return rc;
-    td_lines_free(r->lines);
-    r->lines = NULL;
     td_georef_scale(&r->geo, ip.step);
     r->secs[2] = td_now() - t0;
     return 0;
