@@ -370,6 +370,35 @@ static void test_multidir_threads(void)
     td_grid_f32_free(dem);
 }
 
+/* td_interp_lines_take: the DEM of td_interp_lines, the lines gone. */
+static void test_take(void)
+{
+    td_grid_f32 *dem = truth(S_HILLS, 300, 200), *a = NULL, *b = NULL;
+    td_lines *ls = NULL, *copy = NULL;
+    td_interp_params p;
+    int m;
+    for (m = 0; m < 2; m++) {
+        p = method(m ? TD_INTERP_HOMOTOPY : TD_INTERP_MULTIDIR);
+        p.interval = 10;
+        TT_CHECK(td_gen_contours(dem, 0, 10, &ls, NULL) == 0);
+        TT_CHECK((copy = td_lines_copy(ls, NULL)) != NULL);
+        TT_CHECK(td_interp_lines(ls, dem->w, dem->h, &p, &a, NULL) == 0);
+        TT_CHECK(td_interp_lines_take(&copy, dem->w, dem->h, &p, &b, NULL) ==
+                 0);
+        TT_CHECKF(copy == NULL, "method %d: lines kept", m);
+        TT_CHECKF(a && b &&
+                      memcmp(a->data, b->data,
+                             (size_t)a->h * a->stride * sizeof *a->data) == 0,
+                  "method %d: DEMs differ", m);
+        td_grid_f32_free(a);
+        td_grid_f32_free(b);
+        td_lines_free(ls);
+        td_lines_free(copy);
+        a = b = NULL, ls = copy = NULL;
+    }
+    td_grid_f32_free(dem);
+}
+
 /* --step 2: half-size grid, about the same accuracy against the truth
  * sampled at the coarse cells' centres. */
 static void test_step(void)
@@ -753,6 +782,7 @@ int main(void)
     TT_RUN(test_summit_beats_flat);
     TT_RUN(test_summit_capped);
     TT_RUN(test_multidir_threads);
+    TT_RUN(test_take);
     TT_RUN(test_step);
     TT_RUN(test_single_ring);
     TT_RUN(test_bad_input);
