@@ -107,6 +107,7 @@ static int interp_core(const td_lines *ls, td_lines **take, int w, int h,
     free(fixed);
     fixed = NULL;
     n = (size_t)g->w * g->h;
+#pragma omp parallel for schedule(static)
     for (i = 0; i < n; i++)
         if (g->data[i] != g->data[i])
             g->data[i] = p->nodata;

@@ -110,10 +110,12 @@ static int check_line(const td_line *l, double step, int w, int h,
 int td_rasterise_lines(const td_lines *ls, double step, td_grid_f32 *g,
                        td_ctx *cx)
 {
-    size_t i, k, y;
-    for (y = 0; y < (size_t)g->h; y++)
+    size_t i, k;
+    long y;
+#pragma omp parallel for schedule(static) private(k)
+    for (y = 0; y < (long)g->h; y++) /* first touch: pages cleared on both */
         for (k = 0; k < (size_t)g->w; k++)
-            g->data[y * g->stride + k] = NAN;
+            g->data[(size_t)y * g->stride + k] = NAN;
     if (!ls || ls->n == 0)
         return td_seterr(cx, TD_EINVAL, "no contour lines to interpolate");
     if (!(step >= 1))
