@@ -576,7 +576,9 @@ static int read_pixels_deflate(TIFF *tif, const tiff_layout *L,
             uint64_t bc = TIFFGetStrileByteCount(tif, i);
             tmsize_t got;
             s->x0 = x, s->y0 = y, s->p = p, s->ok = 0, s->n = 0;
-            if (bc > 0 && bc < ((uint64_t)1 << 40) && bc > s->cap) {
+            if (bc > 2 * (uint64_t)B->size + (1u << 20))
+                bc = 0; /* more than Deflate ever needs: libtiff judges it */
+            if (bc > 0 && bc > s->cap) {
                 uint8_t *v = realloc(s->raw, (size_t)bc);
                 if (!v) {
                     rc = td_seterr(cx, TD_ENOMEM, "%s: out of memory", path);
