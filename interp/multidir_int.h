@@ -14,8 +14,10 @@ float td_multidir_span_weight(td_multidir_weight m, int n, double sl);
  * between two line cells of different height gets the blend of those
  * lines' linear estimates, bit for bit what walking each direction with
  * td_interp_walk and blending would give.  Line cells (non-NaN in g) are
- * the anchors.  Extra memory: 16 bytes per line cell (up to 2.5 times
- * that while the list grows), O(w + h) besides.
+ * the anchors.  Rows in 16 bands on threads (from 1024 rows), each band
+ * entering with the spans the rows above left open, stepped as one pass
+ * steps them: the same bytes on any thread count.  Extra memory: 16 bytes
+ * per line cell, about 200 (w + h) bytes besides.
  * Returns 0, TD_ENOMEM or TD_ECANCEL (g then partly filled). */
 int td_multidir_sweep(td_grid_f32 *g, const td_multidir_params *p,
                       const char *stage, td_ctx *cx);

@@ -17,7 +17,9 @@
  * anchor, the steps to the next anchor along y, diag and anti.  The float
  * operations are those of linear_span in multidir.c (z += dz from the
  * first anchor, sum += w z and w in direction order from 0), so the result
- * is bit-identical to walking the directions one by one. */
+ * is bit-identical to walking the directions one by one.  The rows are
+ * swept in bands on threads; a band starts from each line's last anchor
+ * above it and steps its span down by the same additions (band_enter). */
 #include "interp/multidir_int.h"
 
 #include "interp/interp_int.h"
@@ -254,34 +256,161 @@ static void sw_free(sw_state *s)
     free(s->rowcount);
 }
 
+/* ---- row bands on threads ----
+ * A band starting at row r0 needs each line's open span as the rows above
+ * left it: set by the line's last anchor above r0 (row_open's values)
+ * and stepped down by repeated additions, exactly as the sweep steps it,
+ * so every band gives the bytes one pass would. */
+
+#define SW_BANDS 16
+
+/* The per-line arrays of one band's state (z, dz, w; bz, bw for a row). */
+static int band_alloc(sw_state *b, const sw_state *s, td_ctx *cx)
+{
+    int j;
+    *b = *s;
+    for (j = 0; j < NV; j++)
+        b->z[j] = b->dz[j] = b->w[j] = NULL, b->nextrow[j] = NULL;
+    b->bz = b->bw = NULL;
+    for (j = 0; j < s->nv; j++)
+        if (!(b->z[j] = td_calloc(s->nl, sizeof *b->z[j], cx)) ||
+            !(b->dz[j] = td_calloc(s->nl, sizeof *b->dz[j], cx)) ||
+            !(b->w[j] = td_calloc(s->nl, sizeof *b->w[j], cx)))
+            return TD_ENOMEM;
+    if (!(b->bz = td_malloc((size_t)s->g->w * sizeof *b->bz, cx)) ||
+        !(b->bw = td_malloc((size_t)s->g->w * sizeof *b->bw, cx)))
+        return TD_ENOMEM;
+    return 0;
+}
+
+static void band_free(sw_state *b)
+{
+    int j;
+    for (j = 0; j < NV; j++)
+        free(b->z[j]), free(b->dz[j]), free(b->w[j]);
+    free(b->bz), free(b->bw);
+}
+
+/* The open spans entering row r0: from each line's last anchor above r0
+ * (at[j][line]: its index in next, its row in row[j][line]; -1: none),
+ * as row_open set them and the rows down to r0 - 1 stepped them. */
+static void band_enter(sw_state *b, int r0, long *const at[NV],
+                       int *const row[NV])
+{
+    const td_grid_f32 *g = b->g;
+    size_t l;
+    int j;
+    for (j = 0; j < b->nv; j++)
+        for (l = 0; l < b->nl; l++) {
+            const sw_next *e;
+            int ra = row[j][l], c, n, k;
+            float za, zb, z, dz;
+            if (at[j][l] < 0)
+                continue;
+            e = &b->next[at[j][l]];
+            c = e->c, n = e->n[j];
+            za = TD_AT(g, c, ra);
+            zb = n >= 2 ? TD_AT(g, c + n * sw_dc[j], ra + n) : za;
+            if (zb == za || ra + n < r0)
+                continue; /* closed, or its span ended above r0 */
+            dz = (zb - za) / (float)n;
+            z = za;
+            for (k = ra + 1; k < r0; k++)
+                z = z + dz;
+            b->z[j][l] = z;
+            b->dz[j][l] = dz;
+            b->w[j][l] = td_multidir_span_weight(b->m, n,
+                                                 j ? sqrt(2.0) : 1.0);
+        }
+}
+
 int td_multidir_sweep(td_grid_f32 *g, const td_multidir_params *p,
                       const char *stage, td_ctx *cx)
 {
     sw_state s;
-    int j, r, rc = TD_ENOMEM;
+    int j, r, k, rc = TD_ENOMEM, fail = 0, cancel = 0, nb;
+    long *at[SW_BANDS][NV], *cur[NV];
+    int *row[SW_BANDS][NV], *curr[NV];
+    size_t kstart[SW_BANDS + 1], kk, l;
     memset(&s, 0, sizeof s);
+    memset(at, 0, sizeof at), memset(row, 0, sizeof row);
+    memset(cur, 0, sizeof cur), memset(curr, 0, sizeof curr);
     s.g = g;
     s.m = p->weight;
     s.nv = p->ndir == 2 ? 1 : NV;
     s.nl = (size_t)g->w + (size_t)g->h - 1;
+    nb = g->h < 64 * SW_BANDS ? 1 : SW_BANDS;
     for (j = 0; j < s.nv; j++)
-        if (!(s.z[j] = td_calloc(s.nl, sizeof *s.z[j], cx)) ||
-            !(s.dz[j] = td_calloc(s.nl, sizeof *s.dz[j], cx)) ||
-            !(s.w[j] = td_calloc(s.nl, sizeof *s.w[j], cx)) ||
-            !(s.nextrow[j] = td_malloc(s.nl * sizeof *s.nextrow[j], cx)))
+        if (!(s.nextrow[j] = td_malloc(s.nl * sizeof *s.nextrow[j], cx)) ||
+            !(cur[j] = td_malloc(s.nl * sizeof *cur[j], cx)) ||
+            !(curr[j] = td_malloc(s.nl * sizeof *curr[j], cx)))
             goto fail;
-    if (!(s.bz = td_malloc((size_t)g->w * sizeof *s.bz, cx)) ||
-        !(s.bw = td_malloc((size_t)g->w * sizeof *s.bw, cx)) ||
-        !(s.ac = td_malloc((size_t)g->w * sizeof *s.ac, cx)) ||
+    for (k = 1; k < nb; k++)
+        for (j = 0; j < s.nv; j++)
+            if (!(at[k][j] = td_malloc(s.nl * sizeof *at[k][j], cx)) ||
+                !(row[k][j] = td_malloc(s.nl * sizeof *row[k][j], cx)))
+                goto fail;
+    if (!(s.ac = td_malloc((size_t)g->w * sizeof *s.ac, cx)) ||
         !(s.rowcount = td_malloc((size_t)g->h * sizeof *s.rowcount, cx)) ||
         (rc = lookahead(&s, cx)) != 0)
         goto fail;
-    for (r = 0; r < g->h && rc == 0; r++) {
-        row_sweep(&s, r);
-        if (stage && (r & 1023) == 1023)
-            rc = td_progress(cx, stage, (double)r / g->h);
+    /* one pass down the anchors: each band's entry state (the last anchor
+     * above its first row, per line) and where its anchors start */
+    for (j = 0; j < s.nv; j++)
+        for (l = 0; l < s.nl; l++)
+            cur[j][l] = -1, curr[j][l] = -1;
+    kk = s.nnext;
+    kstart[0] = kk;
+    for (k = 1, r = 0; r < g->h; r++) {
+        int i, na = s.rowcount[r];
+        for (; k < nb && r == (int)((long)k * g->h / nb); k++) {
+            for (j = 0; j < s.nv; j++) {
+                memcpy(at[k][j], cur[j], s.nl * sizeof *cur[j]);
+                memcpy(row[k][j], curr[j], s.nl * sizeof *curr[j]);
+            }
+            kstart[k] = kk;
+        }
+        kk -= (size_t)na;
+        for (i = 0; i < na; i++) {
+            const sw_next *e = &s.next[kk + (size_t)i];
+            for (j = 0; j < s.nv; j++) {
+                l = (size_t)e->c + line_base(&s, j, r);
+                cur[j][l] = (long)(kk + (size_t)i);
+                curr[j][l] = r;
+            }
+        }
     }
+    rc = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(| : fail, cancel)
+    for (k = 0; k < nb; k++) {
+        sw_state b;
+        int r0 = (int)((long)k * g->h / nb);
+        int r1 = (int)((long)(k + 1) * g->h / nb), rr;
+        if (band_alloc(&b, &s, NULL) != 0) {
+            band_free(&b);
+            fail = 1;
+            continue;
+        }
+        if (k > 0)
+            band_enter(&b, r0, at[k], row[k]);
+        b.k = kstart[k];
+        for (rr = r0; rr < r1 && !cancel; rr++) {
+            row_sweep(&b, rr);
+            if (k == 0 && stage && (rr & 1023) == 1023)
+                cancel |= td_progress(cx, stage, (double)rr / g->h) != 0;
+        }
+        band_free(&b);
+    }
+    if (fail)
+        rc = td_seterr(cx, TD_ENOMEM, "multidir: out of memory");
+    else if (cancel)
+        rc = cx && cx->code ? cx->code : TD_ECANCEL;
 fail:
+    for (k = 0; k < SW_BANDS; k++)
+        for (j = 0; j < NV; j++)
+            free(at[k][j]), free(row[k][j]);
+    for (j = 0; j < NV; j++)
+        free(cur[j]), free(curr[j]);
     sw_free(&s);
     return rc;
 }

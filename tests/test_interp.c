@@ -10,6 +10,7 @@
 #include "src/compare/compare.h"
 #include "src/io/io.h"
 #include "interp/multidir.h"
+#include "interp/multidir_int.h"
 #include "interp/interp.h"
 #include "interp/scanline.h"
 #include "samples/gen/gen.h"
@@ -697,6 +698,54 @@ static void test_multidir_brute(void)
     td_grid_f32_free(a);
 }
 
+/* A grid tall enough for the sweep's row bands (multidir_sweep.c: 16 bands
+ * from 1024 rows), anchors sparse enough that spans cross the bands'
+ * edges: every cell as the brute force has it, and the same bytes on one
+ * thread and two. */
+static void test_multidir_bands(void)
+{
+    int w = 61, h = 1100, x, y, nd, t;
+    td_grid_f32 *a = td_grid_f32_new(w, h, NULL), *g[2];
+    unsigned s = 777;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            s = s * 1103515245u + 12345u;
+            TD_AT(a, x, y) = (s >> 16) % 1000 < 15
+                                 ? (float)(10 * ((s >> 8) % 7))
+                                 : NAN;
+        }
+    for (nd = 2; nd <= 4; nd += 2) {
+        td_multidir_params p = td_multidir_defaults();
+        double worst = 0, z;
+        long cells = 0;
+        p.interval = 10;
+        p.ndir = nd;
+        p.summit = 0;
+        for (t = 0; t < 2; t++) {
+            omp_set_num_threads(t + 1);
+            g[t] = td_grid_f32_new(w, h, NULL);
+            memcpy(g[t]->data, a->data,
+                   (size_t)h * a->stride * sizeof *a->data);
+            TT_CHECK(td_multidir_sweep(g[t], &p, NULL, NULL) == 0);
+        }
+        omp_set_num_threads(omp_get_num_procs());
+        TT_CHECK(memcmp(g[0]->data, g[1]->data,
+                        (size_t)h * a->stride * sizeof *a->data) == 0);
+        for (y = 0; y < h; y++)
+            for (x = 0; x < w; x++)
+                if (isnan(TD_AT(a, x, y)) &&
+                    brute_cell(a, x, y, nd, p.weight, &z)) {
+                    cells++;
+                    worst = fmax(worst, fabs(TD_AT(g[1], x, y) - z));
+                }
+        TT_CHECKF(worst < 1e-3 && cells > w * h / 2,
+                  "%d dirs: max |d| %g over %ld cells", nd, worst, cells);
+        td_grid_f32_free(g[0]);
+        td_grid_f32_free(g[1]);
+    }
+    td_grid_f32_free(a);
+}
+
 /* td_interp_lines_beside: a plane z = x cut into two sheets at x = 100.
  * Alone, the left sheet ends 9 columns past its last line (nodata or a
  * guess); with the right sheet's lines beside it, those columns are the
@@ -782,6 +831,7 @@ int main(void)
     TT_RUN(test_summit_beats_flat);
     TT_RUN(test_summit_capped);
     TT_RUN(test_multidir_threads);
+    TT_RUN(test_multidir_bands);
     TT_RUN(test_take);
     TT_RUN(test_step);
     TT_RUN(test_single_ring);
