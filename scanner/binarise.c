@@ -527,47 +527,135 @@ static int is_valley(const uint8_t *const *rows, int w, int x, int t, int hi,
 /* Threshold at t as apply_level, but ink pixels in a valley (is_valley)
  * become 2, and then (the mask is 8-connected ink) every diagonal contact
  * across a valley is cut too, so two lines whose blurred ink runs together
- * with a lighter seam between them stay apart.  Leaves 0/1. */
-static int apply_level_split(td_grid_u8 *m, int t, int hi, int margin,
-                             td_ctx *cx)
+ * with a lighter seam between them stay apart.  Leaves 0/1.
+ *
+ * In SPLIT_BANDS bands of rows on threads, with the bytes of one pass down
+ * the rows: each band reads the rows beside it as they were before
+ * (copies of each band edge's SPLIT_R rows either side, taken first), and
+ * the diagonal pass of a band's last row reads the next band's first row
+ * as the threshold left it (a copy taken between the two passes). */
+#define SPLIT_BANDS 16
+
+typedef struct split_band {
+    const td_grid_u8 *m;
+    int y0, y1;          /* the band's rows */
+    const uint8_t *above; /* rows y0 - R .. y0 - 1 before the pass */
+    const uint8_t *below; /* rows y1 .. y1 + R - 1 before the pass */
+} split_band;
+
+/* Row y of the strength as it was before the threshold, for band b. */
+static const uint8_t *split_row(const split_band *b, int y)
 {
-    uint8_t *ring = td_malloc((size_t)(2 * SPLIT_R + 1) * (size_t)m->w, cx);
+    if (y < b->y0)
+        return b->above + (size_t)(y - (b->y0 - SPLIT_R)) * b->m->w;
+    if (y >= b->y1)
+        return b->below + (size_t)(y - b->y1) * b->m->w;
+    return b->m->data + (size_t)y * b->m->stride;
+}
+
+/* The first pass over band b: 2 in a valley, else ink above t. */
+static void split_threshold(const split_band *b, uint8_t *ring, int t, int hi,
+                            int margin)
+{
+    const td_grid_u8 *m = b->m;
     const uint8_t *rows[2 * SPLIT_R + 1];
-    int x, y, k;
-    if (!ring)
-        return TD_ENOMEM;
-    for (y = 0; y < SPLIT_R && y < m->h; y++)
-        memcpy(ring + (size_t)(y % (2 * SPLIT_R + 1)) * m->w,
-               m->data + (size_t)y * m->stride, (size_t)m->w);
-    for (y = 0; y < m->h; y++) {
+    int x, y, k, n = 2 * SPLIT_R + 1;
+    for (y = b->y0 - SPLIT_R; y < b->y0 + SPLIT_R; y++)
+        if (y >= 0 && y < m->h)
+            memcpy(ring + (size_t)(((y % n) + n) % n) * m->w, split_row(b, y),
+                   (size_t)m->w);
+    for (y = b->y0; y < b->y1; y++) {
         uint8_t *row = m->data + (size_t)y * m->stride;
         if (y + SPLIT_R < m->h)
-            memcpy(ring + (size_t)((y + SPLIT_R) % (2 * SPLIT_R + 1)) * m->w,
-                   m->data + (size_t)(y + SPLIT_R) * m->stride,
-                   (size_t)m->w);
-        for (k = 0; k < 2 * SPLIT_R + 1; k++) {
+            memcpy(ring + (size_t)((y + SPLIT_R) % n) * m->w,
+                   split_row(b, y + SPLIT_R), (size_t)m->w);
+        for (k = 0; k < n; k++) {
             int yy = y + k - SPLIT_R;
-            rows[k] = yy < 0 || yy >= m->h
-                          ? NULL
-                          : ring + (size_t)(yy % (2 * SPLIT_R + 1)) * m->w;
+            rows[k] = yy < 0 || yy >= m->h ? NULL
+                                            : ring + (size_t)(yy % n) * m->w;
         }
         for (x = 0; x < m->w; x++)
-            row[x] = is_valley(rows, m->w, x, t, hi, margin)
-                         ? 2
-                         : rows[SPLIT_R][x] > t;
+            row[x] = is_valley(rows, m->w, x, t, hi, margin) ? 2
+                                                              : rows[SPLIT_R][x] > t;
     }
-    free(ring);
-    for (y = 0; y + 1 < m->h; y++) {
-        uint8_t *a = m->data + (size_t)y * m->stride, *b = a + m->stride;
+}
+
+/* The second pass over band b (rows y0 .. y1 - 1 against the row below;
+ * next: row y1 as the first pass left it), then 0/1. */
+static void split_diagonals(const split_band *b, const uint8_t *next)
+{
+    const td_grid_u8 *m = b->m;
+    int x, y;
+    for (y = b->y0; y < b->y1 && y + 1 < m->h; y++) {
+        uint8_t *a = m->data + (size_t)y * m->stride;
+        const uint8_t *bb = y + 1 < b->y1 ? a + m->stride : next;
         for (x = 0; x + 1 < m->w; x++) {
-            if (a[x] == 1 && b[x + 1] == 1 && a[x + 1] != 1 && b[x] != 1 &&
-                (a[x + 1] == 2 || b[x] == 2))
+            if (a[x] == 1 && bb[x + 1] == 1 && a[x + 1] != 1 && bb[x] != 1 &&
+                (a[x + 1] == 2 || bb[x] == 2))
                 a[x] = 2;
-            else if (a[x + 1] == 1 && b[x] == 1 && a[x] != 1 &&
-                     b[x + 1] != 1 && (a[x] == 2 || b[x + 1] == 2))
+            else if (a[x + 1] == 1 && bb[x] == 1 && a[x] != 1 &&
+                     bb[x + 1] != 1 && (a[x] == 2 || bb[x + 1] == 2))
                 a[x + 1] = 2;
         }
     }
+}
+
+static int apply_level_split(td_grid_u8 *m, int t, int hi, int margin,
+                             td_ctx *cx)
+{
+    int nb = m->h >= 64 * SPLIT_BANDS ? SPLIT_BANDS : 1, k, fail = 0, y, x;
+    size_t w = (size_t)m->w, edge = 2 * SPLIT_R * w;
+    /* per band edge k (1..nb-1): SPLIT_R rows either side as they are, then
+     * the edge row after the threshold */
+    uint8_t *saved = td_malloc((size_t)nb * (edge + w) + 1, cx);
+    if (!saved)
+        return TD_ENOMEM;
+    for (k = 1; k < nb; k++) {
+        int e = (int)((long)k * m->h / nb), r;
+        for (r = 0; r < 2 * SPLIT_R; r++)
+            if (e - SPLIT_R + r >= 0 && e - SPLIT_R + r < m->h)
+                memcpy(saved + (size_t)k * (edge + w) + (size_t)r * w,
+                       m->data + (size_t)(e - SPLIT_R + r) * m->stride, w);
+    }
+#pragma omp parallel reduction(| : fail)
+    {
+        uint8_t *ring = malloc((size_t)(2 * SPLIT_R + 1) * w);
+        int j;
+        fail |= !ring;
+#pragma omp for schedule(dynamic, 1)
+        for (j = 0; j < nb; j++) {
+            split_band b;
+            b.m = m;
+            b.y0 = (int)((long)j * m->h / nb);
+            b.y1 = (int)((long)(j + 1) * m->h / nb);
+            b.above = saved + (size_t)j * (edge + w);
+            b.below = j + 1 < nb ? saved + (size_t)(j + 1) * (edge + w) +
+                                       SPLIT_R * w
+                                 : NULL; /* past the sheet: never read */
+            if (ring)
+                split_threshold(&b, ring, t, hi, margin);
+            if (ring && j > 0) /* this band's first row, thresholded */
+                memcpy(saved + (size_t)j * (edge + w) + edge,
+                       m->data + (size_t)b.y0 * m->stride, w);
+        }
+#pragma omp for schedule(dynamic, 1)
+        for (j = 0; j < nb; j++) {
+            split_band b;
+            b.m = m;
+            b.y0 = (int)((long)j * m->h / nb);
+            b.y1 = (int)((long)(j + 1) * m->h / nb);
+            if (ring)
+                split_diagonals(&b, j + 1 < nb ? saved + (size_t)(j + 1) *
+                                                             (edge + w) +
+                                                         edge
+                                               : NULL);
+        }
+        free(ring);
+    }
+    free(saved);
+    if (fail)
+        return td_seterr(cx, TD_ENOMEM, "binarise: out of memory");
+#pragma omp parallel for schedule(static) private(x)
     for (y = 0; y < m->h; y++) {
         uint8_t *row = m->data + (size_t)y * m->stride;
         for (x = 0; x < m->w; x++)

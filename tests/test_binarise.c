@@ -3,8 +3,10 @@
 #include "tests/tt.h"
 
 #include "scanner/binarise.h"
+#include "samples/gen/gen.h"
 #include "src/io/io.h"
 
+#include <omp.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -1111,6 +1113,73 @@ static void test_seam_split(void)
     TT_CHECK(hard >= 10);
 }
 
+/* The seam split runs in bands of rows on threads from 1024 rows: a
+ * crowded sheet of 550 rows (one band) and the same sheet twice with 8
+ * rows of paper between (1108 rows, 16 bands) give the same mask for each
+ * copy, and one thread gives what two give. */
+static void test_seam_split_bands(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_binarise_params p = td_binarise_defaults();
+    td_image *a = NULL, *b;
+    td_grid_u8 *ma, *mb[2];
+    int rc, y, t, bad = 0;
+    gp.w = 400, gp.h = 550;
+    gp.terrain = TD_GEN_RIDGES;
+    gp.interval = 4; /* crowded: the lines touch */
+    gp.line_width = 2.2;
+    gp.blur = 0.8;
+    gp.seed = 3;
+    TT_CHECK(td_gen_sheet(&gp, &a, NULL, NULL, NULL) == 0 && a);
+    if (!a)
+        return;
+    b = td_image_new(a->w, 2 * a->h + 8, a->channels, NULL);
+    memset(b->data, 255, (size_t)b->h * b->stride);
+    for (y = 0; y < a->h; y++) {
+        memcpy(b->data + (size_t)y * b->stride,
+               a->data + (size_t)y * a->stride, (size_t)a->w * a->channels);
+        memcpy(b->data + (size_t)(y + a->h + 8) * b->stride,
+               a->data + (size_t)y * a->stride, (size_t)a->w * a->channels);
+    }
+    p.thr = TD_THR_FIXED; /* Otsu would see two copies and the paper */
+    p.thr_value = 110;
+    ma = run(a, &p, &rc);
+    for (t = 0; t < 2; t++) {
+        omp_set_num_threads(t + 1);
+        mb[t] = run(b, &p, &rc);
+    }
+    omp_set_num_threads(omp_get_num_procs());
+    /* not the copies' first and last two rows: the split needs two rows
+     * either side, which the sheet's edge lacks and the paper has */
+    for (y = 2; y + 2 < a->h; y++) {
+        bad += memcmp(ma->data + (size_t)y * ma->stride,
+                      mb[1]->data + (size_t)y * mb[1]->stride, (size_t)a->w) !=
+                   0 ||
+               memcmp(ma->data + (size_t)y * ma->stride,
+                      mb[1]->data + (size_t)(y + a->h + 8) * mb[1]->stride,
+                      (size_t)a->w) != 0;
+    }
+    TT_CHECKF(bad == 0, "%d rows differ from the one-band mask", bad);
+    { /* the sheet is crowded: the split cuts seams */
+        td_grid_u8 *m0;
+        long cut = 0;
+        size_t i;
+        p.split = 0;
+        m0 = run(a, &p, &rc);
+        for (i = 0; i < (size_t)a->h * ma->stride; i++)
+            cut += m0->data[i] && !ma->data[i];
+        TT_CHECKF(cut > 200, "%ld seam pixels", cut);
+        td_grid_u8_free(m0);
+    }
+    TT_CHECK(memcmp(mb[0]->data, mb[1]->data,
+                    (size_t)b->h * mb[0]->stride) == 0);
+    td_grid_u8_free(ma);
+    td_grid_u8_free(mb[0]);
+    td_grid_u8_free(mb[1]);
+    td_image_free(a);
+    td_image_free(b);
+}
+
 int main(void)
 {
     TT_RUN(test_dark_lines);
@@ -1134,5 +1203,6 @@ int main(void)
     TT_RUN(test_rgb_ink);
     TT_RUN(test_thin_zhangsuen);
     TT_RUN(test_seam_split);
+    TT_RUN(test_seam_split_bands);
     return tt_summary();
 }
