@@ -600,6 +600,21 @@ static void split_diagonals(const split_band *b, const uint8_t *next)
     }
 }
 
+/* Band j of nb over m; saved holds per band edge its rows either side
+ * (edge bytes) and the edge row after the threshold (w bytes). */
+static split_band band_of(td_grid_u8 *m, int j, int nb, uint8_t *saved,
+                          size_t edge, size_t w)
+{
+    split_band b;
+    b.m = m;
+    b.y0 = (int)((long)j * m->h / nb);
+    b.y1 = (int)((long)(j + 1) * m->h / nb);
+    b.above = saved + (size_t)j * (edge + w);
+    b.below = j + 1 < nb ? saved + (size_t)(j + 1) * (edge + w) + SPLIT_R * w
+                         : NULL; /* past the sheet: never read */
+    return b;
+}
+
 static int apply_level_split(td_grid_u8 *m, int t, int hi, int margin,
                              td_ctx *cx)
 {
@@ -624,14 +639,7 @@ static int apply_level_split(td_grid_u8 *m, int t, int hi, int margin,
         fail |= !ring;
 #pragma omp for schedule(dynamic, 1)
         for (j = 0; j < nb; j++) {
-            split_band b;
-            b.m = m;
-            b.y0 = (int)((long)j * m->h / nb);
-            b.y1 = (int)((long)(j + 1) * m->h / nb);
-            b.above = saved + (size_t)j * (edge + w);
-            b.below = j + 1 < nb ? saved + (size_t)(j + 1) * (edge + w) +
-                                       SPLIT_R * w
-                                 : NULL; /* past the sheet: never read */
+            split_band b = band_of(m, j, nb, saved, edge, w);
             if (ring)
                 split_threshold(&b, ring, t, hi, margin);
             if (ring && j > 0) /* this band's first row, thresholded */
@@ -640,15 +648,10 @@ static int apply_level_split(td_grid_u8 *m, int t, int hi, int margin,
         }
 #pragma omp for schedule(dynamic, 1)
         for (j = 0; j < nb; j++) {
-            split_band b;
-            b.m = m;
-            b.y0 = (int)((long)j * m->h / nb);
-            b.y1 = (int)((long)(j + 1) * m->h / nb);
-            if (ring)
-                split_diagonals(&b, j + 1 < nb ? saved + (size_t)(j + 1) *
-                                                             (edge + w) +
-                                                         edge
-                                               : NULL);
+            split_band b = band_of(m, j, nb, saved, edge, w);
+            if (ring) /* the next band's first row as the threshold left it */
+                split_diagonals(&b, b.below ? b.below - SPLIT_R * w + edge
+                                            : NULL);
         }
         free(ring);
     }

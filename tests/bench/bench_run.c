@@ -107,16 +107,10 @@ int main(int argc, char **argv)
     int size = 10000, runs = 3, i, r, ok = 1, have_gdal = 1;
     td_ctx cx;
     td_ctx_init(&cx);
-    for (i = 1; i + 1 < argc; i += 2) {
-        if (!strcmp(argv[i], "--size"))
-            size = atoi(argv[i + 1]);
-        else if (!strcmp(argv[i], "--dir"))
-            dir = argv[i + 1];
-        else if (!strcmp(argv[i], "--topodig"))
-            exe = argv[i + 1];
-        else if (!strcmp(argv[i], "--runs"))
+    for (i = 1; i + 1 < argc; i += 2)
+        if (!td_bench_option(argc, argv, i, &size, &dir, &exe) &&
+            !strcmp(argv[i], "--runs"))
             runs = atoi(argv[i + 1]);
-    }
     runs = runs < 1 ? 1 : runs > MAX_RUNS ? MAX_RUNS : runs;
     mkdir(dir, 0777);
     snprintf(sheet, sizeof sheet, "%s/ridges%d.tif", dir, size);

@@ -135,14 +135,8 @@ int main(int argc, char **argv)
     double secs, peak;
     td_ctx cx;
     td_ctx_init(&cx);
-    for (i = 1; i + 1 < argc; i += 2) {
-        if (!strcmp(argv[i], "--size"))
-            size = atoi(argv[i + 1]);
-        else if (!strcmp(argv[i], "--dir"))
-            dir = argv[i + 1];
-        else if (!strcmp(argv[i], "--topodig"))
-            exe = argv[i + 1];
-    }
+    for (i = 1; i + 1 < argc; i += 2)
+        td_bench_option(argc, argv, i, &size, &dir, &exe);
     mkdir(dir, 0777);
     snprintf(sheet, sizeof sheet, "%s/ridges%d.tif", dir, size);
     snprintf(out, sizeof out, "%s/ridges%d.geojson", dir, size);

@@ -3,6 +3,8 @@
 #include "src/io/io.h"
 
 #include <fcntl.h>
+#include <stdlib.h>
+#include <string.h>
 #include <stdio.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -69,4 +71,21 @@ int td_bench_child(char *const argv[], const char *err_path, double *secs,
         *cpu = (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
                (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
     return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 0 : -1;
+}
+
+/* Contract in bench.h. */
+int td_bench_option(int argc, char **argv, int i, int *size,
+                    const char **dir, const char **exe)
+{
+    if (i + 1 >= argc)
+        return 0;
+    if (!strcmp(argv[i], "--size"))
+        *size = atoi(argv[i + 1]);
+    else if (!strcmp(argv[i], "--dir"))
+        *dir = argv[i + 1];
+    else if (!strcmp(argv[i], "--topodig"))
+        *exe = argv[i + 1];
+    else
+        return 0;
+    return 1;
 }

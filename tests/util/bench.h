@@ -19,4 +19,10 @@ int td_bench_ridges_sheet(const char *path, int size, td_lines **truth,
 int td_bench_child(char *const argv[], const char *err_path, double *secs,
                    double *peak, double *cpu);
 
+/* The common options at argv[i] (--size N, --dir DIR, --topodig PATH;
+ * each needs its value at argv[i + 1]): stored, and 1 returned; 0 when
+ * argv[i] is none of them. */
+int td_bench_option(int argc, char **argv, int i, int *size,
+                    const char **dir, const char **exe);
+
 #endif
