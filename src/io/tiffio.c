@@ -492,7 +492,8 @@ static int read_block(TIFF *tif, const tiff_layout *L, const tiff_blocks *B,
  * 8-bit samples, Deflate (zlib streams), no predictor or the horizontal
  * one, bytes in file order as they are (8 bits: no swapping): blocks are
  * read raw in order, BATCH at a time, then inflated (libdeflate), the
- * predictor undone and the rows converted on threads.  A block libdeflate
+ * predictor undone and the rows converted on threads (in file order when
+ * an alpha plane blends the colour planes).  A block libdeflate
  * refuses goes through libtiff after the batch, so its error (or its
  * tolerance) is libtiff's: the same pixels and messages as the plain path
  * (test_tiff_deflate_threads). */
@@ -560,6 +561,9 @@ static int read_pixels_deflate(TIFF *tif, const tiff_layout *L,
     raw_slot slot[BATCH];
     uint8_t *dec = NULL, *one = NULL;
     uint16_t pred = 1;
+    /* separate planes with alpha: the alpha plane blends the colour the
+     * other planes wrote, so blocks are put in file order */
+    int ordered = L->planar == PLANARCONFIG_SEPARATE && L->alpha;
     uint32_t x = 0, y = 0;
     int p = 0, n, k, rc = 0, done = 0;
     TIFFGetFieldDefaulted(tif, TIFFTAG_PREDICTOR, &pred);
@@ -608,9 +612,13 @@ static int read_pixels_deflate(TIFF *tif, const tiff_layout *L,
                 s->ok = inflate_slot(s, buf,
                                      block_bytes(tif, B, s->y0, L->h), L, B,
                                      pred) == 0;
-            if (s->ok)
+            if (s->ok && !ordered)
                 put_block(L, B, s->x0, s->y0, s->p, buf, im);
         }
+        for (k = 0; ordered && k < n; k++) /* the alpha plane after the rest */
+            if (slot[k].ok)
+                put_block(L, B, slot[k].x0, slot[k].y0, slot[k].p,
+                          dec + (size_t)k * (size_t)B->size, im);
         for (k = 0; k < n && rc == 0; k++) /* what libdeflate refused */
             if (!slot[k].ok && read_block(tif, L, B, slot[k].x0, slot[k].y0,
                                           slot[k].p, one, im) != 0)
