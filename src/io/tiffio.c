@@ -542,11 +542,9 @@ static int inflate_slot(const raw_slot *s, uint8_t *buf, size_t want,
 }
 
 /* The decoded size of block (x0, y0): a tile's, or the strip's rows. */
-static size_t block_bytes(TIFF *tif, const tiff_blocks *B, uint32_t y0,
-                          uint32_t h)
+static size_t block_bytes(const tiff_blocks *B, uint32_t y0, uint32_t h)
 {
     uint32_t rows = B->bh;
-    (void)tif;
     if (B->tiled)
         return (size_t)B->size;
     if (y0 + rows > h)
@@ -610,7 +608,7 @@ static int read_pixels_deflate(TIFF *tif, const tiff_layout *L,
             uint8_t *buf = dec + (size_t)k * (size_t)B->size;
             if (s->ok)
                 s->ok = inflate_slot(s, buf,
-                                     block_bytes(tif, B, s->y0, L->h), L, B,
+                                     block_bytes(B, s->y0, L->h), L, B,
                                      pred) == 0;
             if (s->ok && !ordered)
                 put_block(L, B, s->x0, s->y0, s->p, buf, im);
