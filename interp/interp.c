@@ -89,6 +89,7 @@ static int interp_core(const td_lines *ls, td_lines **take, int w, int h,
         td_lines_free(*take);
         *take = NULL;
         ls = NULL;
+        td_trim_memory(); /* before the fill's own peak */
     }
     if (p->smooth > 0 && interval < 1e30 &&
         !(fixed = line_mask(g, cx))) {

@@ -10,6 +10,9 @@
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 void td_ctx_init(td_ctx *cx)
 {
@@ -101,6 +104,14 @@ static void *huge_pages(void *p, size_t n)
     (void)n;
 #endif
     return p;
+}
+
+/* Contract in core.h. */
+void td_trim_memory(void)
+{
+#if defined(__GLIBC__)
+    (void)malloc_trim(0);
+#endif
 }
 
 void *td_malloc(size_t n, td_ctx *cx)

@@ -111,6 +111,12 @@ void td_szvec_free(td_szvec *a);                       /* and re-zero */
 /* Seconds from a monotonic clock. */
 double td_now(void);
 
+/* Give the memory freed so far back to the system.  glibc keeps freed
+ * small blocks in its heap, resident, behind any block still in use: after
+ * a scan (millions of small blocks) about 1.1 bytes per pixel of a sheet,
+ * which the later stages' peak would count.  A no-op elsewhere. */
+void td_trim_memory(void);
+
 /* ---- grid ---- */
 /* grid.h: the raster types every stage shares.
  *
