@@ -27,11 +27,32 @@
  * decision is a table of 2^8 (|x| pattern) x 2^4 (which causal neighbours
  * are -1) entries.  A pixel's decision changes between passes only if a
  * neighbour was deleted in the previous pass, so after the first pass only
- * rows next to a deletion are scanned. */
+ * rows next to a deletion are scanned.
+ *
+ * On threads, the same pass as a wavefront (ours; the paper's raster order
+ * kept exactly): rows are dealt out in turn, and a row goes on to its
+ * next WAVE_CHUNK columns only once the row above has finished every
+ * column the chunk reads (up to the chunk's end + 1).  Each pixel then
+ * sees the row above as marked in this pass, the pixel to its left as
+ * marked, and the row below and to its right as the pass found them, as
+ * in one pass down the rows, so the marks, and the skeleton, are the same
+ * bytes on any number of threads.  At the end of a pass the marked rows
+ * are swept (on threads) and their marks become paper. */
 #include "scanner/thin.h"
 
+#include <sched.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <stdio.h>
+#include "src/core/core.h"
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#define WAVE_CHUNK 256
+#define WAVE_MIN_ROWS 64  /* fewer rows: one thread */
+#define WAVE_MAX_THREADS 8
 
 #define LUT_SIZE 4096
 
@@ -113,60 +134,132 @@ typedef struct thin_state {
     uint8_t lut[LUT_SIZE];
     uint8_t *zero;            /* a row of paper for outside the grid */
     uint8_t *cur, *next;      /* rows to scan in this / the next pass */
-    td_szvec del;             /* pixels marked in this pass */
+    atomic_int *done;         /* per row: its columns finished this pass */
+    size_t *marked;           /* per row: pixels marked in this pass */
+    int nt;                   /* threads */
 } thin_state;
 
-/* Scan one row; ink bytes are found eight at a time. */
-static int thin_row(thin_state *s, int y, td_ctx *cx)
+/* Wait until row y (of another thread) has finished need columns; how
+ * many it has finished then. */
+static int wait_row(const thin_state *s, int y, int need)
+{
+    int spins = 0, got;
+    while ((got = atomic_load_explicit(&s->done[y], memory_order_acquire)) <
+           need)
+        if (++spins == 256) {
+            spins = 0;
+            sched_yield();
+        }
+    return got;
+}
+
+/* Scan one row, marking the pixels to delete; how many.  Ink bytes are
+ * found eight at a time.  With threads, each chunk of columns first waits
+ * for the row above. */
+static size_t thin_row(thin_state *s, int y)
 {
     td_grid_u8 *g = s->g;
-    int w = g->w, x = 0;
+    int w = g->w, x = 0, x1, seen = 0; /* seen: the row above's done */
     uint8_t *b = g->data + (size_t)y * g->stride;
     const uint8_t *a = y > 0 ? b - g->stride : s->zero;
     const uint8_t *c = y + 1 < g->h ? b + g->stride : s->zero;
-    while (x < w) {
-        uint64_t word;
-        if (x + 8 <= w) {
-            memcpy(&word, b + x, 8);
-            if (word == 0) {
-                x += 8;
-                continue;
+    size_t n = 0;
+    for (x = 0; x < w; x = x1) {
+        int need;
+        x1 = x + WAVE_CHUNK < w ? x + WAVE_CHUNK : w;
+        need = x1 + 1 < w ? x1 + 1 : w;
+        if (s->nt > 1 && y > 0 && seen < need)
+            seen = wait_row(s, y - 1, need);
+        while (x < x1) {
+            uint64_t word;
+            if (x + 8 <= x1) {
+                memcpy(&word, b + x, 8);
+                if (word == 0) {
+                    x += 8;
+                    continue;
+                }
             }
+            if (b[x] == 1 && s->lut[nb_index(a, b, c, x, w)]) {
+                b[x] = 2;
+                n++;
+            }
+            x++;
         }
-        if (b[x] == 1 && s->lut[nb_index(a, b, c, x, w)]) {
-            b[x] = 2;
-            if (td_szvec_push(&s->del, (size_t)y * g->stride + (size_t)x, cx))
-                return TD_ENOMEM;
-            s->next[y] = 1;
-            if (y > 0)
-                s->next[y - 1] = 1;
-            if (y + 1 < g->h)
-                s->next[y + 1] = 1;
-        }
-        x++;
+        if (s->nt > 1)
+            atomic_store_explicit(&s->done[y], x1, memory_order_release);
     }
-    return 0;
+    return n;
+}
+
+/* One pass over the rows marked in s->cur: marks, and per row how many
+ * into s->marked. */
+static void thin_pass(thin_state *s)
+{
+    td_grid_u8 *g = s->g;
+    int y;
+    if (s->nt <= 1) {
+        for (y = 0; y < g->h; y++)
+            s->marked[y] = s->cur[y] ? thin_row(s, y) : 0;
+        return;
+    }
+    for (y = 0; y < g->h; y++) {
+        atomic_init(&s->done[y], s->cur[y] ? 0 : g->w);
+        s->marked[y] = 0;
+    }
+#pragma omp parallel num_threads(s->nt)
+    {
+#ifdef _OPENMP
+        int t = omp_get_thread_num(), nt = omp_get_num_threads();
+#else
+        int t = 0, nt = 1;
+#endif
+        int yy;
+        /* rows t, t + nt, ... in order (the team deals by its own size) */
+        for (yy = t; yy < g->h; yy += nt)
+            if (s->cur[yy]) {
+                s->marked[yy] = thin_row(s, yy);
+                atomic_store_explicit(&s->done[yy], g->w,
+                                      memory_order_release);
+            }
+    }
+}
+
+/* The pass's marks turned into paper (rows on threads). */
+static void apply_marks(thin_state *s)
+{
+    td_grid_u8 *g = s->g;
+    int y;
+#pragma omp parallel for schedule(dynamic, 64) num_threads(s->nt)
+    for (y = 0; y < g->h; y++) {
+        uint8_t *r = g->data + (size_t)y * g->stride;
+        int x;
+        if (!s->marked[y])
+            continue;
+        for (x = 0; x < g->w; x++)
+            r[x] = r[x] == 2 ? 0 : r[x];
+    }
 }
 
 /* Passes until nothing changes; s->cur holds the rows of the first pass. */
 static int thin_passes(thin_state *s, td_thin_stats *st, td_ctx *cx)
 {
     td_grid_u8 *g = s->g;
-    int y, rc, passes = 0;
-    size_t removed = 0, i;
+    int y, passes = 0;
+    size_t removed = 0, n;
     for (;;) {
-        s->del.n = 0;
-        memset(s->next, 0, (size_t)g->h);
-        for (y = 0; y < g->h; y++)
-            if (s->cur[y] && (rc = thin_row(s, y, cx)) != 0)
-                return rc;
-        for (i = 0; i < s->del.n; i++)
-            g->data[s->del.v[i]] = 0;
-        removed += s->del.n;
+        thin_pass(s);
+        apply_marks(s);
+        for (y = 0, n = 0; y < g->h; y++) {
+            n += s->marked[y];
+            s->next[y] = s->marked[y] > 0 ||
+                         (y > 0 && s->marked[y - 1] > 0) ||
+                         (y + 1 < g->h && s->marked[y + 1] > 0);
+        }
+        removed += n;
         passes++;
-        if (td_progress(cx, "thin", s->del.n ? 0.5 : 1.0) != 0)
+        if (td_progress(cx, "thin", n ? 0.5 : 1.0) != 0)
             return TD_ECANCEL;
-        if (s->del.n == 0)
+        if (n == 0)
             break;
         memcpy(s->cur, s->next, (size_t)g->h);
     }
@@ -185,11 +278,19 @@ static int thin_run(td_grid_u8 *g, const size_t *idx, size_t n,
     size_t i;
     memset(&s, 0, sizeof s);
     s.g = g;
+    s.nt = 1;
+#ifdef _OPENMP
+    if (g->h >= WAVE_MIN_ROWS)
+        s.nt = omp_get_max_threads();
+#endif
+    s.nt = s.nt < 1 ? 1 : s.nt > WAVE_MAX_THREADS ? WAVE_MAX_THREADS : s.nt;
     build_lut(s.lut);
     s.zero = calloc((size_t)g->w + 8, 1);
     s.cur = calloc((size_t)g->h, 1);
     s.next = calloc((size_t)g->h, 1);
-    if (!s.zero || !s.cur || !s.next) {
+    s.marked = calloc((size_t)g->h, sizeof *s.marked);
+    s.done = s.nt > 1 ? malloc((size_t)g->h * sizeof *s.done) : NULL;
+    if (!s.zero || !s.cur || !s.next || !s.marked || (s.nt > 1 && !s.done)) {
         td_seterr(cx, TD_ENOMEM, "thin: out of memory");
         goto fail;
     }
@@ -210,7 +311,8 @@ fail:
     free(s.zero);
     free(s.cur);
     free(s.next);
-    td_szvec_free(&s.del);
+    free(s.marked);
+    free((void *)s.done);
     return rc;
 }
 

@@ -5,6 +5,10 @@
 #include "scanner/skel.h"
 
 #include <stdlib.h>
+#include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 static int thin(td_grid_u8 *g)
 {
@@ -171,6 +175,54 @@ static void test_random_topology(void)
     }
 }
 
+/* The wavefront on threads gives the bytes of one pass down the rows: a
+ * 700 x 420 field of thick random shapes (rings, disks, bars touching and
+ * crossing: every deletion near another row's), thinned on 1 thread (the
+ * raster order) and on 2, 3 and 4; the skeleton, the passes and the pixels
+ * removed must agree. */
+static void test_threads_same_as_one_pass(void)
+{
+#ifdef _OPENMP
+    unsigned seed = 777;
+    td_grid_u8 *g = td_grid_u8_new(700, 420, NULL), *ref;
+    td_thin_stats s1, sn;
+    td_ctx cx;
+    int k, t;
+    td_ctx_init(&cx);
+    for (k = 0; k < 260; k++) {
+        double x = rand_r(&seed) % 700, y = rand_r(&seed) % 420;
+        double r = 2 + rand_r(&seed) % 14;
+        switch (rand_r(&seed) % 3) {
+        case 0: tg_disk(g, x, y, r); break;
+        case 1: tg_ring(g, x, y, r, r + 2 + rand_r(&seed) % 6); break;
+        default:
+            tg_thick_segment(g, x, y, rand_r(&seed) % 700, rand_r(&seed) % 420,
+                             1 + rand_r(&seed) % 7);
+        }
+    }
+    ref = td_grid_u8_dup(g, NULL);
+    omp_set_num_threads(1);
+    TT_CHECK(td_thin_hilditch(ref, &s1, &cx) == 0);
+    TT_CHECK(s1.passes > 3 && s1.removed > 10000);
+    for (t = 2; t <= 4; t++) {
+        td_grid_u8 *c = td_grid_u8_dup(g, NULL);
+        int y, diff = 0;
+        omp_set_num_threads(t);
+        TT_CHECK(td_thin_hilditch(c, &sn, &cx) == 0);
+        for (y = 0; y < g->h; y++)
+            diff += memcmp(c->data + (size_t)y * c->stride,
+                           ref->data + (size_t)y * ref->stride,
+                           (size_t)g->w) != 0;
+        TT_CHECKF(diff == 0, "%d threads: %d rows differ", t, diff);
+        TT_CHECK(sn.passes == s1.passes && sn.removed == s1.removed);
+        td_grid_u8_free(c);
+    }
+    omp_set_num_threads(omp_get_num_procs());
+    td_grid_u8_free(ref);
+    td_grid_u8_free(g);
+#endif
+}
+
 static void test_empty_and_single(void)
 {
     td_grid_u8 *g = td_grid_u8_new(1, 1, NULL);
@@ -192,6 +244,7 @@ int main(void)
     TT_RUN(test_disk);
     TT_RUN(test_thin_is_fixpoint);
     TT_RUN(test_random_topology);
+    TT_RUN(test_threads_same_as_one_pass);
     TT_RUN(test_empty_and_single);
     return tt_summary();
 }

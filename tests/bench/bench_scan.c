@@ -15,6 +15,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 static double mpx(int w, int h, double s)
 {
@@ -144,7 +147,13 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_scan: %s\n", td_errmsg(&cx));
         return 1;
     }
-    printf("scan benchmark, %dx%d sheet (3-px lines), one core\n", size, size);
+#ifdef _OPENMP
+    printf("scan benchmark, %dx%d sheet (3-px lines), %d threads\n", size,
+           size, omp_get_max_threads());
+#else
+    printf("scan benchmark, %dx%d sheet (3-px lines), one thread\n", size,
+           size);
+#endif
     if (stages(sheet, &cx) != 0)
         printf("  stage failed: %s\n", td_errmsg(&cx));
     if (run_cli(exe, sheet, out, &secs, &peak) == 0) {
