@@ -217,13 +217,15 @@ double td_contain_dist(const td_line *l, double x, double y)
 /* ---- crossings ---------------------------------------------------------- */
 
 typedef struct xseg {
-    size_t line, k; /* segment k of line (point k to point k+1, wrapping) */
+    uint32_t line, k; /* segment k of line (point k to point k+1, wrapping;
+                         8 bytes: the grid holds one per piece) */
 } xseg;
 
 static const double *seg_pt(const td_lines *ls, const xseg *s, int end)
 {
     const td_line *l = &ls->v[s->line];
-    return l->xy + 2 * ((s->k + (size_t)end) % l->n);
+    size_t k = (size_t)s->k + (size_t)end;
+    return l->xy + 2 * (k < l->n ? k : 0);
 }
 
 /* ab and cd cross; the point in *x, *y.  Half-open segments ([a,b) and
@@ -261,7 +263,7 @@ static int cmp_cross(const void *pa, const void *pb)
  * the lines' extent is large and the lines few, so memory follows what
  * the lines contain, not the coordinates they claim. */
 typedef struct xgrid {
-    double x0, y0, cs;
+    double x0, y0, cs, inv; /* cell size and 1 / it */
     long cw, ch;
     size_t *start; /* cw*ch + 1 offsets into segs */
     xseg *segs;
@@ -271,7 +273,8 @@ typedef struct xgrid {
 
 static long xcell(const xgrid *g, double v, double o, long lim)
 {
-    long c = (long)floor((v - o) / g->cs);
+    /* cs is 16 times a power of two: times its inverse is the division */
+    long c = (long)floor((v - o) * g->inv);
     return c < 0 ? 0 : c >= lim ? lim - 1 : c;
 }
 
@@ -279,8 +282,11 @@ static long xcell(const xgrid *g, double v, double o, long lim)
 static void xvisit(xgrid *g, const td_lines *ls, xseg s, size_t *cnt, int pass)
 {
     const double *a = seg_pt(ls, &s, 0), *b = seg_pt(ls, &s, 1);
-    double len = hypot(b[0] - a[0], b[1] - a[1]);
-    long m = (long)ceil(len / g->cs), k, cx, cy, lastc = -1;
+    double dx = fabs(b[0] - a[0]), dy = fabs(b[1] - a[1]);
+    /* one piece when surely no longer than a cell (most: traced lines
+       step 1 px), else pieces of at most a cell */
+    long m = dx + dy <= g->cs ? 1 : (long)ceil(hypot(dx, dy) / g->cs), k, cx,
+         cy, lastc = -1;
     m = m < 1 ? 1 : m;
     for (k = 0; k < m; k++) {
         double t0 = (double)k / m, t1 = (double)(k + 1) / m;
@@ -319,11 +325,15 @@ static int xgrid_build(const td_lines *ls, xgrid *g, td_ctx *cx)
         }
     if (n == 0)
         return 0;
+    if (ls->n > UINT32_MAX || n > UINT32_MAX)
+        return td_seterr(cx, TD_ETOOBIG, "crossings: %zu lines, %zu points: "
+                         "too many", ls->n, n);
     cap = n < XCELLS_MIN / 16 ? XCELLS_MIN : 16 * n;
     for (g->cs = 16.0;
          ((x1 - g->x0) / g->cs + 1) * ((y1 - g->y0) / g->cs + 1) > (double)cap;
          g->cs *= 2)
         ;
+    g->inv = 1.0 / g->cs;
     g->cw = (long)((x1 - g->x0) / g->cs) + 1, g->ch = (long)((y1 - g->y0) / g->cs) + 1;
     nc = (size_t)g->cw * g->ch;
     if (!(g->start = calloc(nc + 1, sizeof *g->start)) ||
@@ -334,7 +344,7 @@ static int xgrid_build(const td_lines *ls, xgrid *g, td_ctx *cx)
             const td_line *l = &ls->v[i];
             size_t j, ns = l->n < 2 ? 0 : l->closed ? l->n : l->n - 1;
             for (j = 0; j < ns; j++) {
-                xseg s = {i, j};
+                xseg s = {(uint32_t)i, (uint32_t)j};
                 xvisit(g, ls, s, cnt, (int)k);
             }
         }
@@ -384,19 +394,27 @@ int td_contain_crossings(const td_lines *ls, td_crossing **out, size_t *nout,
     { /* cells on threads, each its own list; sorted after, so the
          result does not depend on the threads */
         td_crossing *tv = NULL;
-        size_t tn = 0, tcap = 0, c, a, b;
+        size_t tn = 0, tcap = 0, c, a, b, be;
         int tfail = 0;
 #pragma omp for schedule(dynamic, 256) nowait
         for (c = 0; c < nc; c++)
-            for (a = g.start[c]; a < g.start[c + 1] && !tfail; a++)
-                for (b = a + 1; b < g.start[c + 1]; b++) {
-                    const xseg *s = &g.segs[a], *t = &g.segs[b];
+            for (a = g.start[c], be = a; a < g.start[c + 1] && !tfail; a++) {
+                const xseg *s = &g.segs[a];
+                const double *p = seg_pt(ls, s, 0), *q = seg_pt(ls, s, 1);
+                double x0 = fmin(p[0], q[0]), x1 = fmax(p[0], q[0]);
+                double y0 = fmin(p[1], q[1]), y1 = fmax(p[1], q[1]);
+                /* a cell's pieces come in line order: the pieces of
+                   later lines start at be */
+                while (be < g.start[c + 1] && g.segs[be].line == s->line)
+                    be++;
+                for (b = be; b < g.start[c + 1]; b++) {
+                    const xseg *t = &g.segs[b];
+                    const double *e = seg_pt(ls, t, 0), *f = seg_pt(ls, t, 1);
                     double x, y;
-                    /* a cell's pieces come in line order */
-                    if (t->line <= s->line ||
-                        !proper_cross(seg_pt(ls, s, 0), seg_pt(ls, s, 1),
-                                      seg_pt(ls, t, 0), seg_pt(ls, t, 1), &x,
-                                      &y))
+                    /* boxes apart: no crossing (exact: comparisons only) */
+                    if (fmax(e[0], f[0]) < x0 || fmin(e[0], f[0]) > x1 ||
+                        fmax(e[1], f[1]) < y0 || fmin(e[1], f[1]) > y1 ||
+                        !proper_cross(p, q, e, f, &x, &y))
                         continue;
                     /* each crossing once: in the cell that holds it */
                     if ((size_t)(xcell(&g, y, g.y0, g.ch) * g.cw +
@@ -408,6 +426,7 @@ int td_contain_crossings(const td_lines *ls, td_crossing **out, size_t *nout,
                         break;
                     }
                 }
+            }
 #pragma omp critical(td_crossings)
         {
             if (tfail || (tn && td_grow((void **)&v, &cap, n + tn,
