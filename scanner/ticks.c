@@ -18,9 +18,10 @@
 static int bit_at(const uint8_t *bits, int w, int h, double x, double y)
 {
     size_t rb = ((size_t)w + 7) / 8;
-    long c = (long)floor(x), r = (long)floor(y);
-    if (c < 0 || r < 0 || c >= w || r >= h)
+    long c, r;
+    if (!(x >= 0 && y >= 0 && x < w && y < h))
         return 0;
+    c = (long)x, r = (long)y; /* floor: both are >= 0 */
     return bits[(size_t)r * rb + ((size_t)c >> 3)] >> (c & 7) & 1;
 }
 
@@ -100,9 +101,18 @@ static void profile_ticks(const uint8_t *bits, int w, int h, const td_line *l,
     }
     memset(f, 0, 2 * m);
     for (k = 0; k < m; k++) {
-        double base = local_med(wd, 1, m, k), nx, ny, e[2];
+        double base, nx, ny, e[2];
+        size_t j, below = 0, q = (k + m - WIN) % m;
+        /* the cheap test first, most fail it: the median (the WIN + 1st
+           smallest) + TICK_OVER is at most wd[k] exactly when WIN + 1 of
+           the window's values are (v + TICK_OVER rounds monotonically) */
+        for (j = 0; j < 2 * WIN + 1; j++, q = q + 1 == m ? 0 : q + 1)
+            below += wd[q] + TICK_OVER <= wd[k];
+        if (below < WIN + 1)
+            continue;
+        base = local_med(wd, 1, m, k);
         if (wd[k] < base + TICK_OVER || wd[k] > base + TICK_REACH)
-            continue; /* the cheap test first: most fail it */
+            continue;
         /* the side that widened: its run against its own runs about it
          * (the traced centre sits off the ink's middle, more so on
          * diagonals and where blur widens both sides) */
