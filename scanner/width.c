@@ -28,9 +28,10 @@ typedef struct wmask {
 
 static int ink_at(const wmask *m, double x, double y)
 {
-    long c = (long)floor(x), r = (long)floor(y);
-    if (c < 0 || r < 0 || c >= m->w || r >= m->h)
+    long c, r;
+    if (!(x >= 0 && y >= 0 && x < m->w && y < m->h))
         return 0;
+    c = (long)x, r = (long)y; /* floor: both are >= 0 */
     if (m->bits)
         return m->bits[(size_t)r * m->stride + (size_t)(c >> 3)] >> (c & 7) & 1;
     return m->bytes[(size_t)r * m->stride + (size_t)c] != 0;
@@ -85,18 +86,26 @@ static double line_width(const wmask *m, const td_line *l, double *runs,
     return nr % 2 ? runs[nr / 2] : 0.5 * (runs[nr / 2 - 1] + runs[nr / 2]);
 }
 
+/* Every line's width; lines on threads (each alone). */
 static int widths(const wmask *mask, td_lines *ls, td_ctx *cx)
 {
-    size_t i, maxruns = 512;
-    double *runs = td_calloc(maxruns, sizeof *runs, cx);
-    if (!runs)
-        return TD_ENOMEM;
-    for (i = 0; i < ls->n; i++) {
-        td_line *l = &ls->v[i];
-        l->width = l->n < 2 ? 0.0 : line_width(mask, l, runs, maxruns);
+    long n = (long)ls->n;
+    int fail = 0;
+#pragma omp parallel reduction(| : fail)
+    {
+        size_t maxruns = 512;
+        double *runs = malloc(maxruns * sizeof *runs);
+        long i;
+        fail |= !runs;
+#pragma omp for schedule(dynamic, 16)
+        for (i = 0; i < n; i++) {
+            td_line *l = &ls->v[i];
+            if (runs)
+                l->width = l->n < 2 ? 0.0 : line_width(mask, l, runs, maxruns);
+        }
+        free(runs);
     }
-    free(runs);
-    return 0;
+    return fail ? td_seterr(cx, TD_ENOMEM, "widths: out of memory") : 0;
 }
 
 /* Contract in width.h. */

@@ -255,14 +255,16 @@ int td_line_simplify(td_line *l, double tol, td_ctx *cx)
     return 0;
 }
 
-/* See core.h. */
+/* See core.h.  Lines on threads: each is simplified alone. */
 int td_lines_simplify(td_lines *ls, double tol, td_ctx *cx)
 {
-    size_t i;
-    int rc = 0;
-    for (i = 0; ls && rc == 0 && i < ls->n; i++)
-        rc = td_line_simplify(&ls->v[i], tol, cx);
-    return rc;
+    long i, n = ls ? (long)ls->n : 0;
+    int fail = 0;
+#pragma omp parallel for schedule(dynamic, 16) reduction(| : fail)
+    for (i = 0; i < n; i++)
+        if (!fail)
+            fail |= td_line_simplify(&ls->v[i], tol, NULL) != 0;
+    return fail ? td_seterr(cx, TD_ENOMEM, "simplify: out of memory") : 0;
 }
 
 /* See core.h. */
