@@ -299,29 +299,39 @@ static int trace_line(td_grid_u8 *g, td_lines *ls, int x, int y,
     return 0;
 }
 
-/* Count junction pixels; with mark, flag them JUNCTION (read on the
- * unmarked skeleton: the flags are set one row behind). */
-static size_t count_junctions(td_grid_u8 *g, int mark)
+/* Count junction pixels; with mark, flag them JUNCTION once all are
+ * found (read on the unflagged skeleton).  Rows on threads, each thread
+ * listing its junctions; -1 when out of memory. */
+static long count_junctions(td_grid_u8 *g, int mark)
 {
     size_t n = 0;
-    int x, y;
-    for (y = 0; y < g->h; y++) {
-        uint8_t *r = g->data + (size_t)y * g->stride;
-        for (x = td_skel_next_ink(r, 0, g->w); x < g->w;
-             x = td_skel_next_ink(r, x + 1, g->w))
-            if (td_skel_crossings(td_skel_nbits(g, x, y)) >= 3) {
-                n++;
-                if (mark)
-                    r[x] |= 0x80; /* pending: nbits reads bit 0 only */
-            }
+    int fail = 0;
+#pragma omp parallel reduction(+ : n) reduction(| : fail)
+    {
+        td_szvec js = {NULL, 0, 0};
+        int y;
+#pragma omp for schedule(dynamic, 64)
+        for (y = 0; y < g->h; y++) {
+            const uint8_t *r = g->data + (size_t)y * g->stride;
+            int x;
+            for (x = td_skel_next_ink(r, 0, g->w); x < g->w;
+                 x = td_skel_next_ink(r, x + 1, g->w))
+                if (td_skel_crossings(td_skel_nbits(g, x, y)) >= 3) {
+                    n++;
+                    if (mark && td_szvec_push(&js, (size_t)y * g->stride +
+                                                       (size_t)x, NULL))
+                        fail = 1;
+                }
+        }
+#pragma omp barrier
+        if (mark && !fail) {
+            size_t i;
+            for (i = 0; i < js.n; i++) /* each thread its own pixels */
+                g->data[js.v[i]] |= JUNCTION;
+        }
+        td_szvec_free(&js);
     }
-    for (y = 0; mark && y < g->h; y++) {
-        uint8_t *r = g->data + (size_t)y * g->stride;
-        for (x = 0; x < g->w; x++)
-            if (r[x] & 0x80)
-                r[x] = (uint8_t)((r[x] & 0x7f) | JUNCTION);
-    }
-    return n;
+    return fail ? -1 : (long)n;
 }
 
 static void fill_stats(const td_lines *ls, td_trace_stats *st)
@@ -350,7 +360,14 @@ int td_trace(td_grid_u8 *g, const td_trace_params *p, td_lines **out,
     *out = NULL;
     if (!ls)
         return TD_ENOMEM;
-    st->junctions = count_junctions(g, p->cut);
+    {
+        long nj = count_junctions(g, p->cut);
+        if (nj < 0) {
+            td_lines_free(ls);
+            return td_seterr(cx, TD_ENOMEM, "trace: out of memory");
+        }
+        st->junctions = (size_t)nj;
+    }
     for (y = 0; y < g->h && rc == 0; y++) {
         const uint8_t *r = g->data + (size_t)y * g->stride;
         for (x = td_skel_next_ink(r, 0, g->w); x < g->w && rc == 0;
@@ -360,11 +377,13 @@ int td_trace(td_grid_u8 *g, const td_trace_params *p, td_lines **out,
         if (rc == 0 && (y & 255) == 0)
             rc = td_progress(cx, "trace", (double)y / g->h);
     }
+#pragma omp parallel for schedule(static)
     for (y = 0; y < g->h; y++) {
         uint8_t *r = g->data + (size_t)y * g->stride;
-        for (x = td_skel_next_ink(r, 0, g->w); x < g->w;
-             x = td_skel_next_ink(r, x + 1, g->w))
-            r[x] &= 1;
+        int c;
+        for (c = td_skel_next_ink(r, 0, g->w); c < g->w;
+             c = td_skel_next_ink(r, c + 1, g->w))
+            r[c] &= 1;
     }
     if (rc != 0) {
         td_lines_free(ls);
