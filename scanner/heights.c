@@ -170,16 +170,25 @@ static size_t line_chunks(const hs *s, size_t l, size_t *c0)
 
 /* The chunk of the used line nearest (x,y) within p->near px (its line in
  * *line), -1 when none. */
-static long chunk_near(const hs *s, double x, double y, long *line)
+static long chunk_near(const hs *s, const double *box, double x, double y,
+                       long *line)
 {
     size_t i, k, bk = 0;
     long best = -1;
-    double bd = s->p->near;
+    double bd = s->p->near, d;
     for (i = 0; i < s->N; i++) {
         const td_line *l = &s->ls->v[i];
-        if (!td_faces_used(s->fx, i) || td_contain_dist(l, x, y) > bd)
+        const double *b = box + 4 * i;
+        if (!td_faces_used(s->fx, i))
             continue;
-        bd = td_contain_dist(l, x, y);
+        /* a box farther than bd holds no point within it (the margin:
+           the distance's own rounding) */
+        if (hypot(fmax(0, fmax(b[0] - x, x - b[2])),
+                  fmax(0, fmax(b[1] - y, y - b[3]))) > bd + 1e-6)
+            continue;
+        if ((d = td_contain_dist(l, x, y)) > bd)
+            continue;
+        bd = d;
         best = (long)i;
     }
     if (best < 0)
@@ -187,7 +196,7 @@ static long chunk_near(const hs *s, double x, double y, long *line)
     bd = INFINITY;
     for (k = 0; k < s->ls->v[best].n; k++) {
         const double *q = s->ls->v[best].xy + 2 * k;
-        double d = hypot(q[0] - x, q[1] - y);
+        d = hypot(q[0] - x, q[1] - y);
         if (d < bd)
             bd = d, bk = k;
     }
@@ -244,10 +253,40 @@ static void put_known(hs *s, size_t c, long level, long line)
     s->nknown[c]++;
 }
 
+/* Every line's bounding box (x0, y0, x1, y1), for chunk_near. */
+static double *line_boxes(const hs *s, td_ctx *cx)
+{
+    double *box = td_malloc((4 * s->N + 1) * sizeof *box, cx);
+    long i;
+    if (!box)
+        return NULL;
+#pragma omp parallel for schedule(dynamic, 16)
+    for (i = 0; i < (long)s->N; i++) {
+        const td_line *l = &s->ls->v[i];
+        double *b = box + 4 * i;
+        size_t k;
+        b[0] = b[1] = INFINITY, b[2] = b[3] = -INFINITY;
+        for (k = 0; k < l->n; k++) {
+            b[0] = fmin(b[0], l->xy[2 * k]), b[2] = fmax(b[2], l->xy[2 * k]);
+            b[1] = fmin(b[1], l->xy[2 * k + 1]);
+            b[3] = fmax(b[3], l->xy[2 * k + 1]);
+        }
+    }
+    return box;
+}
+
 static int setup_known(hs *s, td_ctx *cx)
 {
     size_t i, k, c0, m;
-    for (i = 0; i < s->p->nknown; i++) {
+    double *box = NULL;
+    int rc = 0;
+    for (i = 0; i < s->p->nknown; i++)
+        if (s->p->known[i].id < 0) {
+            if (!(box = line_boxes(s, cx)))
+                return TD_ENOMEM;
+            break;
+        }
+    for (i = 0; i < s->p->nknown && rc == 0; i++) {
         const td_label_point *q = &s->p->known[i];
         long l = -1, c;
         double f = (q->height - s->p->base) / s->p->interval;
@@ -262,16 +301,16 @@ static int setup_known(hs *s, td_ctx *cx)
             m = line_chunks(s, (size_t)l, &c0);
             for (k = 0; k < m; k++)
                 put_known(s, c0 + k, lround(f), l);
-        } else if ((c = chunk_near(s, q->x, q->y, &l)) >= 0) {
+        } else if ((c = chunk_near(s, box, q->x, q->y, &l)) >= 0) {
             put_known(s, (size_t)c, lround(f), l);
         } else {
             if (!(q->x >= 0 && q->y >= 0 && q->x <= s->p->w && q->y <= s->p->h))
-                return td_seterr(cx, TD_EINVAL,
-                                 "known point (%g,%g) is off "
-                                 "the %d x %d sheet",
-                                 q->x, q->y, s->p->w, s->p->h);
-            if (known_in_face(s, q, cx) != 0)
-                return TD_ENOMEM;
+                rc = td_seterr(cx, TD_EINVAL,
+                               "known point (%g,%g) is off "
+                               "the %d x %d sheet",
+                               q->x, q->y, s->p->w, s->p->h);
+            else if (known_in_face(s, q, cx) != 0)
+                rc = TD_ENOMEM;
             continue;
         }
         if (fabs(f - lround(f)) > 1e-6)
@@ -282,7 +321,8 @@ static int setup_known(hs *s, td_ctx *cx)
                           q->x, q->y, q->height, s->ls->v[l].id,
                           s->p->base + lround(f) * s->p->interval);
     }
-    return 0;
+    free(box);
+    return rc;
 }
 
 /* Which side of closed line l is its inside: 0 or 1 (clockwise on the
