@@ -8,14 +8,6 @@
 
 #define WIN 31 /* the dot's window, px */
 
-static int bit_at(const uint8_t *bits, int w, int h, int x, int y)
-{
-    size_t rb = ((size_t)w + 7) / 8;
-    if (x < 0 || y < 0 || x >= w || y >= h)
-        return 0;
-    return bits[(size_t)y * rb + ((size_t)x >> 3)] >> (x & 7) & 1;
-}
-
 /* The dot under (cx0, cy0): its area and centroid, by a flood fill within
  * the window around it; 0 when there is no ink there or the ink reaches
  * the window's edge (no dot: part of something bigger). */
@@ -27,7 +19,7 @@ static int dot(const uint8_t *bits, int w, int h, int cx0, int cy0,
     long n = 0;
     double sx = 0, sy = 0;
     memset(seen, 0, sizeof seen);
-    if (!bit_at(bits, w, h, cx0, cy0))
+    if (!td_packed_at(bits, w, h, cx0, cy0))
         return 0;
     seen[(cy0 - y0) * WIN + (cx0 - x0)] = 1;
     stack[top++] = cx0, stack[top++] = cy0;
@@ -40,7 +32,7 @@ static int dot(const uint8_t *bits, int w, int h, int cx0, int cy0,
             for (dx = -1; dx <= 1; dx++) {
                 int nx = x + dx, ny = y + dy;
                 unsigned char *s = &seen[(ny - y0) * WIN + (nx - x0)];
-                if (*s || !bit_at(bits, w, h, nx, ny))
+                if (*s || !td_packed_at(bits, w, h, nx, ny))
                     continue;
                 *s = 1;
                 stack[top++] = nx, stack[top++] = ny;

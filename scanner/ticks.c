@@ -15,16 +15,6 @@
 #define ONE_SIDE 0.75     /* px: a tick widens its side this much more */
 #define NARROW 4          /* vertices: a tick is about one pen wide */
 
-static int bit_at(const uint8_t *bits, int w, int h, double x, double y)
-{
-    size_t rb = ((size_t)w + 7) / 8;
-    long c, r;
-    if (!(x >= 0 && y >= 0 && x < w && y < h))
-        return 0;
-    c = (long)x, r = (long)y; /* floor: both are >= 0 */
-    return bits[(size_t)r * rb + ((size_t)c >> 3)] >> (c & 7) & 1;
-}
-
 /* The ink run from (x, y) along (ux, uy): the distance to its last ink
  * sample, RAY_MAX when the ink goes on (a blot, another line). */
 static double ray(const uint8_t *bits, int w, int h, double x, double y,
@@ -32,7 +22,8 @@ static double ray(const uint8_t *bits, int w, int h, double x, double y,
 {
     double s = 0.0;
     while (s + RAY_STEP <= RAY_MAX &&
-           bit_at(bits, w, h, x + (s + RAY_STEP) * ux, y + (s + RAY_STEP) * uy))
+           td_packed_at_pt(bits, w, h, x + (s + RAY_STEP) * ux,
+                           y + (s + RAY_STEP) * uy))
         s += RAY_STEP;
     return s + RAY_STEP > RAY_MAX ? RAY_MAX : s;
 }
@@ -56,9 +47,11 @@ static int thin_stroke(const uint8_t *bits, int w, int h, double x, double y,
                        double nx, double ny, double at)
 {
     double px = x + at * nx, py = y + at * ny;
-    return bit_at(bits, w, h, px, py) &&
-           !bit_at(bits, w, h, px - TICK_SIDE * ny, py + TICK_SIDE * nx) &&
-           !bit_at(bits, w, h, px + TICK_SIDE * ny, py - TICK_SIDE * nx);
+    return td_packed_at_pt(bits, w, h, px, py) &&
+           !td_packed_at_pt(bits, w, h, px - TICK_SIDE * ny,
+                            py + TICK_SIDE * nx) &&
+           !td_packed_at_pt(bits, w, h, px + TICK_SIDE * ny,
+                            py - TICK_SIDE * nx);
 }
 
 /* The median of the 2 WIN + 1 values a[i * stride] of a ring of m

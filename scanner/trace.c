@@ -322,8 +322,7 @@ static long count_junctions(td_grid_u8 *g, int mark)
                                                        (size_t)x, NULL))
                         fail = 1;
                 }
-        }
-#pragma omp barrier
+        } /* the loop's barrier: every row is read before any flag is set */
         if (mark && !fail) {
             size_t i;
             for (i = 0; i < js.n; i++) /* each thread its own pixels */

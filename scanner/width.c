@@ -28,13 +28,11 @@ typedef struct wmask {
 
 static int ink_at(const wmask *m, double x, double y)
 {
-    long c, r;
+    if (m->bits)
+        return td_packed_at_pt(m->bits, m->w, m->h, x, y);
     if (!(x >= 0 && y >= 0 && x < m->w && y < m->h))
         return 0;
-    c = (long)x, r = (long)y; /* floor: both are >= 0 */
-    if (m->bits)
-        return m->bits[(size_t)r * m->stride + (size_t)(c >> 3)] >> (c & 7) & 1;
-    return m->bytes[(size_t)r * m->stride + (size_t)c] != 0;
+    return m->bytes[(size_t)(long)y * m->stride + (size_t)(long)x] != 0;
 }
 
 /* Distance from (x,y) along (dx,dy) to the first paper, at most W_MAX. */

@@ -28,6 +28,25 @@ int td_line_widths(const td_grid_u8 *mask, td_lines *ls, td_ctx *cx);
  * pixel while it thins the mask in place.  free() it; NULL on TD_ENOMEM. */
 uint8_t *td_width_pack(const td_grid_u8 *mask, td_ctx *cx);
 
+/* The packed w x h mask's bit at pixel (x, y); 0 off the sheet. */
+static inline int td_packed_at(const uint8_t *bits, int w, int h, int x, int y)
+{
+    if (x < 0 || y < 0 || x >= w || y >= h)
+        return 0;
+    return bits[(size_t)y * (((size_t)w + 7) / 8) + ((size_t)x >> 3)] >>
+               (x & 7) & 1;
+}
+
+/* The bit of the pixel holding point (x, y) (pixel c spans [c, c + 1));
+ * 0 off the sheet. */
+static inline int td_packed_at_pt(const uint8_t *bits, int w, int h, double x,
+                                  double y)
+{
+    if (!(x >= 0 && y >= 0 && x < w && y < h))
+        return 0;
+    return td_packed_at(bits, w, h, (int)x, (int)y); /* floor: both >= 0 */
+}
+
 /* td_line_widths on a packed w x h mask. */
 int td_line_widths_packed(const uint8_t *bits, int w, int h, td_lines *ls,
                           td_ctx *cx);

@@ -118,6 +118,11 @@ while [ $k -lt 600 ]; do
   [ "${n:-0}" -ge 2 ] && break
   sleep 0.1; k=$((k + 1))
 done
+# and a third sheet running (between two sheets nothing runs to interrupt)
+k=0
+while [ $k -lt 600 ] && ! grep -asl 's7/[t]' /proc/[0-9]*/cmdline >/dev/null; do
+  sleep 0.05; k=$((k + 1))
+done
 kill $bp; wait $bp; krc=$?
 check "batch killed after two sheets (SIGTERM): exit 143, the running sheet logged as interrupted, no run left behind" \
   "[ $krc = 143 ] && grep -q '\"status\": \"interrupted\"' '$T/s7/batch.log' && ! grep -asl 's7/[t]' /proc/[0-9]*/cmdline >/dev/null"

@@ -137,6 +137,25 @@ static void test_thin_is_fixpoint(void)
     td_grid_u8_free(c);
 }
 
+/* n random shapes on g: disks and rings of radius r0 .. r0 + rn - 1 (rings
+ * 2 .. 1 + ringn px wide) and bars 1 .. barn px thick to a random point. */
+static void random_shapes(td_grid_u8 *g, int n, int r0, int rn, int ringn,
+                          int barn, unsigned *seed)
+{
+    int k;
+    for (k = 0; k < n; k++) {
+        double x = rand_r(seed) % g->w, y = rand_r(seed) % g->h;
+        double r = r0 + rand_r(seed) % rn;
+        switch (rand_r(seed) % 3) {
+        case 0: tg_disk(g, x, y, r); break;
+        case 1: tg_ring(g, x, y, r, r + 2 + rand_r(seed) % ringn); break;
+        default:
+            tg_thick_segment(g, x, y, rand_r(seed) % g->w, rand_r(seed) % g->h,
+                             1 + rand_r(seed) % barn);
+        }
+    }
+}
+
 /* Random unions of disks, rings and bars: topology kept, result thin and a
  * fixpoint of a second run. */
 static void test_random_topology(void)
@@ -146,18 +165,7 @@ static void test_random_topology(void)
     for (trial = 0; trial < 40; trial++) {
         td_grid_u8 *g = td_grid_u8_new(90, 70, NULL), *c;
         size_t comp, holes, n1;
-        int k;
-        for (k = 0; k < 5; k++) {
-            double x = rand_r(&seed) % 90, y = rand_r(&seed) % 70;
-            double r = 3 + rand_r(&seed) % 12;
-            switch (rand_r(&seed) % 3) {
-            case 0: tg_disk(g, x, y, r); break;
-            case 1: tg_ring(g, x, y, r, r + 2 + rand_r(&seed) % 5); break;
-            default:
-                tg_thick_segment(g, x, y, rand_r(&seed) % 90, rand_r(&seed) % 70,
-                                 1 + rand_r(&seed) % 6);
-            }
-        }
+        random_shapes(g, 5, 3, 12, 5, 6, &seed);
         comp = tg_components8(g);
         holes = tg_holes4(g);
         TT_CHECK(thin(g) == 0);
@@ -187,19 +195,9 @@ static void test_threads_same_as_one_pass(void)
     td_grid_u8 *g = td_grid_u8_new(700, 420, NULL), *ref;
     td_thin_stats s1, sn;
     td_ctx cx;
-    int k, t;
+    int t;
     td_ctx_init(&cx);
-    for (k = 0; k < 260; k++) {
-        double x = rand_r(&seed) % 700, y = rand_r(&seed) % 420;
-        double r = 2 + rand_r(&seed) % 14;
-        switch (rand_r(&seed) % 3) {
-        case 0: tg_disk(g, x, y, r); break;
-        case 1: tg_ring(g, x, y, r, r + 2 + rand_r(&seed) % 6); break;
-        default:
-            tg_thick_segment(g, x, y, rand_r(&seed) % 700, rand_r(&seed) % 420,
-                             1 + rand_r(&seed) % 7);
-        }
-    }
+    random_shapes(g, 260, 2, 14, 6, 7, &seed);
     ref = td_grid_u8_dup(g, NULL);
     omp_set_num_threads(1);
     TT_CHECK(td_thin_hilditch(ref, &s1, &cx) == 0);
