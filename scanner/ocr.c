@@ -366,16 +366,21 @@ static void near_ends(const td_lines *ls, const td_ocr_read *r, double along,
             e[k] = e2[k], end[k] = end2[k];
 }
 
-/* The lines of a read: the line through the label (within 0.3 digit
- * heights of its middle: a neighbour runs beside the text, not through
- * it), else the lines with an open end at either end of the text (within
- * 24 px beyond it along the text, 0.6 digit heights across, the line's
- * end heading along the text towards it): the nearest on each side;
- * else near_ends. */
+/* The lines of a read: the line through the label (within half a digit
+ * height of its middle: a neighbour runs beside the text, not through
+ * it; on the sheets of bench_heights the next line lies 0.9 digit heights
+ * or more from the middle), or a line bending through the label's gap
+ * (within half a digit height of both ends of the text and one of its
+ * middle: straight text on a curve of radius 48 px left the ring 8 px
+ * from its middle), else the lines with an open end at either end of the
+ * text (within 24 px beyond it along the text, 0.6 digit heights across,
+ * the line's end heading along the text towards it): the nearest on each
+ * side; else near_ends. */
 static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
 {
     size_t i;
-    double bd = fmax(2.0, 0.3 * r->digit_px), e[2] = {HUGE_VAL, HUGE_VAL};
+    double bd = fmax(2.0, 0.5 * r->digit_px), e[2] = {HUGE_VAL, HUGE_VAL};
+    double hx = 0.5 * along * r->ux, hy = 0.5 * along * r->uy;
     long end[2] = {-1, -1};
     int k;
     r->line[0] = r->line[1] = -1;
@@ -384,6 +389,19 @@ static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
         if (compact_ring(&ls->v[i], 25.0)) /* a digit traced as a ring */
             continue;
         d = td_contain_dist(&ls->v[i], r->x, r->y);
+        if (d < bd)
+            bd = d, r->line[0] = (long)i;
+    }
+    if (r->line[0] >= 0)
+        return;
+    bd = fmax(2.0, 0.5 * r->digit_px);
+    for (i = 0; ls && i < ls->n; i++) {
+        double d;
+        if (compact_ring(&ls->v[i], 25.0) ||
+            td_contain_dist(&ls->v[i], r->x, r->y) > 2 * bd)
+            continue;
+        d = fmax(td_contain_dist(&ls->v[i], r->x - hx, r->y - hy),
+                 td_contain_dist(&ls->v[i], r->x + hx, r->y + hy));
         if (d < bd)
             bd = d, r->line[0] = (long)i;
     }
