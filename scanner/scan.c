@@ -4,6 +4,7 @@
 
 #include "scanner/blobring.h"
 #include "scanner/ticks.h"
+#include "scanner/widecut.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -20,6 +21,7 @@ td_scan_params td_scan_defaults(void)
     p.measure_width = 1;
     p.blob_rings = 1;
     p.ticks = 2;
+    p.wide_cut = 2.5;
     p.straight = td_straight_defaults();
     return p;
 }
@@ -80,6 +82,18 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     if (p->measure_width &&
         (rc = td_line_widths_packed(bits, im->w, im->h, res->lines, cx)) != 0)
         goto fail;
+    if (p->measure_width && p->wide_cut > 0) {
+        double pen = td_pen_width(res->lines, cx);
+        long nc = pen > 0 ? td_wide_cut(bits, im->w, im->h, res->lines,
+                                        p->wide_cut * pen, cx)
+                          : pen < 0 ? TD_ENOMEM : 0;
+        if (nc < 0 || (nc > 0 && (rc = td_line_widths_packed(
+                                      bits, im->w, im->h, res->lines, cx)) != 0)) {
+            rc = nc < 0 ? (int)nc : rc;
+            goto fail;
+        }
+        res->wide_cuts = (size_t)nc;
+    }
     if (p->measure_width && p->blob_rings) {
         long nr = td_blob_rings(bits, im->w, im->h, res->lines, cx);
         if (nr < 0) {

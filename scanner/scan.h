@@ -3,6 +3,7 @@
  *   image -> td_binarise -> mask -> td_thin_hilditch -> skeleton
  *         -> td_despur -> td_trace (CCW 3x3, 5x5 bridge) -> td_join -> lines
  *         -> td_line_widths (each line's ink width, from the mask)
+ *         -> td_wide_cut (lines cut where contours crowd into one blob)
  *
  * Memory: the mask is thinned, despurred and traced in place; a copy of it
  * packed one bit per pixel is kept until the widths are measured (+1/8
@@ -38,6 +39,11 @@ typedef struct td_scan_params {
                              td_line.depression when at least this many
                              ticks are read (ticks.h; ours), default 2;
                              0: not read */
+    double wide_cut;      /* lines are cut where the ink across them is
+                             wider than this many pens (the sheet's median
+                             line width) with another line inside
+                             (widecut.h; ours; needs measure_width),
+                             default 2.5; 0: off */
     int keep_debug;       /* keep mask and skeleton copies in the result */
 } td_scan_params;
 
@@ -52,6 +58,8 @@ typedef struct td_scan_result {
     td_join_stats join;
     size_t blob_rings;     /* tiny rings redrawn from their dots */
     size_t depressions;    /* rings read as depressions from their ticks */
+    size_t wide_cuts;      /* lines cut where contours crowd into one blob
+                              of ink (widecut.h) */
     size_t straight_lines; /* grid lines erased from the mask */
     td_palette palette;    /* the inks found on a colour scan (--ink auto
                               or brown; n = 0 otherwise) */

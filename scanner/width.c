@@ -17,6 +17,7 @@
 #define W_END 4      /* vertices skipped at an open line's ends */
 #define W_MAX 24.0   /* longer runs are not a line's width */
 #define W_MIN_RUNS 5
+#define W_RES 0.25 /* px: the runs' step */
 
 /* The mask: bytes (a td_grid_u8) or bits (packed rows, bit c & 7 of byte
  * c >> 3 is column c). */
@@ -40,10 +41,24 @@ static double run(const wmask *m, double x, double y, double dx,
                   double dy)
 {
     double t;
-    for (t = 0.0; t <= W_MAX; t += 0.25)
+    for (t = 0.0; t <= W_MAX; t += W_RES)
         if (!ink_at(m, x + t * dx, y + t * dy))
             return t;
     return W_MAX + 1.0;
+}
+
+/* Contract in width.h. */
+double td_width_across(const uint8_t *bits, int w, int h, double x, double y,
+                       double nx, double ny)
+{
+    wmask m = {w, h, ((size_t)w + 7) / 8, NULL, bits};
+    return run(&m, x, y, nx, ny) + run(&m, x, y, -nx, -ny);
+}
+
+/* Contract in width.h. */
+double td_width_step_below(double t)
+{
+    return floor(t / W_RES) * W_RES;
 }
 
 static int cmp_d(const void *a, const void *b)

@@ -47,6 +47,17 @@ static inline int td_packed_at_pt(const uint8_t *bits, int w, int h, double x,
     return td_packed_at(bits, w, h, (int)x, (int)y); /* floor: both >= 0 */
 }
 
+/* The run of ink across (x, y) along the unit normal (nx, ny), both ways
+ * from the point, on the packed w x h mask, as td_line_widths measures
+ * it: stepped in 1/4 px, each way ending at the first step on paper; over
+ * 24 px each way counts as 25. */
+double td_width_across(const uint8_t *bits, int w, int h, double x, double y,
+                       double nx, double ny);
+
+/* The largest step of td_width_across's runs not beyond t px: a run
+ * longer than t has ink there. */
+double td_width_step_below(double t);
+
 /* td_line_widths on a packed w x h mask. */
 int td_line_widths_packed(const uint8_t *bits, int w, int h, td_lines *ls,
                           td_ctx *cx);

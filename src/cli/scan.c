@@ -90,6 +90,10 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          "a ring with at least N ticks on its inside\n(printed maps' "
          "depression contours) is written\nwith depression: true, which "
          "label reads\n(ours; 0: not read)"},
+        {"wide-cut", 0, TD_OPT_DOUBLE, &p->wide_cut, 0, 100, .meta = "PENS",
+         .help = "end the lines where the ink across them is\nwider than "
+         "PENS line widths with another\nline inside (contours crowding "
+         "into one\nblob; ours; 0: off)"},
         {"simplify", 0, TD_OPT_DOUBLE, &o->simplify, 0, 100, .meta = "PX",
          .help = "write the lines within PX of the traced path\n"
          "(Douglas-Peucker; 0: one vertex per\nskeleton pixel)"},
@@ -132,6 +136,9 @@ static void summary(const td_scan_result *r, double secs)
             r->join.merges_open, secs);
     if (r->palette.n > 0)
         td_cli_print_palette("scan", &r->palette);
+    if (r->wide_cuts > 0)
+        fprintf(stderr, "scan: %zu line%s ended where contours crowd into one "
+                "blob of ink\n", r->wide_cuts, r->wide_cuts == 1 ? "" : "s");
     if (r->depressions > 0)
         fprintf(stderr, "scan: %zu ring%s read as depression%s (ticks "
                 "inside)\n", r->depressions, r->depressions == 1 ? "" : "s",

@@ -1,0 +1,279 @@
+/* Lines cut where their ink is too wide to tell contours apart
+ * (widecut.h).  Three passes: every vertex's ink width against maxw (on
+ * threads, line by line), the other lines near each wide stretch (a
+ * sorted list of the vertices that fall in cells near a stretch), and the
+ * lines rebuilt without their wide stretches. */
+#include "scanner/widecut.h"
+
+#include "scanner/width.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define WC_CHORD 3 /* vertices either side for the local direction */
+#define WC_MIN 4   /* a wide stretch is at least this many vertices */
+#define WC_CELL 8  /* px: cells of the near-stretch vertex list */
+
+typedef struct wstretch {
+    size_t line, k, e; /* vertices [k, e) of line */
+} wstretch;
+
+typedef struct wvert {
+    size_t cell, line;
+    double x, y;
+} wvert;
+
+/* Whether the ink across vertex k of l is wider than maxw: exact, with
+ * the two points at the last step within maxw / 2 tested first (a run
+ * from the middle longer than maxw / 2 on one side holds ink there). */
+static int wide_at(const uint8_t *bits, int w, int h, const td_line *l,
+                   size_t k, double maxw)
+{
+    size_t n = l->n;
+    size_t ka = l->closed ? (k + n - WC_CHORD % n) % n
+                          : (k >= WC_CHORD ? k - WC_CHORD : 0);
+    size_t kb = l->closed ? (k + WC_CHORD) % n
+                          : (k + WC_CHORD < n ? k + WC_CHORD : n - 1);
+    double x = l->xy[2 * k], y = l->xy[2 * k + 1];
+    double dx = l->xy[2 * kb] - l->xy[2 * ka];
+    double dy = l->xy[2 * kb + 1] - l->xy[2 * ka + 1], d = hypot(dx, dy);
+    double nx, ny, t;
+    if (d < 1.0 || !td_packed_at_pt(bits, w, h, x, y))
+        return 0;
+    nx = -dy / d, ny = dx / d;
+    t = td_width_step_below(0.5 * maxw);
+    if (!td_packed_at_pt(bits, w, h, x + t * nx, y + t * ny) &&
+        !td_packed_at_pt(bits, w, h, x - t * nx, y - t * ny))
+        return 0;
+    return td_width_across(bits, w, h, x, y, nx, ny) > maxw;
+}
+
+/* The wide vertices of every line (flags from off[i] on), stretches
+ * shorter than WC_MIN cleared; on threads. */
+static void flag_lines(const uint8_t *bits, int w, int h, const td_lines *ls,
+                       const size_t *off, double maxw, unsigned char *wide)
+{
+    long n = (long)ls->n, i;
+#pragma omp parallel for schedule(dynamic, 16)
+    for (i = 0; i < n; i++) {
+        const td_line *l = &ls->v[i];
+        unsigned char *f = wide + off[i];
+        size_t k, e;
+        if (l->n < 2 * WC_MIN)
+            continue;
+        for (k = 0; k < l->n; k++)
+            f[k] = (unsigned char)wide_at(bits, w, h, l, k, maxw);
+        for (k = 0; k < l->n; k = e) {
+            for (e = k; e < l->n && f[e] == f[k]; e++)
+                ;
+            if (f[k] && e - k < WC_MIN)
+                memset(f + k, 0, e - k);
+        }
+    }
+}
+
+static int cmp_wvert(const void *a, const void *b)
+{
+    const wvert *p = a, *q = b;
+    if (p->cell != q->cell)
+        return (p->cell > q->cell) - (p->cell < q->cell);
+    return (p->line > q->line) - (p->line < q->line);
+}
+
+/* The cells within r of vertices [k, e) of l marked in cm (cw x ch). */
+static void mark_cells(const td_line *l, size_t k, size_t e, double r,
+                       int cw, int ch, unsigned char *cm)
+{
+    for (; k < e; k++) {
+        int x0 = (int)floor((l->xy[2 * k] - r) / WC_CELL);
+        int x1 = (int)floor((l->xy[2 * k] + r) / WC_CELL);
+        int y0 = (int)floor((l->xy[2 * k + 1] - r) / WC_CELL);
+        int y1 = (int)floor((l->xy[2 * k + 1] + r) / WC_CELL);
+        int cx, cy;
+        for (cy = y0 < 0 ? 0 : y0; cy <= y1 && cy < ch; cy++)
+            for (cx = x0 < 0 ? 0 : x0; cx <= x1 && cx < cw; cx++)
+                cm[(size_t)cy * (size_t)cw + (size_t)cx] = 1;
+    }
+}
+
+/* Whether a vertex of another line than s->line lies within r of the
+ * stretch s (v: the vertices in marked cells, sorted by cell). */
+static int other_near(const td_line *l, const wstretch *s, double r, int cw,
+                      int ch, const wvert *v, size_t nv)
+{
+    size_t k;
+    for (k = s->k; k < s->e; k++) {
+        double x = l->xy[2 * k], y = l->xy[2 * k + 1];
+        int x0 = (int)floor((x - r) / WC_CELL), x1 = (int)floor((x + r) / WC_CELL);
+        int y0 = (int)floor((y - r) / WC_CELL), y1 = (int)floor((y + r) / WC_CELL);
+        int cx, cy;
+        for (cy = y0 < 0 ? 0 : y0; cy <= y1 && cy < ch; cy++)
+            for (cx = x0 < 0 ? 0 : x0; cx <= x1 && cx < cw; cx++) {
+                size_t c = (size_t)cy * (size_t)cw + (size_t)cx, lo = 0,
+                       hi = nv;
+                while (lo < hi) { /* the cell's first vertex */
+                    size_t mid = lo + (hi - lo) / 2;
+                    if (v[mid].cell < c)
+                        lo = mid + 1;
+                    else
+                        hi = mid;
+                }
+                for (; lo < nv && v[lo].cell == c; lo++)
+                    if (v[lo].line != s->line &&
+                        hypot(v[lo].x - x, v[lo].y - y) <= r)
+                        return 1;
+            }
+    }
+    return 0;
+}
+
+static int is_edge(const td_line *l, int w, int h)
+{
+    size_t k;
+    for (k = 0; k < l->n; k++) {
+        double x = l->xy[2 * k], y = l->xy[2 * k + 1];
+        if (x < 1 || y < 1 || x > w - 1 || y > h - 1)
+            return 1;
+    }
+    return 0;
+}
+
+/* Line l without its flagged vertices, as pieces appended to out. */
+static int cut_line(const td_line *l, const unsigned char *f, int w, int h,
+                    long *next_id, td_lines *out, td_ctx *cx)
+{
+    size_t n = l->n, start = 0, s, e, k;
+    int first = 1;
+    if (l->closed) /* start just after a wide stretch */
+        for (k = 0; k < n; k++)
+            if (f[k] && !f[(k + 1) % n]) {
+                start = (k + 1) % n;
+                break;
+            }
+    for (s = 0; s < n; s = e) {
+        td_line *c;
+        for (e = s; e < n && !f[(start + e) % n]; e++)
+            ;
+        if (e - s >= 3) {
+            if (!(c = td_lines_add(out, cx)))
+                return TD_ENOMEM;
+            {
+                td_line keep = *c;
+                *c = *l;
+                c->xy = keep.xy, c->n = keep.n, c->cap = keep.cap;
+            }
+            c->id = first ? l->id : (*next_id)++;
+            first = 0;
+            c->closed = 0;
+            c->width = 0.0;
+            c->depression = 0;
+            c->junc = (unsigned char)((s > 0 || l->closed ? 1 : l->junc & 1) |
+                                      (e < n || l->closed ? 2 : l->junc & 2));
+            for (k = s; k < e; k++)
+                if (td_line_push(c, l->xy[2 * ((start + k) % n)],
+                                 l->xy[2 * ((start + k) % n) + 1], cx) != 0)
+                    return TD_ENOMEM;
+            c->edge = is_edge(c, w, h);
+        }
+        for (; e < n && f[(start + e) % n]; e++)
+            ;
+    }
+    return 0;
+}
+
+/* Contract in widecut.h. */
+long td_wide_cut(const uint8_t *bits, int w, int h, td_lines *ls, double maxw,
+                 td_ctx *cx)
+{
+    size_t *off = td_malloc((ls->n + 1) * sizeof *off, cx), i, k, e, tot = 0;
+    size_t ns = 0, scap = 0, nv = 0, vcap = 0;
+    unsigned char *wide = NULL, *cm = NULL, *cut = NULL;
+    wstretch *st = NULL;
+    wvert *v = NULL;
+    td_lines *out = NULL;
+    double r = 0.5 * maxw + 1.0;
+    int cw = w / WC_CELL + 1, ch = h / WC_CELL + 1;
+    long ncut = 0, next_id = 0;
+    if (!off)
+        return TD_ENOMEM;
+    for (i = 0; i < ls->n; i++) {
+        off[i] = tot;
+        tot += ls->v[i].n;
+        next_id = ls->v[i].id >= next_id ? ls->v[i].id + 1 : next_id;
+    }
+    if (!(wide = td_calloc(tot + 1, 1, cx)))
+        goto nomem;
+    flag_lines(bits, w, h, ls, off, maxw, wide);
+    for (i = 0; i < ls->n; i++) /* the stretches */
+        for (k = 0; k < ls->v[i].n; k = e) {
+            for (e = k; e < ls->v[i].n && wide[off[i] + e]; e++)
+                ;
+            if (e == k) {
+                e++;
+                continue;
+            }
+            if (ns == scap) {
+                wstretch *t = realloc(st, (scap = 2 * scap + 64) * sizeof *t);
+                if (!t)
+                    goto nomem;
+                st = t;
+            }
+            st[ns].line = i, st[ns].k = k, st[ns++].e = e;
+        }
+    if (ns == 0) {
+        free(off), free(wide);
+        return 0;
+    }
+    if (!(cm = td_calloc((size_t)cw * (size_t)ch, 1, cx)) ||
+        !(cut = td_calloc(ls->n + 1, 1, cx)))
+        goto nomem;
+    for (i = 0; i < ns; i++)
+        mark_cells(&ls->v[st[i].line], st[i].k, st[i].e, r, cw, ch, cm);
+    for (i = 0; i < ls->n; i++) /* the vertices in marked cells */
+        for (k = 0; k < ls->v[i].n; k++) {
+            double x = ls->v[i].xy[2 * k], y = ls->v[i].xy[2 * k + 1];
+            size_t c;
+            if (!(x >= 0 && y >= 0 && x < w && y < h))
+                continue;
+            c = (size_t)(y / WC_CELL) * (size_t)cw + (size_t)(x / WC_CELL);
+            if (!cm[c])
+                continue;
+            if (nv == vcap) {
+                wvert *t = realloc(v, (vcap = 2 * vcap + 256) * sizeof *t);
+                if (!t)
+                    goto nomem;
+                v = t;
+            }
+            v[nv].cell = c, v[nv].line = i, v[nv].x = x, v[nv++].y = y;
+        }
+    qsort(v, nv, sizeof *v, cmp_wvert);
+    for (i = 0; i < ns; i++) { /* a stretch in its own ink is no merge */
+        const wstretch *s = &st[i];
+        if (other_near(&ls->v[s->line], s, r, cw, ch, v, nv))
+            cut[s->line] = 1;
+        else
+            memset(wide + off[s->line] + s->k, 0, s->e - s->k);
+    }
+    if (!(out = td_lines_new(cx)))
+        goto nomem;
+    for (i = 0; i < ls->n; i++) {
+        int rc = cut[i] ? cut_line(&ls->v[i], wide + off[i], w, h, &next_id,
+                                   out, cx)
+                        : td_lines_append_copy(out, &ls->v[i], cx);
+        if (rc != 0)
+            goto nomem;
+        ncut += cut[i];
+    }
+    for (i = 0; i < ls->n; i++)
+        free(ls->v[i].xy);
+    free(ls->v);
+    *ls = *out;
+    free(out);
+    free(off), free(wide), free(cm), free(cut), free(st), free(v);
+    return ncut;
+nomem:
+    td_lines_free(out);
+    free(off), free(wide), free(cm), free(cut), free(st), free(v);
+    return td_seterr(cx, TD_ENOMEM, "wide ink cut: out of memory");
+}
