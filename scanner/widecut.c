@@ -82,8 +82,8 @@ static int cmp_wvert(const void *a, const void *b)
 }
 
 /* The cells within r of vertices [k, e) of l marked in cm (cw x ch). */
-static void mark_cells(const td_line *l, size_t k, size_t e, double r,
-                       int cw, int ch, unsigned char *cm)
+static void mark_cells(const td_line *l, size_t k, size_t e, double r, int cw,
+                       int ch, unsigned char *cm)
 {
     for (; k < e; k++) {
         int x0 = (int)floor((l->xy[2 * k] - r) / WC_CELL);
@@ -105,8 +105,10 @@ static int other_near(const td_line *l, const wstretch *s, double r, int cw,
     size_t k;
     for (k = s->k; k < s->e; k++) {
         double x = l->xy[2 * k], y = l->xy[2 * k + 1];
-        int x0 = (int)floor((x - r) / WC_CELL), x1 = (int)floor((x + r) / WC_CELL);
-        int y0 = (int)floor((y - r) / WC_CELL), y1 = (int)floor((y + r) / WC_CELL);
+        int x0 = (int)floor((x - r) / WC_CELL),
+            x1 = (int)floor((x + r) / WC_CELL);
+        int y0 = (int)floor((y - r) / WC_CELL),
+            y1 = (int)floor((y + r) / WC_CELL);
         int cx, cy;
         for (cy = y0 < 0 ? 0 : y0; cy <= y1 && cy < ch; cy++)
             for (cx = x0 < 0 ? 0 : x0; cx <= x1 && cx < cw; cx++) {
@@ -258,9 +260,9 @@ long td_wide_cut(const uint8_t *bits, int w, int h, td_lines *ls, double maxw,
     if (!(out = td_lines_new(cx)))
         goto nomem;
     for (i = 0; i < ls->n; i++) {
-        int rc = cut[i] ? cut_line(&ls->v[i], wide + off[i], w, h, &next_id,
-                                   out, cx)
-                        : td_lines_append_copy(out, &ls->v[i], cx);
+        int rc =
+            cut[i] ? cut_line(&ls->v[i], wide + off[i], w, h, &next_id, out, cx)
+                   : td_lines_append_copy(out, &ls->v[i], cx);
         if (rc != 0)
             goto nomem;
         ncut += cut[i];
