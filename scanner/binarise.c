@@ -616,7 +616,7 @@ static split_band band_of(td_grid_u8 *m, int j, int nb, uint8_t *saved,
 }
 
 static int apply_level_split(td_grid_u8 *m, int t, int hi, int margin,
-                             td_ctx *cx)
+                             uint8_t *seams, td_ctx *cx)
 {
     int nb = m->h >= 64 * SPLIT_BANDS ? SPLIT_BANDS : 1, k, fail = 0, y, x;
     size_t w = (size_t)m->w, edge = 2 * SPLIT_R * w;
@@ -661,8 +661,13 @@ static int apply_level_split(td_grid_u8 *m, int t, int hi, int margin,
 #pragma omp parallel for schedule(static) private(x)
     for (y = 0; y < m->h; y++) {
         uint8_t *row = m->data + (size_t)y * m->stride;
-        for (x = 0; x < m->w; x++)
+        uint8_t *sb = seams ? seams + (size_t)y * (((size_t)m->w + 7) / 8)
+                            : NULL;
+        for (x = 0; x < m->w; x++) {
+            if (sb && row[x] == 2)
+                sb[x >> 3] |= (uint8_t)(1u << (x & 7));
             row[x] = row[x] == 1;
+        }
     }
     return 0;
 }
@@ -734,7 +739,7 @@ static int split_margin(const td_grid_u8 *m, int t, int min)
 
 /* Threshold the strength image held in m, in place. */
 static int threshold(td_grid_u8 *m, const td_binarise_params *p,
-                     const uint64_t *hist, td_ctx *cx)
+                     const uint64_t *hist, uint8_t *seams, td_ctx *cx)
 {
     remap r;
     int t, rc;
@@ -754,7 +759,7 @@ static int threshold(td_grid_u8 *m, const td_binarise_params *p,
         for (i = t + 1; i < 256; i++)
             n += (double)hist[i], sum += (double)hist[i] * i;
         return apply_level_split(m, t, n > 0 ? (int)(sum / n) : 256,
-                                 split_margin(m, t, p->split), cx);
+                                 split_margin(m, t, p->split), seams, cx);
     }
     apply_level(m, t);
     return 0;
@@ -769,6 +774,13 @@ int td_binarise(const td_image *im, const td_binarise_params *p,
 int td_binarise_pal(const td_image *im, const td_binarise_params *p,
                     td_grid_u8 *mask, td_palette *pal_out, td_ctx *cx)
 {
+    return td_binarise_seams(im, p, mask, pal_out, NULL, cx);
+}
+
+int td_binarise_seams(const td_image *im, const td_binarise_params *p,
+                      td_grid_u8 *mask, td_palette *pal_out, uint8_t *seams,
+                      td_ctx *cx)
+{
     uint64_t hist[256];
     td_palette pal;
     remap r;
@@ -782,7 +794,7 @@ int td_binarise_pal(const td_image *im, const td_binarise_params *p,
     rc = strength_pass(im, p, mask, hist, 0.4, &pal, cx);
     if (pal_out)
         *pal_out = pal;
-    if (rc != 0 || (rc = threshold(mask, p, hist, cx)) != 0)
+    if (rc != 0 || (rc = threshold(mask, p, hist, seams, cx)) != 0)
         goto fail;
     if (p->min_speck > 1) {
         remap_begin(cx, &r, 0.8, 0.9);

@@ -100,6 +100,13 @@ int td_binarise(const td_image *im, const td_binarise_params *p,
 int td_binarise_pal(const td_image *im, const td_binarise_params *p,
                     td_grid_u8 *mask, td_palette *pal, td_ctx *cx);
 
+/* td_binarise_pal, and with --seams the seam pixels (ink made paper as
+ * the seam between two touching lines) set in seams (packed one bit a
+ * pixel as td_width_pack, zeroed by the caller; may be NULL). */
+int td_binarise_seams(const td_image *im, const td_binarise_params *p,
+                      td_grid_u8 *mask, td_palette *pal, uint8_t *seams,
+                      td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

@@ -21,7 +21,7 @@ td_scan_params td_scan_defaults(void)
     p.measure_width = 1;
     p.blob_rings = 1;
     p.ticks = 2;
-    p.wide_cut = 2.5;
+    p.wide_cut = 3.0;
     p.straight = td_straight_defaults();
     return p;
 }
@@ -36,11 +36,17 @@ void td_scan_result_free(td_scan_result *res)
     memset(res, 0, sizeof *res);
 }
 
+/* Bytes of a w x h mask packed one bit a pixel (td_width_pack). */
+static size_t packed_bytes(int w, int h)
+{
+    return (size_t)h * (((size_t)w + 7) / 8) + 1;
+}
+
 int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             td_ctx *cx)
 {
     td_grid_u8 *g = NULL;
-    uint8_t *bits = NULL;
+    uint8_t *bits = NULL, *seams = NULL;
     td_join_params jp = p->join;
     double t0;
     int rc;
@@ -48,7 +54,14 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     if (!(g = td_grid_u8_new(im->w, im->h, cx)))
         return cx ? cx->code : TD_ENOMEM;
     t0 = td_now();
-    if ((rc = td_binarise_pal(im, &p->bin, g, &res->palette, cx)) != 0 ||
+    /* the seams split touching lines in the mask; the wide-ink cut
+       measures across lines and seams (the ink before the split) */
+    if (p->measure_width && p->wide_cut > 0 && p->bin.split > 0 &&
+        !(seams = td_calloc(packed_bytes(im->w, im->h), 1, cx))) {
+        rc = TD_ENOMEM;
+        goto fail;
+    }
+    if ((rc = td_binarise_seams(im, &p->bin, g, &res->palette, seams, cx)) != 0 ||
         (rc = td_straight_remove(g, &p->straight, &res->straight_lines,
                                  cx)) != 0)
         goto fail;
@@ -84,9 +97,16 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         goto fail;
     if (p->measure_width && p->wide_cut > 0) {
         double pen = td_pen_width(res->lines, cx);
-        long nc = pen > 0 ? td_wide_cut(bits, im->w, im->h, res->lines,
-                                        p->wide_cut * pen, cx)
-                          : pen < 0 ? TD_ENOMEM : 0;
+        long nc;
+        if (seams) {
+            size_t q, nb = packed_bytes(im->w, im->h);
+            for (q = 0; q < nb; q++)
+                seams[q] |= bits[q];
+        }
+        nc = pen > 0 ? td_wide_cut(seams ? seams : bits, im->w, im->h,
+                                   res->lines, p->wide_cut * pen, cx)
+             : pen < 0 ? TD_ENOMEM
+                       : 0;
         if (nc < 0 || (nc > 0 && (rc = td_line_widths_packed(
                                       bits, im->w, im->h, res->lines, cx)) != 0)) {
             rc = nc < 0 ? (int)nc : rc;
@@ -114,9 +134,11 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     res->seconds[4] = td_now() - t0;
     res->despurred = g;
     free(bits);
+    free(seams);
     return 0;
 fail:
     free(bits);
+    free(seams);
     td_grid_u8_free(g);
     td_scan_result_free(res);
     return rc;

@@ -7,7 +7,8 @@
  *
  * Memory: the mask is thinned, despurred and traced in place; a copy of it
  * packed one bit per pixel is kept until the widths are measured (+1/8
- * byte per pixel; none with measure_width 0).  With keep_debug, copies of the mask and the thinned
+ * byte per pixel; none with measure_width 0), and with the wide-ink cut
+ * and seams on, the seam pixels packed the same way (+1/8 byte).  With keep_debug, copies of the mask and the thinned
  * skeleton are kept in the result (+2 bytes per pixel). */
 #ifndef TD_SCAN_H
 #define TD_SCAN_H
@@ -39,11 +40,12 @@ typedef struct td_scan_params {
                              td_line.depression when at least this many
                              ticks are read (ticks.h; ours), default 2;
                              0: not read */
-    double wide_cut;      /* lines are cut where the ink across them is
+    double wide_cut;      /* lines are cut where the ink across them
+                             (with the seams between touching lines) is
                              wider than this many pens (the sheet's median
                              line width) with another line inside
                              (widecut.h; ours; needs measure_width),
-                             default 2.5; 0: off */
+                             default 3; 0: off */
     int keep_debug;       /* keep mask and skeleton copies in the result */
 } td_scan_params;
 

@@ -4,7 +4,10 @@
  * Where three or more contours crowd into one blob of ink (a canyon wall
  * at a small interval), the skeleton keeps one branch for several
  * contours and a traced line runs from one onto another: a line carrying
- * two heights, which no labeller can label.  A stretch of a line along
+ * two heights, which no labeller can label.  The seams (binarise.h) split
+ * such ink into ribs, one a contour, but the ribs touch here and there and
+ * a line hops between them; so the width is measured on the ink with the
+ * seams put back (the caller's mask).  A stretch of a line along
  * which the ink across it is wider than `maxw` px, over at least 4
  * vertices, with another traced line inside that ink (within maxw / 2 +
  * 1 px of the stretch), is cut out: the line ends on both sides of the

@@ -316,11 +316,12 @@ static void test_ticks_real_dem(void)
 
 /* scanner/widecut.c: the Front Range DEM at interval 20, scanned (lines
  * 1.8 px, contours 2-3 px apart on the canyon walls, where four or five
- * share one blob of ink).  Lines end at such a blob instead of running
- * through it onto another contour: the share of traced length on its own
- * contour 0.942 and 9.4 % of the lines jumping (more than 20 px on
- * another level) without the cut, 0.959 and 5.9 % with it, recall 0.984
- * and 0.979 (the blobs' middles are no longer traced). */
+ * share one blob of ink, split into touching ribs by the seams).  Lines
+ * end at such a blob instead of running through it onto another contour:
+ * the share of traced length on its own contour 0.942 and 9.4 % of the
+ * lines jumping (more than 20 px on another level) without the cut,
+ * 0.999 and 0.1 % with it; recall 0.984 and 0.927 (the blobs are no
+ * longer traced). */
 static void test_crowded_blobs_cut(void)
 {
     td_gen_params gp;
@@ -352,13 +353,13 @@ static void test_crowded_blobs_cut(void)
         jumps[k] = (double)sc.n_jump / (double)(sc.n_traced + !sc.n_traced);
         if (k) {
             cuts = res.wide_cuts;
-            TT_CHECKF(sc.recall >= 0.97 && sc.precision >= 0.99,
+            TT_CHECKF(sc.recall >= 0.9 && sc.precision >= 0.99,
                       "recall %.3f, precision %.3f", sc.recall, sc.precision);
         }
         td_scan_result_free(&res);
     }
-    TT_CHECKF(cuts > 20 && own[1] >= own[0] + 0.01 && own[1] >= 0.95 &&
-                  jumps[1] <= jumps[0] - 0.02,
+    TT_CHECKF(cuts > 20 && own[0] < 0.97 && own[1] >= 0.99 &&
+                  jumps[1] <= 0.01 && jumps[0] >= 0.05,
               "own %.3f -> %.3f, jumps %.3f -> %.3f, %zu lines cut", own[0],
               own[1], jumps[0], jumps[1], cuts);
     td_image_free(im);

@@ -91,9 +91,10 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          "depression contours) is written\nwith depression: true, which "
          "label reads\n(ours; 0: not read)"},
         {"wide-cut", 0, TD_OPT_DOUBLE, &p->wide_cut, 0, 100, .meta = "PENS",
-         .help = "end the lines where the ink across them is\nwider than "
-         "PENS line widths with another\nline inside (contours crowding "
-         "into one\nblob; ours; 0: off)"},
+         .help = "end the lines where the ink across them\n(seams between "
+         "touching lines included) is\nwider than PENS line widths with "
+         "another\nline inside (contours crowding into one\nblob; ours; 0: "
+         "off)"},
         {"simplify", 0, TD_OPT_DOUBLE, &o->simplify, 0, 100, .meta = "PX",
          .help = "write the lines within PX of the traced path\n"
          "(Douglas-Peucker; 0: one vertex per\nskeleton pixel)"},
