@@ -661,8 +661,8 @@ static int apply_level_split(td_grid_u8 *m, int t, int hi, int margin,
 #pragma omp parallel for schedule(static) private(x)
     for (y = 0; y < m->h; y++) {
         uint8_t *row = m->data + (size_t)y * m->stride;
-        uint8_t *sb = seams ? seams + (size_t)y * (((size_t)m->w + 7) / 8)
-                            : NULL;
+        uint8_t *sb =
+            seams ? seams + (size_t)y * (((size_t)m->w + 7) / 8) : NULL;
         for (x = 0; x < m->w; x++) {
             if (sb && row[x] == 2)
                 sb[x >> 3] |= (uint8_t)(1u << (x & 7));

@@ -61,9 +61,10 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         rc = TD_ENOMEM;
         goto fail;
     }
-    if ((rc = td_binarise_seams(im, &p->bin, g, &res->palette, seams, cx)) != 0 ||
-        (rc = td_straight_remove(g, &p->straight, &res->straight_lines,
-                                 cx)) != 0)
+    if ((rc = td_binarise_seams(im, &p->bin, g, &res->palette, seams, cx)) !=
+            0 ||
+        (rc = td_straight_remove(g, &p->straight, &res->straight_lines, cx)) !=
+            0)
         goto fail;
     res->seconds[0] = td_now() - t0;
     rc = TD_ENOMEM;
@@ -103,12 +104,13 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             for (q = 0; q < nb; q++)
                 seams[q] |= bits[q];
         }
-        nc = pen > 0 ? td_wide_cut(seams ? seams : bits, im->w, im->h,
+        nc = pen > 0   ? td_wide_cut(seams ? seams : bits, im->w, im->h,
                                    res->lines, p->wide_cut * pen, cx)
              : pen < 0 ? TD_ENOMEM
                        : 0;
-        if (nc < 0 || (nc > 0 && (rc = td_line_widths_packed(
-                                      bits, im->w, im->h, res->lines, cx)) != 0)) {
+        if (nc < 0 ||
+            (nc > 0 && (rc = td_line_widths_packed(bits, im->w, im->h,
+                                                   res->lines, cx)) != 0)) {
             rc = nc < 0 ? (int)nc : rc;
             goto fail;
         }

@@ -8,8 +8,9 @@
  * Memory: the mask is thinned, despurred and traced in place; a copy of it
  * packed one bit per pixel is kept until the widths are measured (+1/8
  * byte per pixel; none with measure_width 0), and with the wide-ink cut
- * and seams on, the seam pixels packed the same way (+1/8 byte).  With keep_debug, copies of the mask and the thinned
- * skeleton are kept in the result (+2 bytes per pixel). */
+ * and seams on, the seam pixels packed the same way (+1/8 byte).  With
+ * keep_debug, copies of the mask and the thinned skeleton are kept in the
+ * result (+2 bytes per pixel). */
 #ifndef TD_SCAN_H
 #define TD_SCAN_H
 
