@@ -36,93 +36,72 @@ static int parse_args(int argc, char **argv, scan_opts *o)
 {
     td_scan_params *p = &o->p;
     const td_opt opts[] = {
-        {"ink", 0, TD_OPT_FUNC, &p->bin, .fn = ink, .meta = "KIND",
-         .help =
-             "auto | dark | brown | brown-hue | R,G,B[:tol]\n(default auto: "
-             "dark "
-             "on a grey scan; on a\ncolour scan the sheet's inks are found "
-             "and\n"
-             "the one drawing long thin lines is taken;\nbrown: the ink found "
-             "nearest contour brown;\nbrown-hue: a fixed brown hue window)"},
+        {"ink", 0, TD_OPT_FUNC, &p->bin, .fn = ink, .meta = "KIND", .help =
+         "auto | dark | brown | brown-hue | R,G,B[:tol]\n(default auto: dark "
+         "on a grey scan; on a\ncolour scan the sheet's inks are found and\n"
+         "the one drawing long thin lines is taken;\nbrown: the ink found "
+         "nearest contour brown;\nbrown-hue: a fixed brown hue window)"},
         {"threshold", 0, TD_OPT_FUNC, &p->bin, .fn = threshold, .meta = "T",
          .help = "otsu | sauvola | N (0-255) (default otsu)"},
-        {"min-speck", 0, TD_OPT_INT, &p->bin.min_speck, 0, 1000000, .meta = "N",
-         .help = "remove ink specks under N px"},
+        {"min-speck", 0, TD_OPT_INT, &p->bin.min_speck, 0, 1000000,
+         .meta = "N", .help = "remove ink specks under N px"},
         {"min-hole", 0, TD_OPT_INT, &p->bin.min_hole, 0, 1000000, .meta = "N",
          .help = "fill pinholes in the ink under N px"},
-        {"seams", 0, TD_OPT_INT, &p->bin.split, 0, 255, .meta = "N",
-         .help =
-             "split touching lines (ours): an ink pixel at\nleast N levels "
-             "lighter than the ink on both\nsides across the lines is the seam "
-             "between\ntwo lines and becomes paper (0: off; otsu\nand fixed "
-             "thresholds)"},
+        {"seams", 0, TD_OPT_INT, &p->bin.split, 0, 255, .meta = "N", .help =
+         "split touching lines (ours): an ink pixel at\nleast N levels "
+         "lighter than the ink on both\nsides across the lines is the seam "
+         "between\ntwo lines and becomes paper (0: off; otsu\nand fixed "
+         "thresholds)"},
         {"spur", 0, TD_OPT_FUNC, &p->spur, .fn = spur, .meta = "MODE",
          .help = "length | paper | none (default length)"},
-        {"spur-max", 0, TD_OPT_DOUBLE, &p->spur.max_len, 0, 10000, .meta = "PX",
-         .help = "longest spur, px along the skeleton"},
+        {"spur-max", 0, TD_OPT_DOUBLE, &p->spur.max_len, 0, 10000,
+         .meta = "PX", .help = "longest spur, px along the skeleton"},
         {"bridge", 0, TD_OPT_CHOICE, &p->trace.bridge,
-         .choices = "none|paper|ahead", .meta = "MODE",
-         .help =
-             "5x5 gap "
-             "bridging while tracing: ahead (ours):\nthe ring's pixel most "
-             "nearly straight ahead\n(within 50 degrees) | paper: the first "
-             "one\ncounter-clockwise | none"},
-        {"no-bridge", 0, TD_OPT_OFF, &p->trace.bridge,
-         .help = "the same as "
-                 "--bridge none"},
+         .choices = "none|paper|ahead", .meta = "MODE", .help = "5x5 gap "
+         "bridging while tracing: ahead (ours):\nthe ring's pixel most "
+         "nearly straight ahead\n(within 50 degrees) | paper: the first "
+         "one\ncounter-clockwise | none"},
+        {"no-bridge", 0, TD_OPT_OFF, &p->trace.bridge, .help = "the same as "
+         "--bridge none"},
         {"junctions", 0, TD_OPT_CHOICE, &p->trace.cut, .choices = "paper|cut",
-         .meta = "MODE",
-         .help =
-             "cut (ours): lines stop where contours "
-             "touch\nand the joiner pairs the ends there by\ndirection, never "
-             "crossing | paper: the\ntracer runs on along the first branch"},
-        {"no-join", 0, TD_OPT_OFF, &p->do_join,
-         .help = "do not join line "
-                 "ends across gaps"},
+         .meta = "MODE", .help = "cut (ours): lines stop where contours "
+         "touch\nand the joiner pairs the ends there by\ndirection, never "
+         "crossing | paper: the\ntracer runs on along the first branch"},
+        {"no-join", 0, TD_OPT_OFF, &p->do_join, .help = "do not join line "
+         "ends across gaps"},
         {"small-gap", 0, TD_OPT_DOUBLE, &p->join.max_gap, 0, 10000,
-         .meta = "PX",
-         .help = "first join stage: longest small gap joined\n"
-                 "when both ends point across it"},
-        {"max-gap", 0, TD_OPT_DOUBLE, &p->join.long_gap, 0, 10000, .meta = "PX",
-         .help =
-             "label-gap stage: longest gap joined when the\n"
-             "ends continue each other and the join crosses\nno line (<= "
-             "--small-gap: off); curved gaps\ntoo when each end curves alike, "
-             "the join\nfollowing the curve"},
-        {"no-curves", 0, TD_OPT_OFF, &p->join.curves,
-         .help = "label-gap "
-                 "stage: straight rule and chords only"},
-        {"no-grid", 0, TD_OPT_OFF, &p->straight.on,
-         .help = "keep long "
-                 "straight lines (by default the map\ngrid's lines across the "
-                 "sheet "
-                 "are erased\nfrom the ink, ours: docs/scanner.md)"},
+         .meta = "PX", .help = "first join stage: longest small gap joined\n"
+         "when both ends point across it"},
+        {"max-gap", 0, TD_OPT_DOUBLE, &p->join.long_gap, 0, 10000,
+         .meta = "PX", .help = "label-gap stage: longest gap joined when the\n"
+         "ends continue each other and the join crosses\nno line (<= "
+         "--small-gap: off); curved gaps\ntoo when each end curves alike, "
+         "the join\nfollowing the curve"},
+        {"no-curves", 0, TD_OPT_OFF, &p->join.curves, .help = "label-gap "
+         "stage: straight rule and chords only"},
+        {"no-grid", 0, TD_OPT_OFF, &p->straight.on, .help = "keep long "
+         "straight lines (by default the map\ngrid's lines across the sheet "
+         "are erased\nfrom the ink, ours: docs/scanner.md)"},
         {"min-length", 0, TD_OPT_DOUBLE, &p->join.min_length, 0, 10000,
-         .meta = "PX",
-         .help = "remove open fragments (label digits, text)\n"
-                 "shorter than PX or fitting in a PX box,\nunless both ends "
-                 "continue "
-                 "lines (0: off)"},
-        {"ticks", 0, TD_OPT_INT, &p->ticks, 0, 1000, .meta = "N",
-         .help =
-             "a ring with at least N ticks on its inside\n(printed maps' "
-             "depression contours) is written\nwith depression: true, which "
-             "label reads\n(ours; 0: not read)"},
+         .meta = "PX", .help = "remove open fragments (label digits, text)\n"
+         "shorter than PX or fitting in a PX box,\nunless both ends continue "
+         "lines (0: off)"},
+        {"ticks", 0, TD_OPT_INT, &p->ticks, 0, 1000, .meta = "N", .help =
+         "a ring with at least N ticks on its inside\n(printed maps' "
+         "depression contours) is written\nwith depression: true, which "
+         "label reads\n(ours; 0: not read)"},
         {"wide-cut", 0, TD_OPT_DOUBLE, &p->wide_cut, 0, 100, .meta = "PENS",
-         .help =
-             "end the lines where the ink across them\n(seams between "
-             "touching lines included) is\nwider than PENS line widths with "
-             "another\nline inside (contours crowding into one\nblob; ours; 0: "
-             "off)"},
+         .help = "end the lines where the ink across them\n(seams between "
+         "touching lines included) is\nwider than PENS line widths with "
+         "another\nline inside (contours crowding into one\nblob; ours; 0: "
+         "off)"},
         {"simplify", 0, TD_OPT_DOUBLE, &o->simplify, 0, 100, .meta = "PX",
          .help = "write the lines within PX of the traced path\n"
-                 "(Douglas-Peucker; 0: one vertex per\nskeleton pixel)"},
-        {"debug-dir", 0, TD_OPT_STRING, &o->debug_dir, .meta = "DIR",
-         .help =
-             "write mask.png, skeleton.png, despurred.png,\noverlay.png "
-             "(label-gap joins in magenta),\njoin.txt; colour scans: "
-             "palette.png "
-             "(the inks\nfound, the one taken framed), ink-K.png, inks.txt"},
+         "(Douglas-Peucker; 0: one vertex per\nskeleton pixel)"},
+        {"debug-dir", 0, TD_OPT_STRING, &o->debug_dir, .meta = "DIR", .help =
+         "write mask.png, skeleton.png, despurred.png,\noverlay.png "
+         "(label-gap joins in magenta),\njoin.txt; colour scans: palette.png "
+         "(the inks\nfound, the one taken framed), ink-K.png, inks.txt"},
         {NULL}};
     const td_cmd c = {
         "scan", "SCAN -o LINES.geojson [options]",
@@ -159,10 +138,8 @@ static void summary(const td_scan_result *r, double secs)
     if (r->palette.n > 0)
         td_cli_print_palette("scan", &r->palette);
     if (r->wide_cuts > 0)
-        fprintf(stderr,
-                "scan: %zu line%s ended where contours crowd into one "
-                "blob of ink\n",
-                r->wide_cuts, r->wide_cuts == 1 ? "" : "s");
+        fprintf(stderr, "scan: %zu line%s ended where contours crowd into one "
+                "blob of ink\n", r->wide_cuts, r->wide_cuts == 1 ? "" : "s");
     if (r->depressions > 0)
         fprintf(stderr, "scan: %zu ring%s read as depression%s (ticks "
                 "inside)\n", r->depressions, r->depressions == 1 ? "" : "s",
