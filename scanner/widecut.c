@@ -30,18 +30,10 @@ typedef struct wvert {
 static int wide_at(const uint8_t *bits, int w, int h, const td_line *l,
                    size_t k, double maxw)
 {
-    size_t n = l->n;
-    size_t ka = l->closed ? (k + n - WC_CHORD % n) % n
-                          : (k >= WC_CHORD ? k - WC_CHORD : 0);
-    size_t kb = l->closed ? (k + WC_CHORD) % n
-                          : (k + WC_CHORD < n ? k + WC_CHORD : n - 1);
-    double x = l->xy[2 * k], y = l->xy[2 * k + 1];
-    double dx = l->xy[2 * kb] - l->xy[2 * ka];
-    double dy = l->xy[2 * kb + 1] - l->xy[2 * ka + 1], d = hypot(dx, dy);
-    double nx, ny, t;
-    if (d < 1.0 || !td_packed_at_pt(bits, w, h, x, y))
+    double x = l->xy[2 * k], y = l->xy[2 * k + 1], nx, ny, t;
+    if (!td_line_normal(l, k, WC_CHORD, &nx, &ny) ||
+        !td_packed_at_pt(bits, w, h, x, y))
         return 0;
-    nx = -dy / d, ny = dx / d;
     t = td_width_step_below(0.5 * maxw);
     if (!td_packed_at_pt(bits, w, h, x + t * nx, y + t * ny) &&
         !td_packed_at_pt(bits, w, h, x - t * nx, y - t * ny))

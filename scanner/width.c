@@ -48,6 +48,23 @@ static double run(const wmask *m, double x, double y, double dx,
 }
 
 /* Contract in width.h. */
+int td_line_normal(const td_line *l, size_t k, size_t chord, double *nx,
+                   double *ny)
+{
+    size_t n = l->n;
+    size_t ka = l->closed ? (k + n - chord % n) % n
+                          : (k >= chord ? k - chord : 0);
+    size_t kb = l->closed ? (k + chord) % n
+                          : (k + chord < n ? k + chord : n - 1);
+    double dx = l->xy[2 * kb] - l->xy[2 * ka];
+    double dy = l->xy[2 * kb + 1] - l->xy[2 * ka + 1], d = hypot(dx, dy);
+    if (d < 1.0)
+        return 0;
+    *nx = -dy / d, *ny = dx / d;
+    return 1;
+}
+
+/* Contract in width.h. */
 double td_width_across(const uint8_t *bits, int w, int h, double x, double y,
                        double nx, double ny)
 {
@@ -80,16 +97,10 @@ static double line_width(const wmask *m, const td_line *l, double *runs,
     step = hi > lo ? (hi - lo) / maxruns + 1 : 1;
     step = step < W_STEP ? W_STEP : step;
     for (k = lo; k < hi && nr < maxruns; k += step) {
-        size_t ka = l->closed ? (k + n - W_CHORD % n) % n
-                              : (k >= W_CHORD ? k - W_CHORD : 0);
-        size_t kb = l->closed ? (k + W_CHORD) % n
-                              : (k + W_CHORD < n ? k + W_CHORD : n - 1);
-        double x = l->xy[2 * k], y = l->xy[2 * k + 1];
-        double dx = l->xy[2 * kb] - l->xy[2 * ka];
-        double dy = l->xy[2 * kb + 1] - l->xy[2 * ka + 1], d = hypot(dx, dy), r;
-        if (d < 1.0 || !ink_at(m, x, y))
+        double x = l->xy[2 * k], y = l->xy[2 * k + 1], nx, ny, r;
+        if (!td_line_normal(l, k, W_CHORD, &nx, &ny) || !ink_at(m, x, y))
             continue;
-        r = run(m, x, y, -dy / d, dx / d) + run(m, x, y, dy / d, -dx / d);
+        r = run(m, x, y, nx, ny) + run(m, x, y, -nx, -ny);
         if (r <= W_MAX)
             runs[nr++] = r;
     }

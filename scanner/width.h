@@ -47,6 +47,13 @@ static inline int td_packed_at_pt(const uint8_t *bits, int w, int h, double x,
     return td_packed_at(bits, w, h, (int)x, (int)y); /* floor: both >= 0 */
 }
 
+/* The unit normal (*nx, *ny) of line l at vertex k: the chord from `chord`
+ * vertices before k to `chord` after it (wrapping on a closed line,
+ * clamped at an open line's ends) turned left; 0 when the chord is
+ * shorter than 1 px (no direction), else 1. */
+int td_line_normal(const td_line *l, size_t k, size_t chord, double *nx,
+                   double *ny);
+
 /* The run of ink across (x, y) along the unit normal (nx, ny), both ways
  * from the point, on the packed w x h mask, as td_line_widths measures
  * it: stepped in 1/4 px, each way ending at the first step on paper; over
