@@ -14,6 +14,7 @@
 #define WC_CHORD 3 /* vertices either side for the local direction */
 #define WC_MIN 4   /* a wide stretch is at least this many vertices */
 #define WC_CELL 8  /* px: cells of the near-stretch vertex list */
+#define WC_RING 8  /* rings shorter than this many maxw stay whole */
 
 typedef struct wstretch {
     size_t line, k, e; /* vertices [k, e) of line */
@@ -52,7 +53,8 @@ static void flag_lines(const uint8_t *bits, int w, int h, const td_lines *ls,
         const td_line *l = &ls->v[i];
         unsigned char *f = wide + off[i];
         size_t k, e;
-        if (l->n < 2 * WC_MIN)
+        if (l->n < 2 * WC_MIN ||
+            (l->closed && td_line_length(l) < WC_RING * maxw))
             continue;
         for (k = 0; k < l->n; k++)
             f[k] = (unsigned char)wide_at(bits, w, h, l, k, maxw);

@@ -12,7 +12,9 @@
  * vertices, with another traced line inside that ink (within maxw / 2 +
  * 1 px of the stretch), is cut out: the line ends on both sides of the
  * blob, open ends the labeller handles, instead of jumping through it.
- * A line's own ink (a ring touching itself, a dot) is left alone.
+ * A line's own ink (a ring touching itself, a dot) is left alone, and so
+ * is a closed line shorter than 8 maxw (a small ring is one contour; drawn
+ * as a solid dot its ink is wide all round).
  *
  *     ====a\                      ====a
  *     =====>######=====     ->    =====      =====     (a left open,

@@ -6,7 +6,10 @@
 #include "scanner/join.h"
 #include "scanner/thin.h"
 #include "scanner/trace.h"
+#include "scanner/widecut.h"
+#include "scanner/width.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -321,6 +324,58 @@ static void test_merge_left_open(void)
     }
 }
 
+/* scanner/widecut.c on a hand-made mask: a blob of ink 12 px high from
+ * x = 40 to 80 with two lines through it (y = 30 and 36) and a small
+ * closed ring (radius 4) in it; lines 2 px wide elsewhere.  Both long
+ * lines lose the stretch inside the blob and end on either side of it;
+ * the ring stays whole (a small ring is one contour: cutting it would
+ * lose a summit); a line alone in a wide stretch of its own ink (no other
+ * line inside) stays whole too. */
+static void test_wide_cut(void)
+{
+    td_grid_u8 *g = td_grid_u8_new(120, 80, NULL);
+    td_lines *ls = td_lines_new(NULL);
+    uint8_t *bits;
+    td_line *l;
+    size_t i, rings = 0, left = 0, right = 0;
+    int x, y, k;
+    long nc;
+    for (y = 0; y < 80; y++)
+        for (x = 0; x < 120; x++)
+            TD_AT(g, x, y) = (x >= 40 && x < 80 && y >= 27 && y < 40) ||
+                             abs(y - 30) <= 1 || abs(y - 36) <= 1 ||
+                             (y >= 60 && y < 72 && x >= 20 && x < 100);
+    bits = td_width_pack(g, NULL);
+    for (k = 0; k < 3; k++) { /* y = 30, 36, and 66 alone in its ink */
+        l = td_lines_add(ls, NULL);
+        for (x = 2; x < 118; x++)
+            td_line_push(l, x, k == 0 ? 30 : k == 1 ? 36 : 66, NULL);
+    }
+    l = td_lines_add(ls, NULL);
+    for (k = 0; k < 24; k++)
+        td_line_push(l, 60 + 4 * cos(k * M_PI / 12),
+                     33 + 4 * sin(k * M_PI / 12), NULL);
+    l->closed = 1;
+    nc = td_wide_cut(bits, 120, 80, ls, 3 * 2.0, NULL);
+    for (i = 0; i < ls->n; i++) {
+        const td_line *q = &ls->v[i];
+        rings += q->closed && q->n == 24;
+        if (q->xy[1] == 66)
+            TT_CHECKF(q->n == 116, "the line alone in its ink: %zu points",
+                      q->n);
+        if (q->closed || q->xy[1] == 66)
+            continue;
+        left += q->xy[2 * (q->n - 1)] < 45 && q->xy[0] == 2;
+        right += q->xy[0] > 75 && q->xy[2 * (q->n - 1)] == 117;
+    }
+    TT_CHECKF(nc == 2 && rings == 1 && left == 2 && right == 2,
+              "%ld cut, %zu rings, %zu left and %zu right pieces", nc, rings,
+              left, right);
+    free(bits);
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+}
+
 /* A 1-px break in a line with another contour 2 px beside it, starting
  * level with the break: the paper's bridge takes the ring's first pixel
  * counter-clockwise, the neighbour's; ours goes on straight ahead. */
@@ -367,5 +422,6 @@ int main(void)
     TT_RUN(test_small_ring_touching);
     TT_RUN(test_merge_left_open);
     TT_RUN(test_bridge_ahead);
+    TT_RUN(test_wide_cut);
     return tt_summary();
 }
