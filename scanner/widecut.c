@@ -209,12 +209,8 @@ long td_wide_cut(const uint8_t *bits, int w, int h, td_lines *ls, double maxw,
                 e++;
                 continue;
             }
-            if (ns == scap) {
-                wstretch *t = realloc(st, (scap = 2 * scap + 64) * sizeof *t);
-                if (!t)
-                    goto nomem;
-                st = t;
-            }
+            if (td_grow((void **)&st, &scap, ns + 1, sizeof *st, cx) != 0)
+                goto nomem;
             st[ns].line = i, st[ns].k = k, st[ns++].e = e;
         }
     if (ns == 0) {
@@ -235,12 +231,8 @@ long td_wide_cut(const uint8_t *bits, int w, int h, td_lines *ls, double maxw,
             c = (size_t)(y / WC_CELL) * (size_t)cw + (size_t)(x / WC_CELL);
             if (!cm[c])
                 continue;
-            if (nv == vcap) {
-                wvert *t = realloc(v, (vcap = 2 * vcap + 256) * sizeof *t);
-                if (!t)
-                    goto nomem;
-                v = t;
-            }
+            if (td_grow((void **)&v, &vcap, nv + 1, sizeof *v, cx) != 0)
+                goto nomem;
             v[nv].cell = c, v[nv].line = i, v[nv].x = x, v[nv++].y = y;
         }
     qsort(v, nv, sizeof *v, cmp_wvert);
