@@ -254,16 +254,6 @@ static void close_dot(td_line *l)
         l->closed = 1;
 }
 
-static void flag_edge(td_line *l, int w, int h)
-{
-    size_t i;
-    for (i = 0; i < l->n && !l->edge; i++) {
-        double x = l->xy[2 * i], y = l->xy[2 * i + 1];
-        if (x < 1 || y < 1 || x > w - 1 || y > h - 1)
-            l->edge = 1;
-    }
-}
-
 /* Trace the line starting at (x,y): forward leg, then backward leg. */
 static int trace_line(td_grid_u8 *g, td_lines *ls, int x, int y,
                       const td_trace_params *p, td_ctx *cx)
@@ -289,7 +279,8 @@ static int trace_line(td_grid_u8 *g, td_lines *ls, int x, int y,
             at_junction(g, (int)l->xy[0], (int)l->xy[1]) |
             at_junction(g, (int)l->xy[2 * e], (int)l->xy[2 * e + 1]) << 1);
     }
-    flag_edge(l, g->w, g->h);
+    if (!l->edge)
+        l->edge = td_line_on_border(l, g->w, g->h);
     if (!l->closed && !l->edge)
         close_dot(l);
     if (!l->closed && p->edge_dist > 0 &&

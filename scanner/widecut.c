@@ -124,17 +124,6 @@ static int other_near(const td_line *l, const wstretch *s, double r, int cw,
     return 0;
 }
 
-static int is_edge(const td_line *l, int w, int h)
-{
-    size_t k;
-    for (k = 0; k < l->n; k++) {
-        double x = l->xy[2 * k], y = l->xy[2 * k + 1];
-        if (x < 1 || y < 1 || x > w - 1 || y > h - 1)
-            return 1;
-    }
-    return 0;
-}
-
 /* Line l without its flagged vertices, as pieces appended to out. */
 static int cut_line(const td_line *l, const unsigned char *f, int w, int h,
                     long *next_id, td_lines *out, td_ctx *cx)
@@ -170,7 +159,7 @@ static int cut_line(const td_line *l, const unsigned char *f, int w, int h,
                 if (td_line_push(c, l->xy[2 * ((start + k) % n)],
                                  l->xy[2 * ((start + k) % n) + 1], cx) != 0)
                     return TD_ENOMEM;
-            c->edge = is_edge(c, w, h);
+            c->edge = td_line_on_border(c, w, h);
         }
         for (; e < n && f[(start + e) % n]; e++)
             ;

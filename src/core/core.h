@@ -236,6 +236,9 @@ int td_line_append(td_line *dst, const td_line *src, int rev, td_ctx *cx);
 void td_lines_remove(td_lines *ls, size_t i);
 /* Length of the polyline (closing segment included when closed). */
 double td_line_length(const td_line *l);
+/* 1 when a point of l lies on the border pixels of a w x h sheet (x or y
+ * under 1, or over w - 1 or h - 1: td_line.edge), else 0. */
+int td_line_on_border(const td_line *l, int w, int h);
 
 /* Append a copy of l to ls: its points and every property (id
  * included; td_lines_add's own id is overwritten).  0 or TD_ENOMEM. */

@@ -96,6 +96,18 @@ void td_lines_remove(td_lines *ls, size_t i)
 }
 
 /* See lines.h. */
+int td_line_on_border(const td_line *l, int w, int h)
+{
+    size_t i;
+    for (i = 0; i < l->n; i++) {
+        double x = l->xy[2 * i], y = l->xy[2 * i + 1];
+        if (x < 1 || y < 1 || x > w - 1 || y > h - 1)
+            return 1;
+    }
+    return 0;
+}
+
+/* See lines.h. */
 double td_line_length(const td_line *l)
 {
     double len = 0.0;
