@@ -37,6 +37,7 @@
 #define JUNC_LEAVE 25.0 /* cost of leaving a junction end open */
 #define JUNC_SELF_TURN 135.0 /* a line's two ends closing it at a junction */
 #define JUNC_MAX 8      /* ends in one junction zone searched exhaustively */
+#define JUNC_NEAR 3.0 /* px: two junction ends this near meet at one junction */
 
 typedef struct jend {
     double x, y, tx, ty;
@@ -1155,6 +1156,76 @@ static int keep_straight(const td_lines *ls, const td_join_params *p,
     return 0;
 }
 
+static size_t uf_root(size_t *uf, size_t a)
+{
+    while (uf[a] != a)
+        a = uf[a] = uf[uf[a]];
+    return a;
+}
+
+typedef struct xkey {
+    double x;
+    size_t i;
+} xkey;
+
+static int cmp_xkey(const void *a, const void *b)
+{
+    double xa = ((const xkey *)a)->x, xb = ((const xkey *)b)->x;
+    return (xa > xb) - (xa < xb);
+}
+
+/* Candidate pieces at least min_length long (longer than a digit's
+ * stroke) with both ends at skeleton junctions that join them,
+ * through other such pieces, to a line that is no candidate are pieces of
+ * a contour network (a narrow finger of a contour pinched where its sides
+ * touch: the pieces between the pinch and the junctions), not a label's
+ * glyphs, which stand apart from the contours in their gap: each of their
+ * junction ends counts as continuing.  (Ours: bench_scanreal, Elkhorn.) */
+static int junction_attached(const td_lines *ls, const jend *e, size_t ne,
+                             const uint8_t *cand, double min_length,
+                             uint8_t *cont, td_ctx *cx)
+{
+    size_t *uf, i, j, n = 0;
+    xkey *k;
+    uint8_t *lng;
+    if (!(uf = td_malloc((ls->n + 1) * sizeof *uf, cx)))
+        return TD_ENOMEM;
+    if (!(k = td_malloc((ne + 1) * sizeof *k, cx))) {
+        free(uf);
+        return TD_ENOMEM;
+    }
+    if (!(lng = td_calloc(ls->n + 1, 1, cx))) {
+        free(uf);
+        free(k);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < ls->n; i++)
+        uf[i] = i;
+    for (i = 0; i < ne; i++)
+        if (e[i].junc)
+            k[n].x = e[i].x, k[n++].i = i;
+    qsort(k, n, sizeof *k, cmp_xkey);
+    for (i = 0; i < n; i++)
+        for (j = i + 1; j < n && k[j].x - k[i].x <= JUNC_NEAR; j++)
+            if (hypot(k[j].x - k[i].x, e[k[j].i].y - e[k[i].i].y) <=
+                JUNC_NEAR)
+                uf[uf_root(uf, e[k[i].i].line)] = uf_root(uf, e[k[j].i].line);
+    for (i = 0; i < n; i++)
+        if (!cand[e[k[i].i].line])
+            lng[uf_root(uf, e[k[i].i].line)] = 1;
+    for (i = 0; i < n; i++) {
+        size_t li = e[k[i].i].line;
+        if (cand[li] && ls->v[li].junc == 3 &&
+            td_line_length(&ls->v[li]) >= min_length &&
+            lng[uf_root(uf, li)])
+            cont[k[i].i] = 1;
+    }
+    free(uf);
+    free(k);
+    free(lng);
+    return 0;
+}
+
 /* Short open lines (shorter than min_length, or fitting in a box of that
  * side: a bent digit such as 2 or 5) with both ends inside the sheet are
  * label or text fragments unless both ends continue longer lines (a stage-1 pair with an
@@ -1202,6 +1273,8 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
         cont[a] |= !cand[e[b].line];
         cont[b] |= !cand[e[a].line];
     }
+    if ((rc = junction_attached(ls, e, ne, cand, p->min_length, cont, cx)) != 0)
+        goto fail;
     for (i = ls->n; i-- > 0;)
         if (cand[i] && !(cont[eol[2 * i]] && cont[eol[2 * i + 1]])) {
             if (nbox < MAX_TEXT_BOXES)

@@ -368,6 +368,57 @@ static void test_crowded_blobs_cut(void)
 }
 
 /* A blank sheet is an error, not an empty result. */
+/* Distance from (x, y) to the polyline xy (n points). */
+static double poly_dist(const double *xy, size_t n, double x, double y)
+{
+    double best = HUGE_VAL;
+    size_t k;
+    for (k = 0; k + 1 < n; k++) {
+        double ax = xy[2 * k], ay = xy[2 * k + 1];
+        double vx = xy[2 * k + 2] - ax, vy = xy[2 * k + 3] - ay;
+        double t = ((x - ax) * vx + (y - ay) * vy) / (vx * vx + vy * vy);
+        t = t < 0 ? 0 : t > 1 ? 1 : t;
+        best = fmin(best, hypot(ax + t * vx - x, ay + t * vy - y));
+    }
+    return best;
+}
+
+/* A contour with a narrow finger whose sides touch at its neck and again
+ * at a pinch halfway up (an SRTM spur, Elkhorn): the skeleton has a
+ * junction at each, and the finger's sides between them are short
+ * compact pieces like a label's digits.  They are part of the contour
+ * (their ends meet the long line at the junctions) and stay: the finger
+ * is traced (recall within 2 px of the true line). */
+static void test_pinched_finger(void)
+{
+    static const double P[] = {5,   90, 85,  90,   99,  86, 87,  74.5,
+                               99,  63, 94,  56,   100, 49, 106, 56,
+                               101, 63, 113, 74.5, 101, 86, 115, 90,
+                               195, 90};
+    size_t n = sizeof P / sizeof P[0] / 2, k;
+    td_image *im = td_image_new(200, 120, 1, NULL);
+    td_scan_params sp = td_scan_defaults();
+    td_scan_result res;
+    td_lines *truth = td_lines_new(NULL);
+    td_line *t = td_lines_add(truth, NULL);
+    td_scanscore sc;
+    int x, y;
+    for (k = 0; k < n; k++)
+        TT_CHECK(td_line_push(t, P[2 * k], P[2 * k + 1], NULL) == 0);
+    for (y = 0; y < im->h; y++)
+        for (x = 0; x < im->w; x++)
+            im->data[(size_t)y * im->stride + x] =
+                poly_dist(P, n, x + 0.5, y + 0.5) <= 1.1 ? 10 : 250;
+    TT_CHECK(td_scan(im, &sp, &res, NULL) == 0);
+    TT_CHECK(td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
+                           NULL) == 0);
+    TT_CHECKF(sc.recall >= 0.97 && sc.precision >= 0.99,
+              "recall %.3f precision %.3f", sc.recall, sc.precision);
+    td_scan_result_free(&res);
+    td_lines_free(truth);
+    td_image_free(im);
+}
+
 static void test_blank(void)
 {
     td_image *im = td_image_new(300, 200, 1, NULL);
@@ -394,6 +445,7 @@ int main(void)
     TT_RUN(test_depression_ticks);
     TT_RUN(test_ticks_real_dem);
     TT_RUN(test_crowded_blobs_cut);
+    TT_RUN(test_pinched_finger);
     TT_RUN(test_blank);
     return tt_summary();
 }

@@ -583,26 +583,29 @@ int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
     return 0;
 }
 
-/* Walk line l in steps of 0.5 px; for each sample call back with its
- * position.  Returns the number of samples. */
+/* Walk line l in steps of 0.5 px of its length (the samples at 0.25,
+ * 0.75, ... px along it, whatever its vertex spacing: a share of samples
+ * is a share of length); a line shorter than that gets one sample, its
+ * first point. */
 typedef void (*sample_fn)(void *u, double x, double y);
 
 static void walk(const td_line *l, sample_fn fn, void *u)
 {
-    size_t s;
+    size_t s, got = 0;
+    double pos = 0.0, next = 0.25;
     for (s = 0; s < nseg(l); s++) {
         const double *p, *q;
         double len;
-        int k, n;
         seg_pts(l, s, &p, &q);
         len = hypot(q[0] - p[0], q[1] - p[1]);
-        n = (int)ceil(len / 0.5);
-        n = n < 1 ? 1 : n;
-        for (k = 0; k < n; k++) {
-            double t = (double)k / n;
+        for (; next < pos + len; next += 0.5, got++) {
+            double t = (next - pos) / len;
             fn(u, p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]));
         }
+        pos += len;
     }
+    if (!got && l->n > 0)
+        fn(u, l->xy[0], l->xy[1]);
 }
 
 typedef struct near_walk {
