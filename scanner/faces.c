@@ -16,6 +16,7 @@
 
 struct td_faces {
     const td_lines *ls;
+    size_t nw;              /* walls: f->sl->v[ls->n .. ls->n + nw) */
     int w, h, gw, gh, cell; /* cell: side of a grid cell, px */
     uint32_t *start; /* gw * gh + 1 offsets into seg */
     uint32_t *seg;   /* pairs: line index, first vertex index */
@@ -68,9 +69,9 @@ static int cell_of(double v, int n, int cell)
 static void bin_segments(td_faces *f, int pass, uint32_t *fill)
 {
     size_t i, k;
-    for (i = 0; i < f->ls->n; i++) {
+    for (i = 0; i < f->ls->n + f->nw; i++) {
         const td_line *l = &f->sl->v[i];
-        if (!f->used[i])
+        if (i < f->ls->n && !f->used[i])
             continue;
         for (k = 0; k < nsegs(l); k++) {
             double a[2], b[2];
@@ -229,6 +230,32 @@ static int make_chunks(td_faces *f, td_ctx *cx)
 td_faces *td_faces_new(const td_lines *ls, int w, int h,
                        const td_faces_params *p, td_ctx *cx)
 {
+    return td_faces_new_walls(ls, NULL, w, h, p, cx);
+}
+
+/* The walls appended to f->sl after the lines, as they are. */
+static int add_walls(td_faces *f, const td_lines *walls, td_ctx *cx)
+{
+    size_t i, k;
+    for (i = 0; walls && i < walls->n; i++) {
+        const td_line *l = &walls->v[i];
+        td_line *o;
+        if (l->n < 2)
+            continue;
+        if (!(o = td_lines_add(f->sl, cx)))
+            return TD_ENOMEM;
+        for (k = 0; k < l->n; k++)
+            if (td_line_push(o, l->xy[2 * k], l->xy[2 * k + 1], cx) != 0)
+                return TD_ENOMEM;
+        o->closed = 0;
+        f->nw++;
+    }
+    return 0;
+}
+
+td_faces *td_faces_new_walls(const td_lines *ls, const td_lines *walls, int w,
+                             int h, const td_faces_params *p, td_ctx *cx)
+{
     td_faces *f;
     uint32_t *fill = NULL;
     size_t i, nc;
@@ -267,7 +294,8 @@ td_faces *td_faces_new(const td_lines *ls, int w, int h,
         f->len[i] = td_line_length(&ls->v[i]);
         f->used[i] = ls->v[i].n >= 2 && f->len[i] >= f->p.min_len;
     }
-    if (make_chunks(f, cx) != 0 || simplify_all(f, cx) != 0)
+    if (make_chunks(f, cx) != 0 || simplify_all(f, cx) != 0 ||
+        add_walls(f, walls, cx) != 0)
         goto fail;
     bin_segments(f, 0, NULL);
     for (i = 0; i < nc; i++) {
@@ -361,6 +389,10 @@ static void test_cell(const td_faces *f, size_t c, const double *o,
         if ((long)li == skip && t < skip_t)
             continue;
         *best = t;
+        if (li >= f->ls->n) { /* a wall: stops the ray, no side */
+            *node = -1;
+            continue;
+        }
         /* side 0 (left on screen) when the start is left of the segment */
         *node = 2 * (long)f->vchunk[f->voff[li] + f->sorig[f->soff[li] + k]] +
                 ((S[0] * -q[1] - S[1] * -q[0]) < 0 ? 0 : 1);

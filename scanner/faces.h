@@ -61,6 +61,12 @@ td_faces_params td_faces_defaults(void);
  * the error in cx (TD_EINVAL: w or h < 1; TD_ENOMEM). */
 td_faces *td_faces_new(const td_lines *ls, int w, int h,
                        const td_faces_params *p, td_ctx *cx);
+
+/* The same with walls (may be NULL): polylines that stop a probe like the
+ * sheet border, with no side of their own (where the scanner cut lines out
+ * of a blob of crowded contours, widecut.h: no face runs through it). */
+td_faces *td_faces_new_walls(const td_lines *ls, const td_lines *walls, int w,
+                             int h, const td_faces_params *p, td_ctx *cx);
 void td_faces_free(td_faces *f);
 
 /* Nonzero when line i takes part (long enough). */

@@ -2085,7 +2085,7 @@ static int faces_of(const td_lines *ls, const td_label_params *p, td_faces **fx,
     *fe = NULL;
     if (ls->n > UINT32_MAX / 4)
         return td_seterr(cx, TD_EINVAL, "label: too many lines (%zu)", ls->n);
-    if (!(*fx = td_faces_new(ls, p->w, p->h, &fp, cx)))
+    if (!(*fx = td_faces_new_walls(ls, p->walls, p->w, p->h, &fp, cx)))
         return cx && cx->code ? cx->code : TD_ENOMEM;
     return td_faces_edges(*fx, fe, nfe, cx);
 }

@@ -63,6 +63,9 @@ typedef struct td_label_params {
     size_t nknown;
     const double *depressions; /* x,y pairs */
     size_t ndepressions;
+    const td_lines *walls; /* where the scanner cut lines out of a blob of
+                              crowded contours (td_scan_result.walls): no
+                              face runs through them; NULL: none */
     int index_every;       /* index contours every this many levels (base +
                               k * index_every * interval), drawn thicker:
                               td_label_check_index; 0 = no check (default) */

@@ -29,6 +29,7 @@ td_scan_params td_scan_defaults(void)
 void td_scan_result_free(td_scan_result *res)
 {
     td_lines_free(res->lines);
+    td_lines_free(res->walls);
     td_join_stats_free(&res->join);
     td_grid_u8_free(res->mask);
     td_grid_u8_free(res->skeleton);
@@ -104,8 +105,13 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             for (q = 0; q < nb; q++)
                 seams[q] |= bits[q];
         }
-        nc = pen > 0   ? td_wide_cut(seams ? seams : bits, im->w, im->h,
-                                   res->lines, p->wide_cut * pen, cx)
+        if (!(res->walls = td_lines_new(cx))) {
+            rc = TD_ENOMEM;
+            goto fail;
+        }
+        nc = pen > 0   ? td_wide_cut_walls(seams ? seams : bits, im->w, im->h,
+                                         res->lines, p->wide_cut * pen,
+                                         res->walls, cx)
              : pen < 0 ? TD_ENOMEM
                        : 0;
         if (nc < 0 ||

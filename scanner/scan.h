@@ -63,6 +63,8 @@ typedef struct td_scan_result {
     size_t depressions;    /* rings read as depressions from their ticks */
     size_t wide_cuts;      /* lines cut where contours crowd into one blob
                               of ink (widecut.h) */
+    td_lines *walls;       /* the stretches cut there (widecut.h), for the
+                              labeller's faces (td_label_params.walls) */
     size_t straight_lines; /* grid lines erased from the mask */
     td_palette palette;    /* the inks found on a colour scan (--ink auto
                               or brown; n = 0 otherwise) */

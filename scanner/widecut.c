@@ -171,6 +171,30 @@ static int cut_line(const td_line *l, const unsigned char *f, int w, int h,
 long td_wide_cut(const uint8_t *bits, int w, int h, td_lines *ls, double maxw,
                  td_ctx *cx)
 {
+    return td_wide_cut_walls(bits, w, h, ls, maxw, NULL, cx);
+}
+
+/* Stretch s of l, with the vertex either side of it, as a wall. */
+static int add_wall(const td_line *l, const wstretch *s, td_lines *walls,
+                    td_ctx *cx)
+{
+    size_t n = l->n, a, b, cnt, k;
+    td_line *o;
+    a = s->k > 0 ? s->k - 1 : l->closed ? n - 1 : 0;
+    b = s->e < n ? s->e : l->closed ? 0 : n - 1;
+    cnt = (b + n - a) % n + 1;
+    if (!(o = td_lines_add(walls, cx)))
+        return TD_ENOMEM;
+    for (k = 0; k < cnt; k++)
+        if (td_line_push(o, l->xy[2 * ((a + k) % n)],
+                         l->xy[2 * ((a + k) % n) + 1], cx) != 0)
+            return TD_ENOMEM;
+    return 0;
+}
+
+long td_wide_cut_walls(const uint8_t *bits, int w, int h, td_lines *ls,
+                       double maxw, td_lines *walls, td_ctx *cx)
+{
     size_t *off = td_malloc((ls->n + 1) * sizeof *off, cx), i, k, e, tot = 0;
     size_t ns = 0, scap = 0, nv = 0, vcap = 0;
     unsigned char *wide = NULL, *cm = NULL, *cut = NULL;
@@ -227,9 +251,11 @@ long td_wide_cut(const uint8_t *bits, int w, int h, td_lines *ls, double maxw,
     qsort(v, nv, sizeof *v, cmp_wvert);
     for (i = 0; i < ns; i++) { /* a stretch in its own ink is no merge */
         const wstretch *s = &st[i];
-        if (other_near(&ls->v[s->line], s, r, cw, ch, v, nv))
+        if (other_near(&ls->v[s->line], s, r, cw, ch, v, nv)) {
             cut[s->line] = 1;
-        else
+            if (walls && add_wall(&ls->v[s->line], s, walls, cx) != 0)
+                goto nomem;
+        } else
             memset(wide + off[s->line] + s->k, 0, s->e - s->k);
     }
     if (!(out = td_lines_new(cx)))

@@ -37,6 +37,12 @@ extern "C" {
 long td_wide_cut(const uint8_t *bits, int w, int h, td_lines *ls, double maxw,
                  td_ctx *cx);
 
+/* The same; walls (may be NULL) gets every stretch cut out, with the
+ * vertex before and after it (where the pieces end): the blobs, for the
+ * labeller's faces (faces.h: no face runs through them). */
+long td_wide_cut_walls(const uint8_t *bits, int w, int h, td_lines *ls,
+                       double maxw, td_lines *walls, td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

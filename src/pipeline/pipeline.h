@@ -87,6 +87,8 @@ typedef struct td_run_result {
     int w, h;              /* the scan's size */
     td_lines *lines;       /* the lines (labelled, then the kept ones);
                               NULL once interpolated */
+    td_lines *walls;       /* the scan's blobs (td_scan_result.walls);
+                              NULL once labelled */
     td_grid_f32 *dem;
     size_t traced, dropped, ncross;
     double secs[3];        /* read + scan, label, interpolate */

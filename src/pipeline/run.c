@@ -47,6 +47,8 @@ static int do_scan(const char *path, const td_run_params *p, td_run_result *r,
     if (rc == 0) {
         r->lines = res.lines;
         res.lines = NULL;
+        r->walls = res.walls;
+        res.walls = NULL;
         r->traced = r->lines->n;
         r->pal = res.palette;
     }
@@ -81,6 +83,7 @@ static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
     int rc, tree = lp.method == TD_LABEL_TREE;
     lp.labels = r->reads;
     lp.nlabels = tree ? 0 : r->nreads;
+    lp.walls = r->walls;
     lp.w = r->w;
     lp.h = r->h;
     if (lp.nknown == 0 && lp.nlabels == 0)
@@ -107,6 +110,8 @@ static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
             td_lines_remove(r->lines, i);
             r->dropped++;
         }
+    td_lines_free(r->walls);
+    r->walls = NULL;
     r->secs[1] = td_now() - t0;
     if (r->lines->n == 0)
         return td_seterr(cx, TD_EINVAL, "no traced line could be labelled "
@@ -150,6 +155,7 @@ void td_run_result_free(td_run_result *r)
         return;
     td_grid_f32_free(r->dem);
     td_lines_free(r->lines);
+    td_lines_free(r->walls);
     td_label_report_free(&r->rep);
     td_label_report_free(&r->checks);
     td_image_free(r->scan);

@@ -190,6 +190,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
     lp.w = im->w;
     lp.h = im->h;
     lp.index_every = hs->index_every;
+    lp.walls = res.walls;
     lp.nknown = (size_t)td_hsheet_pick_known(
         tl, hs->interval, hs->nknown > 8 ? 8 : hs->nknown, kp);
     lp.known = kp;
