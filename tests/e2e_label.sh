@@ -173,6 +173,25 @@ JSON
     "$TD" label "$T/lines.geojson" -o "$T/f3.geojson" --interval 20 \
         --labeller magic 2>"$T/err"
     check "--labeller magic: exit 1, one line" "[ $? = 1 ] && one_error '--labeller'"
+    # walls: the crowded sheet's blobs, from scan to label
+    "$BUILD/tdgen" --dem-in tests/data/dems/frontrange_srtm3.tif --scale 10 \
+        --interval 20 --width 1.8 --index-width 3.2 --blur 0.8 --noise 8 \
+        -o "$T/cr.png" -q
+    "$TD" scan "$T/cr.png" -o "$T/cr.geojson" --walls "$T/crw.geojson" -q
+    check "scan --walls: the blobs written" \
+      "[ $? = 0 ] && [ \$(grep -c '\"type\":\"Feature\"' '$T/crw.geojson') -gt 50 ]"
+    "$TD" label "$T/cr.geojson" -o "$T/crl0.geojson" --interval 20 \
+        --known 1.5,1.5,0 2>"$T/err0"
+    "$TD" label "$T/cr.geojson" -o "$T/crl.geojson" --interval 20 \
+        --known 1.5,1.5,0 --walls "$T/crw.geojson" 2>"$T/err"
+    c0=$(sed -n 's/.* \([0-9]*\) face conflicts.*/\1/p' "$T/err0")
+    c1=$(sed -n 's/.* \([0-9]*\) face conflicts.*/\1/p' "$T/err")
+    check "label --walls: fewer faces leak ($c0 -> $c1 conflicts)" \
+      "[ -n '$c0' ] && [ -n '$c1' ] && [ $c1 -lt $((c0 / 2)) ]"
+    "$TD" label "$T/cr.geojson" -o "$T/crl2.geojson" --interval 20 \
+        --known 1.5,1.5,0 --walls "$T/nowalls.geojson" 2>"$T/err"
+    check "label --walls missing file: exit 1, one line naming it" \
+      "[ $? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && grep -q nowalls.geojson '$T/err' && [ ! -e '$T/crl2.geojson' ]"
 fi
 echo "$pass passed, $fail failed"
 [ "$fail" = 0 ]

@@ -39,6 +39,9 @@ static int parse_args(int argc, char **argv, label_opts *o)
         {"known", 0, TD_OPT_POINTS, &o->known, .n = 3, .meta = "X,Y,H",
          .help = "a point on (within 3 px of) a line: its height;\n"
          "elsewhere: a spot height (repeatable)"},
+        {"walls", 0, TD_OPT_STRING, &o->walls, .meta = "WALLS",
+         .help = "where the scan cut lines out of blobs of\ncrowded contours "
+         "(`scan --walls`): the faces\ndo not run through them"},
         {"known-file", 0, TD_OPT_STRING, &o->known_file, .meta = "CSV",
          .help = "x,y,height rows (a header line is skipped)"},
         {"depressions", 0, TD_OPT_POINTS, &o->dep, .n = 2, .meta = "X,Y",
@@ -166,7 +169,7 @@ int td_cmd_label(int argc, char **argv)
     label_opts o;
     td_pts seen = {NULL, 0, 0};
     td_ctx cx;
-    td_lines *ls = NULL;
+    td_lines *ls = NULL, *walls = NULL;
     td_label_report rep, checks;
     td_georef frame;
     size_t more = 0;
@@ -184,7 +187,10 @@ int td_cmd_label(int argc, char **argv)
     /* the lines come back in pixel units, and go out in their own frame */
     if ((rc = hints(&o, &cx)) != 0 ||
         (rc = td_vector_read_lines(o.in, NULL, &ls, NULL, &frame, &cx)) != 0 ||
+        (o.walls && (rc = td_vector_read_lines(o.walls, NULL, &walls, NULL,
+                                               NULL, &cx)) != 0) ||
         (o.w == 0 && (rc = td_lines_extent(ls, &o.w, &o.h, &cx)) != 0) ||
+        ((o.p.walls = walls), 0) ||
         (rc = label(&o, ls, &frame, &rep, &checks, &seen, &more, &cx)) != 0)
         rc = td_cli_fail("label", &cx);
     else if (!o.quiet)
@@ -194,6 +200,7 @@ done:
     td_label_report_free(&rep);
     td_label_report_free(&checks);
     td_lines_free(ls);
+    td_lines_free(walls);
     td_opt_points_free(&o.known);
     td_opt_points_free(&o.dep);
     free(o.pts.v);

@@ -17,7 +17,7 @@ typedef struct td_pts {
 
 typedef struct label_opts {
     const char *in, *out, *csv_out, *label_sheet, *like, *scan, *debug_dir;
-    const char *known_file, *heights;
+    const char *known_file, *heights, *walls;
     int quiet, w, h, interactive, no_missing;
     td_opt_points known, dep;
     td_label_params p;

@@ -10,7 +10,7 @@
 #include <string.h>
 
 typedef struct scan_opts {
-    const char *in, *out, *debug_dir;
+    const char *in, *out, *debug_dir, *walls;
     int quiet;
     double simplify; /* Douglas-Peucker tolerance of the written lines */
     td_scan_params p;
@@ -98,6 +98,10 @@ static int parse_args(int argc, char **argv, scan_opts *o)
         {"simplify", 0, TD_OPT_DOUBLE, &o->simplify, 0, 100, .meta = "PX",
          .help = "write the lines within PX of the traced path\n"
          "(Douglas-Peucker; 0: one vertex per\nskeleton pixel)"},
+        {"walls", 0, TD_OPT_OUTPUT, &o->walls, .meta = "WALLS.geojson",
+         .help = "also write where lines were cut out of a\nblob of crowded "
+         "contours (--wide-cut), for\n`label --walls`: no face runs "
+         "through them"},
         {"debug-dir", 0, TD_OPT_STRING, &o->debug_dir, .meta = "DIR", .help =
          "write mask.png, skeleton.png, despurred.png,\noverlay.png "
          "(label-gap joins in magenta),\njoin.txt; colour scans: palette.png "
@@ -180,6 +184,14 @@ int td_cmd_scan(int argc, char **argv)
         rc = td_pipeline_scan_debug(o.debug_dir, im, &res, &cx);
     if (rc == 0)
         rc = td_lines_simplify(res.lines, o.simplify, &cx);
+    if (rc == 0 && o.walls) { /* none cut (or --wide-cut 0): no feature */
+        td_lines *none = res.walls ? NULL : td_lines_new(&cx);
+        rc = res.walls || none
+                 ? td_vector_write_lines(o.walls, res.walls ? res.walls : none,
+                                         &geo, &cx)
+                 : TD_ENOMEM;
+        td_lines_free(none);
+    }
     if (rc == 0)
         rc = td_vector_write_lines(o.out, res.lines, &geo, &cx);
     td_cli_progress_done(&pr);
