@@ -1156,13 +1156,6 @@ static int keep_straight(const td_lines *ls, const td_join_params *p,
     return 0;
 }
 
-static size_t uf_root(size_t *uf, size_t a)
-{
-    while (uf[a] != a)
-        a = uf[a] = uf[uf[a]];
-    return a;
-}
-
 typedef struct xkey {
     double x;
     size_t i;
@@ -1185,18 +1178,11 @@ static int junction_attached(const td_lines *ls, const jend *e, size_t ne,
                              const uint8_t *cand, double min_length,
                              uint8_t *cont, td_ctx *cx)
 {
-    size_t *uf, i, j, n = 0;
-    xkey *k;
-    uint8_t *lng;
-    if (!(uf = td_malloc((ls->n + 1) * sizeof *uf, cx)))
-        return TD_ENOMEM;
-    if (!(k = td_malloc((ne + 1) * sizeof *k, cx))) {
-        free(uf);
-        return TD_ENOMEM;
-    }
-    if (!(lng = td_calloc(ls->n + 1, 1, cx))) {
-        free(uf);
-        free(k);
+    size_t *uf = td_malloc((ls->n + 1) * sizeof *uf, cx), i, j, n = 0;
+    xkey *k = td_malloc((ne + 1) * sizeof *k, cx);
+    uint8_t *lng = td_calloc(ls->n + 1, 1, cx);
+    if (!uf || !k || !lng) {
+        free(uf), free(k), free(lng);
         return TD_ENOMEM;
     }
     for (i = 0; i < ls->n; i++)
@@ -1209,20 +1195,19 @@ static int junction_attached(const td_lines *ls, const jend *e, size_t ne,
         for (j = i + 1; j < n && k[j].x - k[i].x <= JUNC_NEAR; j++)
             if (hypot(k[j].x - k[i].x, e[k[j].i].y - e[k[i].i].y) <=
                 JUNC_NEAR)
-                uf[uf_root(uf, e[k[i].i].line)] = uf_root(uf, e[k[j].i].line);
+                uf[zfind(uf, e[k[i].i].line)] =
+                    zfind(uf, e[k[j].i].line);
     for (i = 0; i < n; i++)
         if (!cand[e[k[i].i].line])
-            lng[uf_root(uf, e[k[i].i].line)] = 1;
+            lng[zfind(uf, e[k[i].i].line)] = 1;
     for (i = 0; i < n; i++) {
         size_t li = e[k[i].i].line;
         if (cand[li] && ls->v[li].junc == 3 &&
             td_line_length(&ls->v[li]) >= min_length &&
-            lng[uf_root(uf, li)])
+            lng[zfind(uf, li)])
             cont[k[i].i] = 1;
     }
-    free(uf);
-    free(k);
-    free(lng);
+    free(uf), free(k), free(lng);
     return 0;
 }
 

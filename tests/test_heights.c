@@ -277,6 +277,18 @@ static void test_labels_on_curves(void)
     }
 }
 
+/* The crowded sheet: Front Range at 10x, interval 20 (contours 2-3 px
+ * apart on the canyon walls), scanned, printed labels, sheet defects. */
+static td_grid_f32 *crowded_sheet(td_hsheet *hs)
+{
+    td_grid_f32 *src = dem_sheet(hs, "frontrange_srtm3.tif", 10, 1, 1);
+    if (src) {
+        hs->gp.interval = 20;
+        td_hsheet_defects(&hs->gp, 1);
+    }
+    return src;
+}
+
 /* The crowded sheet (Front Range at interval 20: contours 2-3 px apart on
  * the canyon walls), scanned, with printed labels and no hint: before the
  * scanner ended lines at blobs of crowded ink (scanner/widecut.c) 0.748
@@ -285,13 +297,11 @@ static void test_labels_on_curves(void)
 static void test_crowded_labels_only(void)
 {
     td_hsheet hs;
-    td_grid_f32 *src = dem_sheet(&hs, "frontrange_srtm3.tif", 10, 1, 1);
+    td_grid_f32 *src = crowded_sheet(&hs);
     td_ctx cx;
     td_ctx_init(&cx);
     if (!src)
         return;
-    hs.gp.interval = 20;
-    td_hsheet_defects(&hs.gp, 1);
     hs.read_labels = 1;
     hs.no_interval = 1;
     TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
@@ -310,13 +320,11 @@ static void test_crowded_labels_only(void)
 static void test_crowded_walls(void)
 {
     td_hsheet hs;
-    td_grid_f32 *src = dem_sheet(&hs, "frontrange_srtm3.tif", 10, 1, 1);
+    td_grid_f32 *src = crowded_sheet(&hs);
     td_ctx cx;
     td_ctx_init(&cx);
     if (!src)
         return;
-    hs.gp.interval = 20;
-    td_hsheet_defects(&hs.gp, 1);
     hs.nknown = 3;
     TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
     TT_CHECKF(hs.score.accuracy >= 0.933 && hs.score.n_wrong_sure == 0,
