@@ -1195,16 +1195,14 @@ static int junction_attached(const td_lines *ls, const jend *e, size_t ne,
         for (j = i + 1; j < n && k[j].x - k[i].x <= JUNC_NEAR; j++)
             if (hypot(k[j].x - k[i].x, e[k[j].i].y - e[k[i].i].y) <=
                 JUNC_NEAR)
-                uf[zfind(uf, e[k[i].i].line)] =
-                    zfind(uf, e[k[j].i].line);
+                uf[zfind(uf, e[k[i].i].line)] = zfind(uf, e[k[j].i].line);
     for (i = 0; i < n; i++)
         if (!cand[e[k[i].i].line])
             lng[zfind(uf, e[k[i].i].line)] = 1;
     for (i = 0; i < n; i++) {
         size_t li = e[k[i].i].line;
         if (cand[li] && ls->v[li].junc == 3 &&
-            td_line_length(&ls->v[li]) >= min_length &&
-            lng[zfind(uf, li)])
+            td_line_length(&ls->v[li]) >= min_length && lng[zfind(uf, li)])
             cont[k[i].i] = 1;
     }
     free(uf), free(k), free(lng);
