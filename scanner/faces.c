@@ -440,6 +440,51 @@ long td_faces_ray(const td_faces *f, double x, double y, double dx, double dy,
 }
 
 /* Contract in faces.h. */
+int td_faces_near(const td_faces *f, double x, double y, double r, long skip,
+                  long *nodes, double *dist, int max)
+{
+    int x0 = cell_of(x - r, f->gw, f->cell), x1 = cell_of(x + r, f->gw, f->cell);
+    int y0 = cell_of(y - r, f->gh, f->cell), y1 = cell_of(y + r, f->gh, f->cell);
+    int cx, cy, n = 0, j;
+    for (cy = y0; cy <= y1; cy++)
+        for (cx = x0; cx <= x1; cx++) {
+            size_t c = (size_t)cy * f->gw + cx;
+            uint32_t s;
+            for (s = f->start[c]; s < f->start[c + 1]; s++) {
+                uint32_t li = f->seg[2 * s], k = f->seg[2 * s + 1];
+                double a[2], b[2], S[2], q[2], L2, t, d;
+                long node;
+                if ((long)li == skip || li >= f->ls->n)
+                    continue;
+                seg_ends(&f->sl->v[li], k, a, b);
+                S[0] = b[0] - a[0], S[1] = b[1] - a[1];
+                q[0] = x - a[0], q[1] = y - a[1];
+                L2 = S[0] * S[0] + S[1] * S[1];
+                t = L2 > 0 ? (q[0] * S[0] + q[1] * S[1]) / L2 : 0;
+                t = t < 0 ? 0 : t > 1 ? 1 : t;
+                d = hypot(q[0] - t * S[0], q[1] - t * S[1]);
+                if (!(d <= r))
+                    continue;
+                node = 2 * (long)f->vchunk[f->voff[li] +
+                                           f->sorig[f->soff[li] + k]] +
+                       ((S[0] * q[1] - S[1] * q[0]) < 0 ? 0 : 1);
+                for (j = 0; j < n; j++)
+                    if (f->cline[nodes[j] / 2] == li)
+                        break;
+                if (j < n && d >= dist[j])
+                    continue;
+                if (j == n) {
+                    if (n == max)
+                        continue;
+                    n++;
+                }
+                nodes[j] = node, dist[j] = d;
+            }
+        }
+    return n;
+}
+
+/* Contract in faces.h. */
 int td_faces_around(const td_faces *f, double x, double y, long nodes[16])
 {
     int k, hits = 0;

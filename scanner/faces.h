@@ -91,6 +91,12 @@ int td_faces_edges(const td_faces *f, td_face_edge **out, size_t *n,
 long td_faces_ray(const td_faces *f, double x, double y, double dx, double dy,
                   long skip, double skip_t, double *t);
 
+/* The other lines within r px of (x,y), not counting line `skip`, up to
+ * max of them (walls not counted): for each its side node facing the
+ * point into nodes[] and its distance into dist[], in no order.  Returns
+ * how many. */
+int td_faces_near(const td_faces *f, double x, double y, double r, long skip,
+                  long *nodes, double *dist, int max);
 /* The side nodes around point (x,y): rays in 16 directions; nodes[k] gets
  * the node met by ray k (-1: none).  Returns how many rays met a line. */
 int td_faces_around(const td_faces *f, double x, double y, long nodes[16]);

@@ -62,6 +62,39 @@ static void test_rings_rise(void)
     td_lines_free(ls);
 }
 
+/* Two lines across the sheet at 100 and 110, a small ring 2 px below
+ * the upper one and another in the middle: the one beside the line is a
+ * dip of that contour (its level, 100: docs/label.md, "Small rings
+ * beside a line"), the lone one a summit (110).  Both are assumed. */
+static void test_ring_beside_line(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_label_params p = params(300, 200, 10);
+    td_label_report rep;
+    td_label_point kp[2] = {{150, 60, 100, -1}, {150, 140, 110, -1}};
+    td_ctx cx;
+    int k, y;
+    td_ctx_init(&cx);
+    for (y = 60; y <= 140; y += 80) {
+        td_line *l = td_lines_add(ls, NULL);
+        for (k = 0; k < 300; k++)
+            td_line_push(l, k + 0.5, y, NULL);
+    }
+    circle(ls, 100, 68, 6, 0);
+    circle(ls, 220, 100, 6, 1);
+    p.known = kp;
+    p.nknown = 2;
+    TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == 0);
+    TT_CHECKF(ls->v[2].has_height && ls->v[2].height == 100, "%d %g",
+              ls->v[2].has_height, ls->v[2].height);
+    TT_CHECKF(ls->v[3].has_height && ls->v[3].height == 110, "%d %g",
+              ls->v[3].has_height, ls->v[3].height);
+    TT_CHECK(ls->v[2].hsource == TD_HS_ASSUMED &&
+             ls->v[3].hsource == TD_HS_ASSUMED);
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+}
+
 /* Many nested rings, the known point on the fifth from outside. */
 static void test_many_rings(void)
 {
@@ -105,6 +138,18 @@ static void test_probes_parallel(void)
                   e[0].w <= 55,
               "%zu edges, first %u-%u w %g", n, n ? e[0].a : 0, n ? e[0].b : 0,
               n ? e[0].w : 0);
+    { /* the lines near a point between them, with the sides facing it */
+        long nodes[4];
+        double d[4];
+        int m = td_faces_near(f, 60, 44.5, 6, -1, nodes, d, 4), j;
+        TT_CHECKF(m == 2, "%d lines near", m);
+        for (j = 0; j < m; j++)
+            TT_CHECKF(nodes[j] == (d[j] < 5 ? 1 : 2) &&
+                          fabs(d[j] - (d[j] < 5 ? 4.0 : 6.0)) < 1e-9,
+                      "node %ld at %g", nodes[j], d[j]);
+        TT_CHECK(td_faces_near(f, 60, 44.5, 6, 0, nodes, d, 4) == 1 &&
+                 nodes[0] == 2);
+    }
     free(e);
     td_faces_free(f);
     td_lines_free(ls);
@@ -514,5 +559,6 @@ int main(void)
     TT_RUN(test_contradiction);
     TT_RUN(test_many_rings);
     TT_RUN(test_rings_rise);
+    TT_RUN(test_ring_beside_line);
     return tt_summary();
 }
