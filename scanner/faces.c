@@ -443,8 +443,10 @@ long td_faces_ray(const td_faces *f, double x, double y, double dx, double dy,
 int td_faces_near(const td_faces *f, double x, double y, double r, long skip,
                   long *nodes, double *dist, int max)
 {
-    int x0 = cell_of(x - r, f->gw, f->cell), x1 = cell_of(x + r, f->gw, f->cell);
-    int y0 = cell_of(y - r, f->gh, f->cell), y1 = cell_of(y + r, f->gh, f->cell);
+    int x0 = cell_of(x - r, f->gw, f->cell),
+        x1 = cell_of(x + r, f->gw, f->cell);
+    int y0 = cell_of(y - r, f->gh, f->cell),
+        y1 = cell_of(y + r, f->gh, f->cell);
     int cx, cy, n = 0, j;
     for (cy = y0; cy <= y1; cy++)
         for (cx = x0; cx <= x1; cx++) {
@@ -465,9 +467,10 @@ int td_faces_near(const td_faces *f, double x, double y, double r, long skip,
                 d = hypot(q[0] - t * S[0], q[1] - t * S[1]);
                 if (!(d <= r))
                     continue;
-                node = 2 * (long)f->vchunk[f->voff[li] +
-                                           f->sorig[f->soff[li] + k]] +
-                       ((S[0] * q[1] - S[1] * q[0]) < 0 ? 0 : 1);
+                node =
+                    2 * (long)
+                            f->vchunk[f->voff[li] + f->sorig[f->soff[li] + k]] +
+                    ((S[0] * q[1] - S[1] * q[0]) < 0 ? 0 : 1);
                 for (j = 0; j < n; j++)
                     if (f->cline[nodes[j] / 2] == li)
                         break;

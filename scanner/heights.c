@@ -1481,7 +1481,6 @@ static int touched_nodes(const hs *s, unsigned char **out, td_ctx *cx)
     return 0;
 }
 
-
 /* Small rings at the level of the line next to them (ours; measured on
  * the true lines of four sheets drawn from real DEMs, docs/label.md): a
  * ring with nothing inside, within RFOLD_NEAR px of another line, or
@@ -1503,9 +1502,9 @@ static long ring_next(const hs *s, size_t i)
     size_t k, bl = 0, bline[RFOLD_LINES];
     int j, q, nb = 0;
     for (k = 0; k < l->n; k++) {
-        int n = td_faces_near(s->fx, l->xy[2 * k], l->xy[2 * k + 1],
-                              2 * RFOLD_FAR + 3, (long)i, nodes, dist,
-                              RFOLD_LINES);
+        int n =
+            td_faces_near(s->fx, l->xy[2 * k], l->xy[2 * k + 1],
+                          2 * RFOLD_FAR + 3, (long)i, nodes, dist, RFOLD_LINES);
         for (j = 0; j < n; j++) {
             size_t lj = td_faces_chunk_line(s->fx, (size_t)nodes[j] / 2);
             for (q = 0; q < nb && bline[q] != lj; q++)
