@@ -1535,7 +1535,7 @@ static int setup_ring_next(hs *s, const unsigned char *touched, td_ctx *cx)
         return TD_ENOMEM;
     for (i = 0; i < s->C; i++)
         s->rnear[i] = -1;
-    for (i = 0; i < s->N; i++)
+    for (i = 0; i < s->N && !s->cost_only; i++) /* only set_lines uses it */
         if (td_faces_used(s->fx, i) && s->ls->v[i].closed &&
             line_chunks(s, i, &c0) == 1 &&
             !touched[2 * c0 + inner_side(&s->ls->v[i])])
