@@ -118,6 +118,9 @@ typedef struct hs {
     /* unary evidence: (node, lo, hi, w): band outside [lo,hi] costs w */
     double *un;
     size_t nun, capun;
+    double *unx; /* the same, the priors pass only: what the face edges
+                    left out of the forest say (heed_dropped) */
+    size_t nunx;
     long *compdepth;
     unsigned char *comp_abs; /* component holds absolute evidence */
     long kofs;
@@ -972,12 +975,14 @@ static void solve_pass(hs *s)
     size_t K2 = 2 * s->K, i, n;
     for (i = 0; i < s->V * K2; i++)
         s->up[i] = s->down[i] = 0.0;
-    for (i = 0; i < s->nun; i++) {
-        long node = (long)s->un[4 * i], k;
+    for (i = 0; i < s->nun + (s->priors ? s->nunx : 0); i++) {
+        const double *q =
+            i < s->nun ? s->un + 4 * i : s->unx + 4 * (i - s->nun);
+        long node = (long)q[0], k;
         for (k = 0; k < (long)K2; k++) {
             long b = (k >> 1) + s->kofs;
-            if (b < (long)s->un[4 * i + 1] || b > (long)s->un[4 * i + 2])
-                s->up[node * K2 + k] += s->un[4 * i + 3];
+            if (b < (long)q[1] || b > (long)q[2])
+                s->up[node * K2 + k] += q[3];
         }
     }
     for (n = 0; s->order[n] != UINT32_MAX; n++)
@@ -1463,7 +1468,7 @@ static void free_all(hs *s)
     free(s->par), free(s->order), free(s->pkind), free(s->pid);
     free(s->adj_start), free(s->adj), free(s->intree), free(s->compdepth);
     free(s->comp_abs), free(s->band), free(s->band_prior), free(s->gap);
-    free(s->gap_prior), free(s->un), free(s->up), free(s->msg);
+    free(s->gap_prior), free(s->un), free(s->unx), free(s->up), free(s->msg);
     free(s->down), free(s->ce); /* fx and fe belong to the caller */
 }
 
@@ -1870,6 +1875,59 @@ static int search(hs *s, int R, long *bb, double **H, td_ctx *cx)
     return rc;
 }
 
+/* The face edges the forest left out (they close cycles) say nothing to
+ * the dynamic programme; where the priors alone set a region's direction
+ * (a fold prior, a ring), a strong one of them that the result breaks
+ * may say the opposite (ours): on Elkhorn a line between two faces hung
+ * on the rest by its lower side only, and the fold prior turned it down
+ * although 210 probes from its upper side met the line above.  Each such
+ * edge of at least HEED_MIN probes, in a component with absolute
+ * evidence, asks each of its two sides for the other's band (the whole
+ * model's price of breaking it, face_cost) in the priors pass, which is
+ * then run again: what the evidence alone decides does not change. */
+#define HEED_MIN 32.0
+static int decided(const hs *s, size_t c)
+{
+    return s->gap[c] > GAP_EPS && s->band[c] == s->band_prior[c];
+}
+
+static int heed_dropped(hs *s, const long *nb, td_ctx *cx)
+{
+    size_t i, n = 0;
+    for (i = 0; i < s->nce; i++) {
+        const cedge *e = &s->ce[i];
+        n += e->kind == E_FACE && !s->intree[i] && nb[e->a] != nb[e->b] &&
+             s->fe[e->id].w >= HEED_MIN && s->comp_abs[s->comp[e->a]];
+    }
+    if (!n)
+        return 0;
+    if (!(s->unx = td_malloc(8 * n * sizeof *s->unx, cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < s->nce; i++) {
+        const cedge *e = &s->ce[i];
+        double w;
+        int k;
+        if (!(e->kind == E_FACE && !s->intree[i] && nb[e->a] != nb[e->b] &&
+              s->fe[e->id].w >= HEED_MIN && s->comp_abs[s->comp[e->a]]))
+            continue;
+        w = face_cost(s->fe[e->id].w);
+        for (k = 0; k < 2; k++) {
+            double *q;
+            uint32_t u = k ? e->b : e->a, v = k ? e->a : e->b;
+            /* only a side whose line the priors decide, towards one whose
+               line the evidence decides */
+            if (decided(s, u / 2) || !decided(s, v / 2))
+                continue;
+            q = s->unx + 4 * s->nunx++;
+            q[0] = (double)u;
+            q[1] = q[2] = (double)(nb[v] + s->kofs);
+            q[3] = w;
+        }
+    }
+    return 0;
+}
+
+static double full_cost(hs *s, const long *nb);
 static int solve_all(hs *s, td_ctx *cx)
 {
     double *H = NULL;
@@ -1900,6 +1958,30 @@ static int solve_all(hs *s, td_ctx *cx)
     run_pass(s, 0, s->gap, s->band, H);
     run_pass(s, 1, s->gap_prior, s->band_prior, H);
     decode(s, nb);
+    if (!s->cost_only && (rc = heed_dropped(s, nb, cx)) != 0)
+        goto done;
+    if (s->nunx) { /* kept when the whole model says it is better */
+        double c0 = full_cost(s, nb);
+        long *nb0 = td_malloc((s->V + 1) * sizeof *nb0, cx),
+             *bp0 = td_malloc((s->C + 1) * sizeof *bp0, cx);
+        double *gp0 = td_malloc((s->C + 1) * sizeof *gp0, cx);
+        if (!nb0 || !bp0 || !gp0) {
+            free(nb0), free(bp0), free(gp0);
+            rc = TD_ENOMEM;
+            goto done;
+        }
+        memcpy(nb0, nb, s->V * sizeof *nb);
+        memcpy(bp0, s->band_prior, s->C * sizeof *bp0);
+        memcpy(gp0, s->gap_prior, s->C * sizeof *gp0);
+        run_pass(s, 1, s->gap_prior, s->band_prior, H);
+        decode(s, nb);
+        if (!(full_cost(s, nb) < c0 - 1e-9)) {
+            memcpy(nb, nb0, s->V * sizeof *nb);
+            memcpy(s->band_prior, bp0, s->C * sizeof *bp0);
+            memcpy(s->gap_prior, gp0, s->C * sizeof *gp0);
+        }
+        free(nb0), free(bp0), free(gp0);
+    }
     s->rep->cost = total_cost(s);
     if (!s->cost_only && (rc = report_conflicts(s, nb, cx)) == 0) {
         report_known(s);
