@@ -106,6 +106,8 @@ typedef struct td_label_report {
     size_t split;           /* lines cut where their height changes: two
                                contours traced as one (faces) */
     size_t labels_used;     /* printed labels the solution agrees with */
+    size_t gaps_closed;     /* td_label_close_gaps: lines joined across a
+                               label (run) */
     double interval;        /* the interval used (inferred from the labels
                                when the parameters gave none) */
     double cost;            /* the solution's total cost (faces) */
@@ -125,6 +127,17 @@ int td_label_auto(td_lines *ls, const td_label_params *p,
                   td_label_report *rep, td_ctx *cx);
 
 void td_label_report_free(td_label_report *rep);
+
+/* After td_label_auto (faces, with printed labels): two open lines that
+ * end on either side of a label the solve used (td_ocr_read.line, each
+ * end within half the text's length + 2 digit heights of its middle),
+ * both at the label's height, become one line through the label's middle
+ * (ours: the joiner leaves a label gap open where the line bends under
+ * the text, and the interpolation then leaks through it).  The first
+ * line keeps its id; the reads' line indexes follow.  *closed gets the
+ * number of gaps closed.  Returns 0 or TD_ENOMEM. */
+int td_label_close_gaps(td_lines *ls, td_ocr_read *reads, size_t nreads,
+                        size_t *closed, td_ctx *cx);
 
 /* Append one warning (printf format, no newline, no prefix) to rep:
  * counted in rep->warnings; the text is best effort (kept when memory

@@ -95,6 +95,44 @@ static void test_ring_beside_line(void)
     td_lines_free(ls);
 }
 
+/* A label read between the ends of two lines at its height joins them
+ * through its middle (td_label_close_gaps); a line at another height
+ * ending there stays apart, and the read follows the joined line. */
+static void test_close_label_gap(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_ocr_read r[2];
+    size_t closed = 0, k;
+    int j;
+    double h[3] = {200, 200, 190};
+    for (j = 0; j < 3; j++) {
+        td_line *l = td_lines_add(ls, NULL);
+        for (k = 0; k < 60; k++) /* 0: 20..79, 1: 141..200 (reversed),
+                                    2: below, ending under the label */
+            td_line_push(l,
+                         j == 0   ? 20 + k
+                         : j == 1 ? 200 - k
+                                  : 40 + k,
+                         j == 2 ? 140 : 100 + (j == 1 ? 0.5 : 0), NULL);
+        l->has_height = 1;
+        l->height = h[j];
+    }
+    memset(r, 0, sizeof r);
+    r[0].x = 110, r[0].y = 100, r[0].ux = 1, r[0].uy = 0;
+    r[0].len = 30, r[0].digit_px = 12, r[0].value = 200, r[0].used = 1;
+    r[0].line[0] = 1, r[0].line[1] = -1;
+    r[1] = r[0];
+    r[1].line[0] = 2, r[1].value = 190, r[1].y = 140;
+    TT_CHECK(td_label_close_gaps(ls, r, 2, &closed, NULL) == 0);
+    TT_CHECKF(closed == 1 && ls->n == 2, "%zu closed, %zu lines", closed,
+              ls->n);
+    TT_CHECKF(ls->v[0].n == 121 && ls->v[0].xy[0] == 20 &&
+                  ls->v[0].xy[2 * 60] == 110 && ls->v[0].xy[2 * 120] == 200,
+              "%zu points", ls->v[0].n);
+    TT_CHECK(ls->v[1].height == 190 && r[0].line[0] == 0 && r[1].line[0] == 1);
+    td_lines_free(ls);
+}
+
 /* Many nested rings, the known point on the fifth from outside. */
 static void test_many_rings(void)
 {
@@ -564,5 +602,6 @@ int main(void)
     TT_RUN(test_many_rings);
     TT_RUN(test_rings_rise);
     TT_RUN(test_ring_beside_line);
+    TT_RUN(test_close_label_gap);
     return tt_summary();
 }

@@ -99,9 +99,11 @@ static void summary(const td_run_result *s, const td_run_params *p,
         td_cli_print_palette("run", &s->pal);
     td_cli_heights_summary("run", &s->rep);
     if (s->nreads)
-        fprintf(stderr, "run: labels: %zu read, %zu used (%.2f s); "
-                "interval %g\n", s->nreads, s->rep.labels_used, s->ocr_secs,
-                s->rep.interval);
+        fprintf(stderr,
+                "run: labels: %zu read, %zu used (%.2f s); "
+                "interval %g; %zu label gaps closed\n",
+                s->nreads, s->rep.labels_used, s->ocr_secs, s->rep.interval,
+                s->rep.gaps_closed);
     if (s->ncross)
         fprintf(stderr, "run: warning: %zu pairs of lines cross (contours "
                 "do not): a trace jumped between contours there\n",

@@ -95,7 +95,9 @@ static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
     if (!(lp.interval > 0) && (tree || lp.nlabels == 0))
         return td_seterr(cx, TD_EINVAL, "no interval: give --interval I%s",
                          tree ? "" : " (no printed labels to infer it from)");
-    if ((rc = td_label_auto(r->lines, &lp, &r->rep, cx)) != 0)
+    if ((rc = td_label_auto(r->lines, &lp, &r->rep, cx)) != 0 ||
+        (!tree && (rc = td_label_close_gaps(r->lines, r->reads, r->nreads,
+                                            &r->rep.gaps_closed, cx)) != 0))
         return rc;
     if (!(lp.interval > 0))
         lp.interval = r->rep.interval;
