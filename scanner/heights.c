@@ -109,6 +109,8 @@ typedef struct hs {
     unsigned char *hole; /* per node: the outside of a closed line */
     long *rnear; /* per chunk: an empty ring's, the chunk of the line next
                     to it whose level it takes (ring_next), else -1 */
+    unsigned char *contra; /* per chunk: an assumed height the lines
+                              around contradict (sandwich_check) */
     /* per node */
     uint32_t *uf, *comp, *par, *order, *pkind, *pid, *adj_start;
     tedge *adj;
@@ -1120,12 +1122,18 @@ static void mark_abs(hs *s)
     }
 }
 
+/* Whether the evidence alone decides chunk c (the priors agree). */
+static int decided(const hs *s, size_t c)
+{
+    return s->gap[c] > GAP_EPS && s->band[c] == s->band_prior[c];
+}
+
 /* What chunk c says: 0 undecided, else its source and confidence. */
 static int chunk_verdict(const hs *s, size_t c, int *src, double *conf)
 {
     double gA = s->gap_prior[c], gB = s->gap[c];
     long h = s->band_prior[c] + s->kofs;
-    if (!s->comp_abs[s->comp[2 * c]])
+    if (!s->comp_abs[s->comp[2 * c]] || (s->contra && s->contra[c]))
         return 0;
     if (gB > GAP_EPS && s->band[c] == s->band_prior[c]) {
         *src = s->nknown[c] && (double)h == s->lknown[c]   ? TD_HS_KNOWN
@@ -1463,7 +1471,7 @@ static void free_all(hs *s)
     free(s->lknown), free(s->nknown), free(s->idx), free(s->ilen);
     free(s->llab), free(s->wlab), free(s->clab);
     free(s->up_cost), free(s->up_prior), free(s->hole), free(s->uf);
-    free(s->rnear);
+    free(s->rnear), free(s->contra);
     free(s->comp);
     free(s->par), free(s->order), free(s->pkind), free(s->pid);
     free(s->adj_start), free(s->adj), free(s->intree), free(s->compdepth);
@@ -1564,6 +1572,120 @@ static void follow_rings(hs *s)
         s->gap_prior[c] = s->gap_prior[a];
         s->gap[c] = 0.0;
     }
+}
+
+/* Heights the lines around contradict (ours).  A straight probe that
+ * crosses j lines can see the height change by at most j intervals:
+ * every line is one level, and the ground between two lines lies within
+ * one interval of them (j + SW_SLACK here: a gap in a line or a contour
+ * not traced lets a probe pass one unseen).  From an assumed chunk,
+ * probes every SW_STEP px on both sides (at most SW_MAX a side) run
+ * through up to SW_HITS lines; a line met j lines out whose height is
+ * surer (a larger gap under the priors, or decided by the evidence) and
+ * more than j + SW_SLACK intervals away counts against the chunk.  A chunk with
+ * at least SW_MIN such probes, and SW_SHARE of those that met a surer line,
+ * gets no height: on the crowded Front Range sheet regions cut off by blobs of
+ * ink came out 7-10 intervals off, which the DEM cannot take. */
+#define SW_STEP 8.0
+#define SW_MAX 32
+#define SW_HITS 3
+#define SW_MIN 3
+#define SW_SHARE 0.3
+#define SW_SLACK 2 /* contours missed between (gaps, untraced lines) */
+static double sureness(const hs *s, size_t c)
+{
+    return decided(s, c) ? INFINITY : s->gap_prior[c];
+}
+
+static int has_height(const hs *s, size_t c)
+{
+    int src;
+    double conf;
+    return chunk_verdict(s, c, &src, &conf);
+}
+
+static void probe_chunk(const hs *s, size_t i, size_t c, int *viol, int *met)
+{
+    const td_line *l = &s->ls->v[i];
+    double next = 0.5 * SW_STEP, pos = 0, me = sureness(s, c);
+    long h = s->band_prior[c];
+    size_t k;
+    int n[2] = {0, 0};
+    for (k = 0; k + 1 < l->n + (size_t)l->closed; k++) {
+        size_t k1 = (k + 1) % l->n;
+        double ax = l->xy[2 * k], ay = l->xy[2 * k + 1];
+        double tx = l->xy[2 * k1] - ax, ty = l->xy[2 * k1 + 1] - ay;
+        double L = hypot(tx, ty);
+        if (td_faces_chunk_at(s->fx, i, k) != (long)c || !(L > 0)) {
+            pos += L;
+            continue;
+        }
+        for (; next <= pos + L; next += SW_STEP) {
+            double x = ax + (next - pos) / L * tx,
+                   y = ay + (next - pos) / L * ty;
+            int side;
+            for (side = 0; side < 2; side++) {
+                double nx = (side ? -1 : 1) * ty / L,
+                       ny = (side ? 1 : -1) * tx / L;
+                double px = x, py = y, t;
+                long skip = (long)i, node;
+                int j, bad = 0, sure = 0;
+                if (n[side] >= SW_MAX)
+                    continue;
+                n[side]++;
+                for (j = 1; j <= SW_HITS; j++) {
+                    size_t cm;
+                    node = td_faces_ray(s->fx, px, py, nx, ny, skip, 1.5, &t);
+                    if (node < 0)
+                        break;
+                    cm = (size_t)node / 2;
+                    if (has_height(s, cm) && sureness(s, cm) > me) {
+                        sure = 1;
+                        bad |= labs(s->band_prior[cm] - h) > j + SW_SLACK;
+                    }
+                    px += nx * t, py += ny * t;
+                    skip = (long)td_faces_chunk_line(s->fx, cm);
+                }
+                *met += sure;
+                *viol += bad;
+            }
+        }
+        pos += L;
+    }
+}
+
+static int sandwich_check(hs *s, td_ctx *cx)
+{
+    size_t i, c0, m, k, nulled = 0;
+    unsigned char *flag = td_calloc(s->C + 1, 1, cx);
+    if (!flag || !(s->contra = td_calloc(s->C + 1, 1, cx))) {
+        free(flag);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < s->N; i++) {
+        if (!td_faces_used(s->fx, i))
+            continue;
+        m = line_chunks(s, i, &c0);
+        for (k = 0; k < m; k++) {
+            size_t c = c0 + k;
+            int viol = 0, met = 0;
+            if (!has_height(s, c) || decided(s, c))
+                continue;
+            probe_chunk(s, i, c, &viol, &met);
+            flag[c] = viol >= SW_MIN && viol >= SW_SHARE * met;
+        }
+    }
+    for (c0 = 0; c0 < s->C; c0++) /* flagged after all were probed */
+        nulled += s->contra[c0] = flag[c0];
+    free(flag);
+    if (nulled && !s->cost_only)
+        td_label_warn(s->rep,
+                      "%zu assumed line height%s left out: the "
+                      "lines around contradict %s (more intervals apart "
+                      "than lines between)",
+                      nulled, nulled == 1 ? "" : "s",
+                      nulled == 1 ? "it" : "them");
+    return 0;
 }
 
 /* ---- local search over the whole graph (ours) ----
@@ -1886,11 +2008,6 @@ static int search(hs *s, int R, long *bb, double **H, td_ctx *cx)
  * model's price of breaking it, face_cost) in the priors pass, which is
  * then run again: what the evidence alone decides does not change. */
 #define HEED_MIN 32.0
-static int decided(const hs *s, size_t c)
-{
-    return s->gap[c] > GAP_EPS && s->band[c] == s->band_prior[c];
-}
-
 static int heed_dropped(hs *s, const long *nb, td_ctx *cx)
 {
     size_t i, n = 0;
@@ -1987,7 +2104,8 @@ static int solve_all(hs *s, td_ctx *cx)
         report_known(s);
         judge_labels(s);
         follow_rings(s);
-        rc = set_lines(s, cx);
+        if ((rc = sandwich_check(s, cx)) == 0)
+            rc = set_lines(s, cx);
     }
 done:
     free(H);

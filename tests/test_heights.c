@@ -396,6 +396,11 @@ static void test_crowded_labels_only(void)
     TT_CHECKF(hs.score.accuracy >= 0.95 && hs.score.n_wrong_sure == 0,
               "crowded, labels only: accuracy %.3f, %ld wrong and sure",
               hs.score.accuracy, hs.score.n_wrong_sure);
+    /* regions cut off by blobs came out 7-10 intervals off; their lines
+       are left out now (sandwich_check: 6.52 m without) */
+    TT_CHECKF(sqrt(hs.score.err2 / (hs.score.right + hs.score.wrong)) <= 6.0,
+              "crowded, labels only: line height rmse %.2f m",
+              sqrt(hs.score.err2 / (hs.score.right + hs.score.wrong)));
     td_label_report_free(&hs.rep);
     td_grid_f32_free(src);
 }

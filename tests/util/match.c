@@ -549,6 +549,8 @@ int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
                 r->right += len, same += len;
             else
                 r->wrong += len, other += len;
+            if (l->has_height)
+                r->err2 += len * (l->height - th) * (l->height - th);
             if (len > 0 && (major_len == 0 || th == major_h))
                 major_h = th, major_len += len;
         }

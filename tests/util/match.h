@@ -86,6 +86,8 @@ typedef struct td_hscore {
     long n_lines, n_wrong_sure;
     double wrong_sure_len;
     double right_sure; /* right length on lines with confidence >= 0.9 */
+    double err2;       /* sum over labelled length of (height - truth)^2: its
+                          root over right + wrong is the lines' height RMSE */
     double own; /* traced length near the line's own (majority) truth line:
                    own / (right + wrong + null) is the share of traced length
                    that stays on its own contour (the scanner's merges) */
