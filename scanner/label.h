@@ -128,14 +128,16 @@ int td_label_auto(td_lines *ls, const td_label_params *p,
 
 void td_label_report_free(td_label_report *rep);
 
-/* After td_label_auto (faces, with printed labels): two open lines that
- * end on either side of a label the solve used (td_ocr_read.line, each
- * end within half the text's length + 2 digit heights of its middle),
- * both at the label's height, become one line through the label's middle
- * (ours: the joiner leaves a label gap open where the line bends under
- * the text, and the interpolation then leaks through it).  The first
- * line keeps its id; the reads' line indexes follow.  *closed gets the
- * number of gaps closed.  Returns 0 or TD_ENOMEM. */
+/* After td_label_auto (faces, with printed labels; ours): for every
+ * label the solve used, the nearest open line ends on either side of the
+ * text (along its reading direction, within half its length + 2 digit
+ * heights of its middle, heading towards it), of lines at the label's
+ * height, become one line through the label's middle: the joiner leaves
+ * a label gap open where the line bends under the text, and the
+ * interpolation then leaks through it.  A ring the label cut open (both
+ * ends one line's) is closed through the middle.  The first line keeps
+ * its id; the reads' line indexes follow.  *closed gets the number of
+ * gaps closed.  Returns 0 or TD_ENOMEM. */
 int td_label_close_gaps(td_lines *ls, td_ocr_read *reads, size_t nreads,
                         size_t *closed, td_ctx *cx);
 

@@ -3,10 +3,10 @@
  *
  *   =====a   2 0 0   b=====      a label cuts an index contour; the
  *          '--m--'               joiner leaves the gap open when the line
- *                                bends under the label, the reader finds
- *   the text and the lines ending at it (td_ocr_read.line), the solve
- *   gives both the label's height: then a, the label's middle m and b are
- *   one line.  Without it the interpolation leaks through the gap. */
+ *                                bends under the label; the reader finds
+ *   the text, the solve gives the lines ending on either side of it the
+ *   label's height: then a, the label's middle m and b are one line.
+ *   Without it the interpolation leaks through the gap. */
 #include "scanner/label.h"
 
 #include <math.h>
@@ -109,8 +109,22 @@ int td_label_close_gaps(td_lines *ls, td_ocr_read *reads, size_t nreads,
                 bd = d, e[side] = j, ke[side] = k;
             }
         }
-        if (ke[0] < 0 || ke[1] < 0 || e[0] == e[1])
+        if (ke[0] < 0 || ke[1] < 0)
             continue;
+        if (e[0] == e[1]) { /* a ring the label cut open: closed there */
+            td_line *l = &ls->v[e[0]];
+            if (ke[0] == ke[1] || td_line_length(l) < 3 * reach)
+                continue;
+            if (td_line_push(l, r->x, r->y, cx) != 0) {
+                free(own), free(map), free(gone);
+                return TD_ENOMEM;
+            }
+            l->closed = 1;
+            l->bridged++;
+            l->junc = 0;
+            ++*closed;
+            continue;
+        }
         if (join(&ls->v[e[0]], ke[0], &ls->v[e[1]], ke[1], r, cx) != 0) {
             free(own), free(map), free(gone);
             return TD_ENOMEM;

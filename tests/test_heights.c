@@ -130,6 +130,21 @@ static void test_close_label_gap(void)
                   ls->v[0].xy[2 * 60] == 110 && ls->v[0].xy[2 * 120] == 200,
               "%zu points", ls->v[0].n);
     TT_CHECK(ls->v[1].height == 190 && r[0].line[0] == 0 && r[1].line[0] == 1);
+    { /* a ring the label cut open is closed through it */
+        td_line *l = td_lines_add(ls, NULL);
+        size_t n0;
+        for (k = 20; k <= 340; k += 4)
+            td_line_push(l, 400 + 40 * cos(k * 3.14159265 / 180),
+                         100 + 40 * sin(k * 3.14159265 / 180), NULL);
+        l->has_height = 1;
+        l->height = 200;
+        n0 = l->n;
+        r[0].x = 440, r[0].ux = 0, r[0].uy = 1, r[0].line[0] = 2;
+        TT_CHECK(td_label_close_gaps(ls, r, 1, &closed, NULL) == 0);
+        TT_CHECKF(closed == 1 && ls->n == 3 && ls->v[2].closed &&
+                      ls->v[2].n == n0 + 1 && ls->v[2].xy[2 * n0] == 440,
+                  "%zu closed, ring closed %d", closed, ls->v[2].closed);
+    }
     td_lines_free(ls);
 }
 
