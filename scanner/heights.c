@@ -1499,7 +1499,7 @@ static int touched_nodes(const hs *s, unsigned char **out, td_ctx *cx)
  * ring with nothing inside, within RFOLD_NEAR px of another line, or
  * within RFOLD_FAR px with no third line within 2 d + 3 px of it, is a
  * bump or a dip of that line's contour (Elkhorn 352 of 352, the others
- * 19 of 19); further out, where contours crowd, it is as often the next
+ * 14 of 14); further out, where contours crowd, it is as often the next
  * level.  Such a ring whose height only the priors decide takes the
  * line's height afterwards (follow_rings): as a prior in the solve it
  * would also pull the line the way the ring's own summit prior points,
@@ -2004,9 +2004,12 @@ static int search(hs *s, int R, long *bb, double **H, td_ctx *cx)
  * on the rest by its lower side only, and the fold prior turned it down
  * although 210 probes from its upper side met the line above.  Each such
  * edge of at least HEED_MIN probes, in a component with absolute
- * evidence, asks each of its two sides for the other's band (the whole
- * model's price of breaking it, face_cost) in the priors pass, which is
- * then run again: what the evidence alone decides does not change. */
+ * evidence, pulls a side whose line only the priors decide towards the
+ * band of the other side, when the evidence decides that one (a unary
+ * cost in the priors pass: the whole model's price of breaking the edge,
+ * face_cost); the priors pass runs again, and solve_all keeps its answer
+ * only when the whole model costs less.  What the evidence alone decides
+ * does not change. */
 #define HEED_MIN 32.0
 static int heed_dropped(hs *s, const long *nb, td_ctx *cx)
 {
