@@ -9,6 +9,7 @@
  *                 [--all-hints] [--png DIR] */
 #include "tests/util/hsheet.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -63,10 +64,10 @@ int main(int argc, char **argv)
             a++; /* make bench's common options */
     }
     printf("%-11s %-7s %-13s %6s %6s %6s  %5s %5s %5s %5s %5s  %5s %6s "
-           "%5s %9s %5s %5s\n",
+           "%5s %9s %5s %5s %7s\n",
            "sheet", "scan", "hints", "lines", "acc", "null", "known", "solvd",
            "assum", "none", "sure!", "confl", "secs", "own", "labels", "intvl",
-           "sure");
+           "sure", "hrmse");
     for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         const sheet_case *k = &cases[c];
         td_grid_f32 *src = NULL;
@@ -124,7 +125,8 @@ int main(int argc, char **argv)
                     continue;
                 }
                 printf("%-11s %-7s %-13s %6zu %6.3f %6.3f  %5zu %5zu %5zu "
-                       "%5zu %5ld  %5zu %6.2f %5.3f %4zu/%-4zu %5g %5.3f\n",
+                       "%5zu %5ld  %5zu %6.2f %5.3f %4zu/%-4zu %5g %5.3f "
+                       "%7.2f\n",
                        k->name, scan_name[scanned], hint_name[hint], hs.traced,
                        hs.score.accuracy,
                        hs.score.null_len / (hs.score.right + hs.score.wrong +
@@ -139,7 +141,9 @@ int main(int argc, char **argv)
                        hs.reads_right, hs.nreads, hs.interval,
                        hs.score.right_sure /
                            (hs.score.right + hs.score.wrong +
-                            hs.score.null_len + 1e-9));
+                            hs.score.null_len + 1e-9),
+                       sqrt(hs.score.err2 /
+                            (hs.score.right + hs.score.wrong + 1e-9)));
                 if (logit && hs.rep.text)
                     printf("%s\n", hs.rep.text);
                 fflush(stdout);
