@@ -139,11 +139,9 @@ int main(int argc, char **argv)
                        hs.score.own / (hs.score.right + hs.score.wrong +
                                        hs.score.null_len + 1e-9),
                        hs.reads_right, hs.nreads, hs.interval,
-                       hs.score.right_sure /
-                           (hs.score.right + hs.score.wrong +
-                            hs.score.null_len + 1e-9),
-                       sqrt(hs.score.err2 /
-                            (hs.score.right + hs.score.wrong + 1e-9)));
+                       hs.score.right_sure / (hs.score.right + hs.score.wrong +
+                                              hs.score.null_len + 1e-9),
+                       td_hscore_rmse(&hs.score));
                 if (logit && hs.rep.text)
                     printf("%s\n", hs.rep.text);
                 fflush(stdout);

@@ -585,6 +585,13 @@ int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
     return 0;
 }
 
+/* Contract in match.h. */
+double td_hscore_rmse(const td_hscore *r)
+{
+    double d = r->right + r->wrong;
+    return d > 0 ? sqrt(r->err2 / d) : 0.0;
+}
+
 /* Walk line l in steps of 0.5 px of its length (the samples at 0.25,
  * 0.75, ... px along it, whatever its vertex spacing: a share of samples
  * is a share of length); a line shorter than that gets one sample, its

@@ -93,6 +93,10 @@ typedef struct td_hscore {
                    that stays on its own contour (the scanner's merges) */
 } td_hscore;
 
+/* The lines' height RMSE over their labelled length (sqrt of err2 over
+ * right + wrong; 0 when nothing is labelled). */
+double td_hscore_rmse(const td_hscore *r);
+
 /* Fills *r; log (may be NULL) gets one line per wrong sure line.  Returns 0
  * or TD_ENOMEM. */
 int td_match_heights(const td_lines *truth, const td_lines *traced, int w,
