@@ -473,7 +473,11 @@ static void apply_level(td_grid_u8 *m, int t)
 
 /* Is the strength at c (over ink level t, under the ink's core level hi) a
  * seam of the ink between two lines: along one of four directions d, each
- * side within 2 px is at least margin stronger, and d lies within 45
+ * side within 2 px is at least margin stronger while the next pixel on
+ * each side is not margin or more weaker (a seam is a dip, not the flank
+ * of a thin line whose neighbours 2 px off are darker: on a crisp sheet
+ * with contours 3 px apart every flank pixel passed the first test and
+ * whole lines were split away), and d lies within 45
  * degrees of the ink's normal there (the structure tensor of the strength
  * gradients over 3 x 3 px: lines run across a seam, while a dip of noise
  * or aliasing inside one thin line has the line's ink on both sides along
@@ -497,7 +501,7 @@ static int is_valley(const uint8_t *const *rows, int w, int x, int t, int hi,
         for (side = -1; side <= 1 && ok; side += 2) {
             int a = rows[SPLIT_R + side * dy][x + side * dx];
             int b = rows[SPLIT_R + 2 * side * dy][x + 2 * side * dx];
-            ok = (a > b ? a : b) >= need;
+            ok = (a > b ? a : b) >= need && a >= c - margin;
         }
         if (!ok)
             continue;

@@ -2118,8 +2118,11 @@ static int search(hs *s, int R, long *bb, double **H, td_ctx *cx)
  * although 210 probes from its upper side met the line above.  Each such
  * edge of at least HEED_MIN probes, in a component with absolute
  * evidence, pulls a side whose line only the priors decide towards the
- * band of the other side, when the evidence decides that one (a unary
- * cost in the priors pass: the whole model's price of breaking the edge,
+ * band of the other side, when the evidence decides that one, or when
+ * the priors decide it too but more surely (on Elkhorn a chain of three
+ * lines hung on one face edge each went up from a pair of equal lines
+ * while 57 probes met a line two levels lower; a unary cost in the
+ * priors pass: the whole model's price of breaking the edge,
  * face_cost); the priors pass runs again, and solve_all keeps its answer
  * only when the whole model costs less.  What the evidence alone decides
  * does not change. */
@@ -2148,8 +2151,10 @@ static int heed_dropped(hs *s, const long *nb, td_ctx *cx)
             double *q;
             uint32_t u = k ? e->b : e->a, v = k ? e->a : e->b;
             /* only a side whose line the priors decide, towards one whose
-               line the evidence decides */
-            if (decided(s, u / 2) || !decided(s, v / 2))
+               line the evidence decides, or the priors more surely */
+            if (decided(s, u / 2) ||
+                (!decided(s, v / 2) &&
+                 !(s->gap_prior[v / 2] > s->gap_prior[u / 2] + GAP_EPS)))
                 continue;
             q = s->unx + 4 * s->nunx++;
             q[0] = (double)u;
