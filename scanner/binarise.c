@@ -35,6 +35,7 @@ td_binarise_params td_binarise_defaults(void)
     p.min_speck = 8;
     p.min_hole = 8;
     p.split = 24;
+    p.local_level = 1;
     return p;
 }
 
@@ -457,14 +458,140 @@ static int otsu_level(const uint64_t *hist, int *t, td_ctx *cx)
     return 0;
 }
 
-static void apply_level(td_grid_u8 *m, int t)
+/* ---- the local ink level (ours) ------------------------------------------
+ *
+ * Printed sheets fade unevenly: where the contour ink came out pale, its
+ * lines' cores are as weak as the flanks of the dark lines elsewhere and
+ * a global level keeps only broken threads of them.  Per tile of
+ * LOCAL_TILE px, the ink level L is the LOCAL_PCT percentile of the
+ * strengths over t/2 (the cores of the tile's strongest lines); where it
+ * is under the sheet's (the same percentile over every tile), the tile
+ * thresholds at t L / L_sheet, down to LOCAL_MIN t; tiles with fewer than
+ * LOCAL_COUNT such pixels, and every tile where the ink is as strong as
+ * the sheet's, keep t.  Thresholds are interpolated bilinearly between
+ * tile centres.  A sheet printed evenly keeps t everywhere (no map). */
+#define LOCAL_TILE 64
+#define LOCAL_PCT 0.98
+#define LOCAL_MIN 0.4
+#define LOCAL_COUNT 32
+#define LOCAL_BINS 64
+
+typedef struct level_map {
+    int tw, th; /* tiles across and down */
+    float *f;   /* per tile: the share of t it thresholds at, <= 1 */
+} level_map;
+
+static int pct_bin(const uint32_t *h, double pct, uint64_t n)
+{
+    uint64_t acc = 0;
+    int b;
+    for (b = 0; b < LOCAL_BINS - 1; b++)
+        if ((acc += h[b]) >= pct * (double)n)
+            break;
+    return b;
+}
+
+/* The level map of strength image m at level t; lm->f NULL when every
+ * tile keeps t. */
+static int level_map_make(const td_grid_u8 *m, int t, level_map *lm, td_ctx *cx)
+{
+    int tw = (m->w + LOCAL_TILE - 1) / LOCAL_TILE,
+        th = (m->h + LOCAL_TILE - 1) / LOCAL_TILE, j, any = 0, lo = t / 2;
+    size_t nt = (size_t)tw * th, k;
+    uint32_t *h = td_calloc(nt * LOCAL_BINS + 1, sizeof *h, cx);
+    uint32_t all[LOCAL_BINS];
+    uint64_t nall = 0;
+    double lg;
+    lm->tw = tw, lm->th = th, lm->f = NULL;
+    if (!h)
+        return TD_ENOMEM;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (j = 0; j < th; j++) {
+        int y, x;
+        for (y = j * LOCAL_TILE; y < m->h && y < (j + 1) * LOCAL_TILE; y++) {
+            const uint8_t *row = m->data + (size_t)y * m->stride;
+            uint32_t *hr = h + (size_t)j * tw * LOCAL_BINS;
+            for (x = 0; x < m->w; x++)
+                if (row[x] > lo)
+                    hr[(size_t)(x / LOCAL_TILE) * LOCAL_BINS + (row[x] >> 2)]++;
+        }
+    }
+    memset(all, 0, sizeof all);
+    for (k = 0; k < nt; k++) {
+        int b;
+        for (b = 0; b < LOCAL_BINS; b++)
+            all[b] += h[k * LOCAL_BINS + b], nall += h[k * LOCAL_BINS + b];
+    }
+    lg = 4.0 * pct_bin(all, LOCAL_PCT, nall) + 2.0;
+    if (nall == 0 || !(lm->f = td_malloc(nt * sizeof *lm->f, cx))) {
+        free(h);
+        return nall == 0 ? 0 : TD_ENOMEM;
+    }
+    for (k = 0; k < nt; k++) {
+        const uint32_t *hk = h + k * LOCAL_BINS;
+        uint64_t n = 0;
+        int b;
+        double f = 1.0;
+        for (b = 0; b < LOCAL_BINS; b++)
+            n += hk[b];
+        if (n >= LOCAL_COUNT)
+            f = fmin(1.0, fmax(LOCAL_MIN,
+                               (4.0 * pct_bin(hk, LOCAL_PCT, n) + 2.0) / lg));
+        lm->f[k] = (float)f;
+        any |= f < 1.0;
+    }
+    free(h);
+    if (!any) {
+        free(lm->f);
+        lm->f = NULL;
+    }
+    return 0;
+}
+
+/* Row y's thresholds into tr (w ints): t times the map's share,
+ * interpolated between tile centres (never above t). */
+static void level_row(const level_map *lm, int t, int y, int w, int *tr)
+{
+    double gy, wy, f0, f1;
+    int j0, j1, x, i;
+    if (!lm || !lm->f) {
+        for (x = 0; x < w; x++)
+            tr[x] = t;
+        return;
+    }
+    gy = (y + 0.5) / LOCAL_TILE - 0.5;
+    gy = gy < 0 ? 0 : gy > lm->th - 1 ? lm->th - 1 : gy;
+    j0 = (int)gy, j1 = j0 + 1 < lm->th ? j0 + 1 : j0, wy = gy - j0;
+    for (x = 0; x < w; x++) {
+        double gx = (x + 0.5) / LOCAL_TILE - 0.5, wx;
+        int i1;
+        gx = gx < 0 ? 0 : gx > lm->tw - 1 ? lm->tw - 1 : gx;
+        i = (int)gx, i1 = i + 1 < lm->tw ? i + 1 : i, wx = gx - i;
+        f0 = lm->f[(size_t)j0 * lm->tw + i] * (1 - wx) +
+             lm->f[(size_t)j0 * lm->tw + i1] * wx;
+        f1 = lm->f[(size_t)j1 * lm->tw + i] * (1 - wx) +
+             lm->f[(size_t)j1 * lm->tw + i1] * wx;
+        tr[x] = (int)(t * (f0 * (1 - wy) + f1 * wy) + 0.5);
+        if (tr[x] > t)
+            tr[x] = t;
+    }
+}
+
+static void apply_level(td_grid_u8 *m, int t, const level_map *lm)
 {
     int x, y;
+    int *tr = lm && lm->f ? malloc((size_t)m->w * sizeof *tr) : NULL;
     for (y = 0; y < m->h; y++) {
         uint8_t *row = m->data + (size_t)y * m->stride;
-        for (x = 0; x < m->w; x++)
-            row[x] = row[x] > t;
+        if (tr) {
+            level_row(lm, t, y, m->w, tr);
+            for (x = 0; x < m->w; x++)
+                row[x] = row[x] > tr[x];
+        } else
+            for (x = 0; x < m->w; x++)
+                row[x] = row[x] > t;
     }
+    free(tr);
 }
 
 /* ---- split touching lines (ours) ---------------------------------------- */
@@ -559,7 +686,7 @@ static const uint8_t *split_row(const split_band *b, int y)
 
 /* The first pass over band b: 2 in a valley, else ink above t. */
 static void split_threshold(const split_band *b, uint8_t *ring, int t, int hi,
-                            int margin)
+                            int margin, const level_map *lm, int *tr)
 {
     const td_grid_u8 *m = b->m;
     const uint8_t *rows[2 * SPLIT_R + 1];
@@ -578,9 +705,17 @@ static void split_threshold(const split_band *b, uint8_t *ring, int t, int hi,
             rows[k] = yy < 0 || yy >= m->h ? NULL
                                             : ring + (size_t)(yy % n) * m->w;
         }
-        for (x = 0; x < m->w; x++)
-            row[x] = is_valley(rows, m->w, x, t, hi, margin) ? 2
-                                                              : rows[SPLIT_R][x] > t;
+        if (tr) {
+            level_row(lm, t, y, m->w, tr);
+            for (x = 0; x < m->w; x++)
+                row[x] = is_valley(rows, m->w, x, tr[x], hi, margin)
+                             ? 2
+                             : rows[SPLIT_R][x] > tr[x];
+        } else
+            for (x = 0; x < m->w; x++)
+                row[x] = is_valley(rows, m->w, x, t, hi, margin)
+                             ? 2
+                             : rows[SPLIT_R][x] > t;
     }
 }
 
@@ -620,7 +755,7 @@ static split_band band_of(td_grid_u8 *m, int j, int nb, uint8_t *saved,
 }
 
 static int apply_level_split(td_grid_u8 *m, int t, int hi, int margin,
-                             uint8_t *seams, td_ctx *cx)
+                             const level_map *lm, uint8_t *seams, td_ctx *cx)
 {
     int nb = m->h >= 64 * SPLIT_BANDS ? SPLIT_BANDS : 1, k, fail = 0, y, x;
     size_t w = (size_t)m->w, edge = 2 * SPLIT_R * w;
@@ -639,13 +774,14 @@ static int apply_level_split(td_grid_u8 *m, int t, int hi, int margin,
 #pragma omp parallel reduction(| : fail)
     {
         uint8_t *ring = malloc((size_t)(2 * SPLIT_R + 1) * w);
+        int *tr = lm->f ? malloc(w * sizeof *tr) : NULL;
         int j;
-        fail |= !ring;
+        fail |= !ring || (lm->f && !tr);
 #pragma omp for schedule(dynamic, 1)
         for (j = 0; j < nb; j++) {
             split_band b = band_of(m, j, nb, saved, edge, w);
-            if (ring)
-                split_threshold(&b, ring, t, hi, margin);
+            if (ring && (tr || !lm->f))
+                split_threshold(&b, ring, t, hi, margin, lm, tr);
             if (ring && j > 0) /* this band's first row, thresholded */
                 memcpy(saved + (size_t)j * (edge + w) + edge,
                        m->data + (size_t)b.y0 * m->stride, w);
@@ -658,6 +794,7 @@ static int apply_level_split(td_grid_u8 *m, int t, int hi, int margin,
                                             : NULL);
         }
         free(ring);
+        free(tr);
     }
     free(saved);
     if (fail)
@@ -743,9 +880,11 @@ static int split_margin(const td_grid_u8 *m, int t, int min)
 
 /* Threshold the strength image held in m, in place. */
 static int threshold(td_grid_u8 *m, const td_binarise_params *p,
-                     const uint64_t *hist, uint8_t *seams, td_ctx *cx)
+                     const uint64_t *hist, int local, uint8_t *seams,
+                     td_ctx *cx)
 {
     remap r;
+    level_map lm = {0, 0, NULL};
     int t, rc;
     if (p->thr == TD_THR_SAUVOLA) {
         remap_begin(cx, &r, 0.4, 0.8);
@@ -756,16 +895,22 @@ static int threshold(td_grid_u8 *m, const td_binarise_params *p,
     t = p->thr_value;
     if (p->thr == TD_THR_OTSU && (rc = otsu_level(hist, &t, cx)) != 0)
         return rc;
+    if (p->thr == TD_THR_OTSU && local &&
+        (rc = level_map_make(m, t, &lm, cx)) != 0)
+        return rc;
     if (p->split > 0) {
         /* the ink's core level: its mean */
         double n = 0, sum = 0;
         int i;
         for (i = t + 1; i < 256; i++)
             n += (double)hist[i], sum += (double)hist[i] * i;
-        return apply_level_split(m, t, n > 0 ? (int)(sum / n) : 256,
-                                 split_margin(m, t, p->split), seams, cx);
+        rc = apply_level_split(m, t, n > 0 ? (int)(sum / n) : 256,
+                               split_margin(m, t, p->split), &lm, seams, cx);
+        free(lm.f);
+        return rc;
     }
-    apply_level(m, t);
+    apply_level(m, t, &lm);
+    free(lm.f);
     return 0;
 }
 
@@ -798,7 +943,14 @@ int td_binarise_seams(const td_image *im, const td_binarise_params *p,
     rc = strength_pass(im, p, mask, hist, 0.4, &pal, cx);
     if (pal_out)
         *pal_out = pal;
-    if (rc != 0 || (rc = threshold(mask, p, hist, seams, cx)) != 0)
+    /* the local ink level on the palette's contour ink (printed colour
+       sheets fade unevenly; on grey scans it broke the rough test sheet
+       and a pinched contour) */
+    if (rc != 0 ||
+        (rc = threshold(mask, p, hist,
+                        p->local_level && im->channels == 3 &&
+                            (p->ink == TD_INK_AUTO || p->ink == TD_INK_BROWN),
+                        seams, cx)) != 0)
         goto fail;
     if (p->min_speck > 1) {
         remap_begin(cx, &r, 0.8, 0.9);

@@ -54,6 +54,9 @@ typedef struct td_binarise_params {
                            The margin used is at least 3 noise deviations
                            (measured on the paper).  Default 24, 0 = off.
                            Otsu and fixed thresholds only */
+    int local_level;    /* Otsu: where the ink is paler than the sheet's,
+                           threshold lower (the local ink level, ours;
+                           docs/binarise.md); default 1, 0 = off */
 } td_binarise_params;
 
 /* Otsu splits whose class means differ by fewer levels than this are

@@ -703,6 +703,20 @@ static uint8_t strength_node(const td_palette *pal, const double *v,
     } else {
         rb = fit_ink(pal, who, v, &ab);
     }
+    { /* or a tint's blurred edge: the tint mixed with the paper (a pale
+         tint edge read as pale brown once the level is lowered:
+         binarise.c, the local ink level) */
+        double p[3];
+        int b;
+        rgb_of(&pal->ink[pal->paper], p);
+        for (b = 0; b < pal->n; b++) {
+            double tv[3], at;
+            if (b == pal->paper || pal->ink[b].role != TD_INKROLE_TINT)
+                continue;
+            rgb_of(&pal->ink[b], tv);
+            rb = fmin(rb, sqrt(fit(v, p, tv, p, &at)));
+        }
+    }
     for (k = 0; k < pal->n; k++) {
         if (!is_contour(pal, k))
             continue;

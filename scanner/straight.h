@@ -18,9 +18,9 @@
  *   the strips, each within 1.5 px of its least-squares fit, with ink
  *   within 1 px along `line_cover` of its length and at most `max_width`
  *   wide, is a grid line.  It is erased where it runs alone (the run of
- *   ink across it at most 3 px); where a contour crosses it (a longer
- *   run) the ink stays, so the contours are not cut.  The same on the transposed mask for
- *   horizontal lines. */
+ *   ink across it at most its width, and at least 3 px); where a contour
+ *   crosses it (a longer run) the ink stays, so the contours are not cut.
+ *   The same on the transposed mask for horizontal lines. */
 #ifndef TD_STRAIGHT_H
 #define TD_STRAIGHT_H
 
@@ -38,7 +38,7 @@ typedef struct td_straight_params {
                          least 1.4 times as many) */
     double span;      /* share of the strips with a peak on it (0.4) */
     double line_cover; /* share of its length with ink within 1 px (0.6) */
-    double max_width; /* wider lines are no grid (default 4 px) */
+    double max_width;  /* wider lines are no grid (default 6 px) */
 } td_straight_params;
 
 td_straight_params td_straight_defaults(void);

@@ -1089,6 +1089,10 @@ static void test_seam_split(void)
                 add_noise(one.im, 8);
             }
             p.min_speck = 0; /* count every piece */
+            /* the split alone: on the noisy 80 x 80 sheet the local ink
+               level lets noise beside the thin line through as specks
+               (3-51 pieces), which the default --min-speck removes (1) */
+            p.local_level = 0;
             m = run(s.im, &p, &rc);
             n_on = components(m);
             td_grid_u8_free(m);
@@ -1161,6 +1165,56 @@ static void test_seam_keeps_crowded_lines(void)
         td_grid_u8_free(m);
         sheet_free(&s);
     }
+}
+
+/* A colour sheet printed unevenly: the same brown contours dark on the
+ * left half and faded to 30 % ink on the right.  One Otsu level for the sheet
+ * falls between the faded lines' cores and the dark ink and keeps only pieces
+ * of the faded lines; the local ink level (binarise.c) lowers it where
+ * the tiles' ink is paler and keeps them whole, while the dark half is
+ * thresholded as before. */
+static void test_local_level_faded(void)
+{
+    static const uint8_t white[3] = {236, 224, 192}, black[3] = {120, 70, 40},
+                         faded[3] = {201, 178, 146}; /* 30 % of the ink */
+    sheet s = sheet_new(512, 256, 3, white);
+    td_binarise_params p = td_binarise_defaults();
+    double share[2][2];
+    int k, lv;
+    for (k = 0; k < 20; k++) { /* lines 12 px apart across both halves */
+        double y = 10 + 12.0 * k + 0.3 * (k % 3);
+        shape dk = {4, y, 252, y + 3, 1.8, 0},
+              fd = {260, y + 2, 508, y, 1.8, 0};
+        paint(&s, &dk, black, 1);
+        paint(&s, &fd, faded, 2);
+    }
+    for (lv = 0; lv < 2; lv++) {
+        td_grid_u8 *m;
+        int rc, half;
+        p.local_level = lv;
+        m = run(s.im, &p, &rc);
+        TT_CHECK(rc == 0 && m);
+        for (half = 0; half < 2 && m; half++) {
+            long on = 0, n = 0;
+            for (k = 0; k < 20; k++) {
+                double y = 10 + 12.0 * k + 0.3 * (k % 3), x;
+                for (x = 16; x < 240; x += 1, n++) {
+                    double yy = half ? y + 2 - 2 * x / 248 : y + 3 * x / 248;
+                    on += TD_AT(m, (int)(x + 256 * half), (int)floor(yy)) != 0;
+                }
+            }
+            share[lv][half] = (double)on / n;
+        }
+        td_grid_u8_free(m);
+    }
+    fprintf(stderr,
+            "  centre ink, dark / faded half: one level %.3f / %.3f, "
+            "local level %.3f / %.3f\n",
+            share[0][0], share[0][1], share[1][0], share[1][1]);
+    TT_CHECK(share[0][1] < 0.8); /* the test bites */
+    TT_CHECK(share[1][1] >= 0.97);
+    TT_CHECK(share[1][0] >= 0.97 && share[0][0] >= 0.97);
+    sheet_free(&s);
 }
 
 /* The seam split runs in bands of rows on threads from 1024 rows: a
@@ -1254,6 +1308,7 @@ int main(void)
     TT_RUN(test_thin_zhangsuen);
     TT_RUN(test_seam_split);
     TT_RUN(test_seam_keeps_crowded_lines);
+    TT_RUN(test_local_level_faded);
     TT_RUN(test_seam_split_bands);
     return tt_summary();
 }

@@ -52,6 +52,9 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          "lighter than the ink on both\nsides across the lines is the seam "
          "between\ntwo lines and becomes paper (0: off; otsu\nand fixed "
          "thresholds)"},
+        {"no-local-level", 0, TD_OPT_OFF, &p->bin.local_level, .help =
+         "one Otsu level everywhere (by default, ours,\ntiles where the ink "
+         "came out paler than\nthe sheet's threshold lower)"},
         {"spur", 0, TD_OPT_FUNC, &p->spur, .fn = spur, .meta = "MODE",
          .help = "length | paper | none (default length)"},
         {"spur-max", 0, TD_OPT_DOUBLE, &p->spur.max_len, 0, 10000,
