@@ -548,39 +548,42 @@ static int level_map_make(const td_grid_u8 *m, int t, level_map *lm, td_ctx *cx)
     return 0;
 }
 
-/* Row y's thresholds into tr (w ints): t times the map's share,
- * interpolated between tile centres (never above t). */
+/* Row y's thresholds into tr (w ints, lm->f set): t times the map's
+ * share, interpolated between tile centres (never above t).  Along the
+ * row the share moves linearly from one tile centre to the next. */
 static void level_row(const level_map *lm, int t, int y, int w, int *tr)
 {
-    double gy, wy, f0, f1;
-    int j0, j1, x, i;
-    if (!lm || !lm->f) {
-        for (x = 0; x < w; x++)
-            tr[x] = t;
-        return;
-    }
-    gy = (y + 0.5) / LOCAL_TILE - 0.5;
+    const int T = LOCAL_TILE, h0 = LOCAL_TILE / 2;
+    double gy = (y + 0.5) / T - 0.5, wy, f0, f1, step;
+    int j0, j1, i, x = 0;
     gy = gy < 0 ? 0 : gy > lm->th - 1 ? lm->th - 1 : gy;
     j0 = (int)gy, j1 = j0 + 1 < lm->th ? j0 + 1 : j0, wy = gy - j0;
-    for (x = 0; x < w; x++) {
-        double gx = (x + 0.5) / LOCAL_TILE - 0.5, wx;
-        int i1;
-        gx = gx < 0 ? 0 : gx > lm->tw - 1 ? lm->tw - 1 : gx;
-        i = (int)gx, i1 = i + 1 < lm->tw ? i + 1 : i, wx = gx - i;
-        f0 = lm->f[(size_t)j0 * lm->tw + i] * (1 - wx) +
-             lm->f[(size_t)j0 * lm->tw + i1] * wx;
-        f1 = lm->f[(size_t)j1 * lm->tw + i] * (1 - wx) +
-             lm->f[(size_t)j1 * lm->tw + i1] * wx;
-        tr[x] = (int)(t * (f0 * (1 - wy) + f1 * wy) + 0.5);
-        if (tr[x] > t)
-            tr[x] = t;
+#define ROWF(i)                                                                \
+    (lm->f[(size_t)j0 * lm->tw + (i)] * (1 - wy) +                             \
+     lm->f[(size_t)j1 * lm->tw + (i)] * wy)
+    f0 = ROWF(0);
+    for (; x < w && x < h0; x++) /* before the first centre */
+        tr[x] = (int)(t * f0 + 0.5);
+    for (i = 0; i + 1 < lm->tw; i++) { /* from centre i to centre i + 1 */
+        f1 = ROWF(i + 1);
+        step = (f1 - f0) / T;
+        for (; x < w && x < (i + 1) * T + h0; x++)
+            tr[x] = (int)(t * (f0 + step * (x - i * T - h0 + 0.5)) + 0.5);
+        f0 = f1;
     }
+    for (; x < w; x++) /* after the last */
+        tr[x] = (int)(t * f0 + 0.5);
+#undef ROWF
+    for (x = 0; x < w; x++)
+        tr[x] = tr[x] > t ? t : tr[x];
 }
 
-static void apply_level(td_grid_u8 *m, int t, const level_map *lm)
+static int apply_level(td_grid_u8 *m, int t, const level_map *lm, td_ctx *cx)
 {
     int x, y;
-    int *tr = lm && lm->f ? malloc((size_t)m->w * sizeof *tr) : NULL;
+    int *tr = NULL;
+    if (lm->f && !(tr = td_malloc((size_t)m->w * sizeof *tr, cx)))
+        return TD_ENOMEM;
     for (y = 0; y < m->h; y++) {
         uint8_t *row = m->data + (size_t)y * m->stride;
         if (tr) {
@@ -592,6 +595,7 @@ static void apply_level(td_grid_u8 *m, int t, const level_map *lm)
                 row[x] = row[x] > t;
     }
     free(tr);
+    return 0;
 }
 
 /* ---- split touching lines (ours) ---------------------------------------- */
@@ -909,9 +913,9 @@ static int threshold(td_grid_u8 *m, const td_binarise_params *p,
         free(lm.f);
         return rc;
     }
-    apply_level(m, t, &lm);
+    rc = apply_level(m, t, &lm, cx);
     free(lm.f);
-    return 0;
+    return rc;
 }
 
 int td_binarise(const td_image *im, const td_binarise_params *p,

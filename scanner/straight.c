@@ -239,11 +239,10 @@ static double line_width(td_grid_u8 *g, int vertical, int nu, int nv,
 
 /* Erase the line where it runs alone: at each v the run of ink across it
  * (through the line's pixel or one beside it) when at most maxrun px
- * long (the line's median width, at least MAX_RUN; + 1 px took more of
- * the contours crossing it on the printed Orkhon sheet: own 0.985 ->
- * 0.979); a longer run is a contour
- * crossing there, and stays, so the contours keep their ink and are not
- * cut. */
+ * long (the line's median width, at least MAX_RUN; one px more took more
+ * of the contours crossing it on the printed Orkhon sheet: own 0.985 ->
+ * 0.979); a longer run is a contour crossing there, and stays, so the
+ * contours keep their ink and are not cut. */
 static void erase(td_grid_u8 *g, int vertical, int nu, int nv, double a,
                   double b, int maxrun)
 {
