@@ -659,6 +659,68 @@ static int is_valley(const uint8_t *const *rows, int w, int x, int t, int hi,
     return 0;
 }
 
+/* Ink at column x of row k (0 .. 2 SPLIT_R) of rows, at level t. */
+static int ink_at(const uint8_t *const *rows, int w, int k, int x, int t)
+{
+    return k >= 0 && k <= 2 * SPLIT_R && rows[k] && x >= 0 && x < w &&
+           rows[k][x] > t;
+}
+
+/* Whether the ink pixel at (row k, column x) is inside a line that does
+ * not need the pixel at (ek, ex): at least two other ink neighbours, in one
+ * 8-connected piece round it (Yokoi's 8-connectivity number of its ring,
+ * (ek, ex) left out, is 1), so removing it keeps them connected; one
+ * such neighbour would make it the end of a chain (a thin diagonal line
+ * steps corner to corner too). */
+static int simple_without(const uint8_t *const *rows, int w, int k, int x,
+                          int ek, int ex, int t)
+{
+    static const int ring[8][2] = {{0, 1},  {-1, 1}, {-1, 0}, {-1, -1},
+                                   {0, -1}, {1, -1}, {1, 0},  {1, 1}};
+    int b[8], i, nc = 0, cnt = 0;
+    for (i = 0; i < 8; i++) {
+        int kk = k + ring[i][0], xx = x + ring[i][1];
+        int n = !(kk == ek && xx == ex) && ink_at(rows, w, kk, xx, t);
+        b[i] = !n;
+        cnt += n;
+    }
+    for (i = 0; i < 8; i += 2)
+        nc += b[i] - b[i] * b[(i + 1) & 7] * b[(i + 2) & 7];
+    return cnt >= 2 && cnt < 8 && nc == 1;
+}
+
+/* Whether the ink pixel at column x of the middle row touches another
+ * ink pixel only diagonally across a light corner, and is the one of the
+ * two to cut.  Two crisp lines a pixel apart meet corner to corner where
+ * their paper gap steps diagonally: the two pixels beside the contact are
+ * paper and the contact is ink, but the mean of the four strengths (the
+ * level at the shared corner) is under t, so the ink does not run across
+ * it.  When both lie inside their lines (simple_without), the weaker goes
+ * (the upper one at a tie). */
+static int light_contact(const uint8_t *const *rows, int w, int x, int t)
+{
+    int c = SPLIT_R, dy, dx;
+    if (!ink_at(rows, w, c, x, t))
+        return 0;
+    for (dy = -1; dy <= 1; dy += 2)
+        for (dx = -1; dx <= 1; dx += 2) {
+            int sp, sq, pfirst;
+            if (!ink_at(rows, w, c + dy, x + dx, t) ||
+                ink_at(rows, w, c, x + dx, t) ||
+                ink_at(rows, w, c + dy, x, t))
+                continue;
+            sp = rows[c][x];
+            sq = rows[c + dy][x + dx];
+            if (sp + sq + rows[c][x + dx] + rows[c + dy][x] > 4 * t)
+                continue;
+            pfirst = sp < sq || (sp == sq && dy > 0);
+            if (simple_without(rows, w, c, x, c + dy, x + dx, t) &&
+                simple_without(rows, w, c + dy, x + dx, c, x, t) && pfirst)
+                return 1;
+        }
+    return 0;
+}
+
 /* Threshold at t as apply_level, but ink pixels in a valley (is_valley)
  * become 2, and then (the mask is 8-connected ink) every diagonal contact
  * across a valley is cut too, so two lines whose blurred ink runs together
@@ -712,14 +774,14 @@ static void split_threshold(const split_band *b, uint8_t *ring, int t, int hi,
         if (tr) {
             level_row(lm, t, y, m->w, tr);
             for (x = 0; x < m->w; x++)
-                row[x] = is_valley(rows, m->w, x, tr[x], hi, margin)
-                             ? 2
-                             : rows[SPLIT_R][x] > tr[x];
+                row[x] = is_valley(rows, m->w, x, tr[x], hi, margin) ? 2
+                         : light_contact(rows, m->w, x, tr[x])       ? 3
+                                                      : rows[SPLIT_R][x] > tr[x];
         } else
             for (x = 0; x < m->w; x++)
-                row[x] = is_valley(rows, m->w, x, t, hi, margin)
-                             ? 2
-                             : rows[SPLIT_R][x] > t;
+                row[x] = is_valley(rows, m->w, x, t, hi, margin) ? 2
+                         : light_contact(rows, m->w, x, t)       ? 3
+                                                          : rows[SPLIT_R][x] > t;
     }
 }
 

@@ -1167,6 +1167,83 @@ static void test_seam_keeps_crowded_lines(void)
     }
 }
 
+/* 8-connected ink pieces of m inside [x0, x1) x [y0, y1) (pieces that
+ * leave the window and come back count once per visit). */
+static int pieces(const td_grid_u8 *m, int x0, int y0, int x1, int y1)
+{
+    int w = x1 - x0, h = y1 - y0, n = 0, i;
+    int *stack = malloc((size_t)w * h * sizeof *stack);
+    uint8_t *seen = calloc((size_t)w * h, 1);
+    for (i = 0; stack && seen && i < w * h; i++) {
+        int top = 0;
+        if (seen[i] || !TD_AT(m, x0 + i % w, y0 + i / w))
+            continue;
+        n++;
+        seen[i] = 1;
+        stack[top++] = i;
+        while (top > 0) {
+            int q = stack[--top], qx = q % w, qy = q / w, dx, dy;
+            for (dy = -1; dy <= 1; dy++)
+                for (dx = -1; dx <= 1; dx++) {
+                    int nx = qx + dx, ny = qy + dy, j = ny * w + nx;
+                    if (nx < 0 || ny < 0 || nx >= w || ny >= h || seen[j] ||
+                        !TD_AT(m, x0 + nx, y0 + ny))
+                        continue;
+                    seen[j] = 1;
+                    stack[top++] = j;
+                }
+        }
+    }
+    free(stack);
+    free(seen);
+    return n;
+}
+
+/* Two crisp contours 1.8 px wide whose centres run 3 px apart at a
+ * shallow slope: the paper between them is a staircase one pixel wide, and
+ * where it steps diagonally the two inks meet corner to corner (the crowded
+ * Front Range sheet, clean: a traced line hopped from one contour to the
+ * other there).  The mean strength at the shared corner is under the
+ * level, so the contact is cut (light_contact): the mask keeps two pieces.
+ * And one thin diagonal line, which steps corner to corner itself, stays
+ * one piece. */
+static void test_light_corner_contacts(void)
+{
+    static const double ang[] = {10, 14, 22, 31, 38};
+    static const uint8_t white[1] = {255}, black[1] = {0}, grey[1] = {90};
+    size_t a;
+    for (a = 0; a < sizeof ang / sizeof ang[0]; a++) {
+        double t = ang[a] * 3.141592653589793 / 180, c = cos(t), sn = sin(t);
+        sheet s = sheet_new(96, 96, 1, white);
+        td_binarise_params p = td_binarise_defaults();
+        td_grid_u8 *m;
+        int rc, k, got;
+        for (k = 0; k < 2; k++) {
+            shape sh = {48 - 44 * c - 3.0 * k * sn,
+                        48 - 44 * sn + 3.0 * k * c,
+                        48 + 44 * c - 3.0 * k * sn,
+                        48 + 44 * sn + 3.0 * k * c,
+                        1.8,
+                        0};
+            paint(&s, &sh, black, 1);
+        }
+        { /* a thin grey line in a corner */
+            shape thin = {4, 93, 24, 93 - 20 * (0.6 + 0.1 * (double)a), 1.1, 0};
+            paint(&s, &thin, grey, 2);
+        }
+        m = run(s.im, &p, &rc);
+        TT_CHECK(rc == 0 && m);
+        got = m ? pieces(m, 30, 0, 96, 96) : -1;
+        TT_CHECKF(got == 2, "angle %g: %d pieces of ink where two lines run",
+                  ang[a], got);
+        got = m ? pieces(m, 0, 66, 26, 96) : -1;
+        TT_CHECKF(got == 1, "angle %g: the thin line in %d pieces", ang[a],
+                  got);
+        td_grid_u8_free(m);
+        sheet_free(&s);
+    }
+}
+
 /* A colour sheet printed unevenly: the same brown contours dark on the
  * left half and faded to 30 % ink on the right.  One Otsu level for the sheet
  * falls between the faded lines' cores and the dark ink and keeps only pieces
@@ -1308,6 +1385,7 @@ int main(void)
     TT_RUN(test_thin_zhangsuen);
     TT_RUN(test_seam_split);
     TT_RUN(test_seam_keeps_crowded_lines);
+    TT_RUN(test_light_corner_contacts);
     TT_RUN(test_local_level_faded);
     TT_RUN(test_seam_split_bands);
     return tt_summary();
