@@ -22,6 +22,7 @@ td_scan_params td_scan_defaults(void)
     p.blob_rings = 1;
     p.ticks = 2;
     p.wide_cut = 3.0;
+    p.wide_own = 0.0;
     p.straight = td_straight_defaults();
     return p;
 }
@@ -111,7 +112,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         }
         nc = pen > 0   ? td_wide_cut_walls(seams ? seams : bits, im->w, im->h,
                                          res->lines, p->wide_cut * pen,
-                                         res->walls, cx)
+                                         p->wide_own * pen, res->walls, cx)
              : pen < 0 ? TD_ENOMEM
                        : 0;
         if (nc < 0 ||

@@ -47,6 +47,12 @@ typedef struct td_scan_params {
                              line width) with another line inside
                              (widecut.h; ours; needs measure_width),
                              default 3; 0: off */
+    double wide_own;      /* and where it is wider than the line's own
+                             width + this many pens with another line
+                             ending there (two inks overlapping: widecut.h;
+                             ours; 0.75 fixes crisp crowded sheets but
+                             costs blurred ones: docs/scanner.md), default
+                             0: off */
     int keep_debug;       /* keep mask and skeleton copies in the result */
 } td_scan_params;
 

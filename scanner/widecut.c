@@ -1,8 +1,9 @@
 /* Lines cut where their ink is too wide to tell contours apart
- * (widecut.h).  Three passes: every vertex's ink width against maxw (on
- * threads, line by line), the other lines near each wide stretch (a
- * sorted list of the vertices that fall in cells near a stretch), and the
- * lines rebuilt without their wide stretches. */
+ * (widecut.h).  Three passes: every vertex's ink width against maxw and
+ * against the line's own width + addw (on threads, line by line), the
+ * other lines near each wide stretch (a sorted list of the vertices that
+ * fall in cells near a stretch), and the lines rebuilt without their wide
+ * stretches.  Then, after labelling, the walls whose two sides agree. */
 #include "scanner/widecut.h"
 
 #include "scanner/width.h"
@@ -22,6 +23,7 @@ typedef struct wstretch {
 
 typedef struct wvert {
     size_t cell, line;
+    int end; /* the first or last vertex of an open line */
     double x, y;
 } wvert;
 
@@ -42,24 +44,29 @@ static int wide_at(const uint8_t *bits, int w, int h, const td_line *l,
     return td_width_across(bits, w, h, x, y, nx, ny) > maxw;
 }
 
-/* The wide vertices of every line (flags from off[i] on), stretches
- * shorter than WC_MIN cleared; on threads. */
+/* The wide vertices of every line (flags from off[i] on: 1 wider than
+ * maxw, 2 only wider than the line's own width + addw), stretches shorter
+ * than WC_MIN cleared; on threads. */
 static void flag_lines(const uint8_t *bits, int w, int h, const td_lines *ls,
-                       const size_t *off, double maxw, unsigned char *wide)
+                       const size_t *off, double maxw, double addw,
+                       unsigned char *wide)
 {
     long n = (long)ls->n, i;
 #pragma omp parallel for schedule(dynamic, 16)
     for (i = 0; i < n; i++) {
         const td_line *l = &ls->v[i];
         unsigned char *f = wide + off[i];
+        double own = addw > 0 && l->width > 0 ? l->width + addw : maxw;
         size_t k, e;
         if (l->n < 2 * WC_MIN ||
             (l->closed && td_line_length(l) < WC_RING * maxw))
             continue;
         for (k = 0; k < l->n; k++)
-            f[k] = (unsigned char)wide_at(bits, w, h, l, k, maxw);
+            f[k] = wide_at(bits, w, h, l, k, maxw)                 ? 1
+                   : own < maxw && wide_at(bits, w, h, l, k, own) ? 2
+                                                                   : 0;
         for (k = 0; k < l->n; k = e) {
-            for (e = k; e < l->n && f[e] == f[k]; e++)
+            for (e = k; e < l->n && !f[e] == !f[k]; e++)
                 ;
             if (f[k] && e - k < WC_MIN)
                 memset(f + k, 0, e - k);
@@ -91,10 +98,11 @@ static void mark_cells(const td_line *l, size_t k, size_t e, double r, int cw,
     }
 }
 
-/* Whether a vertex of another line than s->line lies within r of the
- * stretch s (v: the vertices in marked cells, sorted by cell). */
+/* Whether a vertex of another line than s->line (with ends: an end of
+ * one) lies within r of the stretch s (v: the vertices in marked cells,
+ * sorted by cell). */
 static int other_near(const td_line *l, const wstretch *s, double r, int cw,
-                      int ch, const wvert *v, size_t nv)
+                      int ch, const wvert *v, size_t nv, int ends)
 {
     size_t k;
     for (k = s->k; k < s->e; k++) {
@@ -116,7 +124,7 @@ static int other_near(const td_line *l, const wstretch *s, double r, int cw,
                         hi = mid;
                 }
                 for (; lo < nv && v[lo].cell == c; lo++)
-                    if (v[lo].line != s->line &&
+                    if (v[lo].line != s->line && (v[lo].end || !ends) &&
                         hypot(v[lo].x - x, v[lo].y - y) <= r)
                         return 1;
             }
@@ -171,7 +179,17 @@ static int cut_line(const td_line *l, const unsigned char *f, int w, int h,
 long td_wide_cut(const uint8_t *bits, int w, int h, td_lines *ls, double maxw,
                  td_ctx *cx)
 {
-    return td_wide_cut_walls(bits, w, h, ls, maxw, NULL, cx);
+    return td_wide_cut_walls(bits, w, h, ls, maxw, 0.0, NULL, cx);
+}
+
+/* Whether stretch s holds WC_MIN vertices in a row wider than maxw. */
+static int over_maxw(const unsigned char *f, const wstretch *s)
+{
+    size_t k, run = 0;
+    for (k = s->k; k < s->e; k++)
+        if ((run = f[k] == 1 ? run + 1 : 0) >= WC_MIN)
+            return 1;
+    return 0;
 }
 
 /* Stretch s of l, with the vertex either side of it, as a wall. */
@@ -193,7 +211,7 @@ static int add_wall(const td_line *l, const wstretch *s, td_lines *walls,
 }
 
 long td_wide_cut_walls(const uint8_t *bits, int w, int h, td_lines *ls,
-                       double maxw, td_lines *walls, td_ctx *cx)
+                       double maxw, double addw, td_lines *walls, td_ctx *cx)
 {
     size_t *off = td_malloc((ls->n + 1) * sizeof *off, cx), i, k, e, tot = 0;
     size_t ns = 0, scap = 0, nv = 0, vcap = 0;
@@ -213,7 +231,7 @@ long td_wide_cut_walls(const uint8_t *bits, int w, int h, td_lines *ls,
     }
     if (!(wide = td_calloc(tot + 1, 1, cx)))
         goto nomem;
-    flag_lines(bits, w, h, ls, off, maxw, wide);
+    flag_lines(bits, w, h, ls, off, maxw, addw, wide);
     for (i = 0; i < ls->n; i++) /* the stretches */
         for (k = 0; k < ls->v[i].n; k = e) {
             for (e = k; e < ls->v[i].n && wide[off[i] + e]; e++)
@@ -246,12 +264,14 @@ long td_wide_cut_walls(const uint8_t *bits, int w, int h, td_lines *ls,
                 continue;
             if (td_grow((void **)&v, &vcap, nv + 1, sizeof *v, cx) != 0)
                 goto nomem;
+            v[nv].end = !ls->v[i].closed && (k == 0 || k + 1 == ls->v[i].n);
             v[nv].cell = c, v[nv].line = i, v[nv].x = x, v[nv++].y = y;
         }
     qsort(v, nv, sizeof *v, cmp_wvert);
     for (i = 0; i < ns; i++) { /* a stretch in its own ink is no merge */
         const wstretch *s = &st[i];
-        if (other_near(&ls->v[s->line], s, r, cw, ch, v, nv)) {
+        if (other_near(&ls->v[s->line], s, r, cw, ch, v, nv,
+                       !over_maxw(wide + off[s->line], s))) {
             cut[s->line] = 1;
             if (walls && add_wall(&ls->v[s->line], s, walls, cx) != 0)
                 goto nomem;
@@ -279,4 +299,94 @@ nomem:
     td_lines_free(out);
     free(off), free(wide), free(cm), free(cut), free(st), free(v);
     return td_seterr(cx, TD_ENOMEM, "wide ink cut: out of memory");
+}
+
+typedef struct wend {
+    double x, y;
+    size_t line;
+} wend;
+
+static int cmp_wend(const void *a, const void *b)
+{
+    const wend *p = a, *q = b;
+    if (p->x != q->x)
+        return (p->x > q->x) - (p->x < q->x);
+    return (p->y > q->y) - (p->y < q->y);
+}
+
+/* The line of ls with a height whose end (of ends, sorted) is at (x, y);
+ * -1 when none. */
+static long line_ending_at(const td_lines *ls, const wend *ends, size_t ne,
+                           double x, double y)
+{
+    size_t lo = 0, hi = ne;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (ends[mid].x < x || (ends[mid].x == x && ends[mid].y < y))
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    for (; lo < ne && ends[lo].x == x && ends[lo].y == y; lo++)
+        if (ls->v[ends[lo].line].has_height)
+            return (long)ends[lo].line;
+    return -1;
+}
+
+/* Contract in widecut.h. */
+long td_walls_restore(td_lines *ls, const td_lines *walls, td_ctx *cx)
+{
+    size_t nl = ls->n, ne = 0, i;
+    wend *ends;
+    long next_id = 0, put = 0;
+    if (!walls || walls->n == 0)
+        return 0;
+    if (!(ends = td_malloc(2 * nl * sizeof *ends + 1, cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < nl; i++) {
+        const td_line *l = &ls->v[i];
+        next_id = l->id >= next_id ? l->id + 1 : next_id;
+        if (l->closed || l->n < 2)
+            continue;
+        ends[ne].x = l->xy[0], ends[ne].y = l->xy[1], ends[ne++].line = i;
+        ends[ne].x = l->xy[2 * l->n - 2], ends[ne].y = l->xy[2 * l->n - 1];
+        ends[ne++].line = i;
+    }
+    qsort(ends, ne, sizeof *ends, cmp_wend);
+    for (i = 0; i < walls->n; i++) {
+        const td_line *wl = &walls->v[i];
+        long a, b;
+        const td_line *la, *lb, *weak;
+        td_line *o;
+        size_t k;
+        if (wl->n < 2)
+            continue;
+        a = line_ending_at(ls, ends, ne, wl->xy[0], wl->xy[1]);
+        b = line_ending_at(ls, ends, ne, wl->xy[2 * wl->n - 2],
+                           wl->xy[2 * wl->n - 1]);
+        if (a < 0 || b < 0)
+            continue;
+        la = &ls->v[a], lb = &ls->v[b];
+        if (la->height != lb->height)
+            continue;
+        if (!(o = td_lines_add(ls, cx))) {
+            free(ends);
+            return TD_ENOMEM;
+        }
+        la = &ls->v[a], lb = &ls->v[b]; /* td_lines_add may move them */
+        weak = la->confidence <= lb->confidence ? la : lb;
+        o->id = next_id++;
+        o->has_height = 1;
+        o->height = la->height;
+        o->hsource = weak->hsource;
+        o->confidence = weak->confidence;
+        for (k = 0; k < wl->n; k++)
+            if (td_line_push(o, wl->xy[2 * k], wl->xy[2 * k + 1], cx) != 0) {
+                free(ends);
+                return TD_ENOMEM;
+            }
+        put++;
+    }
+    free(ends);
+    return put;
 }

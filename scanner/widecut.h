@@ -16,6 +16,15 @@
  * is a closed line shorter than 8 maxw (a small ring is one contour; drawn
  * as a solid dot its ink is wide all round).
  *
+ * Two contours whose inks overlap for a stretch (an index contour and a
+ * thin one on a crisp sheet: no seam between them, one band of ink 1.6
+ * times the index width) are narrower than maxw; with addw > 0 a stretch
+ * is also wide where the ink is wider than the line's own width
+ * (td_line.width) + addw, and such a stretch is cut only where another
+ * traced line ends within maxw / 2 + 1 px of it (the contour that ran
+ * into this one and was left open at the merge); lines running side by
+ * side, both traced through, stay whole.
+ *
  *     ====a\                      ====a
  *     =====>######=====     ->    =====      =====     (a left open,
  *     ====b/                      ====b                 not paired) */
@@ -37,11 +46,21 @@ extern "C" {
 long td_wide_cut(const uint8_t *bits, int w, int h, td_lines *ls, double maxw,
                  td_ctx *cx);
 
-/* The same; walls (may be NULL) gets every stretch cut out, with the
- * vertex before and after it (where the pieces end): the blobs, for the
+/* The same, with the merges over the line's own width + addw px (0:
+ * off); walls (may be NULL) gets every stretch cut out, with the vertex
+ * before and after it (where the pieces end): the blobs, for the
  * labeller's faces (faces.h: no face runs through them). */
 long td_wide_cut_walls(const uint8_t *bits, int w, int h, td_lines *ls,
-                       double maxw, td_lines *walls, td_ctx *cx);
+                       double maxw, double addw, td_lines *walls, td_ctx *cx);
+
+/* After labelling: each wall of td_wide_cut_walls whose two sides (the
+ * lines of ls ending at its first and at its last vertex) got one height
+ * goes back into ls as a line of that height (the source and confidence
+ * of the less sure side, a new id), for the interpolation: the cut was
+ * needed only where the two sides are different contours, and a stretch
+ * left out is ink the DEM does not see.  Returns the number put back, or
+ * TD_ENOMEM. */
+long td_walls_restore(td_lines *ls, const td_lines *walls, td_ctx *cx);
 
 #ifdef __cplusplus
 }

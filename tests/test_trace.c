@@ -376,6 +376,121 @@ static void test_wide_cut(void)
     td_grid_u8_free(g);
 }
 
+/* An index contour (3 px) and a thin one (2 px) whose inks overlap for 40
+ * px: one band 5 px wide, narrower than 3 pens (6 px), so the blob cut
+ * leaves it.  The thin contour was traced in two pieces ending inside the
+ * band, the index line through it.  With the own-width cut (addw 1.5 px:
+ * 3 + 1.5 < 5) the index line loses the band, the thin contour's ends
+ * being there; without it, or where the thin contour is traced through
+ * the band as well (no end there: two lines side by side), it stays
+ * whole. */
+static void test_wide_own(void)
+{
+    int pass;
+    for (pass = 0; pass < 3; pass++) {
+        td_grid_u8 *g = td_grid_u8_new(120, 60, NULL);
+        td_lines *ls = td_lines_new(NULL), *walls = td_lines_new(NULL);
+        uint8_t *bits;
+        td_line *l;
+        size_t i, whole = 0;
+        int x, y;
+        long nc;
+        for (y = 0; y < 60; y++)
+            for (x = 0; x < 120; x++)
+                TD_AT(g, x, y) = (y >= 28 && y <= 30) ||
+                                 (x >= 40 && x < 80 ? y >= 31 && y <= 32
+                                                    : y >= 33 && y <= 34);
+        bits = td_width_pack(g, NULL);
+        l = td_lines_add(ls, NULL); /* the index line */
+        for (x = 2; x < 118; x++)
+            td_line_push(l, x, 29, NULL);
+        l->width = 3;
+        if (pass == 2) { /* the thin one through the band */
+            l = td_lines_add(ls, NULL);
+            for (x = 2; x < 118; x++)
+                td_line_push(l, x, x >= 40 && x < 80 ? 31.5 : 33.5, NULL);
+            l->width = 2;
+        } else {
+            l = td_lines_add(ls, NULL);
+            for (x = 2; x < 40; x++)
+                td_line_push(l, x, 33.5, NULL);
+            td_line_push(l, 42, 31.5, NULL);
+            l->width = 2;
+            l = td_lines_add(ls, NULL);
+            td_line_push(l, 78, 31.5, NULL);
+            for (x = 80; x < 118; x++)
+                td_line_push(l, x, 33.5, NULL);
+            l->width = 2;
+        }
+        nc = td_wide_cut_walls(bits, 120, 60, ls, 3 * 2.0, pass == 0 ? 0 : 1.5,
+                               walls, NULL);
+        for (i = 0; i < ls->n; i++)
+            whole += ls->v[i].xy[1] == 29 && ls->v[i].n == 116;
+        if (pass == 1)
+            TT_CHECKF(nc == 1 && whole == 0 && walls->n == 1,
+                      "own-width cut: %ld cut, index line whole: %zu, %zu "
+                      "walls",
+                      nc, whole, walls->n);
+        else
+            TT_CHECKF(nc == 0 && whole == 1,
+                      "%s: %ld cut, index line whole: %zu",
+                      pass ? "side by side" : "addw 0", nc, whole);
+        free(bits);
+        td_lines_free(ls);
+        td_lines_free(walls);
+        td_grid_u8_free(g);
+    }
+}
+
+/* After labelling, a wall goes back as a line where the pieces either side
+ * got one height, and stays out where they differ (a line that ran from
+ * one contour onto another) or one side has none. */
+static void test_walls_restore(void)
+{
+    static const double piece[5][5] = {/* x0, x1, y, height, has */
+                                       {0, 20, 10, 100, 1},
+                                       {30, 50, 10, 100, 1},
+                                       {0, 20, 20, 110, 1},
+                                       {30, 50, 20, 120, 1},
+                                       {0, 20, 30, 130, 1}};
+    td_lines *ls = td_lines_new(NULL), *walls = td_lines_new(NULL);
+    size_t i;
+    long nr;
+    int k;
+    for (k = 0; k < 6; k++) {
+        td_line *l = td_lines_add(ls, NULL);
+        if (k == 5) { /* beside the last: no height */
+            td_line_push(l, 30, 30, NULL);
+            td_line_push(l, 50, 30, NULL);
+            continue;
+        }
+        td_line_push(l, piece[k][0], piece[k][2], NULL);
+        td_line_push(l, piece[k][1], piece[k][2], NULL);
+        l->height = piece[k][3];
+        l->has_height = (int)piece[k][4];
+        l->hsource = TD_HS_SOLVED;
+        l->confidence = 0.5 + 0.1 * k;
+    }
+    for (k = 0; k < 3; k++) {
+        td_line *w = td_lines_add(walls, NULL);
+        td_line_push(w, 20, 10 + 10 * k, NULL);
+        td_line_push(w, 25, 10 + 10 * k + 1, NULL);
+        td_line_push(w, 30, 10 + 10 * k, NULL);
+    }
+    nr = td_walls_restore(ls, walls, NULL);
+    TT_CHECKF(nr == 1 && ls->n == 7, "%ld put back, %zu lines", nr, ls->n);
+    for (i = 6; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        TT_CHECKF(l->has_height && l->height == 100 && l->n == 3 &&
+                      l->xy[0] == 20 && l->xy[3] == 11 &&
+                      fabs(l->confidence - 0.5) < 1e-9 && l->id == 6,
+                  "put back: height %g, %zu points, confidence %g, id %ld",
+                  l->height, l->n, l->confidence, l->id);
+    }
+    td_lines_free(ls);
+    td_lines_free(walls);
+}
+
 /* A 1-px break in a line with another contour 2 px beside it, starting
  * level with the break: the paper's bridge takes the ring's first pixel
  * counter-clockwise, the neighbour's; ours goes on straight ahead. */
@@ -423,5 +538,7 @@ int main(void)
     TT_RUN(test_merge_left_open);
     TT_RUN(test_bridge_ahead);
     TT_RUN(test_wide_cut);
+    TT_RUN(test_wide_own);
+    TT_RUN(test_walls_restore);
     return tt_summary();
 }

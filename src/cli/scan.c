@@ -98,6 +98,10 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          "touching lines included) is\nwider than PENS line widths with "
          "another\nline inside (contours crowding into one\nblob; ours; 0: "
          "off)"},
+        {"wide-own", 0, TD_OPT_DOUBLE, &p->wide_own, 0, 100, .meta = "PENS",
+         .help = "and where it is wider than the line's own\nwidth + PENS "
+         "line widths with another line\nending there (two contours' inks "
+         "overlapping;\nours; 0: off)"},
         {"simplify", 0, TD_OPT_DOUBLE, &o->simplify, 0, 100, .meta = "PX",
          .help = "write the lines within PX of the traced path\n"
          "(Douglas-Peucker; 0: one vertex per\nskeleton pixel)"},

@@ -75,6 +75,11 @@ typedef struct td_run_params {
     int read_labels;       /* read the printed labels (default 1) */
     td_label_params label;
     td_interp_params interp;
+    int walls_back;        /* after labelling, the stretches the scanner
+                              cut out of lines (td_scan_result.walls) whose
+                              two sides got one height go back in as lines
+                              for the interpolation (td_walls_restore;
+                              ours; default 1) */
     int keep_scan;         /* keep the image until on_labelled (debug) */
     int (*on_labelled)(const struct td_run_result *r, void *user);
     void *user;
@@ -91,6 +96,7 @@ typedef struct td_run_result {
                               NULL once labelled */
     td_grid_f32 *dem;
     size_t traced, dropped, ncross;
+    size_t walls_back;     /* cut stretches put back (walls_back) */
     double secs[3];        /* read + scan, label, interpolate */
     double ocr_secs;
     td_label_report rep, checks; /* the labeller's; crossings aside, the

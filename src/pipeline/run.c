@@ -3,6 +3,8 @@
  * stages and checks as scan, label (crossings, index widths) and interp. */
 #include "src/pipeline/pipeline.h"
 
+#include "scanner/widecut.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,6 +15,7 @@ td_run_params td_run_defaults(void)
     memset(&p, 0, sizeof p);
     p.scan = td_scan_defaults();
     p.read_labels = 1;
+    p.walls_back = 1;
     p.label = td_label_defaults();
     p.interp = td_interp_defaults();
     return p;
@@ -101,12 +104,20 @@ static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
         return rc;
     if (!(lp.interval > 0))
         lp.interval = r->rep.interval;
-    if ((rc = checks(r, &lp, cx)) != 0 ||
-        (p->on_labelled && (rc = p->on_labelled(r, p->user)) != 0))
+    if ((rc = checks(r, &lp, cx)) != 0)
+        return rc;
+    if (p->walls_back) { /* the cut stretches whose sides agree */
+        long nr = td_walls_restore(r->lines, r->walls, cx);
+        if (nr < 0)
+            return (int)nr;
+        r->walls_back = (size_t)nr;
+    }
+    if (p->on_labelled && (rc = p->on_labelled(r, p->user)) != 0)
         return rc;
     td_image_free(r->scan); /* the pictures are drawn */
     r->scan = NULL;
-    r->traced = r->lines->n; /* lines cut where two contours ran as one */
+    /* lines cut where two contours ran as one */
+    r->traced = r->lines->n - r->walls_back;
     for (i = r->lines->n; i-- > 0;)
         if (!r->lines->v[i].has_height) {
             td_lines_remove(r->lines, i);
