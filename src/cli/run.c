@@ -104,6 +104,10 @@ static void summary(const td_run_result *s, const td_run_params *p,
                 "interval %g; %zu label gaps closed\n",
                 s->nreads, s->rep.labels_used, s->ocr_secs, s->rep.interval,
                 s->rep.gaps_closed);
+    if (s->walls_back)
+        fprintf(stderr, "run: %zu stretch%s cut where contours crowd put "
+                "back (both sides one height)\n", s->walls_back,
+                s->walls_back == 1 ? "" : "es");
     if (s->ncross)
         fprintf(stderr, "run: warning: %zu pairs of lines cross (contours "
                 "do not): a trace jumped between contours there\n",
