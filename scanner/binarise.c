@@ -944,10 +944,32 @@ static int split_margin(const td_grid_u8 *m, int t, int min)
     return (int)fmax(min, 3.0 * med / 0.954);
 }
 
+/* The share of half-tone strengths to ink at level t (contract in
+ * binarise.h). */
+static double halftone_share(const uint64_t *hist, int t)
+{
+    double np = 0, sp = 0, ni = 0, si = 0, mid = 0, pap, ink;
+    int i;
+    for (i = 0; i < 256; i++) {
+        if (i <= t)
+            np += (double)hist[i], sp += (double)hist[i] * i;
+        else
+            ni += (double)hist[i], si += (double)hist[i] * i;
+    }
+    if (np <= 0 || ni <= 0)
+        return -1;
+    pap = sp / np;
+    ink = si / ni;
+    for (i = 0; i < 256; i++)
+        if (i >= pap + 0.25 * (ink - pap) && i <= pap + 0.75 * (ink - pap))
+            mid += (double)hist[i];
+    return mid / ni;
+}
+
 /* Threshold the strength image held in m, in place. */
 static int threshold(td_grid_u8 *m, const td_binarise_params *p,
                      const uint64_t *hist, int local, uint8_t *seams,
-                     td_ctx *cx)
+                     double *halftone, td_ctx *cx)
 {
     remap r;
     level_map lm = {0, 0, NULL};
@@ -961,6 +983,8 @@ static int threshold(td_grid_u8 *m, const td_binarise_params *p,
     t = p->thr_value;
     if (p->thr == TD_THR_OTSU && (rc = otsu_level(hist, &t, cx)) != 0)
         return rc;
+    if (halftone)
+        *halftone = halftone_share(hist, t);
     if (p->thr == TD_THR_OTSU && local &&
         (rc = level_map_make(m, t, &lm, cx)) != 0)
         return rc;
@@ -989,18 +1013,20 @@ int td_binarise(const td_image *im, const td_binarise_params *p,
 int td_binarise_pal(const td_image *im, const td_binarise_params *p,
                     td_grid_u8 *mask, td_palette *pal_out, td_ctx *cx)
 {
-    return td_binarise_seams(im, p, mask, pal_out, NULL, cx);
+    return td_binarise_seams(im, p, mask, pal_out, NULL, NULL, cx);
 }
 
 int td_binarise_seams(const td_image *im, const td_binarise_params *p,
                       td_grid_u8 *mask, td_palette *pal_out, uint8_t *seams,
-                      td_ctx *cx)
+                      double *halftone, td_ctx *cx)
 {
     uint64_t hist[256];
     td_palette pal;
     remap r;
     int rc;
     memset(&pal, 0, sizeof pal);
+    if (halftone)
+        *halftone = -1;
     if (pal_out)
         memset(pal_out, 0, sizeof *pal_out);
     if ((rc = check_image(im, p, mask, cx)) != 0 ||
@@ -1016,7 +1042,7 @@ int td_binarise_seams(const td_image *im, const td_binarise_params *p,
         (rc = threshold(mask, p, hist,
                         p->local_level && im->channels == 3 &&
                             (p->ink == TD_INK_AUTO || p->ink == TD_INK_BROWN),
-                        seams, cx)) != 0)
+                        seams, halftone, cx)) != 0)
         goto fail;
     if (p->min_speck > 1) {
         remap_begin(cx, &r, 0.8, 0.9);

@@ -22,7 +22,7 @@ td_scan_params td_scan_defaults(void)
     p.blob_rings = 1;
     p.ticks = 2;
     p.wide_cut = 3.0;
-    p.wide_own = 0.0;
+    p.wide_own = -1.0;
     p.straight = td_straight_defaults();
     return p;
 }
@@ -50,9 +50,10 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     td_grid_u8 *g = NULL;
     uint8_t *bits = NULL, *seams = NULL;
     td_join_params jp = p->join;
-    double t0;
+    double t0, halftone = -1;
     int rc;
     memset(res, 0, sizeof *res);
+    res->edge = -1;
     if (!(g = td_grid_u8_new(im->w, im->h, cx)))
         return cx ? cx->code : TD_ENOMEM;
     t0 = td_now();
@@ -63,8 +64,8 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         rc = TD_ENOMEM;
         goto fail;
     }
-    if ((rc = td_binarise_seams(im, &p->bin, g, &res->palette, seams, cx)) !=
-            0 ||
+    if ((rc = td_binarise_seams(im, &p->bin, g, &res->palette, seams, &halftone,
+                                cx)) != 0 ||
         (rc = td_straight_remove(g, &p->straight, &res->straight_lines, cx)) !=
             0)
         goto fail;
@@ -99,8 +100,15 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         (rc = td_line_widths_packed(bits, im->w, im->h, res->lines, cx)) != 0)
         goto fail;
     if (p->measure_width && p->wide_cut > 0) {
-        double pen = td_pen_width(res->lines, cx);
+        double pen = td_pen_width(res->lines, cx), own = p->wide_own;
         long nc;
+        if (pen > 0 && halftone >= 0)
+            res->edge = 0.5 * halftone * pen;
+        if (own < 0) /* auto: where the ink is crisp */
+            own = res->edge >= 0 && res->edge < TD_SCAN_CRISP_EDGE
+                      ? TD_SCAN_WIDE_OWN
+                      : 0.0;
+        res->wide_own = own;
         if (seams) {
             size_t q, nb = packed_bytes(im->w, im->h);
             for (q = 0; q < nb; q++)
@@ -112,7 +120,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         }
         nc = pen > 0   ? td_wide_cut_walls(seams ? seams : bits, im->w, im->h,
                                          res->lines, p->wide_cut * pen,
-                                         p->wide_own * pen, res->walls, cx)
+                                         own * pen, res->walls, cx)
              : pen < 0 ? TD_ENOMEM
                        : 0;
         if (nc < 0 ||

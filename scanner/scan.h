@@ -26,6 +26,12 @@
 extern "C" {
 #endif
 
+/* The automatic own-width cut (td_scan_params.wide_own < 0): this many
+ * pens where the ink's edges are narrower than TD_SCAN_CRISP_EDGE px
+ * (crisp sheets 0.41-0.48, blurred by 0.5 px 0.48, by 0.8 px 0.68-0.82). */
+#define TD_SCAN_WIDE_OWN 0.75
+#define TD_SCAN_CRISP_EDGE 0.55
+
 typedef struct td_scan_params {
     td_binarise_params bin;
     td_despur_params spur;
@@ -50,9 +56,12 @@ typedef struct td_scan_params {
     double wide_own;      /* and where it is wider than the line's own
                              width + this many pens with another line
                              ending there (two inks overlapping: widecut.h;
-                             ours; 0.75 fixes crisp crowded sheets but
-                             costs blurred ones: docs/scanner.md), default
-                             0: off */
+                             ours); < 0 (default): auto, TD_SCAN_WIDE_OWN
+                             where the ink is crisp (its edges under
+                             TD_SCAN_CRISP_EDGE px: there inks overlap
+                             with no seam between them), else off (on
+                             blurred sheets the seams split them, and the
+                             cut costs the DEM: docs/scanner.md); 0: off */
     int keep_debug;       /* keep mask and skeleton copies in the result */
 } td_scan_params;
 
@@ -67,6 +76,10 @@ typedef struct td_scan_result {
     td_join_stats join;
     size_t blob_rings;     /* tiny rings redrawn from their dots */
     size_t depressions;    /* rings read as depressions from their ticks */
+    double edge;           /* the width of the ink's edges in px
+                              (binarise.h's half-tone share x the pen / 2),
+                              -1 when not measured */
+    double wide_own;       /* the own-width cut used (pens; 0: off) */
     size_t wide_cuts;      /* lines cut where contours crowd into one blob
                               of ink (widecut.h) */
     td_lines *walls;       /* the stretches cut there (widecut.h), for the

@@ -449,6 +449,32 @@ static void test_crowded_walls(void)
     crowded_check(0, 0.97, 20.0);
 }
 
+/* The crowded sheet drawn crisp (no blur, noise or breaks) with three
+ * known points: an index contour and a thin one whose inks overlap for a
+ * stretch swapped at the Y where they part, and whole regions came out an
+ * index interval off (0.827 of the length right; 0.841 with light corners
+ * cut).  The scanner reads the ink as crisp and also ends lines where two
+ * inks overlap (widecut.h, wide_own auto): 0.960. */
+static void test_crowded_crisp(void)
+{
+    td_hsheet hs;
+    td_grid_f32 *src = crowded_sheet(&hs);
+    td_ctx cx;
+    td_ctx_init(&cx);
+    if (!src)
+        return;
+    td_hsheet_defects(&hs.gp, 0);
+    hs.gp.blur = 0, hs.gp.noise = 0, hs.gp.specks = 0, hs.gp.breaks = 0;
+    hs.gp.labels = 0;
+    hs.nknown = 3;
+    TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
+    TT_CHECKF(hs.score.accuracy >= 0.94 && hs.score.n_wrong_sure == 0,
+              "crowded crisp, 3 known: accuracy %.3f, %ld wrong and sure",
+              hs.score.accuracy, hs.score.n_wrong_sure);
+    td_label_report_free(&hs.rep);
+    td_grid_f32_free(src);
+}
+
 /* The labels of a scanned sheet read on one thread and on two: the same
  * reads in the same order (each candidate is read alone, by the thread's
  * own Tesseract reader). */
@@ -625,6 +651,7 @@ int main(void)
     TT_RUN(test_labels_on_curves);
     TT_RUN(test_crowded_labels_only);
     TT_RUN(test_crowded_walls);
+    TT_RUN(test_crowded_crisp);
     TT_RUN(test_ocr_threads);
     TT_RUN(test_ambiguous);
     TT_RUN(test_ticked_pit);

@@ -367,6 +367,47 @@ static void test_crowded_blobs_cut(void)
     td_grid_f32_free(src);
 }
 
+/* The crowded sheet crisp and scanned: the scanner measures the ink's
+ * edges (0.47 px crisp, 0.68 px blurred by 0.8 px) and turns the own-width
+ * cut on for the crisp one only (scan.h, wide_own auto). */
+static void test_crisp_ink(void)
+{
+    int k;
+    for (k = 0; k < 2; k++) {
+        td_gen_params gp;
+        td_grid_f32 *src;
+        td_image *im = NULL;
+        td_lines *truth = NULL;
+        td_scan_params sp = td_scan_defaults();
+        td_scan_result res;
+        td_ctx cx;
+        td_ctx_init(&cx);
+        memset(&res, 0, sizeof res);
+        src = td_hsheet_dem_sheet("frontrange_srtm3.tif", 10, &gp, &cx);
+        TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+        if (!src)
+            return;
+        gp.interval = 20;
+        td_hsheet_defects(&gp, k);
+        TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
+        TT_CHECK(im && td_scan(im, &sp, &res, &cx) == 0);
+        if (k == 0)
+            TT_CHECKF(res.edge >= 0.3 && res.edge < TD_SCAN_CRISP_EDGE &&
+                          res.wide_own == TD_SCAN_WIDE_OWN,
+                      "crisp: edges %.2f px, own-width cut %g", res.edge,
+                      res.wide_own);
+        else
+            TT_CHECKF(res.edge >= TD_SCAN_CRISP_EDGE && res.edge < 1.2 &&
+                          res.wide_own == 0,
+                      "scanned: edges %.2f px, own-width cut %g", res.edge,
+                      res.wide_own);
+        td_scan_result_free(&res);
+        td_image_free(im);
+        td_lines_free(truth);
+        td_grid_f32_free(src);
+    }
+}
+
 /* A blank sheet is an error, not an empty result. */
 /* Distance from (x, y) to the polyline xy (n points). */
 static double poly_dist(const double *xy, size_t n, double x, double y)
@@ -445,6 +486,7 @@ int main(void)
     TT_RUN(test_depression_ticks);
     TT_RUN(test_ticks_real_dem);
     TT_RUN(test_crowded_blobs_cut);
+    TT_RUN(test_crisp_ink);
     TT_RUN(test_pinched_finger);
     TT_RUN(test_blank);
     return tt_summary();

@@ -26,6 +26,20 @@ static int threshold(const char *a, void *t, td_ctx *cx)
     return td_binarise_parse_threshold(a, t, cx);
 }
 
+/* --wide-own: auto (a negative value) or PENS in 0..100. */
+static int wide_own(const char *a, void *t, td_ctx *cx)
+{
+    double *v = t;
+    if (!strcmp(a, "auto")) {
+        *v = -1.0;
+        return 0;
+    }
+    if (td_cli_parse_double(a, 0, 100, v) != 0)
+        return td_seterr(cx, TD_EINVAL, "--wide-own: auto or a number of "
+                         "pens 0-100, not \"%s\"", a);
+    return 0;
+}
+
 static int spur(const char *a, void *t, td_ctx *cx)
 {
     return td_despur_parse_mode(a, t, cx);
@@ -98,10 +112,11 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          "touching lines included) is\nwider than PENS line widths with "
          "another\nline inside (contours crowding into one\nblob; ours; 0: "
          "off)"},
-        {"wide-own", 0, TD_OPT_DOUBLE, &p->wide_own, 0, 100, .meta = "PENS",
-         .help = "and where it is wider than the line's own\nwidth + PENS "
-         "line widths with another line\nending there (two contours' inks "
-         "overlapping;\nours; 0: off)"},
+        {"wide-own", 0, TD_OPT_FUNC, &p->wide_own, .fn = wide_own,
+         .meta = "PENS", .help = "and where it is wider than the line's own\n"
+         "width + PENS line widths with another line\nending there (two "
+         "contours' inks overlapping;\nours; 0: off; default auto: 0.75 "
+         "where the\nink's edges are crisp, under 0.55 px, else off)"},
         {"simplify", 0, TD_OPT_DOUBLE, &o->simplify, 0, 100, .meta = "PX",
          .help = "write the lines within PX of the traced path\n"
          "(Douglas-Peucker; 0: one vertex per\nskeleton pixel)"},
@@ -148,7 +163,11 @@ static void summary(const td_scan_result *r, double secs)
             r->join.merges_open, secs);
     if (r->palette.n > 0)
         td_cli_print_palette("scan", &r->palette);
-    if (r->wide_cuts > 0)
+    if (r->wide_cuts > 0 && r->wide_own > 0)
+        fprintf(stderr, "scan: %zu line%s ended where contours crowd into one "
+                "blob of ink or their inks overlap (crisp ink: edges %.2f "
+                "px)\n", r->wide_cuts, r->wide_cuts == 1 ? "" : "s", r->edge);
+    else if (r->wide_cuts > 0)
         fprintf(stderr, "scan: %zu line%s ended where contours crowd into one "
                 "blob of ink\n", r->wide_cuts, r->wide_cuts == 1 ? "" : "s");
     if (r->depressions > 0)
