@@ -98,6 +98,14 @@ typedef struct cedge {
     double key; /* the order the forest takes them in */
 } cedge;
 
+/* The DP's tables, per node and state; kept across the interval's trial
+ * solves (infer_interval), whose fresh pages the kernel cleared in a
+ * fifth of the labelling time of a crowded sheet. */
+typedef struct dp_tables {
+    double *up, *msg, *down;
+    size_t cap; /* doubles each */
+} dp_tables;
+
 typedef struct hs {
     td_lines *ls;
     const td_label_params *p;
@@ -140,7 +148,9 @@ typedef struct hs {
     unsigned char *comp_abs; /* component holds absolute evidence */
     long kofs;
     size_t K;
-    double *up, *msg, *down; /* per node and state: the DP's tables */
+    double *up, *msg, *down; /* per node and state: the DP's tables, in */
+    dp_tables *dp;           /* the caller's, or own */
+    dp_tables own;
     long *band, *band_prior; /* per chunk: best height (band index) */
     double *gap, *gap_prior; /* per chunk */
     int priors;              /* this pass uses the priors */
@@ -1503,8 +1513,9 @@ static void free_all(hs *s)
     free(s->par), free(s->order), free(s->pkind), free(s->pid);
     free(s->adj_start), free(s->adj), free(s->intree), free(s->compdepth);
     free(s->comp_abs), free(s->band), free(s->band_prior), free(s->gap);
-    free(s->gap_prior), free(s->un), free(s->unx), free(s->up), free(s->msg);
-    free(s->down), free(s->ce); /* fx and fe belong to the caller */
+    free(s->gap_prior), free(s->un), free(s->unx), free(s->own.up);
+    free(s->own.msg), free(s->own.down);
+    free(s->ce); /* fx and fe belong to the caller, and so may dp */
 }
 
 /* Which side nodes any face edge touches (a ring's inside with none holds
@@ -2046,12 +2057,21 @@ static int forest_tables(hs *s, double **H, td_ctx *cx)
         (rc = set_domain(s, cx)) != 0)
         return rc;
     KV = 2 * s->K * s->V;
-    free(s->up), free(s->msg), free(s->down), free(*H);
-    s->msg = s->down = NULL, *H = NULL;
-    if (!(s->up = td_malloc(KV * sizeof *s->up + 8, cx)) ||
-        !(s->msg = td_malloc(KV * sizeof *s->msg + 8, cx)) ||
-        !(s->down = td_malloc(KV * sizeof *s->down + 8, cx)) ||
-        !(*H = td_malloc((s->K + 1) * sizeof **H, cx)))
+    free(*H);
+    if (s->dp->cap < KV) {
+        dp_tables *d = s->dp;
+        free(d->up), free(d->msg), free(d->down);
+        d->msg = d->down = NULL, d->cap = 0;
+        if (!(d->up = td_malloc(KV * sizeof *d->up + 8, cx)) ||
+            !(d->msg = td_malloc(KV * sizeof *d->msg + 8, cx)) ||
+            !(d->down = td_malloc(KV * sizeof *d->down + 8, cx))) {
+            *H = NULL;
+            return TD_ENOMEM;
+        }
+        d->cap = KV;
+    }
+    s->up = s->dp->up, s->msg = s->dp->msg, s->down = s->dp->down;
+    if (!(*H = td_malloc((s->K + 1) * sizeof **H, cx)))
         return TD_ENOMEM;
     return 0;
 }
@@ -2303,7 +2323,7 @@ static double share_on(const td_label_params *p, double S)
  * solve (labels off it counted at their weight, spacings of index lines
  * rarer than every 5th a little). */
 static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
-                    td_face_edge *fe, size_t nfe, int cost_only,
+                    td_face_edge *fe, size_t nfe, int cost_only, dp_tables *dp,
                     td_label_report *rep, td_ctx *cx);
 static int faces_of(const td_lines *ls, const td_label_params *p, td_faces **fx,
                     td_face_edge **fe, size_t *nfe, td_ctx *cx);
@@ -2320,6 +2340,7 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
     /* how much rarer than every 5th each spacing of index lines is */
     static const double rarer[4] = {0.0, 8.0, 15.0, 15.0};
     double dec, Ss[3] = {0, 0, 0}, best = HUGE_VAL;
+    dp_tables dp = {NULL, NULL, NULL, 0};
     size_t i;
     int k, rc = 0, si;
     *best_i = 0;
@@ -2363,7 +2384,7 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
             memset(&r, 0, sizeof r);
             if (!fx && (rc = faces_of(ls, p, &fx, &fe, &nfe, cx)) != 0)
                 goto done;
-            rc = solve_on(ls, &q, fx, fe, nfe, 1, &r, cx);
+            rc = solve_on(ls, &q, fx, fe, nfe, 1, &dp, &r, cx);
             cost += r.cost;
             td_label_report_free(&r);
             if (rc)
@@ -2379,6 +2400,7 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
     *best_c = best;
     rc = 0;
 done:
+    free(dp.up), free(dp.msg), free(dp.down);
     free(fe);
     td_faces_free(fx);
     return rc;
@@ -2439,10 +2461,11 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
 }
 
 /* The solve on lines ls with their faces index fx and its edges fe (the
- * caller's: the interval's trials share them); with cost_only the lines
- * are left as they are and only rep->cost is set. */
+ * caller's: the interval's trials share them, and the DP's tables dp, or
+ * NULL); with cost_only the lines are left as they are and only
+ * rep->cost is set. */
 static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
-                    td_face_edge *fe, size_t nfe, int cost_only,
+                    td_face_edge *fe, size_t nfe, int cost_only, dp_tables *dp,
                     td_label_report *rep, td_ctx *cx)
 {
     hs s;
@@ -2452,6 +2475,7 @@ static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
     s.need_lo = 1, s.need_hi = 0;
     s.ls = ls, s.p = p, s.rep = rep, s.N = ls->n, s.cost_only = cost_only;
     s.fx = fx, s.fe = fe, s.nfe = nfe;
+    s.dp = dp ? dp : &s.own;
     s.C = td_faces_nchunks(fx);
     s.V = 2 * s.C;
     if ((rc = alloc_all(&s, cx)) != 0 || (rc = same_pieces(&s, cx)) != 0 ||
@@ -2504,7 +2528,7 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
     size_t nfe = 0;
     int rc = faces_of(ls, p, &fx, &fe, &nfe, cx);
     if (rc == 0)
-        rc = solve_on(ls, p, fx, fe, nfe, 0, rep, cx);
+        rc = solve_on(ls, p, fx, fe, nfe, 0, NULL, rep, cx);
     free(fe);
     td_faces_free(fx);
     return rc;
