@@ -860,6 +860,13 @@ static int order_forest(hs *s, td_ctx *cx)
     return 0;
 }
 
+/* [lo, hi] widened to hold level v and the band below it. */
+static void widen(long *lo, long *hi, long v)
+{
+    *lo = *lo < v - 1 ? *lo : v - 1;
+    *hi = *hi > v ? *hi : v;
+}
+
 /* The band range every node can need, from the evidence and the depths.
  * A label's other readings widen it only within the range its first
  * readings, the known points and the spot heights give, widened as
@@ -870,34 +877,30 @@ static int order_forest(hs *s, td_ctx *cx)
  * chosen: no band there. */
 static int set_domain(hs *s, td_ctx *cx)
 {
-    long lo = LONG_MAX, hi = LONG_MIN, D = 0;
+    long lo = LONG_MAX, hi = LONG_MIN, D = 0, alo, ahi;
     size_t i;
-    int k, alts;
+    int k;
     for (i = 0; i < s->V; i++)
         if (s->comp[i] == i && s->compdepth[i] > D)
             D = s->compdepth[i];
-    for (alts = 0; alts < 2; alts++) {
-        long alo = lo - 2 * D - 2, ahi = hi + 2 * D + 2;
-        for (i = 0; i < s->C; i++) {
-            if (s->nknown[i] && !alts) {
-                lo = lo < s->lknown[i] - 1 ? lo : (long)s->lknown[i] - 1;
-                hi = hi > s->lknown[i] ? hi : (long)s->lknown[i];
-            }
-            for (k = alts; s->wlab[i] > 0 && k < (alts ? NLAB : 1) &&
-                           s->clab[i * NLAB + k] > 0;
-                 k++) {
-                double v = s->llab[i * NLAB + k];
-                if (alts && !(v - 1 >= alo && v <= ahi))
-                    continue;
-                lo = lo < v - 1 ? lo : (long)v - 1;
-                hi = hi > v ? hi : (long)v;
-            }
-        }
-        for (i = 0; i < s->nun && !alts; i++) {
-            lo = lo < (long)s->un[4 * i + 1] ? lo : (long)s->un[4 * i + 1];
-            hi = hi > (long)s->un[4 * i + 2] ? hi : (long)s->un[4 * i + 2];
-        }
+    for (i = 0; i < s->C; i++) { /* known points, first readings */
+        if (s->nknown[i])
+            widen(&lo, &hi, (long)s->lknown[i]);
+        if (s->wlab[i] > 0 && s->clab[i * NLAB] > 0)
+            widen(&lo, &hi, (long)s->llab[i * NLAB]);
     }
+    for (i = 0; i < s->nun; i++) {
+        lo = lo < (long)s->un[4 * i + 1] ? lo : (long)s->un[4 * i + 1];
+        hi = hi > (long)s->un[4 * i + 2] ? hi : (long)s->un[4 * i + 2];
+    }
+    alo = lo - 2 * D - 2, ahi = hi + 2 * D + 2;
+    for (i = 0; i < s->C; i++) /* the other readings, within that */
+        for (k = 1; s->wlab[i] > 0 && k < NLAB && s->clab[i * NLAB + k] > 0;
+             k++) {
+            long v = (long)s->llab[i * NLAB + k];
+            if (v - 1 >= alo && v <= ahi)
+                widen(&lo, &hi, v);
+        }
     if (lo > hi)
         lo = hi = 0;
     if (s->need_lo <= s->need_hi) {
@@ -1749,77 +1752,60 @@ static int sandwich_check(hs *s, td_ctx *cx)
  * the straight ones a continuity edge (E_SAME: the same height, a prior
  * of W_SAME) ties the regions the blobs wall off to the rest, which the
  * priors alone had set up to 45 intervals off. */
-typedef struct endkey {
-    double x, y;
-    uint32_t node; /* the side node 0 of the line's chunk at that end */
-    int last;      /* the line's last vertex (else its first) */
-} endkey;
-
-static int cmp_endkey(const void *pa, const void *pb)
+static int end_used(size_t i, const void *u)
 {
-    const endkey *a = pa, *b = pb;
-    if (a->x != b->x)
-        return (a->x > b->x) - (a->x < b->x);
-    return (a->y > b->y) - (a->y < b->y);
+    return td_faces_used((const td_faces *)u, i);
 }
 
-static const endkey *find_end(const endkey *v, size_t n, double x, double y)
+/* The side node 0 of the chunk at the first end (of ends, sorted) at (x,
+ * y) that has one, and whether it is its line's last vertex; -1 when
+ * none. */
+static long node_at(const hs *s, const td_line_end *ends, size_t n, double x,
+                    double y, int *last)
 {
-    size_t lo = 0, hi = n;
-    endkey k;
-    k.x = x, k.y = y;
-    while (lo < hi) {
-        size_t mid = lo + (hi - lo) / 2;
-        if (cmp_endkey(&v[mid], &k) < 0)
-            lo = mid + 1;
-        else
-            hi = mid;
+    size_t k;
+    for (k = td_line_ends_at(ends, n, x, y);
+         k < n && ends[k].x == x && ends[k].y == y; k++) {
+        const td_line *l = &s->ls->v[ends[k].line];
+        long c =
+            td_faces_chunk_at(s->fx, ends[k].line, ends[k].last ? l->n - 1 : 0);
+        if (c >= 0) {
+            *last = ends[k].last;
+            return 2 * c;
+        }
     }
-    return lo < n && v[lo].x == x && v[lo].y == y ? &v[lo] : NULL;
+    return -1;
 }
 
 static int same_pieces(hs *s, td_ctx *cx)
 {
     const td_lines *w = s->p->walls;
-    endkey *v;
+    td_line_end *v;
     size_t i, n = 0;
     if (!w || !w->n)
         return 0;
-    if (!(v = td_malloc((2 * s->N + 1) * sizeof *v, cx)) ||
+    if (td_line_ends(s->ls, end_used, s->fx, &v, &n, cx) != 0 ||
         !(s->same = td_malloc((2 * w->n + 1) * sizeof *s->same, cx))) {
         free(v);
         return TD_ENOMEM;
     }
-    for (i = 0; i < s->N; i++) {
-        const td_line *l = &s->ls->v[i];
-        int k;
-        if (!td_faces_used(s->fx, i) || l->closed)
-            continue;
-        for (k = 0; k < 2; k++) {
-            size_t q = k ? l->n - 1 : 0;
-            long c = td_faces_chunk_at(s->fx, i, q);
-            if (c < 0)
-                continue;
-            v[n].x = l->xy[2 * q], v[n].y = l->xy[2 * q + 1];
-            v[n].node = 2 * (uint32_t)c, v[n++].last = k;
-        }
-    }
-    qsort(v, n, sizeof *v, cmp_endkey);
     for (i = 0; i < w->n; i++) {
         const td_line *l = &w->v[i];
-        const endkey *a, *b;
+        long a, b;
+        int alast = 0, blast = 0;
         if (l->n < 2 ||
             hypot(l->xy[2 * l->n - 2] - l->xy[0],
                   l->xy[2 * l->n - 1] - l->xy[1]) <
                 SAME_STRAIGHT * td_line_length(l) ||
-            !(a = find_end(v, n, l->xy[0], l->xy[1])) ||
-            !(b = find_end(v, n, l->xy[2 * l->n - 2], l->xy[2 * l->n - 1])) ||
-            a->node / 2 == b->node / 2)
+            (a = node_at(s, v, n, l->xy[0], l->xy[1], &alast)) < 0 ||
+            (b = node_at(s, v, n, l->xy[2 * l->n - 2], l->xy[2 * l->n - 1],
+                         &blast)) < 0 ||
+            a / 2 == b / 2)
             continue;
         /* travelling on from a's end into b: the same sides when a ends
            there and b starts, else swapped */
-        s->same[2 * s->nsame] = a->node;
-        s->same[2 * s->nsame++ + 1] = b->node + (uint32_t)(a->last == b->last);
+        s->same[2 * s->nsame] = (uint32_t)a;
+        s->same[2 * s->nsame++ + 1] = (uint32_t)b + (uint32_t)(alast == blast);
     }
     free(v);
     return 0;

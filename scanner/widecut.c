@@ -301,35 +301,16 @@ nomem:
     return td_seterr(cx, TD_ENOMEM, "wide ink cut: out of memory");
 }
 
-typedef struct wend {
-    double x, y;
-    size_t line;
-} wend;
-
-static int cmp_wend(const void *a, const void *b)
-{
-    const wend *p = a, *q = b;
-    if (p->x != q->x)
-        return (p->x > q->x) - (p->x < q->x);
-    return (p->y > q->y) - (p->y < q->y);
-}
-
 /* The line of ls with a height whose end (of ends, sorted) is at (x, y);
  * -1 when none. */
-static long line_ending_at(const td_lines *ls, const wend *ends, size_t ne,
-                           double x, double y)
+static long line_ending_at(const td_lines *ls, const td_line_end *ends,
+                           size_t ne, double x, double y)
 {
-    size_t lo = 0, hi = ne;
-    while (lo < hi) {
-        size_t mid = lo + (hi - lo) / 2;
-        if (ends[mid].x < x || (ends[mid].x == x && ends[mid].y < y))
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    for (; lo < ne && ends[lo].x == x && ends[lo].y == y; lo++)
-        if (ls->v[ends[lo].line].has_height)
-            return (long)ends[lo].line;
+    size_t k;
+    for (k = td_line_ends_at(ends, ne, x, y);
+         k < ne && ends[k].x == x && ends[k].y == y; k++)
+        if (ls->v[ends[k].line].has_height)
+            return (long)ends[k].line;
     return -1;
 }
 
@@ -337,22 +318,14 @@ static long line_ending_at(const td_lines *ls, const wend *ends, size_t ne,
 long td_walls_restore(td_lines *ls, const td_lines *walls, td_ctx *cx)
 {
     size_t nl = ls->n, ne = 0, i;
-    wend *ends;
+    td_line_end *ends;
     long next_id = 0, put = 0;
     if (!walls || walls->n == 0)
         return 0;
-    if (!(ends = td_malloc(2 * nl * sizeof *ends + 1, cx)))
+    if (td_line_ends(ls, NULL, NULL, &ends, &ne, cx) != 0)
         return TD_ENOMEM;
-    for (i = 0; i < nl; i++) {
-        const td_line *l = &ls->v[i];
-        next_id = l->id >= next_id ? l->id + 1 : next_id;
-        if (l->closed || l->n < 2)
-            continue;
-        ends[ne].x = l->xy[0], ends[ne].y = l->xy[1], ends[ne++].line = i;
-        ends[ne].x = l->xy[2 * l->n - 2], ends[ne].y = l->xy[2 * l->n - 1];
-        ends[ne++].line = i;
-    }
-    qsort(ends, ne, sizeof *ends, cmp_wend);
+    for (i = 0; i < nl; i++)
+        next_id = ls->v[i].id >= next_id ? ls->v[i].id + 1 : next_id;
     for (i = 0; i < walls->n; i++) {
         const td_line *wl = &walls->v[i];
         long a, b;

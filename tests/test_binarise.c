@@ -280,6 +280,23 @@ static td_grid_u8 *run(const td_image *im, const td_binarise_params *p, int *rc)
     return m;
 }
 
+/* Lines k0..k1 1.8 px wide, 3 px apart, through the centre of a 96 x 96
+ * sheet along (c, sn), each 2 x half px long. */
+static void paint_parallel(sheet *s, int k0, int k1, double half, double c,
+                           double sn, const uint8_t *col)
+{
+    int k;
+    for (k = k0; k <= k1; k++) {
+        shape sh = {48 - half * c - 3.0 * k * sn,
+                    48 - half * sn + 3.0 * k * c,
+                    48 + half * c - 3.0 * k * sn,
+                    48 + half * sn + 3.0 * k * c,
+                    1.8,
+                    0};
+        paint(s, &sh, col, 1);
+    }
+}
+
 /* ---- tests ----------------------------------------------------------------
  */
 
@@ -1136,15 +1153,7 @@ static void test_seam_keeps_crowded_lines(void)
         td_binarise_params p = td_binarise_defaults();
         td_grid_u8 *m;
         int rc, k;
-        for (k = -2; k <= 2; k++) {
-            shape sh = {48 - 30 * c - 3.0 * k * sn,
-                        48 - 30 * sn + 3.0 * k * c,
-                        48 + 30 * c - 3.0 * k * sn,
-                        48 + 30 * sn + 3.0 * k * c,
-                        1.8,
-                        0};
-            paint(&s, &sh, black, 1);
-        }
+        paint_parallel(&s, -2, 2, 30, c, sn, black);
         m = run(s.im, &p, &rc);
         TT_CHECK(rc == 0 && m);
         for (k = -2; k <= 2 && m; k++) {
@@ -1217,16 +1226,8 @@ static void test_light_corner_contacts(void)
         sheet s = sheet_new(96, 96, 1, white);
         td_binarise_params p = td_binarise_defaults();
         td_grid_u8 *m;
-        int rc, k, got;
-        for (k = 0; k < 2; k++) {
-            shape sh = {48 - 44 * c - 3.0 * k * sn,
-                        48 - 44 * sn + 3.0 * k * c,
-                        48 + 44 * c - 3.0 * k * sn,
-                        48 + 44 * sn + 3.0 * k * c,
-                        1.8,
-                        0};
-            paint(&s, &sh, black, 1);
-        }
+        int rc, got;
+        paint_parallel(&s, 0, 1, 44, c, sn, black);
         { /* a thin grey line in a corner */
             shape thin = {4, 93, 24, 93 - 20 * (0.6 + 0.1 * (double)a), 1.1, 0};
             paint(&s, &thin, grey, 2);

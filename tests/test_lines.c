@@ -570,6 +570,44 @@ static void test_simplify(void)
     td_lines_free(orig);
 }
 
+/* The ends of open lines, sorted, found by their point: two lines
+ * ending at one point are both found there (the lower index first), a
+ * closed line has no ends, a line the filter refuses none either. */
+static int not_line_2(size_t i, const void *u)
+{
+    (void)u;
+    return i != 2;
+}
+
+static void test_line_ends(void)
+{
+    static const double pt[4][4] = {
+        {5, 5, 9, 1}, {9, 1, 0, 3}, {7, 7, 8, 8}, {2, 2, 3, 3}};
+    td_lines *ls = td_lines_new(NULL);
+    td_line_end *e = NULL;
+    size_t n = 0, k;
+    int i;
+    for (i = 0; i < 4; i++) {
+        td_line *l = td_lines_add(ls, NULL);
+        td_line_push(l, pt[i][0], pt[i][1], NULL);
+        td_line_push(l, pt[i][2], pt[i][3], NULL);
+        l->closed = i == 3;
+    }
+    TT_CHECK(td_line_ends(ls, not_line_2, NULL, &e, &n, NULL) == 0 && n == 4);
+    for (k = 1; e && k < n; k++)
+        TT_CHECK(e[k - 1].x < e[k].x ||
+                 (e[k - 1].x == e[k].x && e[k - 1].y <= e[k].y));
+    k = td_line_ends_at(e, n, 9, 1);
+    TT_CHECKF(k + 1 < n && e[k].line == 0 && e[k].last == 1 &&
+                  e[k + 1].line == 1 && e[k + 1].last == 0,
+              "at 9,1: end %zu of %zu", k, n);
+    TT_CHECK(td_line_ends_at(e, n, 7, 7) == n); /* line 2: refused */
+    TT_CHECK(td_line_ends_at(e, n, 2, 2) == n); /* line 3: closed */
+    TT_CHECK(td_line_ends_at(e, n, 0, 3) < n);
+    free(e);
+    td_lines_free(ls);
+}
+
 int main(void)
 {
     TT_RUN(test_lines_basic);
@@ -580,5 +618,6 @@ int main(void)
     TT_RUN(test_geojson_failures);
     TT_RUN(test_geojson_empty_and_precision);
     TT_RUN(test_simplify);
+    TT_RUN(test_line_ends);
     return tt_summary();
 }

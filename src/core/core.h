@@ -240,6 +240,23 @@ double td_line_length(const td_line *l);
  * under 1, or over w - 1 or h - 1: td_line.edge), else 0. */
 int td_line_on_border(const td_line *l, int w, int h);
 
+/* An end of an open line: its index in the set, and whether it is the
+ * last vertex (else the first). */
+typedef struct td_line_end {
+    double x, y;
+    size_t line;
+    int last;
+} td_line_end;
+
+/* Both ends of every open line of ls that keep (may be NULL: every one)
+ * accepts, sorted by x, y, line, end, into *out (free it), *n of them.
+ * 0 or TD_ENOMEM. */
+int td_line_ends(const td_lines *ls, int (*keep)(size_t i, const void *u),
+                 const void *u, td_line_end **out, size_t *n, td_ctx *cx);
+/* The index of the first of the n sorted ends lying exactly at (x, y)
+ * (the others there follow it); n when none does. */
+size_t td_line_ends_at(const td_line_end *e, size_t n, double x, double y);
+
 /* Append a copy of l to ls: its points and every property (id
  * included; td_lines_add's own id is overwritten).  0 or TD_ENOMEM. */
 int td_lines_append_copy(td_lines *ls, const td_line *l, td_ctx *cx);

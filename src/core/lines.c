@@ -309,3 +309,54 @@ int td_line_append(td_line *dst, const td_line *src, int rev, td_ctx *cx)
     }
     return 0;
 }
+
+static int cmp_end(const void *pa, const void *pb)
+{
+    const td_line_end *a = pa, *b = pb;
+    if (a->x != b->x)
+        return (a->x > b->x) - (a->x < b->x);
+    if (a->y != b->y)
+        return (a->y > b->y) - (a->y < b->y);
+    if (a->line != b->line)
+        return (a->line > b->line) - (a->line < b->line);
+    return a->last - b->last;
+}
+
+/* See core.h. */
+int td_line_ends(const td_lines *ls, int (*keep)(size_t i, const void *u),
+                 const void *u, td_line_end **out, size_t *n, td_ctx *cx)
+{
+    td_line_end *e = td_malloc((2 * ls->n + 1) * sizeof *e, cx);
+    size_t i, m = 0;
+    *out = NULL, *n = 0;
+    if (!e)
+        return TD_ENOMEM;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        int k;
+        if (l->closed || l->n == 0 || (keep && !keep(i, u)))
+            continue;
+        for (k = 0; k < 2; k++) {
+            size_t q = k ? l->n - 1 : 0;
+            e[m].x = l->xy[2 * q], e[m].y = l->xy[2 * q + 1];
+            e[m].line = i, e[m++].last = k;
+        }
+    }
+    qsort(e, m, sizeof *e, cmp_end);
+    *out = e, *n = m;
+    return 0;
+}
+
+/* See core.h. */
+size_t td_line_ends_at(const td_line_end *e, size_t n, double x, double y)
+{
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (e[mid].x < x || (e[mid].x == x && e[mid].y < y))
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo < n && e[lo].x == x && e[lo].y == y ? lo : n;
+}
