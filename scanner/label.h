@@ -141,6 +141,21 @@ void td_label_report_free(td_label_report *rep);
 int td_label_close_gaps(td_lines *ls, td_ocr_read *reads, size_t nreads,
                         size_t *closed, td_ctx *cx);
 
+/* Lines of one height joined across the breaks between their ends (ours,
+ * for the interpolation: a break lets it see the next contour through):
+ * two open ends of lines with a height (or the two ends of one line),
+ * neither on the sheet's border (2 px), each the other's nearest such end
+ * within reach px, each line heading towards the other end (within 90
+ * degrees), the straight bridge between them crossing no line and no
+ * shorter bridge.  Joined lines keep the first's id and the less sure
+ * piece's confidence and source; a line whose ends meet is closed when it
+ * is at least 3 bridges long.  The reads' line indexes follow (reads may
+ * be NULL with nreads 0).  *closed gets the number of breaks closed.
+ * Returns 0, TD_ENOMEM or TD_ETOOBIG. */
+int td_label_close_breaks(td_lines *ls, int w, int h, double reach,
+                          td_ocr_read *reads, size_t nreads, size_t *closed,
+                          td_ctx *cx);
+
 /* Append one warning (printf format, no newline, no prefix) to rep:
  * counted in rep->warnings; the text is best effort (kept when memory
  * runs out). */

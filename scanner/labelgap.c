@@ -50,7 +50,7 @@ static int end_at(const td_line *l, const td_ocr_read *r, double reach,
     return best;
 }
 
-/* Join the label's two lines: a's end ka, the middle, b's end kb. */
+/* Join two lines: a's end ka, the label's middle r (or none), b's end kb. */
 static int join(td_line *a, int ka, td_line *b, int kb, const td_ocr_read *r,
                 td_ctx *cx)
 {
@@ -58,15 +58,41 @@ static int join(td_line *a, int ka, td_line *b, int kb, const td_ocr_read *r,
                                          (((b->junc >> (1 - kb)) & 1) << 1));
     if (ka == 0)
         td_line_reverse(a);
-    if (td_line_push(a, r->x, r->y, cx) != 0 ||
+    if ((r && td_line_push(a, r->x, r->y, cx) != 0) ||
         td_line_append(a, b, kb == 1, cx) != 0)
         return TD_ENOMEM;
     a->junc = junc;
     a->edge |= b->edge;
     a->bridged += b->bridged + 1;
     a->width = fmax(a->width, b->width);
-    a->confidence = fmax(a->confidence, b->confidence);
+    if (r)
+        a->confidence = fmax(a->confidence, b->confidence);
+    else if (b->confidence < a->confidence) { /* the less sure piece's */
+        a->confidence = b->confidence;
+        a->hsource = b->hsource;
+    }
     return 0;
+}
+
+/* Drop the lines joined into others (gone; own: the line each went
+ * into); the reads' line indexes follow.  map: n scratch slots. */
+static void drop_joined(td_lines *ls, size_t n, size_t *own, size_t *map,
+                        const unsigned char *gone, td_ocr_read *reads,
+                        size_t nreads)
+{
+    size_t i, k = 0;
+    for (i = n; i-- > 0;)
+        if (gone[i])
+            td_lines_remove(ls, i);
+    for (i = 0; i < n; i++)
+        map[i] = gone[i] ? SIZE_MAX : k++;
+    for (i = 0; i < nreads; i++) {
+        int j;
+        for (j = 0; j < 2; j++)
+            if (reads[i].line[j] >= 0 && (size_t)reads[i].line[j] < n)
+                reads[i].line[j] =
+                    (long)map[root(own, (size_t)reads[i].line[j])];
+    }
 }
 
 /* Contract in label.h. */
@@ -133,22 +159,202 @@ int td_label_close_gaps(td_lines *ls, td_ocr_read *reads, size_t nreads,
         gone[e[1]] = 1;
         ++*closed;
     }
-    /* drop the lines joined into others; the reads follow */
-    for (i = n; i-- > 0;)
-        if (gone[i])
-            td_lines_remove(ls, i);
-    {
-        size_t k = 0;
-        for (i = 0; i < n; i++)
-            map[i] = gone[i] ? SIZE_MAX : k++;
-    }
-    for (i = 0; i < nreads; i++) {
-        int j;
-        for (j = 0; j < 2; j++)
-            if (reads[i].line[j] >= 0 && (size_t)reads[i].line[j] < n)
-                reads[i].line[j] =
-                    (long)map[root(own, (size_t)reads[i].line[j])];
-    }
+    drop_joined(ls, n, own, map, gone, reads, nreads);
     free(own), free(map), free(gone);
     return 0;
+}
+
+/* ---- breaks between lines of one height ---------------------------------
+ *
+ *      200 -------a    b------- 200     a line broken where contours crowd
+ *                   \\  //                 (the scanner cut the blob out, or
+ *      210 ----------  ------- 210      the tracer stopped at a junction):
+ *                                       a and b face each other, nothing
+ *   lies between them, and the solve gave both lines 200: they are one
+ *   contour.  Joined, the interpolation no longer sees 210 through the
+ *   break. */
+
+typedef struct brk_end {
+    double x, y, tx, ty; /* the end, and the way the line leaves by it */
+    size_t line;
+    int last;
+    long best; /* the nearest end it may join, or -1 */
+} brk_end;
+
+typedef struct brk {
+    size_t a, b; /* two ends */
+    double d;
+} brk;
+
+static int brk_keep(size_t i, const void *u)
+{
+    const td_lines *ls = u;
+    return ls->v[i].has_height && ls->v[i].n >= 2;
+}
+
+static int cmp_brk(const void *pa, const void *pb)
+{
+    const brk *a = pa, *b = pb;
+    if (a->d != b->d)
+        return (a->d > b->d) - (a->d < b->d);
+    return (a->a > b->a) - (a->a < b->a);
+}
+
+/* The end of a line e may join: the nearest end within reach of another
+ * line (or the other end of its own) of the same height that e heads
+ * towards (within 90 degrees).  Ends are sorted by x. */
+static long brk_best(const td_lines *ls, const brk_end *e, size_t n, size_t a,
+                     double reach)
+{
+    size_t lo = 0, hi = a, j;
+    double bd = reach, h = ls->v[e[a].line].height;
+    long best = -1;
+    while (lo < hi) { /* the first end at x >= x_a - reach */
+        size_t mid = lo + (hi - lo) / 2;
+        if (e[mid].x < e[a].x - reach)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    for (j = lo; j < n && e[j].x <= e[a].x + reach; j++) {
+        double dx = e[j].x - e[a].x, dy = e[j].y - e[a].y, d = hypot(dx, dy);
+        if (j == a || !(d < bd) || ls->v[e[j].line].height != h ||
+            (d > 2.0 && dx * e[a].tx + dy * e[a].ty < 0))
+            continue;
+        bd = d, best = (long)j;
+    }
+    return best;
+}
+
+/* Which end of l lies at (x, y): 0 first, 1 last, -1 neither. */
+static int end_of(const td_line *l, double x, double y)
+{
+    if (l->xy[2 * (l->n - 1)] == x && l->xy[2 * (l->n - 1) + 1] == y)
+        return 1;
+    return l->xy[0] == x && l->xy[1] == y ? 0 : -1;
+}
+
+/* Two bridges cross (inside both). */
+static int brk_cross(const brk_end *e, const brk *p, const brk *q)
+{
+    const brk_end *a = &e[p->a], *b = &e[p->b], *c = &e[q->a], *d = &e[q->b];
+    double r0 = b->x - a->x, r1 = b->y - a->y, s0 = d->x - c->x,
+           s1 = d->y - c->y, den = r0 * s1 - r1 * s0, t, u;
+    if (den == 0)
+        return 0;
+    t = ((c->x - a->x) * s1 - (c->y - a->y) * s0) / den;
+    u = ((c->x - a->x) * r1 - (c->y - a->y) * r0) / den;
+    return t > 1e-9 && t < 1 - 1e-9 && u > 1e-9 && u < 1 - 1e-9;
+}
+
+/* Find the breaks: mutual nearest ends, bridges crossing no line and no
+ * shorter bridge.  *out (free()), *nout. */
+static int find_breaks(const td_lines *ls, int w, int h, double reach,
+                       brk_end **ends, brk **out, size_t *nout, td_ctx *cx)
+{
+    td_line_end *le = NULL;
+    brk_end *e = NULL;
+    brk *b = NULL;
+    td_seggrid *g = NULL;
+    size_t n, i, nb = 0, k;
+    int rc = td_line_ends(ls, brk_keep, ls, &le, &n, cx);
+    *ends = NULL, *out = NULL, *nout = 0;
+    if (rc)
+        return rc;
+    e = td_calloc(n + 1, sizeof *e, cx);
+    b = td_calloc(n / 2 + 1, sizeof *b, cx);
+    if (!e || !b || !(g = td_seggrid_new(ls, cx))) {
+        rc = cx && cx->code ? cx->code : TD_ENOMEM;
+        goto done;
+    }
+    for (i = 0; i < n; i++) {
+        const td_line *l = &ls->v[le[i].line];
+        size_t v = le[i].last ? l->n - 1 : 0;
+        size_t u =
+            le[i].last ? (l->n > 6 ? l->n - 7 : 0) : (l->n > 6 ? 6 : l->n - 1);
+        e[i].x = le[i].x, e[i].y = le[i].y;
+        e[i].tx = l->xy[2 * v] - l->xy[2 * u];
+        e[i].ty = l->xy[2 * v + 1] - l->xy[2 * u + 1];
+        e[i].line = le[i].line, e[i].last = le[i].last;
+    }
+    for (i = 0; i < n; i++) /* an end on the border leaves the sheet */
+        e[i].best = e[i].x < 2 || e[i].y < 2 || e[i].x > w - 3 || e[i].y > h - 3
+                        ? -1
+                        : brk_best(ls, e, n, i, reach);
+    for (i = 0; i < n; i++) {
+        long j = e[i].best;
+        if (j > (long)i && e[j].best == (long)i &&
+            !(e[j].x < 2 || e[j].y < 2 || e[j].x > w - 3 || e[j].y > h - 3)) {
+            b[nb].a = i, b[nb].b = (size_t)j;
+            b[nb++].d = hypot(e[j].x - e[i].x, e[j].y - e[i].y);
+        }
+    }
+    qsort(b, nb, sizeof *b, cmp_brk);
+    for (i = 0, k = 0; i < nb; i++) {
+        const double pa[2] = {e[b[i].a].x, e[b[i].a].y};
+        const double pb[2] = {e[b[i].b].x, e[b[i].b].y};
+        size_t q;
+        int bad = td_seggrid_crosses(g, pa, pb);
+        for (q = 0; q < k && !bad; q++)
+            bad = brk_cross(e, &b[q], &b[i]);
+        if (!bad)
+            b[k++] = b[i];
+    }
+    *ends = e, *out = b, *nout = k;
+    e = NULL, b = NULL;
+done:
+    td_seggrid_free(g);
+    free(le), free(e), free(b);
+    return rc;
+}
+
+/* Contract in label.h. */
+int td_label_close_breaks(td_lines *ls, int w, int h, double reach,
+                          td_ocr_read *reads, size_t nreads, size_t *closed,
+                          td_ctx *cx)
+{
+    brk_end *e = NULL;
+    brk *b = NULL;
+    size_t nb, i, n = ls->n, *own = NULL, *map = NULL;
+    unsigned char *gone = NULL;
+    int rc;
+    *closed = 0;
+    if (!n || !(reach > 0))
+        return 0;
+    if ((rc = find_breaks(ls, w, h, reach, &e, &b, &nb, cx)) != 0)
+        return rc;
+    own = td_malloc(n * sizeof *own, cx);
+    map = td_malloc(n * sizeof *map, cx);
+    gone = td_calloc(n, 1, cx);
+    if (!own || !map || !gone) {
+        rc = TD_ENOMEM;
+        goto done;
+    }
+    for (i = 0; i < n; i++)
+        own[i] = i;
+    for (i = 0; i < nb; i++) {
+        const brk_end *p = &e[b[i].a], *q = &e[b[i].b];
+        size_t la = root(own, p->line), lb = root(own, q->line);
+        td_line *A = &ls->v[la], *B = &ls->v[lb];
+        int ka = end_of(A, p->x, p->y), kb = end_of(B, q->x, q->y);
+        if (ka < 0 || kb < 0 || A->closed || B->closed)
+            continue;
+        if (la == lb) { /* the two ends of one line (or chain): a ring */
+            if (ka == kb || td_line_length(A) < 3 * b[i].d)
+                continue;
+            A->closed = 1;
+            A->bridged++;
+            A->junc = 0;
+        } else {
+            if ((rc = join(A, ka, B, kb, NULL, cx)) != 0)
+                goto done;
+            own[lb] = la;
+            gone[lb] = 1;
+        }
+        ++*closed;
+    }
+    drop_joined(ls, n, own, map, gone, reads, nreads);
+done:
+    free(e), free(b), free(own), free(map), free(gone);
+    return rc;
 }

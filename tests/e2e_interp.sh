@@ -129,6 +129,23 @@ check "run --debug-dir: labels.geojson with values and used flags" \
 if command -v ogrinfo >/dev/null; then
   check "labels.geojson opens in ogrinfo" "ogrinfo -ro -al -so '$T/frdbg/labels.geojson' | grep -q 'Feature Count'"
 fi
+# Elkhorn (SRTM), scanned, labels only: where contours crowd lines break,
+# and the interpolation saw the next contour through each break (2.39 m);
+# the lines of one height joined across them (--bridge, default 48 px):
+# 2.26 m, the DEM from the true lines 1.93 m.
+"$BUILD/tdgen" --dem-in tests/data/dems/elkhorn_srtm3.tif --scale 6 \
+    --width 1.8 --index-width 3.2 --labels 3 --label-bend 40 \
+    --label-font dejavu --blur 0.8 --noise 8 --specks 300 --breaks 40 \
+    --break-len 3,10 -o "$T/el.png" --dem "$T/el_dem.tif" -q
+"$TD" run "$T/el.png" -o "$T/el0.tif" --bridge 0 -q
+"$TD" run "$T/el.png" -o "$T/el.tif" 2>"$T/err"
+check "run: breaks between lines of one height bridged (summary line)" \
+  "[ \$? = 0 ] && grep -q '^run: [0-9]* breaks between the ends of lines of one height bridged' '$T/err'"
+"$TD" compare "$T/el0.tif" "$T/el_dem.tif" --json >"$T/el0.json"
+"$TD" compare "$T/el.tif" "$T/el_dem.tif" --json >"$T/el.json"
+r0=$(json "$T/el0.json" rmse); r=$(json "$T/el.json" rmse)
+check "run, Elkhorn: breaks bridged RMSE $r m < 2.32 m and < --bridge 0 ($r0 m)" \
+  "lt '$r' 2.32 && lt '$r' '$r0'"
 "$TD" run "$T/nothere.png" -o "$T/x.tif" --interval 20 --known 1,1,1 2>"$T/err"
 check "run on a missing scan: exit 1, one line" "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && [ ! -e '$T/x.tif' ]"
 

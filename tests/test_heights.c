@@ -4,6 +4,7 @@
 #include "tests/tt.h"
 #include "tests/util/hsheet.h"
 
+#include "interp/interp.h"
 #include "scanner/faces.h"
 #include "scanner/label.h"
 #include "scanner/ocr.h"
@@ -147,6 +148,89 @@ static void test_close_label_gap(void)
                   "%zu closed, ring closed %d", closed, ls->v[2].closed);
     }
     td_lines_free(ls);
+}
+
+/* Horizontal line at height h from x0 to x1 (either way) at y. */
+static void hline(td_lines *ls, double x0, double x1, double y, double h)
+{
+    td_line *l = td_lines_add(ls, NULL);
+    double x, d = x1 > x0 ? 1 : -1;
+    for (x = x0; d * (x1 - x) >= 0; x += d)
+        td_line_push(l, x, y, NULL);
+    l->has_height = 1;
+    l->height = h;
+}
+
+/* The interpolated height at (x, y) of ls on a w x h sheet (default
+ * method), or NAN. */
+static double dem_at(const td_lines *ls, int w, int h, int x, int y)
+{
+    td_interp_params p = td_interp_defaults();
+    td_grid_f32 *d = NULL;
+    double z = NAN;
+    p.interval = 10;
+    if (td_interp_lines(ls, w, h, &p, &d, NULL) == 0)
+        z = d->data[(size_t)y * d->stride + x];
+    td_grid_f32_free(d);
+    return z;
+}
+
+/* Lines of one height whose ends face each other across a break are
+ * joined (td_label_close_breaks, scanner/labelgap.c): a 200 contour broken
+ * for 20 px with 210 and 220 above it.  Joined, the ground just below the
+ * break stays under 200; left open, the interpolation sees 210 through it.
+ * Not joined: ends of another height, a line crossing the gap, ends on the
+ * border, ends heading apart. */
+static void test_close_breaks(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    size_t closed = 9;
+    double open_z, z;
+    hline(ls, 20, 130, 100, 200);
+    hline(ls, 280, 150, 100, 200);
+    hline(ls, 0, 299, 60, 210);
+    hline(ls, 0, 299, 30, 220);
+    hline(ls, 0, 299, 180, 190);
+    open_z = dem_at(ls, 300, 200, 140, 103);
+    TT_CHECK(td_label_close_breaks(ls, 300, 200, 48, NULL, 0, &closed, NULL) ==
+             0);
+    TT_CHECKF(closed == 1 && ls->n == 4 && ls->v[0].n == 111 + 131 &&
+                  ls->v[0].xy[2 * 110] == 130 && ls->v[0].xy[2 * 111] == 150,
+              "%zu closed, %zu lines", closed, ls->n);
+    z = dem_at(ls, 300, 200, 140, 103);
+    TT_CHECKF(z > 190 && z < 200 && open_z > 200,
+              "below the break %g, "
+              "left open %g",
+              z, open_z);
+    td_lines_free(ls);
+    { /* what stays open */
+        static const struct {
+            double h2, cross, y0; /* second piece's height; a line across
+                                     at x = 140 (height), or 0; y of the
+                                     pieces */
+            double a0, a1, b0, b1;
+        } c[4] = {{210, 0, 100, 20, 130, 280, 150},   /* another height */
+                  {200, 205, 100, 20, 130, 280, 150}, /* a line between */
+                  {200, 0, 1, 20, 130, 280, 150},     /* on the border */
+                  {200, 0, 100, 20, 150, 280, 130}};  /* heading apart */
+        int k;
+        for (k = 0; k < 4; k++) {
+            ls = td_lines_new(NULL);
+            hline(ls, c[k].a0, c[k].a1, c[k].y0, 200);
+            hline(ls, c[k].b0, c[k].b1, c[k].y0 + (k == 3 ? 10 : 0), c[k].h2);
+            if (c[k].cross > 0) {
+                td_line *l = td_lines_add(ls, NULL);
+                td_line_push(l, 140, 50, NULL);
+                td_line_push(l, 140, 150, NULL);
+                l->has_height = 1;
+                l->height = c[k].cross;
+            }
+            TT_CHECK(td_label_close_breaks(ls, 300, 200, 48, NULL, 0, &closed,
+                                           NULL) == 0);
+            TT_CHECKF(closed == 0, "case %d: %zu closed", k, closed);
+            td_lines_free(ls);
+        }
+    }
 }
 
 /* Many nested rings, the known point on the fifth from outside. */
@@ -661,5 +745,6 @@ int main(void)
     TT_RUN(test_rings_rise);
     TT_RUN(test_ring_beside_line);
     TT_RUN(test_close_label_gap);
+    TT_RUN(test_close_breaks);
     return tt_summary();
 }

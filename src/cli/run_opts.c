@@ -26,7 +26,7 @@ void td_cli_run_init(td_cli_run *r)
 size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
 {
     td_label_params *lp = &r->p.label;
-    const td_opt o[12] = {
+    const td_opt o[13] = {
         {"interval", 0, TD_OPT_DOUBLE, &lp->interval, 1e-9, 1e9, .meta = "I",
          .help = "contour interval (default: inferred from\nthe printed "
          "labels)", .no_default = 1},
@@ -54,6 +54,9 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
          "auto; see topodig scan --help)"},
         {"threshold", 0, TD_OPT_FUNC, &r->p.scan.bin, .fn = threshold,
          .meta = "T", .help = "otsu | sauvola | N (default otsu)"},
+        {"bridge", 0, TD_OPT_DOUBLE, &r->p.bridge, 0, 1e6, .meta = "PX",
+         .help = "join lines of one height across breaks\nbetween their "
+         "ends up to PX long (ours;\n0: off)"},
         {"save-lines", 0, TD_OPT_OUTPUT, &r->save_lines, .meta = "F", .help =
          "also write the labelled lines the DEM was\ninterpolated from "
          "(.geojson, .gpkg, .shp or\n.dxf by extension, with height,\n"
@@ -66,7 +69,7 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
          "(one point per label read:\ntext, value, angle, confidence, used, "
          "why)"}};
     memcpy(v, o, sizeof o);
-    return 12 + td_cli_interp_opts(v + 12, &r->p.interp);
+    return 13 + td_cli_interp_opts(v + 13, &r->p.interp);
 }
 
 /* See run_int.h. */

@@ -454,3 +454,68 @@ done:
     free(g.segs);
     return rc;
 }
+
+/* ---- does a segment cross a line ---------------------------------------- */
+
+struct td_seggrid {
+    const td_lines *ls;
+    xgrid g;
+};
+
+/* Contract in core.h. */
+td_seggrid *td_seggrid_new(const td_lines *ls, td_ctx *cx)
+{
+    td_seggrid *s = td_calloc(1, sizeof *s, cx);
+    if (!s)
+        return NULL;
+    s->ls = ls;
+    if (xgrid_build(ls, &s->g, cx) != 0) {
+        td_seggrid_free(s);
+        return NULL;
+    }
+    return s;
+}
+
+void td_seggrid_free(td_seggrid *s)
+{
+    if (!s)
+        return;
+    free(s->g.start);
+    free(s->g.segs);
+    free(s);
+}
+
+/* Contract in core.h. */
+int td_seggrid_crosses(const td_seggrid *s, const double *a, const double *b)
+{
+    const xgrid *g = &s->g;
+    double bx0 = fmin(a[0], b[0]), bx1 = fmax(a[0], b[0]);
+    double by0 = fmin(a[1], b[1]), by1 = fmax(a[1], b[1]);
+    long cx0, cx1, cy0, cy1, cx, cy;
+    if (!g->segs)
+        return 0;
+    cx0 = xcell(g, bx0, g->x0, g->cw), cx1 = xcell(g, bx1, g->x0, g->cw);
+    cy0 = xcell(g, by0, g->y0, g->ch), cy1 = xcell(g, by1, g->y0, g->ch);
+    for (cy = cy0; cy <= cy1; cy++)
+        for (cx = cx0; cx <= cx1; cx++) {
+            long c = cy * g->cw + cx;
+            size_t k;
+            for (k = g->start[c]; k < g->start[c + 1]; k++) {
+                const double *e = seg_pt(s->ls, &g->segs[k], 0);
+                const double *f = seg_pt(s->ls, &g->segs[k], 1);
+                double r0 = b[0] - a[0], r1 = b[1] - a[1];
+                double s0 = f[0] - e[0], s1 = f[1] - e[1];
+                double den = r0 * s1 - r1 * s0, t, u;
+                if (fmax(e[0], f[0]) < bx0 || fmin(e[0], f[0]) > bx1 ||
+                    fmax(e[1], f[1]) < by0 || fmin(e[1], f[1]) > by1 ||
+                    den == 0)
+                    continue;
+                t = ((e[0] - a[0]) * s1 - (e[1] - a[1]) * s0) / den;
+                u = ((e[0] - a[0]) * r1 - (e[1] - a[1]) * r0) / den;
+                /* inside ab (its ends may lie on lines), anywhere on ef */
+                if (t > 1e-9 && t < 1 - 1e-9 && u >= 0 && u <= 1)
+                    return 1;
+            }
+        }
+    return 0;
+}

@@ -334,6 +334,16 @@ typedef struct td_crossing {
 int td_contain_crossings(const td_lines *ls, td_crossing **out, size_t *n,
                          td_ctx *cx);
 
+/* A bucket grid of the segments of ls (which must outlive it, unchanged)
+ * for "does this segment cross a line" queries.  NULL with the error in cx
+ * (TD_ENOMEM, TD_ETOOBIG). */
+typedef struct td_seggrid td_seggrid;
+td_seggrid *td_seggrid_new(const td_lines *ls, td_ctx *cx);
+void td_seggrid_free(td_seggrid *s);
+/* Nonzero when segment ab meets a segment of the grid's lines anywhere
+ * but at a or b (a and b may lie on lines: ends at junctions). */
+int td_seggrid_crosses(const td_seggrid *s, const double *a, const double *b);
+
 /* ---- draw ---- */
 /* draw.h: debug and teaching pictures drawn in memory (no file I/O). */
 

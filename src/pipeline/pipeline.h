@@ -80,6 +80,10 @@ typedef struct td_run_params {
                               two sides got one height go back in as lines
                               for the interpolation (td_walls_restore;
                               ours; default 1) */
+    double bridge;         /* then lines of one height are joined across
+                              the breaks between their ends up to this
+                              many px long (td_label_close_breaks; ours;
+                              default 48; 0: off) */
     int keep_scan;         /* keep the image until on_labelled (debug) */
     int (*on_labelled)(const struct td_run_result *r, void *user);
     void *user;
@@ -97,6 +101,7 @@ typedef struct td_run_result {
     td_grid_f32 *dem;
     size_t traced, dropped, ncross;
     size_t walls_back;     /* cut stretches put back (walls_back) */
+    size_t breaks_closed;  /* breaks bridged (bridge) */
     double secs[3];        /* read + scan, label, interpolate */
     double ocr_secs;
     td_label_report rep, checks; /* the labeller's; crossings aside, the

@@ -16,6 +16,7 @@ td_run_params td_run_defaults(void)
     p.scan = td_scan_defaults();
     p.read_labels = 1;
     p.walls_back = 1;
+    p.bridge = 48;
     p.label = td_label_defaults();
     p.interp = td_interp_defaults();
     return p;
@@ -112,12 +113,16 @@ static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
             return (int)nr;
         r->walls_back = (size_t)nr;
     }
+    /* lines cut where two contours ran as one */
+    r->traced = r->lines->n - r->walls_back;
+    if (!tree && p->bridge > 0 &&
+        (rc = td_label_close_breaks(r->lines, r->w, r->h, p->bridge, r->reads,
+                                    r->nreads, &r->breaks_closed, cx)) != 0)
+        return rc;
     if (p->on_labelled && (rc = p->on_labelled(r, p->user)) != 0)
         return rc;
     td_image_free(r->scan); /* the pictures are drawn */
     r->scan = NULL;
-    /* lines cut where two contours ran as one */
-    r->traced = r->lines->n - r->walls_back;
     for (i = r->lines->n; i-- > 0;)
         if (!r->lines->v[i].has_height) {
             td_lines_remove(r->lines, i);
