@@ -1,0 +1,125 @@
+/* bench_dem: the DEM `topodig run` makes with no option at all (printed
+ * labels read, interval inferred) from sheets drawn from the real DEMs
+ * (tests/data/dems), against the DEM interpolated from the sheet's true
+ * lines: RMSE of each against the true DEM and their ratio (the heights
+ * issue's target: run within 10 % of the true lines), with the walls put
+ * back and the breaks bridged as run does them, and each turned off.
+ * Numbers for docs/label.md ("Where the DEMs stand") and benchmarks.md.
+ *
+ *   bench_dem [--dems DIR] [--only NAME] [--dir TMPDIR] */
+#include "tests/util/hsheet.h"
+
+#include "interp/interp.h"
+#include "src/compare/compare.h"
+#include "src/io/io.h"
+#include "src/pipeline/pipeline.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+/* RMSE of dem against the true DEM, or -1. */
+static double rmse_of(const td_grid_f32 *dem, const td_grid_f32 *truth)
+{
+    td_compare_stats st;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    return td_compare_grids(dem, truth, &st, &cx) == 0 ? st.rmse : -1.0;
+}
+
+/* run on the sheet at path with p; the DEM's RMSE, or -1 (message to
+ * stdout).  *secs gets the wall time. */
+static double run_rmse(const char *path, const td_run_params *p,
+                       const td_grid_f32 *truth, size_t *walls, size_t *breaks,
+                       double *secs)
+{
+    td_run_result r;
+    td_ctx cx;
+    double t0 = td_now(), e = -1.0;
+    td_ctx_init(&cx);
+    if (td_pipeline_run(path, p, &r, &cx) != 0)
+        printf("   run failed: %s\n", td_errmsg(&cx));
+    else {
+        e = rmse_of(r.dem, truth);
+        *walls = r.walls_back, *breaks = r.breaks_closed;
+    }
+    *secs = td_now() - t0;
+    td_run_result_free(&r);
+    return e;
+}
+
+int main(int argc, char **argv)
+{
+    const char *only = NULL, *dir = "build-bench/data";
+    static const int kinds[3] = {1, 2, 3};
+    size_t s;
+    int a, k;
+    for (a = 1; a < argc; a++) {
+        if (!strcmp(argv[a], "--only") && a + 1 < argc)
+            only = argv[++a];
+        else if (!strcmp(argv[a], "--dir") && a + 1 < argc)
+            dir = argv[++a];
+        else if (!strcmp(argv[a], "--topodig") && a + 1 < argc)
+            a++; /* make bench passes it to every benchmark */
+    }
+    mkdir(dir, 0777);
+    printf("run with no option (labels read, interval inferred), DEM RMSE "
+           "against the true DEM\n%-12s %-8s %8s %8s %8s %8s %7s %6s %6s "
+           "%6s\n",
+           "sheet", "scan", "run", "no-walls", "no-bridge", "truth", "ratio",
+           "walls", "breaks", "secs");
+    for (s = 0; s < sizeof td_real_sheets / sizeof *td_real_sheets; s++) {
+        const td_real_sheet *rs = &td_real_sheets[s];
+        if (only && strcmp(only, rs->name))
+            continue;
+        for (k = 0; k < 3; k++) {
+            td_gen_params gp;
+            td_image *im = NULL;
+            td_lines *tl = NULL;
+            td_grid_f32 *tdem = NULL, *tli = NULL, *src;
+            td_interp_params ip = td_interp_defaults();
+            td_run_params p = td_run_defaults();
+            td_ctx cx;
+            char path[512];
+            double e[3], et = -1, secs, sx;
+            size_t walls = 0, breaks = 0, wx, bx;
+            td_ctx_init(&cx);
+            if (!(src = td_hsheet_dem_sheet(rs->dem, rs->scale, &gp, &cx))) {
+                printf("%-12s %s\n", rs->name, td_errmsg(&cx));
+                break;
+            }
+            gp.interval = rs->interval;
+            td_hsheet_defects(&gp, kinds[k]);
+            snprintf(path, sizeof path, "%s/bench_dem_%s_%d.png", dir, rs->name,
+                     kinds[k]);
+            if (td_gen_sheet(&gp, &im, &tl, &tdem, &cx) != 0 ||
+                td_png_write(path, im, &cx) != 0) {
+                printf("%-12s %s\n", rs->name, td_errmsg(&cx));
+                goto next;
+            }
+            ip.interval = td_gen_auto_interval(&gp, tdem);
+            if (td_interp_lines(tl, im->w, im->h, &ip, &tli, &cx) == 0)
+                et = rmse_of(tli, tdem);
+            e[0] = run_rmse(path, &p, tdem, &walls, &breaks, &secs);
+            p.walls_back = 0;
+            e[1] = run_rmse(path, &p, tdem, &wx, &bx, &sx);
+            p.walls_back = 1, p.bridge = 0;
+            e[2] = run_rmse(path, &p, tdem, &wx, &bx, &sx);
+            printf("%-12s %-8s %8.3f %8.3f %8.3f %8.3f %6.1f%% %6zu %6zu "
+                   "%6.2f\n",
+                   rs->name, td_defect_names[kinds[k]], e[0], e[1], e[2], et,
+                   et > 0 ? 100.0 * (e[0] / et - 1) : 0.0, walls, breaks, secs);
+            fflush(stdout);
+        next:
+            if (!getenv("BENCH_DEM_KEEP"))
+                remove(path);
+            td_image_free(im);
+            td_lines_free(tl);
+            td_grid_f32_free(tdem);
+            td_grid_f32_free(tli);
+            td_grid_f32_free(src);
+        }
+    }
+    return 0;
+}
