@@ -1,8 +1,8 @@
 /* bench_heights: height accuracy of the labeller on sheets drawn from real
- * DEMs (../shared/dems) and the generator's terrains, scanned or clean,
- * with three known points or one known point and the index contours'
- * widths; the share of traced line length with the right height
- * (td_match_heights), lines wrong with confidence >= 0.9, where heights
+ * DEMs (../shared/dems) and the generator's terrains, clean, scanned, in colour
+ * or printed (tdgen --print), with three known points or one known point and
+ * the index contours' widths; the share of traced line length with the right
+ * height (td_match_heights), lines wrong with confidence >= 0.9, where heights
  * came from, and the labelling time.  Numbers for docs/benchmarks.md.
  *
  *   bench_heights [--dems DIR] [--only NAME] [--tree] [--search N] [--log]
@@ -31,8 +31,8 @@ static const sheet_case cases[] = {
     {"ridges", NULL, TD_GEN_RIDGES, 0, 0, 2000},
 };
 
-
-static const char *const scan_name[4] = {"truth", "clean", "scanned", "colour"};
+static const char *const scan_name[5] = {"truth", "clean", "scanned", "colour",
+                                         "printed"};
 static const char *const hint_name[3] = {"3 known", "3 known+index",
                                          "labels only"};
 
@@ -84,7 +84,7 @@ int main(int argc, char **argv)
                 continue;
             }
         }
-        for (scanned = 0; scanned < 4; scanned++)
+        for (scanned = 0; scanned < 5; scanned++)
             for (hint = 0; hint < 3; hint++) {
                 td_hsheet hs;
                 memset(&hs, 0, sizeof hs);
@@ -98,13 +98,14 @@ int main(int argc, char **argv)
                 } else {
                     hs.gp.w = hs.gp.h = k->size;
                 }
-                td_hsheet_defects(&hs.gp, scanned >= 2 ? (scanned == 3 ? 2 : 1) : 0);
+                td_hsheet_defects(&hs.gp, scanned >= 2 ? scanned - 1 : 0);
                 hs.gp.hachures = hach;
                 hs.use_truth_lines = scanned == 0;
                 if (hint == 2 && scanned < 2)
                     continue; /* labels: on the scanned sheets */
-                if (scanned == 3 && hint == 0 && !all)
-                    continue; /* colour: with index widths and labels */
+                if (scanned >= 3 && hint == 0 && !all)
+                    continue; /* colour, printed: with index widths and
+                                 labels */
                 hs.nknown = hint == 2 ? 0 : 3;
                 hs.index_every = hint == 1 ? 5 : 0;
                 hs.read_labels = hint == 2;
