@@ -1066,3 +1066,39 @@ int td_binarise_seams(const td_image *im, const td_binarise_params *p,
 fail:
     return rc;
 }
+
+/* Contract in binarise.h. */
+int td_binarise_other_ink(const td_image *im, const td_palette *pal,
+                          uint8_t **bits, td_ctx *cx)
+{
+    uint8_t *veto, *b;
+    size_t stride = ((size_t)im->w + 7) / 8, n = 0, i;
+    int x, y;
+    *bits = NULL;
+    if (!pal || pal->n == 0 || pal->chosen < 0 || im->channels != 3)
+        return 0;
+    if (!(veto = td_malloc(LUT_SIZE, cx)))
+        return TD_ENOMEM;
+    td_palette_veto_lut(pal, veto);
+    for (i = 0; i < LUT_SIZE; i++)
+        n += veto[i] != 0;
+    if (n == 0) {
+        free(veto);
+        return 0;
+    }
+    if (!(b = td_calloc((size_t)im->h * stride + 1, 1, cx))) {
+        free(veto);
+        return TD_ENOMEM;
+    }
+    for (y = 0; y < im->h; y++) {
+        const uint8_t *px = im->data + (size_t)y * im->stride;
+        uint8_t *row = b + (size_t)y * stride;
+        for (x = 0; x < im->w; x++, px += 3)
+            if (veto[(((px[0] + 4) >> 3) * LUT_N + ((px[1] + 4) >> 3)) * LUT_N +
+                     ((px[2] + 4) >> 3)])
+                row[x >> 3] |= (uint8_t)(1u << (x & 7));
+    }
+    free(veto);
+    *bits = b;
+    return 0;
+}

@@ -116,6 +116,14 @@ int td_binarise_seams(const td_image *im, const td_binarise_params *p,
                       td_grid_u8 *mask, td_palette *pal, uint8_t *seams,
                       double *halftone, td_ctx *cx);
 
+/* The pixels of im that another ink than the contour ink covers (the
+ * palette's veto, as binarisation clears them: a road, a river, black
+ * lettering) packed one bit a pixel as td_width_pack, into *bits
+ * (calloc'ed; free it); *bits NULL when pal found no such ink (grey scans,
+ * pal->n == 0).  0 or TD_ENOMEM. */
+int td_binarise_other_ink(const td_image *im, const td_palette *pal,
+                          uint8_t **bits, td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

@@ -795,9 +795,52 @@ static int keep_path(jend *a, jend *b, const double *pts, size_t np,
     return 0;
 }
 
+/* Whether another ink covers (x, y) or a pixel next to it. */
+static int other_at(const td_join_params *p, double x, double y)
+{
+    size_t stride = ((size_t)p->w + 7) / 8;
+    int X = (int)floor(x), Y = (int)floor(y), dx, dy;
+    for (dy = -1; dy <= 1; dy++)
+        for (dx = -1; dx <= 1; dx++) {
+            int u = X + dx, v = Y + dy;
+            if (u >= 0 && v >= 0 && u < p->w && v < p->h &&
+                (p->other[(size_t)v * stride + (size_t)(u >> 3)] >> (u & 7)) &
+                    1)
+                return 1;
+        }
+    return 0;
+}
+
+/* The path pts (np points) runs over another ink (p->other) for more than
+ * OTHER_MIN px and OTHER_SHARE of its length: a contour hidden under a
+ * road, whose ends could be any two of the contours it crosses. */
+#define OTHER_MIN 8.0
+#define OTHER_SHARE 0.33
+static int under_other(const td_join_params *p, const double *pts, size_t np)
+{
+    double len = 0, over = 0;
+    size_t k;
+    if (!p->other)
+        return 0;
+    for (k = 0; k + 1 < np; k++) {
+        double dx = pts[2 * k + 2] - pts[2 * k],
+               dy = pts[2 * k + 3] - pts[2 * k + 1];
+        double d = hypot(dx, dy);
+        int m = (int)ceil(d), j;
+        for (j = 0; j < m; j++) {
+            double t = (j + 0.5) / m;
+            over += other_at(p, pts[2 * k] + t * dx, pts[2 * k + 1] + t * dy)
+                        ? d / m
+                        : 0;
+        }
+        len += d;
+    }
+    return over > OTHER_MIN && over > OTHER_SHARE * len;
+}
+
 /* Greedy acceptance, cheapest first; stage 2 also rejects joins whose path
- * meets a line or an accepted join, and keeps the accepted paths (pieces
- * in *acc, polylines in paths). */
+ * meets a line or an accepted join, or runs under another ink, and keeps
+ * the accepted paths (pieces in *acc, polylines in paths). */
 /* ---- stage 1: junction zones ------------------------------------------
  *
  * Where contours touch, the tracer cut the skeleton at the junction and
@@ -987,7 +1030,8 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
             n = join_path(a, b, pts);
             if (!p->curves) /* the chord */
                 pts[2] = b->x, pts[3] = b->y, n = 2;
-            if (path_crosses(&g, ls, a, b, pts, n, *acc, *nacc))
+            if (path_crosses(&g, ls, a, b, pts, n, *acc, *nacc) ||
+                under_other(p, pts, n))
                 continue;
             if ((rc = keep_path(a, b, pts, n, acc, nacc, &cap, paths,
                                 cx)) != 0)

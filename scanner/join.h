@@ -43,6 +43,14 @@ typedef struct td_join_params {
                           tracer's cut, td_line.junc) are removed: a
                           stretch two touching contours share (default
                           12; 0: off) */
+    const uint8_t *other; /* stage 2 (ours): pixels another ink covers (a
+                             road, a river; td_binarise_other_ink: packed
+                             bits, w x h), or NULL.  A contour hidden under
+                             a road is no label gap: a stage-2 join whose
+                             path runs over another ink (within 1 px) for
+                             more than 8 px and a third of its length is
+                             not made (default NULL; td_scan sets it on
+                             colour scans) */
     double junc_ratio; /* junction zones: a pair whose end has another
                           partner (on another line) costing under this
                           many times as much is left open: two contours

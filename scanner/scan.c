@@ -23,6 +23,7 @@ td_scan_params td_scan_defaults(void)
     p.ticks = 2;
     p.wide_cut = 3.0;
     p.wide_own = -1.0;
+    p.join_other = 1;
     p.straight = td_straight_defaults();
     return p;
 }
@@ -48,7 +49,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             td_ctx *cx)
 {
     td_grid_u8 *g = NULL;
-    uint8_t *bits = NULL, *seams = NULL;
+    uint8_t *bits = NULL, *seams = NULL, *other = NULL;
     td_join_params jp = p->join;
     double t0, halftone = -1;
     int rc;
@@ -94,7 +95,14 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     jp.w = im->w;
     jp.h = im->h;
     jp.record = jp.record || p->keep_debug; /* the overlay draws the joins */
-    if (p->do_join && (rc = td_join(&res->lines, &jp, &res->join, cx)) != 0)
+    if (p->do_join && p->join_other &&
+        (rc = td_binarise_other_ink(im, &res->palette, &other, cx)) != 0)
+        goto fail;
+    jp.other = other;
+    rc = p->do_join ? td_join(&res->lines, &jp, &res->join, cx) : 0;
+    free(other);
+    other = NULL;
+    if (rc != 0)
         goto fail;
     if (p->measure_width &&
         (rc = td_line_widths_packed(bits, im->w, im->h, res->lines, cx)) != 0)

@@ -38,6 +38,9 @@ typedef struct td_scan_params {
     td_trace_params trace;
     td_join_params join;  /* w,h filled in by td_scan */
     int do_join;          /* default 1 */
+    int join_other;       /* colour scans: the joiner is told where other
+                             inks lie (td_join_params.other; ours;
+                             default 1) */
     td_straight_params straight; /* grid lines erased (straight.h, ours) */
     int measure_width;    /* set each line's width (width.h), default 1 */
     int blob_rings;       /* tiny rings that printed as dots of ink get

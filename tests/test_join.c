@@ -215,6 +215,38 @@ static void test_label_gap(void)
     td_lines_free(ls);
 }
 
+/* A 30-px gap between two pieces of one line is a label gap on paper
+ * (joined); the same gap under a road (another ink, td_join_params.other,
+ * along the gap) is a contour hidden under it, and stays open: its ends
+ * could be any two of the contours the road runs along.  A road crossing
+ * the gap (a 4-px band across it) does not stop the join. */
+static void test_gap_under_other_ink(void)
+{
+    size_t stride = (W + 7) / 8;
+    static uint8_t bits[(W + 7) / 8 * H + 1];
+    int k, x, y;
+    for (k = 0; k < 3; k++) {
+        td_join_params p = td_join_defaults(W, H);
+        td_join_stats st;
+        td_lines *ls = td_lines_new(NULL);
+        add_hline(ls, 20, 130, 100);
+        add_hline(ls, 160, 280, 100);
+        memset(bits, 0, sizeof bits);
+        for (y = 97; y <= 103; y++) /* k 1: a road along the gap; 2: across */
+            for (x = 125; x <= 165; x++)
+                if ((k == 1) || (k == 2 && x >= 143 && x <= 146))
+                    bits[(size_t)y * stride + (x >> 3)] |=
+                        (uint8_t)(1u << (x & 7));
+        p.other = k ? bits : NULL;
+        TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+        TT_CHECKF((k == 1) == (ls->n == 2),
+                  "case %d: %zu lines, %zu label "
+                  "joins",
+                  k, ls->n, st.long_joins);
+        td_lines_free(ls);
+    }
+}
+
 /* A short piece of a contour between two small breaks is not a fragment:
  * it continues the lines on both sides. */
 static void test_short_piece_kept(void)
@@ -456,6 +488,7 @@ int main(void)
     TT_RUN(test_shift_and_bend);
     TT_RUN(test_curved_gap);
     TT_RUN(test_label_gap);
+    TT_RUN(test_gap_under_other_ink);
     TT_RUN(test_short_piece_kept);
     TT_RUN(test_faded_pieces);
     TT_RUN(test_labels_off);
