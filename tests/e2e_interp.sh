@@ -146,6 +146,18 @@ check "run: breaks between lines of one height bridged (summary line)" \
 r0=$(json "$T/el0.json" rmse); r=$(json "$T/el.json" rmse)
 check "run, Elkhorn: breaks bridged RMSE $r m < 2.32 m and < --bridge 0 ($r0 m)" \
   "lt '$r' 2.32 && lt '$r' '$r0'"
+# the three-step path: interp bridges the same breaks (--bridge, default 48)
+"$TD" scan "$T/el.png" -o "$T/el_lines.geojson" -q
+"$TD" label "$T/el_lines.geojson" -o "$T/el_lab.geojson" --sheet "$T/el.png" -q
+"$TD" interp "$T/el_lab.geojson" -o "$T/eli0.tif" --like "$T/el.png" --bridge 0 -q
+"$TD" interp "$T/el_lab.geojson" -o "$T/eli.tif" --like "$T/el.png" 2>"$T/err"
+check "interp: breaks bridged (summary line)" \
+  "[ \$? = 0 ] && grep -q '^interp: [0-9]* breaks between the ends of lines of one height bridged' '$T/err'"
+"$TD" compare "$T/eli0.tif" "$T/el_dem.tif" --json >"$T/eli0.json"
+"$TD" compare "$T/eli.tif" "$T/el_dem.tif" --json >"$T/eli.json"
+r0=$(json "$T/eli0.json" rmse); r=$(json "$T/eli.json" rmse)
+check "scan, label, interp on Elkhorn: bridged RMSE $r m < --bridge 0 ($r0 m) - 0.05" \
+  "lt '$r' \$(awk 'BEGIN { print $r0 - 0.05 }')"
 "$TD" run "$T/nothere.png" -o "$T/x.tif" --interval 20 --known 1,1,1 2>"$T/err"
 check "run on a missing scan: exit 1, one line" "[ \$? = 1 ] && [ \$(wc -l <'$T/err') = 1 ] && [ ! -e '$T/x.tif' ]"
 

@@ -5,6 +5,7 @@
 #include "src/core/core.h"
 #include "interp/homotopy.h"
 #include "interp/interp.h"
+#include "scanner/label.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -69,6 +70,7 @@ typedef struct beside_list {
 typedef struct ip_opts {
     const char *in, *out, *like;
     int quiet, margin;
+    double bridge;
     beside_list beside;
     td_interp_params p;
 } ip_opts;
@@ -85,7 +87,7 @@ static int add_beside(const char *arg, void *t, td_ctx *cx)
 
 static int parse_args(int argc, char **argv, ip_opts *o)
 {
-    td_opt opts[TD_CLI_INTERP_OPTS + 4] = {
+    td_opt opts[TD_CLI_INTERP_OPTS + 5] = {
         {"like", 0, TD_OPT_STRING, &o->like, .meta = "SCAN", .help = "the "
          "scan the lines were traced from (required:\nsize and "
          "georeferencing)"},
@@ -95,8 +97,11 @@ static int parse_args(int argc, char **argv, ip_opts *o)
          "sheet's within --margin of its edges,\nso the two DEMs meet at "
          "the shared edge", .no_default = 1},
         {"margin", 0, TD_OPT_INT, &o->margin, 1, 65536, .meta = "PX",
-         .help = "how far beyond the edges --beside lines count"}};
-    size_t n = 3 + td_cli_interp_opts(opts + 3, &o->p);
+         .help = "how far beyond the edges --beside lines count"},
+        {"bridge", 0, TD_OPT_DOUBLE, &o->bridge, 0, 1e6, .meta = "PX",
+         .help = "join lines of one height across breaks\nbetween their "
+         "ends up to PX long, as run\ndoes (ours; 0: off)"}};
+    size_t n = 4 + td_cli_interp_opts(opts + 4, &o->p);
     const td_cmd c = {
         "interp", "LABELLED.geojson -o DEM.tif --like SCAN\n"
         "                      [--method multidir|scanline|homotopy] [--step N]",
@@ -208,10 +213,12 @@ int td_cmd_interp(int argc, char **argv)
     td_grid_f32 *dem = NULL;
     td_homotopy_stats hs;
     double t0 = td_now();
+    size_t nbr = 0;
     int rc, w, h, ch;
     memset(&o, 0, sizeof o);
     o.p = td_interp_defaults();
     o.margin = 256;
+    o.bridge = 48;
     memset(&hs, 0, sizeof hs);
     o.p.hstats = &hs;
     if ((rc = parse_args(argc, argv, &o)) != 0)
@@ -226,6 +233,9 @@ int td_cmd_interp(int argc, char **argv)
     if ((rc = read_beside(&o, &geo, &nb, &cx)) != 0)
         goto fail;
     drop_unlabelled(ls, o.quiet);
+    if (o.bridge > 0 && (rc = td_label_close_breaks(ls, w, h, o.bridge, NULL,
+                                                    0, &nbr, &cx)) != 0)
+        goto fail;
     if ((rc = td_interp_lines_beside(ls, nb, o.margin, w, h, &o.p, &dem,
                                      &cx)) != 0) {
         name_file(&cx, o.in);
@@ -235,8 +245,12 @@ int td_cmd_interp(int argc, char **argv)
     if ((rc = td_dem_write(o.out, dem, &geo, &cx)) != 0)
         goto fail;
     td_cli_progress_done(&pr);
-    if (!o.quiet)
+    if (!o.quiet) {
         summary(dem, &o.p, td_now() - t0);
+        if (nbr)
+            fprintf(stderr, "interp: %zu break%s between the ends of lines "
+                    "of one height bridged\n", nbr, nbr == 1 ? "" : "s");
+    }
 fail:
     td_cli_progress_done(&pr);
     td_grid_f32_free(dem);
