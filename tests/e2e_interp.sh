@@ -17,6 +17,9 @@ json() { # file key -> number
   sed -n "s/.*\"$2\": *\([-0-9.eE+]*\).*/\1/p" "$1"
 }
 lt() { awk "BEGIN { exit !($1 < $2) }"; }
+rmse_vs() { # DEM reference -> the RMSE of DEM against it
+    "$TD" compare "$1" "$2" --json >"$T/rmse.json" && json "$T/rmse.json" rmse
+}
 have_gdal() { command -v gdalinfo >/dev/null 2>&1; }
 
 for c in interp compare render run; do
@@ -141,9 +144,7 @@ fi
 "$TD" run "$T/el.png" -o "$T/el.tif" 2>"$T/err"
 check "run: breaks between lines of one height bridged (summary line)" \
   "[ \$? = 0 ] && grep -q '^run: [0-9]* breaks between the ends of lines of one height bridged' '$T/err'"
-"$TD" compare "$T/el0.tif" "$T/el_dem.tif" --json >"$T/el0.json"
-"$TD" compare "$T/el.tif" "$T/el_dem.tif" --json >"$T/el.json"
-r0=$(json "$T/el0.json" rmse); r=$(json "$T/el.json" rmse)
+r0=$(rmse_vs "$T/el0.tif" "$T/el_dem.tif"); r=$(rmse_vs "$T/el.tif" "$T/el_dem.tif")
 check "run, Elkhorn: breaks bridged RMSE $r m < 2.32 m and < --bridge 0 ($r0 m)" \
   "lt '$r' 2.32 && lt '$r' '$r0'"
 # the three-step path: interp bridges the same breaks (--bridge, default 48)
@@ -153,9 +154,7 @@ check "run, Elkhorn: breaks bridged RMSE $r m < 2.32 m and < --bridge 0 ($r0 m)"
 "$TD" interp "$T/el_lab.geojson" -o "$T/eli.tif" --like "$T/el.png" 2>"$T/err"
 check "interp: breaks bridged (summary line)" \
   "[ \$? = 0 ] && grep -q '^interp: [0-9]* breaks between the ends of lines of one height bridged' '$T/err'"
-"$TD" compare "$T/eli0.tif" "$T/el_dem.tif" --json >"$T/eli0.json"
-"$TD" compare "$T/eli.tif" "$T/el_dem.tif" --json >"$T/eli.json"
-r0=$(json "$T/eli0.json" rmse); r=$(json "$T/eli.json" rmse)
+r0=$(rmse_vs "$T/eli0.tif" "$T/el_dem.tif"); r=$(rmse_vs "$T/eli.tif" "$T/el_dem.tif")
 check "scan, label, interp on Elkhorn: bridged RMSE $r m < --bridge 0 ($r0 m) - 0.05" \
   "lt '$r' \$(awk 'BEGIN { print $r0 - 0.05 }')"
 "$TD" run "$T/nothere.png" -o "$T/x.tif" --interval 20 --known 1,1,1 2>"$T/err"
