@@ -237,14 +237,11 @@ static int end_of(const td_line *l, double x, double y)
 /* Two bridges cross (inside both). */
 static int brk_cross(const brk_end *e, const brk *p, const brk *q)
 {
-    const brk_end *a = &e[p->a], *b = &e[p->b], *c = &e[q->a], *d = &e[q->b];
-    double r0 = b->x - a->x, r1 = b->y - a->y, s0 = d->x - c->x,
-           s1 = d->y - c->y, den = r0 * s1 - r1 * s0, t, u;
-    if (den == 0)
-        return 0;
-    t = ((c->x - a->x) * s1 - (c->y - a->y) * s0) / den;
-    u = ((c->x - a->x) * r1 - (c->y - a->y) * r0) / den;
-    return t > 1e-9 && t < 1 - 1e-9 && u > 1e-9 && u < 1 - 1e-9;
+    const double a[2] = {e[p->a].x, e[p->a].y}, b[2] = {e[p->b].x, e[p->b].y};
+    const double c[2] = {e[q->a].x, e[q->a].y}, d[2] = {e[q->b].x, e[q->b].y};
+    double t, u;
+    return td_seg_meet_at(a, b, c, d, &t, &u) && t > 1e-9 && t < 1 - 1e-9 &&
+           u > 1e-9 && u < 1 - 1e-9;
 }
 
 /* Find the breaks: mutual nearest ends, bridges crossing no line and no

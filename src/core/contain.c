@@ -234,15 +234,24 @@ static const double *seg_pt(const td_lines *ls, const xseg *s, int end)
 static int proper_cross(const double *a, const double *b, const double *c,
                         const double *d, double *x, double *y)
 {
+    double t, u;
+    if (!td_seg_meet_at(a, b, c, d, &t, &u) || t < 0 || t >= 1 || u < 0 ||
+        u >= 1)
+        return 0;
+    *x = a[0] + t * (b[0] - a[0]), *y = a[1] + t * (b[1] - a[1]);
+    return 1;
+}
+
+/* Contract in core.h. */
+int td_seg_meet_at(const double *a, const double *b, const double *c,
+                   const double *d, double *t, double *u)
+{
     double r0 = b[0] - a[0], r1 = b[1] - a[1], s0 = d[0] - c[0], s1 = d[1] - c[1];
-    double den = r0 * s1 - r1 * s0, t, u;
+    double den = r0 * s1 - r1 * s0;
     if (den == 0)
         return 0;
-    t = ((c[0] - a[0]) * s1 - (c[1] - a[1]) * s0) / den;
-    u = ((c[0] - a[0]) * r1 - (c[1] - a[1]) * r0) / den;
-    if (t < 0 || t >= 1 || u < 0 || u >= 1)
-        return 0;
-    *x = a[0] + t * r0, *y = a[1] + t * r1;
+    *t = ((c[0] - a[0]) * s1 - (c[1] - a[1]) * s0) / den;
+    *u = ((c[0] - a[0]) * r1 - (c[1] - a[1]) * r0) / den;
     return 1;
 }
 
@@ -503,15 +512,11 @@ int td_seggrid_crosses(const td_seggrid *s, const double *a, const double *b)
             for (k = g->start[c]; k < g->start[c + 1]; k++) {
                 const double *e = seg_pt(s->ls, &g->segs[k], 0);
                 const double *f = seg_pt(s->ls, &g->segs[k], 1);
-                double r0 = b[0] - a[0], r1 = b[1] - a[1];
-                double s0 = f[0] - e[0], s1 = f[1] - e[1];
-                double den = r0 * s1 - r1 * s0, t, u;
+                double t, u;
                 if (fmax(e[0], f[0]) < bx0 || fmin(e[0], f[0]) > bx1 ||
                     fmax(e[1], f[1]) < by0 || fmin(e[1], f[1]) > by1 ||
-                    den == 0)
+                    !td_seg_meet_at(a, b, e, f, &t, &u))
                     continue;
-                t = ((e[0] - a[0]) * s1 - (e[1] - a[1]) * s0) / den;
-                u = ((e[0] - a[0]) * r1 - (e[1] - a[1]) * r0) / den;
                 /* inside ab (its ends may lie on lines), anywhere on ef */
                 if (t > 1e-9 && t < 1 - 1e-9 && u >= 0 && u <= 1)
                     return 1;

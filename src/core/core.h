@@ -334,6 +334,12 @@ typedef struct td_crossing {
 int td_contain_crossings(const td_lines *ls, td_crossing **out, size_t *n,
                          td_ctx *cx);
 
+/* Where the lines through ab and cd meet: a + t (b - a) = c + u (d - c);
+ * 0 when they are parallel (t, u untouched), else 1.  The callers decide
+ * which ends count. */
+int td_seg_meet_at(const double *a, const double *b, const double *c,
+                   const double *d, double *t, double *u);
+
 /* A bucket grid of the segments of ls (which must outlive it, unchanged)
  * for "does this segment cross a line" queries.  NULL with the error in cx
  * (TD_ENOMEM, TD_ETOOBIG). */
