@@ -18,8 +18,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define LUT_N 33 /* brownness table nodes per channel: 0, 8, ..., 256 */
-#define LUT_SIZE (LUT_N * LUT_N * LUT_N)
+#define LUT_N TD_PALETTE_LUT_N /* table nodes per channel: 0, 8, ..., 256 */
+#define LUT_SIZE TD_PALETTE_LUT_SIZE
 #define BAND_ROWS 256 /* rows per strength band and progress report */
 
 td_binarise_params td_binarise_defaults(void)
@@ -180,21 +180,6 @@ static void brown_lut_build(uint8_t *lut)
             }
 }
 
-/* Trilinear lookup in the 33^3 table, integer weights in eighths. */
-static inline uint8_t brown_lookup(const uint8_t *lut, int r, int g, int b)
-{
-    const uint8_t *p = lut + ((r >> 3) * LUT_N + (g >> 3)) * LUT_N + (b >> 3);
-    const int N = LUT_N, N2 = LUT_N * LUT_N;
-    int fr = r & 7, fg = g & 7, fb = b & 7;
-    int c00 = p[0] * (8 - fb) + p[1] * fb;
-    int c01 = p[N] * (8 - fb) + p[N + 1] * fb;
-    int c10 = p[N2] * (8 - fb) + p[N2 + 1] * fb;
-    int c11 = p[N2 + N] * (8 - fb) + p[N2 + N + 1] * fb;
-    int c0 = c00 * (8 - fg) + c01 * fg;
-    int c1 = c10 * (8 - fg) + c11 * fg;
-    return (uint8_t)((c0 * (8 - fr) + c1 * fr + 256) >> 9);
-}
-
 /* ---- ink strength rows --------------------------------------------------- */
 
 typedef struct strength_ctx {
@@ -214,7 +199,7 @@ static void row_brown(const uint8_t *lut, const uint8_t *px, int w, uint8_t *s)
 {
     int x;
     for (x = 0; x < w; x++, px += 3)
-        s[x] = brown_lookup(lut, px[0], px[1], px[2]);
+        s[x] = td_palette_lut_at(lut, px[0], px[1], px[2]);
 }
 
 static void row_rgb(const td_binarise_params *p, const uint8_t *px, int w,

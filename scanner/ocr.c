@@ -1,9 +1,9 @@
 /* Reading printed height labels (contract and picture in ocr.h). */
 #include "scanner/ocr.h"
 
-#include "src/core/core.h"
 #include "scanner/join.h"
-
+#include "scanner/palette.h"
+#include "src/core/core.h"
 
 #include <tesseract/capi.h>
 
@@ -23,6 +23,7 @@ td_ocr_params td_ocr_defaults(void)
     p.tessdata = NULL;
     p.min_conf = 0.3;
     p.digit_px = 32.0;
+    p.ink = NULL;
     return p;
 }
 
@@ -34,8 +35,10 @@ td_ocr_params td_ocr_defaults(void)
 
 enum { DOT_REACH = 14, DOT_MAX = 7, DOT_MIN_AREA = 5, DOT_MAX_AREA = 40 };
 
-/* Luminance of im at (x, y), bilinear; paper outside. */
-static double lum_at(const td_image *im, double x, double y)
+/* Luminance of im at (x, y), bilinear; paper outside.  With lut (the
+ * contour ink's strength table, RGB scans): 255 minus the ink's strength,
+ * the ink dark on white whatever the background. */
+static double lum_at(const td_image *im, const uint8_t *lut, double x, double y)
 {
     double fx, fy, v[4];
     long ix, iy;
@@ -51,8 +54,9 @@ static double lum_at(const td_image *im, double x, double y)
             continue;
         }
         q = im->data + (size_t)Y * im->stride + (size_t)X * im->channels;
-        v[k] = im->channels >= 3 ? 0.299 * q[0] + 0.587 * q[1] + 0.114 * q[2]
-                                 : q[0];
+        v[k] = im->channels < 3 ? q[0]
+               : lut            ? 255 - td_palette_lut_at(lut, q[0], q[1], q[2])
+                                : 0.299 * q[0] + 0.587 * q[1] + 0.114 * q[2];
     }
     return (1 - fy) * ((1 - fx) * v[0] + fx * v[1]) +
            fy * ((1 - fx) * v[2] + fx * v[3]);
@@ -199,7 +203,8 @@ typedef struct cand {
     double cx, cy, ux, uy, along, across; /* centre, axis, extents */
 } cand;
 
-static int sample_strip(const td_image *im, const cand *c, strip *s)
+static int sample_strip(const td_image *im, const uint8_t *lut, const cand *c,
+                        strip *s)
 {
     int i, j;
     memset(s, 0, sizeof *s);
@@ -220,7 +225,7 @@ static int sample_strip(const td_image *im, const cand *c, strip *s)
         for (i = 0; i < s->w; i++) {
             double x, y;
             strip_xy(s, i, j, &x, &y);
-            s->g[j * s->w + i] = lum_at(im, x, y);
+            s->g[j * s->w + i] = lum_at(im, lut, x, y);
         }
     return 0;
 }
@@ -577,23 +582,24 @@ static int read_at(TessBaseAPI *api, strip *s, double t,
     return rc;
 }
 
-/* Read the label in one gap into *r; 1: nothing read, -1: no memory.
- * The digits are cut from the strip at Otsu's threshold.  When that reads
- * nothing sure (confidence under SURE_READ), faint or blurred print is
- * tried too: Otsu's rule, pulled towards the paper by the few ink pixels,
- * merges blurred digits into one blob, and the lighter label ink of a
- * colour sheet falls apart at it; halfway between ink and paper and a
- * third of the way from paper, on the strip smoothed against the noise.
- * The most confident read wins. */
-static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
-                    const td_ocr_params *p, td_ocr_read *r)
+/* Read the label in one gap, sampled through lut (lum_at), into *r
+ * against the best read so far (*best, its way round *turn0); 1: nothing
+ * better read, -1: no memory.  The digits are cut from the strip at
+ * Otsu's threshold.  When that reads nothing sure (confidence under
+ * SURE_READ), faint or blurred print is tried too: Otsu's rule, pulled
+ * towards the paper by the few ink pixels, merges blurred digits into one
+ * blob, and the lighter label ink of a colour sheet falls apart at it;
+ * halfway between ink and paper and a third of the way from paper, on the
+ * strip smoothed against the noise.  The most confident read wins. */
+static int read_strip(TessBaseAPI *api, const td_image *im, const uint8_t *lut,
+                      const cand *gap, const td_ocr_params *p, td_ocr_read *r,
+                      double *best, int *turn0)
 {
     strip s;
-    int rc, k, any, turn0 = 0;
-    double t[3], best = -1;
+    int rc, k, any;
+    double t[3];
     size_t i, n;
-    memset(r, 0, sizeof *r);
-    if ((rc = sample_strip(im, gap, &s)) != 0)
+    if ((rc = sample_strip(im, lut, gap, &s)) != 0)
         goto done;
     n = (size_t)s.w * s.h;
     s.ink = 255, s.paper = 0;
@@ -605,29 +611,47 @@ static int read_gap(TessBaseAPI *api, const td_image *im, const cand *gap,
     if (s.paper - s.ink < 40)
         goto done;
     t[0] = otsu(s.g, n);
-    if ((any = read_at(api, &s, t[0], p, r, &best, &turn0)) < 0 ||
-        best >= SURE_READ)
-        goto found;
+    if ((any = read_at(api, &s, t[0], p, r, best, turn0)) < 0 ||
+        *best >= SURE_READ) {
+        rc = any;
+        goto done;
+    }
     if (smooth_strip(&s) != 0) {
-        any = -1;
-        goto found;
+        rc = -1;
+        goto done;
     }
     t[1] = 0.5 * (s.ink + s.paper);
     t[2] = s.paper - 0.3 * (s.paper - s.ink);
     for (k = 1; k < 3; k++) {
-        int q = read_at(api, &s, t[k], p, r, &best, &turn0);
+        int q = read_at(api, &s, t[k], p, r, best, turn0);
         if (q < 0) {
             any = -1;
             break;
         }
         any &= q;
     }
-found:
     rc = any;
-    for (k = 0; k < TD_OCR_ALTS; k++) /* turned from the read's way */
-        r->alt[k].turned = r->alt[k].conf > 0 && r->alt[k].turned != turn0;
 done:
     strip_free(&s);
+    return rc;
+}
+
+/* Read the label in one gap into *r (read_strip); on a colour scan whose
+ * contour ink is known (lut) and the luminance read nothing sure, in the
+ * ink's strength too.  1: nothing read, -1: no memory. */
+static int read_gap(TessBaseAPI *api, const td_image *im, const uint8_t *lut,
+                    const cand *gap, const td_ocr_params *p, td_ocr_read *r)
+{
+    int rc, k, turn0 = 0;
+    double best = -1;
+    memset(r, 0, sizeof *r);
+    rc = read_strip(api, im, NULL, gap, p, r, &best, &turn0);
+    if (rc >= 0 && lut && best < SURE_READ) {
+        int q = read_strip(api, im, lut, gap, p, r, &best, &turn0);
+        rc = q < 0 ? q : rc & q;
+    }
+    for (k = 0; k < TD_OCR_ALTS; k++) /* turned from the read's way */
+        r->alt[k].turned = r->alt[k].conf > 0 && r->alt[k].turned != turn0;
     return rc;
 }
 
@@ -753,6 +777,7 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
     TessBaseAPI *api;
     td_ocr_read *v = NULL;
     signed char *st = NULL; /* per candidate: read_gap's answer */
+    uint8_t *lut = NULL;    /* the contour ink's strength (p->ink) */
     cand *cs = NULL;
     long nc, next = 0, done = 0;
     int levels, nth, stop = 0;
@@ -770,7 +795,15 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
         free(v);
         return td_seterr(cx, TD_ENOMEM, "labels: out of memory");
     }
+    if (p->ink && p->ink->n > 0 && p->ink->chosen >= 0 && im->channels == 3) {
+        if (!(lut = td_malloc(TD_PALETTE_LUT_SIZE, cx))) {
+            free(cs), free(v), free(st);
+            return TD_ENOMEM;
+        }
+        td_palette_lut(p->ink, lut);
+    }
     if (!(api = digit_reader(p))) {
+        free(lut);
         free(v);
         free(st);
         free(cs);
@@ -798,7 +831,7 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
             halt = stop;
             if (!mine || k >= nc || halt)
                 break;
-            st[k] = (signed char)read_gap(mine, im, &cs[k], p, &v[k]);
+            st[k] = (signed char)read_gap(mine, im, lut, &cs[k], p, &v[k]);
             if (st[k] < 0) {
 #pragma omp atomic write
                 stop = -1;
@@ -820,6 +853,7 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
     }
     omp_set_max_active_levels(levels);
     reader_free(api);
+    free(lut);
     for (i = 0; i < (size_t)nc && !stop; i++) /* in candidate order */
         if (st[i] == 0 && v[i].conf >= p->min_conf) {
             if (m != i)
@@ -896,13 +930,14 @@ static int find_dot(const td_image *im, const td_ocr_read *r, double *dx,
             double u = px * r->ux + py * r->uy, v = -px * r->uy + py * r->ux;
             if (fabs(u) > hu || fabs(v) > hv) { /* out of reach, dark: 2 */
                 m[(size_t)y * W + x] =
-                    lum_at(im, x0 + x + 0.5, y0 + y + 0.5) < t ? 2 : 0;
+                    lum_at(im, NULL, x0 + x + 0.5, y0 + y + 0.5) < t ? 2 : 0;
                 continue;
             }
             m[(size_t)y * W + x] =
                 fabs(u) <= 0.5 * r->len && fabs(v) <= 0.4 * r->digit_px
                     ? 3 /* the text's core */
-                    : lum_at(im, x0 + x + 0.5, y0 + y + 0.5) < t ? 1 : 0;
+                : lum_at(im, NULL, x0 + x + 0.5, y0 + y + 0.5) < t ? 1
+                                                                   : 0;
         }
     for (y = 0; y < W; y++)
         for (x = 0; x < W; x++) {

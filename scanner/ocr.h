@@ -61,6 +61,13 @@ typedef struct td_ocr_params {
                              /usr/share/tesseract-ocr/5/tessdata) */
     double min_conf;      /* reads below this are dropped (default 0.3) */
     double digit_px;      /* digits are scaled to this height (32) */
+    const struct td_palette *ink; /* a colour scan's inks (td_scan's
+                             palette), or NULL (the default).  With the
+                             contour ink chosen, a label the luminance
+                             does not read sure is read again in that
+                             ink's strength: a label knocked out of a
+                             tint sits in a light box the luminance sees
+                             as the text (ours) */
 } td_ocr_params;
 
 td_ocr_params td_ocr_defaults(void);

@@ -73,6 +73,27 @@ int td_palette_choose(td_palette *pal, int brown);
  * others. */
 void td_palette_lut(const td_palette *pal, uint8_t *lut);
 
+/* The tables' nodes per channel, and their size in bytes. */
+#define TD_PALETTE_LUT_N 33
+#define TD_PALETTE_LUT_SIZE                                                    \
+    (TD_PALETTE_LUT_N * TD_PALETTE_LUT_N * TD_PALETTE_LUT_N)
+
+/* Table lut at colour (r, g, b): trilinear between its nodes, integer
+ * weights in eighths. */
+static inline uint8_t td_palette_lut_at(const uint8_t *lut, int r, int g, int b)
+{
+    const int N = TD_PALETTE_LUT_N, N2 = N * N;
+    const uint8_t *p = lut + ((r >> 3) * N + (g >> 3)) * N + (b >> 3);
+    int fr = r & 7, fg = g & 7, fb = b & 7;
+    int c00 = p[0] * (8 - fb) + p[1] * fb;
+    int c01 = p[N] * (8 - fb) + p[N + 1] * fb;
+    int c10 = p[N2] * (8 - fb) + p[N2 + 1] * fb;
+    int c11 = p[N2 + N] * (8 - fb) + p[N2 + N + 1] * fb;
+    int c0 = c00 * (8 - fg) + c01 * fg;
+    int c1 = c10 * (8 - fg) + c11 * fg;
+    return (uint8_t)((c0 * (8 - fr) + c1 * fr + 256) >> 9);
+}
+
 /* The veto table (same nodes): 255 where an ink that is no contour ink
  * explains the colour clearly better (coverage >= 0.5, residual at least
  * 10 RGB levels under the chosen ink's), 0 elsewhere. */

@@ -434,6 +434,38 @@ static void test_labels_only(void)
     labelled_sheet("elkhorn_srtm3.tif", 6, 0, 0, 10, 0.97);
 }
 
+/* Elkhorn printed (the colour plates over ageing paper, scanned with
+ * fringing, blur, noise and JPEG: tdgen --print): labels knocked out of
+ * the green tint sit in a light box that the luminance strip takes for
+ * the text, so their digits were never cut out; read again in the
+ * contour ink's strength (td_ocr_params.ink), where tint and box are both
+ * paper.  7 labels read before (all right), 12 with the ink (all right),
+ * among them the south-east's three on the tint. */
+static void test_labels_on_tint(void)
+{
+    td_hsheet hs;
+    td_grid_f32 *src;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    memset(&hs, 0, sizeof hs);
+    src = td_hsheet_dem_sheet("elkhorn_srtm3.tif", 6, &hs.gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    if (!src)
+        return;
+    td_hsheet_defects(&hs.gp, 3);
+    hs.read_labels = 1;
+    hs.no_interval = 1;
+    TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
+    TT_CHECKF(hs.reads_right >= 11 && hs.reads_right == hs.nreads,
+              "Elkhorn printed: %zu of %zu labels read right", hs.reads_right,
+              hs.nreads);
+    TT_CHECKF(hs.used_wrong == 0 && hs.interval == 10,
+              "Elkhorn printed: %zu labels used wrong, interval %g",
+              hs.used_wrong, hs.interval);
+    td_label_report_free(&hs.rep);
+    td_grid_f32_free(src);
+}
+
 /* Straight labels printed on curves: the generator's hills, scanned and
  * in colour, with no hint.  A label on a small ring (radius 48 px) sits on
  * the chord of the ring's label gap, 6-8 px from the ring at its middle,
@@ -733,6 +765,7 @@ int main(void)
     TT_RUN(test_real_elkhorn);
     TT_RUN(test_labels_only);
     TT_RUN(test_labels_on_curves);
+    TT_RUN(test_labels_on_tint);
     TT_RUN(test_crowded_labels_only);
     TT_RUN(test_crowded_walls);
     TT_RUN(test_crowded_crisp);

@@ -24,9 +24,12 @@ int td_pipeline_sheet_labels(const char *scan, const td_lines *ls,
         return rc;
     sp.join.record = 1;
     sp.measure_width = 0;
-    if ((rc = td_scan(im, &sp, &res, cx)) == 0)
-        rc = td_ocr_scan_labels(im, res.lines, &res.join, ls, NULL, reads, n,
-                                cx);
+    if ((rc = td_scan(im, &sp, &res, cx)) == 0) {
+        td_ocr_params op = td_ocr_defaults();
+        op.ink = &res.palette; /* labels on a tint read in the ink */
+        rc =
+            td_ocr_scan_labels(im, res.lines, &res.join, ls, &op, reads, n, cx);
+    }
     td_scan_result_free(&res);
     td_image_free(im);
     return rc;

@@ -40,8 +40,10 @@ static int do_scan(const char *path, const td_run_params *p, td_run_result *r,
     sp.join.record = p->read_labels; /* where the labels are */
     if ((rc = td_scan(im, &sp, &res, cx)) == 0 && p->read_labels) {
         double t1 = td_now();
-        rc = td_ocr_scan_labels(im, res.lines, &res.join, NULL, NULL,
-                                &r->reads, &r->nreads, cx);
+        td_ocr_params op = td_ocr_defaults();
+        op.ink = &res.palette; /* labels on a tint read in the ink */
+        rc = td_ocr_scan_labels(im, res.lines, &res.join, NULL, &op, &r->reads,
+                                &r->nreads, cx);
         if (rc == 0) {
             td_ocr_drop_digits(res.lines, r->reads, r->nreads);
             td_ocr_drop_dots(res.lines, res.join.text, r->reads, r->nreads);

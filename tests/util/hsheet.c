@@ -157,7 +157,9 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
             goto done;
         if (hs->read_labels) {
             size_t i, j;
-            if ((rc = td_ocr_scan_labels(im, res.lines, &res.join, NULL, NULL,
+            td_ocr_params op = td_ocr_defaults();
+            op.ink = &res.palette;
+            if ((rc = td_ocr_scan_labels(im, res.lines, &res.join, NULL, &op,
                                          &reads, &hs->nreads, cx)) != 0)
                 goto done;
             td_ocr_drop_digits(res.lines, reads, hs->nreads);
