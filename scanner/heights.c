@@ -709,7 +709,7 @@ static int setup_index(hs *s, td_ctx *cx)
     double cut;
     size_t i, k, c0, m;
     int rc;
-    if (s->p->index_every <= 0)
+    if (s->p->index_every <= 0 || s->p->index_off)
         return 0;
     if ((rc = td_label_thick_cut(s->ls, s->p, &cut, cx)) < 0)
         return rc;
@@ -2528,6 +2528,47 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
     int rc = faces_of(ls, p, &fx, &fe, &nfe, cx);
     if (rc == 0)
         rc = solve_on(ls, p, fx, fe, nfe, 0, NULL, rep, cx);
+    free(fe);
+    td_faces_free(fx);
+    return rc;
+}
+
+/* Contract in heights_int.h.  The spacings and their small costs are
+ * infer_interval's (an index line rarer than every 5th costs a little). */
+int td_heights_solve_index(td_lines *ls, const td_label_params *p,
+                           td_label_report *rep, td_ctx *cx)
+{
+    static const int every[4] = {5, 4, 10, 2};
+    static const double rarer[4] = {0.0, 8.0, 15.0, 15.0};
+    td_faces *fx = NULL;
+    td_face_edge *fe = NULL;
+    size_t nfe = 0;
+    dp_tables dp = {NULL, NULL, NULL, 0};
+    td_label_params q = *p;
+    double cut, best = HUGE_VAL;
+    int rc, k, N = 0;
+    if ((rc = td_label_thick_cut(ls, p, &cut, cx)) < 0)
+        return rc;
+    if (rc == 0) /* no thicker lines: nothing to try */
+        return td_heights_solve(ls, p, rep, cx);
+    if ((rc = faces_of(ls, p, &fx, &fe, &nfe, cx)) != 0)
+        goto done;
+    q.index_auto = 1;
+    for (k = 0; k < 4; k++) {
+        td_label_report r;
+        memset(&r, 0, sizeof r);
+        q.index_every = every[k];
+        rc = solve_on(ls, &q, fx, fe, nfe, 1, &dp, &r, cx);
+        if (rc == 0 && r.cost + rarer[k] < best - 1e-9)
+            best = r.cost + rarer[k], N = every[k];
+        td_label_report_free(&r);
+        if (rc)
+            goto done;
+    }
+    q.index_every = N;
+    rc = solve_on(ls, &q, fx, fe, nfe, 0, &dp, rep, cx);
+done:
+    free(dp.up), free(dp.msg), free(dp.down);
     free(fe);
     td_faces_free(fx);
     return rc;

@@ -18,4 +18,11 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
 int td_heights_infer(td_lines *ls, const td_label_params *p,
                      td_label_report *rep, td_ctx *cx);
 
+/* The face solve with the interval given and p->index_every 0 (and not
+ * p->index_off): when the line widths show thicker lines, each index
+ * spacing (5, 4, 10, 2) is tried as td_heights_infer tries them and the
+ * cheapest solve is kept; else td_heights_solve.  Returns as it. */
+int td_heights_solve_index(td_lines *ls, const td_label_params *p,
+                           td_label_report *rep, td_ctx *cx);
+
 #endif

@@ -847,7 +847,9 @@ int td_label_auto(td_lines *ls, const td_label_params *p,
     if (!(p->interval > 0) || !isfinite(p->interval) || !isfinite(p->base))
         return td_seterr(cx, TD_EINVAL, "label: the interval must be > 0");
     if (p->method == TD_LABEL_FACES)
-        return td_heights_solve(ls, p, rep, cx);
+        return p->index_every <= 0 && !p->index_off
+                   ? td_heights_solve_index(ls, p, rep, cx)
+                   : td_heights_solve(ls, p, rep, cx);
     s.ls = ls, s.p = p, s.n = ls->n, s.rep = rep;
     if ((rc = td_contain_build(ls, p->w, p->h, &s.ct, cx)) != 0)
         return rc;

@@ -68,7 +68,13 @@ typedef struct td_label_params {
                               face runs through them; NULL: none */
     int index_every;       /* index contours every this many levels (base +
                               k * index_every * interval), drawn thicker:
-                              td_label_check_index; 0 = no check (default) */
+                              td_label_check_index; 0 = no check (default).
+                              Faces: 0 lets the solve pick the spacing the
+                              line widths fit best (5, 4, 10 or 2; none
+                              when the widths show no thicker lines), as
+                              with the interval inferred */
+    int index_off;         /* faces: the widths are not used at all (the
+                              benches' known points alone; default 0) */
     double thick_ratio;    /* thick / thin mean width at least this for the
                               widths to tell index lines (default 1.3) */
     int missing;           /* a known point one interval off the nesting

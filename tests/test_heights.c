@@ -355,7 +355,8 @@ static td_grid_f32 *dem_sheet(td_hsheet *hs, const char *dem, double scale,
 }
 
 /* A sheet drawn from a real DEM, scanned and labelled with three known
- * points on index contours (and the index widths when asked). */
+ * points on index contours (and the index widths when asked: index 1
+ * --index-every 5, -1 none given, the solve picks the spacing). */
 static void real_sheet(const char *dem, double scale, int scanned, int index,
                        double min_acc)
 {
@@ -366,12 +367,15 @@ static void real_sheet(const char *dem, double scale, int scanned, int index,
     if (!src)
         return;
     hs.nknown = 3;
-    hs.index_every = index ? 5 : 0;
+    hs.index_every = index > 0 ? 5 : index;
     TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
     TT_CHECKF(hs.score.accuracy >= min_acc,
               "%s x%g %s%s: accuracy %.3f < "
               "%.2f",
-              dem, scale, scanned ? "scanned" : "clean", index ? " +index" : "",
+              dem, scale, scanned ? "scanned" : "clean",
+              index > 0 ? " +index"
+              : index   ? " +index picked"
+                        : "",
               hs.score.accuracy, min_acc);
     TT_CHECKF(hs.score.n_wrong_sure == 0,
               "%s: %ld lines wrong with "
@@ -658,6 +662,9 @@ static void test_real_frontrange(void)
 static void test_real_elkhorn(void)
 {
     real_sheet("elkhorn_srtm3.tif", 6, 1, 1, 0.97);
+    /* the interval given and no --index-every: the widths still count
+       (the spacing the solve picks); without them 0.906 */
+    real_sheet("elkhorn_srtm3.tif", 6, 1, -1, 0.97);
 }
 
 /* One known point on a tilted sheet with hills and a pit, no

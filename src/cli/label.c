@@ -66,7 +66,9 @@ static int parse_args(int argc, char **argv, label_opts *o)
         {"index-every", 0, TD_OPT_INT, &p->index_every, 2, 1000, .meta = "N",
          .help = "every Nth level (base + k*N*I) is an index\ncontour drawn "
          "thicker: warn about each line\nwhose ink width (the scan's 'width' "
-         "property)\ndisagrees with its height", .no_default = 1},
+         "property)\ndisagrees with its height (without it the\nfaces "
+         "solve still weighs the widths, at\nthe spacing they fit best)",
+         .no_default = 1},
         {"thick-ratio", 0, TD_OPT_DOUBLE, &p->thick_ratio, 1.01, 100,
          .meta = "R", .help = "thick/thin width ratio that tells index lines"},
         {"no-missing", 0, TD_OPT_FLAG, &o->no_missing, .help = "tree: a known "

@@ -41,7 +41,9 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
          .help = "the ring around X,Y is a depression"},
         {"index-every", 0, TD_OPT_INT, &lp->index_every, 2, 1000, .meta = "N",
          .help = "every Nth contour is drawn thicker: its width\ndecides the "
-         "slopes the known points leave open", .no_default = 1},
+         "slopes the known points leave open\n(default: the spacing the "
+         "widths fit best,\n5, 4, 10 or 2; none without thicker lines)",
+         .no_default = 1},
         {"labeller", 0, TD_OPT_CHOICE, &lp->method, .choices = "faces|tree",
          .meta = "L", .help = "faces: one solve over the faces | tree: the\n"
          "containment tree; see topodig label"},

@@ -191,7 +191,10 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
     lp.base = hs->gp.base;
     lp.w = im->w;
     lp.h = im->h;
-    lp.index_every = hs->index_every;
+    lp.index_every = hs->index_every > 0 ? hs->index_every : 0;
+    /* 0: the known points alone, no widths; -1: the widths' spacing picked
+       by the solve (td_label_auto with the interval given, as run does) */
+    lp.index_off = hs->index_every == 0 && !hs->no_interval;
     lp.walls = res.walls;
     lp.nknown = (size_t)td_hsheet_pick_known(
         tl, hs->interval, hs->nknown > 8 ? 8 : hs->nknown, kp);

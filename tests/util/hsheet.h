@@ -11,7 +11,9 @@
 typedef struct td_hsheet {
     td_gen_params gp;           /* the sheet (terrain, dem_in, size, defects) */
     int nknown;                 /* known points on index contours (0..8) */
-    int index_every;            /* pass --index-every (0: no) */
+    int index_every;            /* pass --index-every (0: no widths at
+                                   all; -1: the spacing the widths fit,
+                                   picked by the solve) */
     int use_truth_lines;        /* label the truth lines, not the traced ones */
     int paper_junctions;        /* trace through junctions as the paper does */
     int search;                 /* td_label_params.search */
