@@ -49,6 +49,9 @@ typedef struct td_gen_params {
                   faded brown contours, red roads, blue water, black text
                   and grid) over ageing paper, scanned (colour fringing,
                   then blur and noise, then JPEG); see samples/gen/print.c */
+    int unfaded; /* with print: the contour plate at full strength
+                    everywhere (a new map); 0: faded to 55-100 % in smooth
+                    patches (the default) */
     int labels; /* inline elevation labels per index contour (every 5th
                    level, base + 5k * interval), 0 = none (the default):
                    see td_gen_labels */

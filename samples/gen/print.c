@@ -5,7 +5,8 @@
  * Plates, printed one over another (inks are filters: each multiplies the
  * light, coverage a of ink colour k turns v into v (1 - a (1 - k/255))):
  *   green woodland tint in smooth blobs (about a quarter of the sheet);
- *   brown contours (160,90,40), faded to 55-100 % in smooth patches;
+ *   brown contours (160,90,40), faded to 55-100 % in smooth patches
+ *     (--unfaded: at full strength, a new map);
  *   red roads (205,50,40): one solid, one dashed, 2.2 px, crossing the
  *     sheet (their hue is close to the brown);
  *   blue water (a river), black lettering and a black 1-px grid.
@@ -131,7 +132,7 @@ int td_gen_print_plates(td_image *im, const uint8_t *contours,
         for (x = 0; x < p->w; x++) {
             size_t k = (size_t)y * p->w + x;
             double f = 0.775 + 0.225 * field_at(&fade, x, y);
-            f = f < 0.55 ? 0.55 : f > 1 ? 1 : f;
+            f = p->unfaded ? 1.0 : f < 0.55 ? 0.55 : f > 1 ? 1 : f;
             lay[k] = (uint8_t)(contours[k] * f + 0.5);
         }
     overprint(im, lay, brown);

@@ -20,7 +20,7 @@ static const char usage[] =
     "             [--index-width PX] [--labels N] [--label-bend PX]\n"
     "             [--spot-heights N] [--hachures]\n"
     "             [--label-font segments|dejavu]\n"
-    "             [--colour] [--distractors] [--print]\n"
+    "             [--colour] [--distractors] [--print [--unfaded]]\n"
     "             [--dem-in REAL.tif [--scale S]] [--tiff] [-q|--quiet]\n"
     "\n"
     "Writes a synthetic scanned contour sheet (PNG, or grey GeoTIFF with\n"
@@ -42,7 +42,8 @@ static const char usage[] =
     "sheet.  --print (implies --colour): a printed map as a flatbed scanner\n"
     "gives it: green woodland tint, faded brown contours, red roads (one\n"
     "dashed), blue water, black text and grid over yellowing paper, colour\n"
-    "fringing, then --blur/--noise, then JPEG losses.\n"
+    "fringing, then --blur/--noise, then JPEG losses; --unfaded: the\n"
+    "contours at full strength (a new map).\n"
     "--dem-in: draw the sheet from a real DEM (any single-band\n"
     "GeoTIFF or .asc without nodata cells), stretched smoothly (bicubic)\n"
     "to --size, or to S times its size with --scale S (default 8); the\n"
@@ -189,6 +190,8 @@ static int flag_opt(const char *o, opts *op)
         op->p.distractors = 1;
     else if (!strcmp(o, "--print"))
         op->p.colour = op->p.distractors = op->p.print = 1;
+    else if (!strcmp(o, "--unfaded"))
+        op->p.unfaded = 1;
     else if (!strcmp(o, "--hachures"))
         op->p.hachures = 1;
     else if (!strcmp(o, "--tiff"))

@@ -52,7 +52,7 @@ static double run_rmse(const char *path, const td_run_params *p,
 int main(int argc, char **argv)
 {
     const char *only = NULL, *dir = "build-bench/data";
-    static const int kinds[3] = {1, 2, 3};
+    static const int kinds[4] = {1, 2, 3, 4};
     size_t s;
     int a, k;
     for (a = 1; a < argc; a++) {
@@ -73,7 +73,7 @@ int main(int argc, char **argv)
         const td_real_sheet *rs = &td_real_sheets[s];
         if (only && strcmp(only, rs->name))
             continue;
-        for (k = 0; k < 3; k++) {
+        for (k = 0; k < 4; k++) {
             td_gen_params gp;
             td_image *im = NULL;
             td_lines *tl = NULL;

@@ -1,9 +1,10 @@
 /* bench_heights: height accuracy of the labeller on sheets drawn from real
  * DEMs (../shared/dems) and the generator's terrains, clean, scanned, in colour
- * or printed (tdgen --print), with three known points or one known point and
- * the index contours' widths; the share of traced line length with the right
- * height (td_match_heights), lines wrong with confidence >= 0.9, where heights
- * came from, and the labelling time.  Numbers for docs/benchmarks.md.
+ * printed (tdgen --print) or printed new (--unfaded), with three known points
+ * or one known point and the index contours' widths; the share of traced line
+ * length with the right height (td_match_heights), lines wrong with confidence
+ * >= 0.9, where heights came from, and the labelling time.  Numbers for
+ * docs/benchmarks.md.
  *
  *   bench_heights [--dems DIR] [--only NAME] [--tree] [--search N] [--log]
  *                 [--all-hints] [--png DIR] */
@@ -31,8 +32,8 @@ static const sheet_case cases[] = {
     {"ridges", NULL, TD_GEN_RIDGES, 0, 0, 2000},
 };
 
-static const char *const scan_name[5] = {"truth", "clean", "scanned", "colour",
-                                         "printed"};
+static const char *const scan_name[6] = {"truth",  "clean",   "scanned",
+                                         "colour", "printed", "new"};
 static const char *const hint_name[3] = {"3 known", "3 known+index",
                                          "labels only"};
 
@@ -84,7 +85,7 @@ int main(int argc, char **argv)
                 continue;
             }
         }
-        for (scanned = 0; scanned < 5; scanned++)
+        for (scanned = 0; scanned < 6; scanned++)
             for (hint = 0; hint < 3; hint++) {
                 td_hsheet hs;
                 memset(&hs, 0, sizeof hs);

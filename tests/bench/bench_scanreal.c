@@ -1,8 +1,9 @@
 /* bench_scanreal: the scanner on sheets drawn from real DEMs (issue 14's
  * measures): recall and precision within 2 px of the true contours, the
  * share of traced length on its own contour, and the traced lines that run
- * onto another contour for more than 20 px, for clean, scanned and colour
- * sheets: the paper's junctions, ours without the seam split, and the
+ * onto another contour for more than 20 px, for clean, scanned, colour,
+ * printed and printed-new (tdgen --print --unfaded) sheets: the paper's
+ * junctions, ours without the seam split, and the
  * default (ours with it).  Numbers for
  * docs/scanner.md.
  *
@@ -54,7 +55,7 @@ int main(int argc, char **argv)
             printf("%-12s (skipped: %s)\n", k->name, td_errmsg(&cx));
             continue;
         }
-        for (kind = 0; kind < 4; kind++) {
+        for (kind = 0; kind < 5; kind++) {
             td_gen_params gp = td_gen_defaults();
             td_image *im = NULL;
             td_lines *truth = NULL;

@@ -253,8 +253,8 @@ const td_real_sheet td_real_sheets[4] = {
     {"orkhon", "orkhon_92m.tif", 10, 0},
     {"frontrange20", "frontrange_srtm3.tif", 10, 20},
 };
-const char *const td_defect_names[4] = {"clean", "scanned", "colour",
-                                        "printed"};
+const char *const td_defect_names[5] = {"clean", "scanned", "colour", "printed",
+                                        "new"};
 
 /* Contract in hsheet.h. */
 void td_hsheet_defects(td_gen_params *p, int kind)
@@ -266,7 +266,8 @@ void td_hsheet_defects(td_gen_params *p, int kind)
     if (kind >= 2) {
         p->colour = 1;
         p->distractors = 1;
-        p->print = kind == 3;
+        p->print = kind >= 3;
+        p->unfaded = kind == 4;
     }
     p->blur = 0.8;
     p->noise = 8;

@@ -54,12 +54,13 @@ typedef struct td_real_sheet {
     double scale, interval;
 } td_real_sheet;
 extern const td_real_sheet td_real_sheets[4];
-extern const char *const td_defect_names[4];
+extern const char *const td_defect_names[5];
 
 /* The benchmarks' sheet defects: kind 0 clean (lines 1.8 px, index
  * contours 3.2 px), 1 scanned (blur 0.8, noise 8, 300 specks, 40 breaks of
  * 3-10 px, printed DejaVu labels), 2 the same in colour (brown on cream,
- * blue river, black lettering), 3 a printed map (tdgen --print). */
+ * blue river, black lettering), 3 a printed map (tdgen --print), 4 the
+ * same map new (--print --unfaded: the contours at full strength). */
 void td_hsheet_defects(td_gen_params *p, int kind);
 
 /* *gp (td_gen_defaults) set for a sheet drawn from tests/data/dems/<dem>
