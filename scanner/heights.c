@@ -2327,6 +2327,11 @@ static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
 static int faces_of(const td_lines *ls, const td_label_params *p, td_faces **fx,
                     td_face_edge **fe, size_t *nfe, td_ctx *cx);
 
+/* The spacings of index lines tried when none is given, and how much
+ * rarer than every 5th each is (infer_interval, td_heights_solve_index). */
+static const int index_every[4] = {5, 4, 10, 2};
+static const double index_rarer[4] = {0.0, 8.0, 15.0, 15.0};
+
 static int infer_interval(td_lines *ls, const td_label_params *p,
                           double *best_i, int *best_n, double *best_c,
                           double *second, double *second_i, td_ctx *cx)
@@ -2335,9 +2340,6 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
     td_face_edge *fe = NULL;
     size_t nfe = 0;
     static const double nice[4] = {1.0, 2.0, 2.5, 5.0};
-    static const int every[4] = {5, 4, 10, 2};
-    /* how much rarer than every 5th each spacing of index lines is */
-    static const double rarer[4] = {0.0, 8.0, 15.0, 15.0};
     double dec, Ss[3] = {0, 0, 0}, best = HUGE_VAL;
     dp_tables dp = {NULL, NULL, NULL, 0};
     size_t i;
@@ -2351,7 +2353,7 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
         for (k = 0; k < 4; k++) {
             int j;
             for (j = 0; j < 4; j++) {
-                double c = nice[k] * dec * every[j], sh = share_on(p, c);
+                double c = nice[k] * dec * index_every[j], sh = share_on(p, c);
                 if (sh >= 0.8 && c > Ss[0])
                     Ss[0] = c;
                 if (sh >= 0.5 && c > Ss[1])
@@ -2362,9 +2364,9 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
         }
     for (si = 0; si < 3; si++)
         for (k = 0; k < 4; k++) {
-            int N = p->index_every > 0 ? p->index_every : every[k];
+            int N = p->index_every > 0 ? p->index_every : index_every[k];
             double S = Ss[si], I = S / N;
-            double cost = p->index_every > 0 ? 0.0 : rarer[k];
+            double cost = p->index_every > 0 ? 0.0 : index_rarer[k];
             td_label_params q = *p;
             td_label_report r;
             if (!(S > 0) ||
@@ -2534,12 +2536,10 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
 }
 
 /* Contract in heights_int.h.  The spacings and their small costs are
- * infer_interval's (an index line rarer than every 5th costs a little). */
+ * infer_interval's (index_every, index_rarer). */
 int td_heights_solve_index(td_lines *ls, const td_label_params *p,
                            td_label_report *rep, td_ctx *cx)
 {
-    static const int every[4] = {5, 4, 10, 2};
-    static const double rarer[4] = {0.0, 8.0, 15.0, 15.0};
     td_faces *fx = NULL;
     td_face_edge *fe = NULL;
     size_t nfe = 0;
@@ -2557,10 +2557,10 @@ int td_heights_solve_index(td_lines *ls, const td_label_params *p,
     for (k = 0; k < 4; k++) {
         td_label_report r;
         memset(&r, 0, sizeof r);
-        q.index_every = every[k];
+        q.index_every = index_every[k];
         rc = solve_on(ls, &q, fx, fe, nfe, 1, &dp, &r, cx);
-        if (rc == 0 && r.cost + rarer[k] < best - 1e-9)
-            best = r.cost + rarer[k], N = every[k];
+        if (rc == 0 && r.cost + index_rarer[k] < best - 1e-9)
+            best = r.cost + index_rarer[k], N = index_every[k];
         td_label_report_free(&r);
         if (rc)
             goto done;
