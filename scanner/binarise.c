@@ -283,14 +283,39 @@ static void hist_row(const uint8_t *s, int w, uint64_t (*h)[256])
 /* Where another ink is printed (pixels the veto table marks), the contour
  * ink's strength is cleared within VETO_R px: a red road's edges over a green
  * tint look like brown over it, and would join the contours it crosses. */
+static int vetoed(const td_image *im, const uint8_t *veto, int x, int y)
+{
+    const uint8_t *px;
+    if (x < 0 || y < 0 || x >= im->w || y >= im->h)
+        return 0;
+    px = im->data + (size_t)y * im->stride + 3 * (size_t)x;
+    return veto[(((px[0] + 4) >> 3) * LUT_N + ((px[1] + 4) >> 3)) * LUT_N +
+                ((px[2] + 4) >> 3)] != 0; /* the nearest node */
+}
+
+/* A vetoed pixel in a vetoed 2 x 2 block: another ink's stroke, not the
+ * one-pixel colour fringe along the contour ink's own edge. */
+static int veto_core(const td_image *im, const uint8_t *veto, int x, int y)
+{
+    int dx, dy;
+    if (!vetoed(im, veto, x, y))
+        return 0;
+    for (dy = -1; dy <= 0; dy++)
+        for (dx = -1; dx <= 0; dx++)
+            if (vetoed(im, veto, x + dx, y + dy) &&
+                vetoed(im, veto, x + dx + 1, y + dy) &&
+                vetoed(im, veto, x + dx, y + dy + 1) &&
+                vetoed(im, veto, x + dx + 1, y + dy + 1))
+                return 1;
+    return 0;
+}
+
 static void veto_row(const td_image *im, const uint8_t *veto, td_grid_u8 *s,
                      int y, int ylo)
 {
-    const uint8_t *px = im->data + (size_t)y * im->stride;
     int x, yy, xx;
-    for (x = 0; x < im->w; x++, px += 3) {
-        if (!veto[(((px[0] + 4) >> 3) * LUT_N + ((px[1] + 4) >> 3)) * LUT_N +
-                  ((px[2] + 4) >> 3)]) /* the nearest node */
+    for (x = 0; x < im->w; x++) {
+        if (!veto_core(im, veto, x, y))
             continue;
         for (yy = y - VETO_R; yy <= y + VETO_R; yy++) {
             uint8_t *row;
@@ -1076,11 +1101,9 @@ int td_binarise_other_ink(const td_image *im, const td_palette *pal,
         return TD_ENOMEM;
     }
     for (y = 0; y < im->h; y++) {
-        const uint8_t *px = im->data + (size_t)y * im->stride;
         uint8_t *row = b + (size_t)y * stride;
-        for (x = 0; x < im->w; x++, px += 3)
-            if (veto[(((px[0] + 4) >> 3) * LUT_N + ((px[1] + 4) >> 3)) * LUT_N +
-                     ((px[2] + 4) >> 3)])
+        for (x = 0; x < im->w; x++)
+            if (veto_core(im, veto, x, y))
                 row[x >> 3] |= (uint8_t)(1u << (x & 7));
     }
     free(veto);

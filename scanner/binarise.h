@@ -20,7 +20,8 @@ extern "C" {
 typedef enum {
     TD_INK_AUTO,      /* grey: dark; colour: the palette's contour ink */
     TD_INK_DARK,      /* 255 - luma */
-    TD_INK_BROWN,     /* colour: the palette's ink nearest contour brown */
+    TD_INK_BROWN,     /* colour: the palette's long-stroke ink
+                          among those near contour brown */
     TD_INK_BROWN_HUE, /* colour: the fixed brown hue window (the first
                          brown selection; see docs/binarise.md) */
     TD_INK_RGB

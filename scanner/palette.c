@@ -31,6 +31,9 @@
 #define BAD1 60.0
 #define SOFT1 10.0       /* colour within SOFT0 .. SOFT1 of the best model */
 #define LUT_N 33
+#define BROWN_NEAR                                                             \
+    30.0              /* --ink brown: inks this near brown's best match        \
+                         compete on their long thin strokes */
 #define ALSO_HUE 10.0 /* an ink this near the contour ink's hue (CIELAB,
                          degrees) is a darker or lighter print of it; the
                          red roads of the printed sheets came out 14.8
@@ -627,25 +630,27 @@ done:
 int td_palette_choose(td_palette *pal, int brown)
 {
     static const double ref[3] = {160, 90, 40};
-    double p[3], best = brown ? HUGE_VAL : 0;
+    double p[3], r[TD_PALETTE_MAX], best = HUGE_VAL, most = -1;
     int i;
     rgb_of(&pal->ink[pal->paper], p);
     pal->chosen = -1;
     for (i = 0; i < pal->n; i++) {
+        /* brown: the distance from brown to the ink's line of mixtures
+           with the paper (a faded or thin brown still matches) */
+        double iv[3], a;
+        rgb_of(&pal->ink[i], iv);
+        r[i] = sqrt(fit(ref, p, iv, p, &a)) + 0.25 * dist3(iv, ref);
+        if (pal->ink[i].role == TD_INKROLE_INK && r[i] < best)
+            best = r[i];
+    }
+    for (i = 0; i < pal->n; i++) {
+        /* the most long thin strokes; brown: among the inks near brown
+           (a red road came out within 1-8 of the contours' brown on the
+           printed sheets, blue and black over 100 further) */
         const td_ink *k = &pal->ink[i];
-        if (k->role != TD_INKROLE_INK)
-            continue;
-        if (brown) {
-            /* distance from brown to the ink's line of mixtures with the
-               paper (a faded or thin brown still matches) */
-            double iv[3], a, r;
-            rgb_of(k, iv);
-            r = sqrt(fit(ref, p, iv, p, &a)) + 0.25 * dist3(iv, ref);
-            if (r < best)
-                best = r, pal->chosen = i;
-        } else if (k->line_len > best) {
-            best = k->line_len, pal->chosen = i;
-        }
+        if (k->role == TD_INKROLE_INK &&
+            (!brown || r[i] <= best + BROWN_NEAR) && k->line_len > most)
+            most = k->line_len, pal->chosen = i;
     }
     pal->also = 0;
     if (pal->chosen >= 0) {

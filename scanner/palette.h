@@ -16,8 +16,8 @@
  * perimeter) and the length of its long thin strokes.  A colour whose
  * strokes are wider than TD_PALETTE_TINT_WIDTH px is a tint (a
  * background); the others are inks.  The contour ink is the ink with the
- * most length in long thin strokes (--ink auto), or the ink nearest to
- * contour brown (--ink brown). */
+ * most length in long thin strokes (--ink auto), or the same among the
+ * inks nearest to contour brown (--ink brown). */
 #ifndef TD_PALETTE_H
 #define TD_PALETTE_H
 
@@ -60,10 +60,10 @@ typedef struct td_palette {
  * and a crop of at most 2048 x 2048 px (5 bytes/px). */
 int td_palette_find(const td_image *im, td_palette *pal, td_ctx *cx);
 
-/* Choose the contour ink: brown = 0: the ink with the most long thin
- * stroke length; brown = 1: the ink nearest to contour brown (160,90,40)
- * along its mixtures with the paper.  Sets pal->chosen; returns it, or -1
- * when the sheet has no ink. */
+/* Choose the contour ink: the ink with the most long thin stroke length;
+ * brown = 1: among the inks near contour brown (160,90,40) along their
+ * mixtures with the paper (within BROWN_NEAR of the nearest: palette.c).
+ * Sets pal->chosen; returns it, or -1 when the sheet has no ink. */
 int td_palette_choose(td_palette *pal, int brown);
 
 /* The contour ink's strength table (33^3 nodes at 0, 8, ..., 248, 255 of

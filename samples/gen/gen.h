@@ -49,6 +49,10 @@ typedef struct td_gen_params {
                   faded brown contours, red roads, blue water, black text
                   and grid) over ageing paper, scanned (colour fringing,
                   then blur and noise, then JPEG); see samples/gen/print.c */
+    double fringe[2]; /* with print: the scanner's misregistration, px:
+                         the red channel shifted by (fringe[0],
+                         fringe[1]), the blue one by the opposite
+                         (colour fringing); the default (0.6, 0) */
     int unfaded; /* with print: the contour plate at full strength
                     everywhere (a new map); 0: faded to 55-100 % in smooth
                     patches (the default) */
@@ -78,7 +82,7 @@ typedef struct td_gen_params {
 
 /* Defaults: 1000 x 1000, seed 1, HILLS, base 0, interval 0 (automatic),
  * line width 2, no blur, noise, specks or breaks (break length 1..3 px when
- * breaks are asked for), grey. */
+ * breaks are asked for), grey; a printed sheet's fringe 0.6 px in x. */
 td_gen_params td_gen_defaults(void);
 
 /* The truth surface sampled at pixel centres (w x h), heights in metres.

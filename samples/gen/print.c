@@ -11,8 +11,9 @@
  *     sheet (their hue is close to the brown);
  *   blue water (a river), black lettering and a black 1-px grid.
  * Scan: the paper yellows and darkens smoothly (0.93-1.0 per channel),
- * the red and blue channels are misregistered by +-0.6 px horizontally
- * (colour fringing), then blur, noise and JPEG (quality 75). */
+ * the red and blue channels are misregistered by +-fringe px (0.6 px
+ * horizontally by default: colour fringing), then blur, noise and JPEG (quality
+ * 75). */
 #include "samples/gen/gen.h"
 #include "samples/gen/gen_int.h"
 
@@ -154,20 +155,34 @@ int td_gen_print_plates(td_image *im, const uint8_t *contours,
     return 0;
 }
 
-/* Shift channel c of row y by dx px (linear interpolation, edges held). */
-static void shift_row(uint8_t *row, int w, int c, double dx, uint8_t *tmp)
+/* Shift n samples v[0], v[step], ... by d samples (linear interpolation,
+ * ends held). */
+static void shift_line(uint8_t *v, size_t step, int n, double d, uint8_t *tmp)
 {
-    int x;
-    for (x = 0; x < w; x++)
-        tmp[x] = row[3 * x + c];
-    for (x = 0; x < w; x++) {
-        double sx = x - dx;
-        int x0 = (int)floor(sx);
-        double f = sx - x0;
-        int a = x0 < 0 ? 0 : x0 >= w ? w - 1 : x0;
-        int b = x0 + 1 < 0 ? 0 : x0 + 1 >= w ? w - 1 : x0 + 1;
-        row[3 * x + c] = (uint8_t)(tmp[a] * (1 - f) + tmp[b] * f + 0.5);
+    int i;
+    if (d == 0.0)
+        return;
+    for (i = 0; i < n; i++)
+        tmp[i] = v[(size_t)i * step];
+    for (i = 0; i < n; i++) {
+        double s = i - d;
+        int i0 = (int)floor(s);
+        double f = s - i0;
+        int a = i0 < 0 ? 0 : i0 >= n ? n - 1 : i0;
+        int b = i0 + 1 < 0 ? 0 : i0 + 1 >= n ? n - 1 : i0 + 1;
+        v[(size_t)i * step] = (uint8_t)(tmp[a] * (1 - f) + tmp[b] * f + 0.5);
     }
+}
+
+/* Shift channel c of im by (dx, dy) px. */
+static void shift_channel(td_image *im, int c, double dx, double dy,
+                          uint8_t *tmp)
+{
+    int i;
+    for (i = 0; i < im->h; i++)
+        shift_line(im->data + (size_t)i * im->stride + c, 3, im->w, dx, tmp);
+    for (i = 0; i < im->w; i++)
+        shift_line(im->data + 3 * (size_t)i + c, im->stride, im->h, dy, tmp);
 }
 
 /* Contract in gen_int.h. */
@@ -178,7 +193,7 @@ int td_gen_scan_effects(td_image *im, const td_gen_params *p, td_ctx *cx)
         double S = p->w < p->h ? p->w : p->h;
         td_rng r = td_rng_make(p->seed, 8);
         field age = field_make(&r, 0.3 * S, 0.9 * S);
-        uint8_t *tmp = td_malloc((size_t)im->w, cx);
+        uint8_t *tmp = td_malloc((size_t)(im->w > im->h ? im->w : im->h), cx);
         int x, y;
         if (!tmp)
             return TD_ENOMEM;
@@ -192,9 +207,9 @@ int td_gen_scan_effects(td_image *im, const td_gen_params *p, td_ctx *cx)
                 for (c = 0; c < 3; c++)
                     row[3 * x + c] = (uint8_t)(row[3 * x + c] * k[c] + 0.5);
             }
-            shift_row(row, im->w, 0, 0.6, tmp);
-            shift_row(row, im->w, 2, -0.6, tmp);
         }
+        shift_channel(im, 0, p->fringe[0], p->fringe[1], tmp);
+        shift_channel(im, 2, -p->fringe[0], -p->fringe[1], tmp);
         free(tmp);
     }
     if (p->blur > 0.0 && (rc = td_gen_blur(im, p->blur, cx)) != 0)

@@ -20,7 +20,8 @@ static const char usage[] =
     "             [--index-width PX] [--labels N] [--label-bend PX]\n"
     "             [--spot-heights N] [--hachures]\n"
     "             [--label-font segments|dejavu]\n"
-    "             [--colour] [--distractors] [--print [--unfaded]]\n"
+    "             [--colour] [--distractors] [--print [--unfaded]\n"
+    "             [--fringe DX[,DY]]]\n"
     "             [--dem-in REAL.tif [--scale S]] [--tiff] [-q|--quiet]\n"
     "\n"
     "Writes a synthetic scanned contour sheet (PNG, or grey GeoTIFF with\n"
@@ -43,7 +44,8 @@ static const char usage[] =
     "gives it: green woodland tint, faded brown contours, red roads (one\n"
     "dashed), blue water, black text and grid over yellowing paper, colour\n"
     "fringing, then --blur/--noise, then JPEG losses; --unfaded: the\n"
-    "contours at full strength (a new map).\n"
+    "contours at full strength (a new map); --fringe: the red channel\n"
+    "shifted by (DX, DY) px, the blue one by the opposite (default 0.6,0).\n"
     "--dem-in: draw the sheet from a real DEM (any single-band\n"
     "GeoTIFF or .asc without nodata cells), stretched smoothly (bicubic)\n"
     "to --size, or to S times its size with --scale S (default 8); the\n"
@@ -122,6 +124,26 @@ static int parse_break_len(const char *v, td_gen_params *p)
     return 1;
 }
 
+/* --fringe DX[,DY]: each within 3 px. */
+static int parse_fringe(const char *v, td_gen_params *p)
+{
+    char buf[64], *comma;
+    double a, b = 0;
+    if (strlen(v) >= sizeof buf)
+        return 0;
+    strcpy(buf, v);
+    if ((comma = strchr(buf, ',')) != NULL) {
+        *comma = '\0';
+        if (!num(comma + 1, -3, 3, &b))
+            return 0;
+    }
+    if (!num(buf, -3, 3, &a))
+        return 0;
+    p->fringe[0] = a;
+    p->fringe[1] = b;
+    return 1;
+}
+
 /* One option with a value: 0 ok, 1 bad value, 2 unknown option. */
 static int value_opt(const char *o, const char *v, opts *op)
 {
@@ -176,6 +198,8 @@ static int value_opt(const char *o, const char *v, opts *op)
         return !parse_terrain(v, p);
     else if (!strcmp(o, "--break-len"))
         return !parse_break_len(v, p);
+    else if (!strcmp(o, "--fringe"))
+        return !parse_fringe(v, p);
     else
         return 2;
     return 0;

@@ -35,6 +35,7 @@ td_gen_params td_gen_defaults(void)
     p.line_width = 2.0;
     p.break_min = 1.0;
     p.break_max = 3.0;
+    p.fringe[0] = 0.6;
     return p;
 }
 

@@ -53,8 +53,8 @@ static int parse_args(int argc, char **argv, scan_opts *o)
         {"ink", 0, TD_OPT_FUNC, &p->bin, .fn = ink, .meta = "KIND", .help =
          "auto | dark | brown | brown-hue | R,G,B[:tol]\n(default auto: dark "
          "on a grey scan; on a\ncolour scan the sheet's inks are found and\n"
-         "the one drawing long thin lines is taken;\nbrown: the ink found "
-         "nearest contour brown;\nbrown-hue: a fixed brown hue window)"},
+         "the one drawing long thin lines is taken;\nbrown: the same among the "
+         "inks near\ncontour brown; brown-hue: a fixed brown\nhue window)"},
         {"threshold", 0, TD_OPT_FUNC, &p->bin, .fn = threshold, .meta = "T",
          .help = "otsu | sauvola | N (0-255) (default otsu)"},
         {"min-speck", 0, TD_OPT_INT, &p->bin.min_speck, 0, 1000000,

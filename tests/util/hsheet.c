@@ -7,6 +7,7 @@
 #include "src/io/io.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -268,6 +269,9 @@ void td_hsheet_defects(td_gen_params *p, int kind)
         p->distractors = 1;
         p->print = kind >= 3;
         p->unfaded = kind == 4;
+        if (getenv("BENCH_FRINGE")) /* "DX,DY": another scanner */
+            sscanf(getenv("BENCH_FRINGE"), "%lf,%lf", &p->fringe[0],
+                   &p->fringe[1]);
     }
     p->blur = 0.8;
     p->noise = 8;

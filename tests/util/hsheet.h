@@ -60,7 +60,9 @@ extern const char *const td_defect_names[5];
  * contours 3.2 px), 1 scanned (blur 0.8, noise 8, 300 specks, 40 breaks of
  * 3-10 px, printed DejaVu labels), 2 the same in colour (brown on cream,
  * blue river, black lettering), 3 a printed map (tdgen --print), 4 the
- * same map new (--print --unfaded: the contours at full strength). */
+ * same map new (--print --unfaded: the contours at full strength).  The
+ * environment's BENCH_FRINGE=DX,DY sets the printed kinds' misregistration
+ * (tdgen --fringe; default 0.6,0). */
 void td_hsheet_defects(td_gen_params *p, int kind);
 
 /* *gp (td_gen_defaults) set for a sheet drawn from tests/data/dems/<dem>
