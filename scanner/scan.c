@@ -25,6 +25,8 @@ td_scan_params td_scan_defaults(void)
     p.wide_own = -1.0;
     p.join_other = 1;
     p.straight = td_straight_defaults();
+    p.defringe = 0;
+    p.fringe = td_defringe_defaults();
     return p;
 }
 
@@ -49,6 +51,8 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             td_ctx *cx)
 {
     td_grid_u8 *g = NULL;
+    td_image *clean = NULL; /* the scan defringed (colour) */
+    const td_image *src = im;
     uint8_t *bits = NULL, *seams = NULL, *other = NULL;
     td_join_params jp = p->join;
     double t0, halftone = -1;
@@ -65,8 +69,18 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         rc = TD_ENOMEM;
         goto fail;
     }
-    if ((rc = td_binarise_seams(im, &p->bin, g, &res->palette, seams, &halftone,
-                                cx)) != 0 ||
+    if (p->defringe && im->channels == 3 &&
+        (p->bin.ink == TD_INK_AUTO || p->bin.ink == TD_INK_BROWN)) {
+        if (!(clean = td_image_new(im->w, im->h, 3, cx))) {
+            rc = TD_ENOMEM;
+            goto fail;
+        }
+        if ((rc = td_defringe(im, clean, &p->fringe, cx)) != 0)
+            goto fail;
+        src = clean;
+    }
+    if ((rc = td_binarise_seams(src, &p->bin, g, &res->palette, seams,
+                                &halftone, cx)) != 0 ||
         (rc = td_straight_remove(g, &p->straight, &res->straight_lines, cx)) !=
             0)
         goto fail;
@@ -96,8 +110,10 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     jp.h = im->h;
     jp.record = jp.record || p->keep_debug; /* the overlay draws the joins */
     if (p->do_join && p->join_other &&
-        (rc = td_binarise_other_ink(im, &res->palette, &other, cx)) != 0)
+        (rc = td_binarise_other_ink(src, &res->palette, &other, cx)) != 0)
         goto fail;
+    td_image_free(clean);
+    clean = NULL;
     jp.other = other;
     rc = p->do_join ? td_join(&res->lines, &jp, &res->join, cx) : 0;
     free(other);
@@ -162,6 +178,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     free(seams);
     return 0;
 fail:
+    td_image_free(clean);
     free(bits);
     free(seams);
     td_grid_u8_free(g);

@@ -15,11 +15,12 @@
 #define TD_SCAN_H
 
 #include "scanner/binarise.h"
+#include "scanner/defringe.h"
 #include "scanner/despur.h"
 #include "scanner/join.h"
+#include "scanner/straight.h"
 #include "scanner/thin.h"
 #include "scanner/trace.h"
-#include "scanner/straight.h"
 #include "scanner/width.h"
 
 #ifdef __cplusplus
@@ -42,6 +43,14 @@ typedef struct td_scan_params {
                              inks lie (td_join_params.other; ours;
                              default 1) */
     td_straight_params straight; /* grid lines erased (straight.h, ours) */
+    int defringe;                /* colour scans read through the palette (--ink
+                                    auto, brown): colour fringes taken out first
+                                    (defringe.h, ours; on a copy of the scan,
+                                    +3 bytes per pixel while binarising); default
+                                    0: it saves strongly fringed scans but moves
+                                    the palette on others (docs/binarise.md,
+                                    "Print variants") */
+    td_defringe_params fringe;
     int measure_width;    /* set each line's width (width.h), default 1 */
     int blob_rings;       /* tiny rings that printed as dots of ink get
                              back their circle (blobring.h; ours; needs

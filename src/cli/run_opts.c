@@ -26,7 +26,7 @@ void td_cli_run_init(td_cli_run *r)
 size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
 {
     td_label_params *lp = &r->p.label;
-    const td_opt o[13] = {
+    const td_opt o[14] = {
         {"interval", 0, TD_OPT_DOUBLE, &lp->interval, 1e-9, 1e9, .meta = "I",
          .help = "contour interval (default: inferred from\nthe printed "
          "labels)", .no_default = 1},
@@ -54,6 +54,9 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
         {"ink", 0, TD_OPT_FUNC, &r->p.scan.bin, .fn = ink, .meta = "KIND",
          .help = "auto | dark | brown | brown-hue | R,G,B[:tol]\n(default "
          "auto; see topodig scan --help)"},
+        {"defringe", 0, TD_OPT_FLAG, &r->p.scan.defringe, .help =
+         "colour scans: colour fringes out before the\ninks are found "
+         "(ours; see topodig scan --help)"},
         {"threshold", 0, TD_OPT_FUNC, &r->p.scan.bin, .fn = threshold,
          .meta = "T", .help = "otsu | sauvola | N (default otsu)"},
         {"bridge", 0, TD_OPT_DOUBLE, &r->p.bridge, 0, 1e6, .meta = "PX",
@@ -71,7 +74,7 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
          "(one point per label read:\ntext, value, angle, confidence, used, "
          "why)"}};
     memcpy(v, o, sizeof o);
-    return 13 + td_cli_interp_opts(v + 13, &r->p.interp);
+    return 14 + td_cli_interp_opts(v + 14, &r->p.interp);
 }
 
 /* See run_int.h. */

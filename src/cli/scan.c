@@ -66,6 +66,11 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          "lighter than the ink on both\nsides across the lines is the seam "
          "between\ntwo lines and becomes paper (0: off; otsu\nand fixed "
          "thresholds)"},
+        {"defringe", 0, TD_OPT_FLAG, &p->defringe, .help =
+         "colour scans (ours): each ink pixel first\ntakes the colour of the "
+         "ink around it,\ncolour fringes and JPEG's bled colour out\n(for "
+         "strongly fringed scans; it can also\nmerge two near inks: see "
+         "docs/binarise.md)"},
         {"no-local-level", 0, TD_OPT_OFF, &p->bin.local_level, .help =
          "one Otsu level everywhere (by default, ours,\ntiles where the ink "
          "came out paler than\nthe sheet's threshold lower)"},
