@@ -280,17 +280,14 @@ static void hist_row(const uint8_t *s, int w, uint64_t (*h)[256])
  * Progress "binarise" runs from 0 to frac_end. */
 #define VETO_R 1
 
-/* Where another ink is printed (pixels the veto table marks), the contour
- * ink's strength is cleared within VETO_R px: a red road's edges over a green
- * tint look like brown over it, and would join the contours it crosses. */
+/* Pixel (x, y) is another ink by the veto table (its nearest node);
+ * outside the image it is not. */
 static int vetoed(const td_image *im, const uint8_t *veto, int x, int y)
 {
-    const uint8_t *px;
     if (x < 0 || y < 0 || x >= im->w || y >= im->h)
         return 0;
-    px = im->data + (size_t)y * im->stride + 3 * (size_t)x;
-    return veto[(((px[0] + 4) >> 3) * LUT_N + ((px[1] + 4) >> 3)) * LUT_N +
-                ((px[2] + 4) >> 3)] != 0; /* the nearest node */
+    return veto[td_palette_node(im->data + (size_t)y * im->stride +
+                                3 * (size_t)x)] != 0;
 }
 
 /* A vetoed pixel in a vetoed 2 x 2 block: another ink's stroke, not the
@@ -310,6 +307,9 @@ static int veto_core(const td_image *im, const uint8_t *veto, int x, int y)
     return 0;
 }
 
+/* Where another ink is printed (veto_core), the contour ink's strength is
+ * cleared within VETO_R px: a red road's edges over a green tint look like
+ * brown over it, and would join the contours it crosses. */
 static void veto_row(const td_image *im, const uint8_t *veto, td_grid_u8 *s,
                      int y, int ylo)
 {

@@ -30,10 +30,10 @@
 #define BAD0 30.0        /* ... and within BAD0 .. BAD1 in itself */
 #define BAD1 60.0
 #define SOFT1 10.0       /* colour within SOFT0 .. SOFT1 of the best model */
-#define LUT_N 33
-#define BROWN_NEAR                                                             \
-    30.0              /* --ink brown: inks this near brown's best match        \
-                         compete on their long thin strokes */
+#define LUT_N TD_PALETTE_LUT_N
+/* --ink brown: the inks this near brown's best match compete on their long
+ * thin strokes */
+#define BROWN_NEAR 30.0
 #define ALSO_HUE 10.0 /* an ink this near the contour ink's hue (CIELAB,
                          degrees) is a darker or lighter print of it; the
                          red roads of the printed sheets came out 14.8
@@ -91,13 +91,6 @@ static void for_nodes(const td_palette *pal, node_fn fn, const void *u,
                                k * 8 > 255 ? 255 : k * 8};
                 out[n++] = fn(pal, v, u);
             }
-}
-
-/* The node nearest to a pixel's colour. */
-static size_t nearest_node(const uint8_t *px)
-{
-    return ((size_t)((px[0] + 4) >> 3) * LUT_N + ((px[1] + 4) >> 3)) * LUT_N +
-           ((px[2] + 4) >> 3);
 }
 
 /* The model that explains v best.  bg_only_paper: every non-paper colour
@@ -389,7 +382,7 @@ static void label_crop(const td_palette *pal, const td_image *im, int x0,
         const uint8_t *px = im->data + (size_t)(y0 + y) * im->stride +
                             3 * (size_t)x0;
         for (x = 0; x < cw; x++, px += 3)
-            lbl[(size_t)y * cw + x] = node[nearest_node(px)];
+            lbl[(size_t)y * cw + x] = node[td_palette_node(px)];
     }
 }
 
@@ -798,7 +791,7 @@ int td_palette_label(const td_palette *pal, const td_image *im,
         const uint8_t *px = im->data + (size_t)y * im->stride;
         uint8_t *out = lbl->data + (size_t)y * lbl->stride;
         for (x = 0; x < im->w; x++, px += 3)
-            out[x] = node[nearest_node(px)];
+            out[x] = node[td_palette_node(px)];
     }
     free(node);
     return 0;

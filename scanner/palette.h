@@ -94,6 +94,14 @@ static inline uint8_t td_palette_lut_at(const uint8_t *lut, int r, int g, int b)
     return (uint8_t)((c0 * (8 - fr) + c1 * fr + 256) >> 9);
 }
 
+/* The node of a table nearest to the colour px[0..2]. */
+static inline size_t td_palette_node(const uint8_t *px)
+{
+    const size_t N = TD_PALETTE_LUT_N;
+    return ((size_t)((px[0] + 4) >> 3) * N + (size_t)((px[1] + 4) >> 3)) * N +
+           (size_t)((px[2] + 4) >> 3);
+}
+
 /* The veto table (same nodes): 255 where an ink that is no contour ink
  * explains the colour clearly better (coverage >= 0.5, residual at least
  * 10 RGB levels under the chosen ink's), 0 elsewhere. */
