@@ -38,6 +38,12 @@
                          degrees) is a darker or lighter print of it; the
                          red roads of the printed sheets came out 14.8
                          degrees from their brown (22 as printed) */
+#define ALSO_STROKES                                                           \
+    0.1 /* ... and draws at least this share of the contour                    \
+           ink's long thin strokes: on a new print the road                    \
+           red and the contours' orange colour fringe came                     \
+           out as one cluster, 1.4-2.6 % as stroky as the                      \
+           brown, and the roads were traced as contours */
 
 static double dist3(const double *a, const double *b)
 {
@@ -655,6 +661,8 @@ int td_palette_choose(td_palette *pal, int brown)
             dh = dh > M_PI ? 2 * M_PI - dh : dh;
             if (i != pal->chosen && pal->ink[i].role == TD_INKROLE_INK &&
                 cc > 10 && hypot(l[1], l[2]) > 0.5 * cc &&
+                pal->ink[i].line_len >=
+                    ALSO_STROKES * pal->ink[pal->chosen].line_len &&
                 dh < ALSO_HUE * M_PI / 180.0)
                 pal->also |= 1u << i;
         }

@@ -52,7 +52,8 @@ typedef struct td_palette {
     int paper;     /* index of the paper */
     int chosen;    /* the contour ink, or -1 */
     unsigned also; /* bit k: ink k is contour ink too (a darker or lighter
-                      print of the chosen ink: same hue within 10 deg) */
+                      print of the chosen ink: same hue within 10 deg, and
+                      at least a tenth of its long thin strokes) */
 } td_palette;
 
 /* Find the palette of an RGB scan (see above).  Deterministic.  Returns 0,

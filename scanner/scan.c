@@ -3,6 +3,7 @@
 #include "scanner/scan.h"
 
 #include "scanner/blobring.h"
+#include "scanner/flank.h"
 #include "scanner/ticks.h"
 #include "scanner/widecut.h"
 
@@ -24,6 +25,7 @@ td_scan_params td_scan_defaults(void)
     p.wide_cut = 3.0;
     p.wide_own = -1.0;
     p.join_other = 1;
+    p.flank_cut = 1;
     p.straight = td_straight_defaults();
     p.defringe = 0;
     p.fringe = td_defringe_defaults();
@@ -38,6 +40,7 @@ void td_scan_result_free(td_scan_result *res)
     td_grid_u8_free(res->mask);
     td_grid_u8_free(res->skeleton);
     td_grid_u8_free(res->despurred);
+    free(res->other);
     memset(res, 0, sizeof *res);
 }
 
@@ -112,11 +115,22 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     if (p->do_join && p->join_other &&
         (rc = td_binarise_other_ink(src, &res->palette, &other, cx)) != 0)
         goto fail;
+    jp.other = other;
+    if (p->flank_cut && other) {
+        long nf = td_flank_cut(res->lines, other, im->w, im->h, cx);
+        if (nf < 0) {
+            rc = (int)nf;
+            goto fail;
+        }
+        res->flank_cuts = (size_t)nf;
+    }
     td_image_free(clean);
     clean = NULL;
-    jp.other = other;
     rc = p->do_join ? td_join(&res->lines, &jp, &res->join, cx) : 0;
-    free(other);
+    if (p->keep_debug)
+        res->other = other;
+    else
+        free(other);
     other = NULL;
     if (rc != 0)
         goto fail;
@@ -179,6 +193,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     return 0;
 fail:
     td_image_free(clean);
+    free(other);
     free(bits);
     free(seams);
     td_grid_u8_free(g);

@@ -1,7 +1,9 @@
 /* scan.h: the scanner stage as one call: scan image -> contour lines.
  *
  *   image -> td_binarise -> mask -> td_thin_hilditch -> skeleton
- *         -> td_despur -> td_trace (CCW 3x3, 5x5 bridge) -> td_join -> lines
+ *         -> td_despur -> td_trace (CCW 3x3, 5x5 bridge)
+ *         -> td_flank_cut (colour: stretches along other inks cut out)
+ *         -> td_join -> lines
  *         -> td_line_widths (each line's ink width, from the mask)
  *         -> td_wide_cut (lines cut where contours crowd into one blob)
  *
@@ -74,6 +76,10 @@ typedef struct td_scan_params {
                              with no seam between them), else off (on
                              blurred sheets the seams split them, and the
                              cut costs the DEM: docs/scanner.md); 0: off */
+    int flank_cut;        /* cut traced stretches that run along another
+                             ink's strokes (a road's flanks; flank.h;
+                             ours; colour scans with join_other), default
+                             1 */
     int keep_debug;       /* keep mask and skeleton copies in the result */
 } td_scan_params;
 
@@ -82,6 +88,9 @@ typedef struct td_scan_result {
     td_grid_u8 *mask;      /* ink mask (keep_debug only) */
     td_grid_u8 *skeleton;  /* after thinning (keep_debug only) */
     td_grid_u8 *despurred; /* after spur removal: always kept */
+    uint8_t *other;        /* the other inks' strokes the joiner keeps
+                              off (td_binarise_other_ink: packed, one bit
+                              a pixel; keep_debug only, NULL when none) */
     td_thin_stats thin;
     td_despur_stats spur;
     td_trace_stats trace;
@@ -97,6 +106,7 @@ typedef struct td_scan_result {
     td_lines *walls;       /* the stretches cut there (widecut.h), for the
                               labeller's faces (td_label_params.walls) */
     size_t straight_lines; /* grid lines erased from the mask */
+    size_t flank_cuts;     /* stretches cut along other inks (flank.h) */
     td_palette palette;    /* the inks found on a colour scan (--ink auto
                               or brown; n = 0 otherwise) */
     double seconds[5];     /* binarise, thin, despur, trace, join */

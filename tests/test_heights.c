@@ -470,6 +470,46 @@ static void test_labels_on_tint(void)
     td_grid_f32_free(src);
 }
 
+/* New printed maps (the contours at full strength, tdgen --print
+ * --unfaded, the benchmark's "new"), 3 known points and the index widths.
+ * Their red roads came out as contour ink with the contours' orange
+ * colour fringe (one ink near the brown's hue with 2.6 % of its strokes),
+ * were traced as lines across the contours, and the labeller took each
+ * road for a contour with the two sides of the sheet one interval apart:
+ * Elkhorn 0.272, Orkhon 0.724.  With that ink another ink (palette.c,
+ * ALSO_STROKES) Elkhorn 0.592; with the road's traced flanks cut out too
+ * (scanner/flank.h) 0.929, Orkhon 0.884. */
+static void test_new_print_roads(void)
+{
+    static const struct {
+        const char *dem;
+        double scale, min_acc;
+    } v[2] = {{"elkhorn_srtm3.tif", 6, 0.9}, {"orkhon_92m.tif", 10, 0.85}};
+    int i;
+    for (i = 0; i < 2; i++) {
+        td_hsheet hs;
+        td_grid_f32 *src;
+        td_ctx cx;
+        td_ctx_init(&cx);
+        memset(&hs, 0, sizeof hs);
+        src = td_hsheet_dem_sheet(v[i].dem, v[i].scale, &hs.gp, &cx);
+        TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+        if (!src)
+            continue;
+        td_hsheet_defects(&hs.gp, 4);
+        hs.nknown = 3;
+        hs.index_every = 5;
+        TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
+        TT_CHECKF(hs.score.accuracy >= v[i].min_acc &&
+                      hs.score.n_wrong_sure == 0,
+                  "%s new print, 3 known + index: accuracy %.3f, %ld wrong "
+                  "and sure",
+                  v[i].dem, hs.score.accuracy, hs.score.n_wrong_sure);
+        td_label_report_free(&hs.rep);
+        td_grid_f32_free(src);
+    }
+}
+
 /* Straight labels printed on curves: the generator's hills, scanned and
  * in colour, with no hint.  A label on a small ring (radius 48 px) sits on
  * the chord of the ring's label gap, 6-8 px from the ring at its middle,
@@ -773,6 +813,7 @@ int main(void)
     TT_RUN(test_labels_only);
     TT_RUN(test_labels_on_curves);
     TT_RUN(test_labels_on_tint);
+    TT_RUN(test_new_print_roads);
     TT_RUN(test_crowded_labels_only);
     TT_RUN(test_crowded_walls);
     TT_RUN(test_crowded_crisp);

@@ -252,6 +252,33 @@ static void test_print_variants(void)
     }
 }
 
+/* Elkhorn as a new print: the red roads and the contours' orange colour
+ * fringe came out as one ink near the brown's hue and were taken as
+ * contour ink too, so the roads were traced across the contours (own
+ * contour 0.988, 11 lines jumping contours); an ink near the brown with
+ * under a tenth of its long strokes is another ink (palette.c,
+ * ALSO_STROKES): 0.999, 3 lines. */
+static void test_new_print_roads(void)
+{
+    td_gen_params gp;
+    td_grid_f32 *src;
+    td_palette pal;
+    td_scanscore sc;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    src = td_hsheet_dem_sheet("elkhorn_srtm3.tif", 6, &gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    if (!src)
+        return;
+    td_hsheet_defects(&gp, 4);
+    scan_scored(&gp, &pal, &sc);
+    check_brown(&pal);
+    TT_CHECKF(sc.own >= 0.995 && sc.n_jump <= 6 && sc.precision >= 0.985,
+              "Elkhorn new: own %.3f, %ld lines jump, precision %.3f", sc.own,
+              sc.n_jump, sc.precision);
+    td_grid_f32_free(src);
+}
+
 /* A scanner that misregisters the red channel by 1.2 px and the blue one
  * by -1.2 (Elkhorn printed, the benchmark's printed defects): the fringes
  * make colours of their own and the palette takes an olive for the
@@ -385,6 +412,7 @@ int main(void)
     TT_RUN(test_split_brown);
     TT_RUN(test_crowded_print);
     TT_RUN(test_print_variants);
+    TT_RUN(test_new_print_roads);
     TT_RUN(test_defringe_scan);
     TT_RUN(test_grey_as_rgb);
     TT_RUN(test_paper_only);

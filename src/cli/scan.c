@@ -104,6 +104,9 @@ static int parse_args(int argc, char **argv, scan_opts *o)
         {"no-grid", 0, TD_OPT_OFF, &p->straight.on, .help = "keep long "
          "straight lines (by default the map\ngrid's lines across the sheet "
          "are erased\nfrom the ink, ours: docs/scanner.md)"},
+        {"no-flank-cut", 0, TD_OPT_OFF, &p->flank_cut, .help = "colour "
+         "scans: keep traced stretches that run\nalong a road or another "
+         "ink (by default cut\nout: its edges look like contour ink; ours)"},
         {"min-length", 0, TD_OPT_DOUBLE, &p->join.min_length, 0, 10000,
          .meta = "PX", .help = "remove open fragments (label digits, text)\n"
          "shorter than PX or fitting in a PX box,\nunless both ends continue "
@@ -132,7 +135,8 @@ static int parse_args(int argc, char **argv, scan_opts *o)
         {"debug-dir", 0, TD_OPT_STRING, &o->debug_dir, .meta = "DIR", .help =
          "write mask.png, skeleton.png, despurred.png,\noverlay.png "
          "(label-gap joins in magenta),\njoin.txt; colour scans: palette.png "
-         "(the inks\nfound, the one taken framed), ink-K.png, inks.txt"},
+         "(the inks\nfound, the one taken framed), ink-K.png, inks.txt,\n"
+         "other.png (the other inks' strokes)"},
         {NULL}};
     const td_cmd c = {
         "scan", "SCAN -o LINES.geojson [options]",
@@ -175,6 +179,10 @@ static void summary(const td_scan_result *r, double secs)
     else if (r->wide_cuts > 0)
         fprintf(stderr, "scan: %zu line%s ended where contours crowd into one "
                 "blob of ink\n", r->wide_cuts, r->wide_cuts == 1 ? "" : "s");
+    if (r->flank_cuts > 0)
+        fprintf(stderr, "scan: %zu stretch%s along roads or other inks cut "
+                "out (their flanks look like contour ink)\n", r->flank_cuts,
+                r->flank_cuts == 1 ? "" : "es");
     if (r->depressions > 0)
         fprintf(stderr, "scan: %zu ring%s read as depression%s (ticks "
                 "inside)\n", r->depressions, r->depressions == 1 ? "" : "s",

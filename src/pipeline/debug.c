@@ -119,6 +119,25 @@ done:
     return rc;
 }
 
+/* other.png: the other inks' strokes (white) the joiner keeps off. */
+static int write_other(const char *path, int w, int h, const uint8_t *bits,
+                       td_ctx *cx)
+{
+    size_t stride = ((size_t)w + 7) / 8;
+    td_grid_u8 *g = td_grid_u8_new(w, h, cx);
+    int x, y, rc;
+    if (!g)
+        return TD_ENOMEM;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++)
+            g->data[(size_t)y * g->stride + (size_t)x] =
+                (uint8_t)((bits[(size_t)y * stride + (size_t)(x >> 3)] >>
+                           (x & 7)) & 1u);
+    rc = td_png_write_u8(path, g, 1, cx);
+    td_grid_u8_free(g);
+    return rc;
+}
+
 /* See pipeline.h. */
 int td_pipeline_scan_debug(const char *dir, const td_image *im,
                            const td_scan_result *r, td_ctx *cx)
@@ -146,6 +165,8 @@ int td_pipeline_scan_debug(const char *dir, const td_image *im,
         rc = write_join_report(DPATH("join.txt"), &r->join, cx);
     if (rc == 0 && r->palette.n > 0)
         rc = write_palette(dir, im, &r->palette, cx);
+    if (rc == 0 && r->other)
+        rc = write_other(DPATH("other.png"), im->w, im->h, r->other, cx);
 #undef DPATH
     td_image_free(ov);
     return rc;

@@ -1,0 +1,205 @@
+/* Traced lines along another ink's stroke: flank.h. */
+#include "scanner/flank.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Whether any other-ink pixel lies within TD_FLANK_NEAR px of (x, y). */
+static int near_other(const uint8_t *bits, int w, int h, double x, double y)
+{
+    size_t stride = ((size_t)w + 7) / 8;
+    int X = (int)floor(x), Y = (int)floor(y), u, v;
+    for (v = Y - TD_FLANK_NEAR; v <= Y + TD_FLANK_NEAR; v++) {
+        const uint8_t *row;
+        if (v < 0 || v >= h)
+            continue;
+        row = bits + (size_t)v * stride;
+        for (u = X - TD_FLANK_NEAR; u <= X + TD_FLANK_NEAR; u++)
+            if (u >= 0 && u < w && (row[u >> 3] >> (u & 7)) & 1)
+                return 1;
+    }
+    return 0;
+}
+
+/* On the open polyline xy (n points, arc lengths s): mark in cut[] the
+ * points of every near stretch (gaps of up to TD_FLANK_GAP bridged)
+ * longer than TD_FLANK_MIN.  near[] is overwritten.  Returns the number
+ * of stretches. */
+static long mark_cuts(const double *s, size_t n, uint8_t *near, uint8_t *cut)
+{
+    size_t i, last = SIZE_MAX;
+    long runs = 0;
+    for (i = 0; i < n; i++) { /* bridge short gaps between near points */
+        if (!near[i])
+            continue;
+        if (last != SIZE_MAX && i > last + 1 && s[i] - s[last] <= TD_FLANK_GAP)
+            memset(near + last + 1, 1, i - last - 1);
+        last = i;
+    }
+    memset(cut, 0, n);
+    for (i = 0; i < n;) {
+        size_t j = i;
+        if (!near[i]) {
+            i++;
+            continue;
+        }
+        while (j + 1 < n && near[j + 1])
+            j++;
+        if (s[j] - s[i] > TD_FLANK_MIN) {
+            memset(cut + i, 1, j - i + 1);
+            runs++;
+        }
+        i = j + 1;
+    }
+    return runs;
+}
+
+/* Append to out the pieces of l's points pts (n, open) between the cut
+ * points; first_end / last_end: pts[0] / pts[n - 1] are l's own ends. */
+static int add_pieces(td_lines *out, const td_line *l, const double *pts,
+                      size_t n, const uint8_t *cut, int first_end, int last_end,
+                      int w, int h, td_ctx *cx)
+{
+    size_t i = 0;
+    while (i < n) {
+        size_t j = i, k;
+        td_line *c;
+        if (cut[i]) {
+            i++;
+            continue;
+        }
+        while (j + 1 < n && !cut[j + 1])
+            j++;
+        if (j > i) {
+            if (!(c = td_lines_add(out, cx)))
+                return TD_ENOMEM;
+            {
+                long id = c->id;
+                *c = *l;
+                c->id = id;
+            }
+            c->xy = NULL, c->n = c->cap = 0;
+            c->closed = 0;
+            c->junc =
+                (unsigned char)(((i == 0 && first_end) ? l->junc & 1u : 0u) |
+                                ((j == n - 1 && last_end) ? l->junc & 2u : 0u));
+            for (k = i; k <= j; k++)
+                if (td_line_push(c, pts[2 * k], pts[2 * k + 1], cx) != 0)
+                    return TD_ENOMEM;
+            c->edge = td_line_on_border(c, w, h);
+        }
+        i = j + 1;
+    }
+    return 0;
+}
+
+/* Contract in flank.h. */
+long td_flank_cut(td_lines *ls, const uint8_t *bits, int w, int h, td_ctx *cx)
+{
+    td_lines *out = NULL;
+    double *pts = NULL, *s = NULL;
+    uint8_t *near = NULL, *cut = NULL;
+    size_t i, cap = 0;
+    long runs = 0;
+    int rc = TD_ENOMEM;
+    if (!bits || ls->n == 0)
+        return 0;
+    if (!(out = td_lines_new(cx)))
+        return TD_ENOMEM;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        size_t n = l->n, m, k, k0 = 0;
+        long r;
+        int any;
+        if (n + 2 > cap) {
+            cap = 2 * (n + 2);
+            free(pts), free(s), free(near), free(cut);
+            pts = malloc(2 * cap * sizeof *pts);
+            s = malloc(2 * cap * sizeof *s); /* also the closed walk */
+            near = malloc(cap);
+            cut = malloc(cap);
+            if (!pts || !s || !near || !cut)
+                goto fail;
+        }
+        for (k = 0, any = 0; k < n; k++) {
+            near[k] =
+                (uint8_t)near_other(bits, w, h, l->xy[2 * k], l->xy[2 * k + 1]);
+            any |= near[k];
+        }
+        if (!any) { /* most lines: nowhere near another ink */
+            if (td_lines_append_copy(out, l, cx) != 0)
+                goto fail;
+            out->v[out->n - 1].id = (long)out->n - 1;
+            continue;
+        }
+        /* a closed line is walked round from the middle of its longest
+           stretch off the other ink (the gaps bridged are all inside) */
+        if (l->closed && n >= 3) {
+            size_t best = 0, run = 0, at = 0;
+            for (k = 0; k < 2 * n; k++) {
+                run = near[k % n] ? 0 : run + 1;
+                if (run > best && run <= n)
+                    best = run, at = k;
+            }
+            if (best == 0) { /* all of it along the other ink */
+                if (td_line_length(l) > TD_FLANK_MIN) {
+                    runs++;
+                    continue;
+                }
+            } else {
+                k0 = (at + n - best / 2) % n;
+            }
+        }
+        m = l->closed && n >= 3 ? n + 1 : n;
+        for (k = 0; k < m; k++) {
+            size_t q = (k0 + k) % n;
+            pts[2 * k] = l->xy[2 * q];
+            pts[2 * k + 1] = l->xy[2 * q + 1];
+            s[k] = k == 0 ? 0.0
+                          : s[k - 1] + hypot(pts[2 * k] - pts[2 * k - 2],
+                                             pts[2 * k + 1] - pts[2 * k - 1]);
+        }
+        for (k = 0; k < m; k++) /* near[] in the walk's order */
+            cut[k] = near[(k0 + k) % n];
+        memcpy(near, cut, m);
+        r = mark_cuts(s, m, near, cut);
+        if (r == 0) {
+            if (td_lines_append_copy(out, l, cx) != 0)
+                goto fail;
+            out->v[out->n - 1].id = (long)out->n - 1;
+            continue;
+        }
+        runs += r;
+        if (l->closed && n >= 3) { /* go round from the first point cut,
+                                      so no piece is split at the start */
+            size_t c0 = 0;
+            while (!cut[c0])
+                c0++;
+            for (k = 0; k < n; k++) {
+                size_t q = (c0 + k) % n;
+                s[2 * k] = pts[2 * q], s[2 * k + 1] = pts[2 * q + 1];
+                near[k] = cut[q];
+            }
+            memcpy(pts, s, 2 * n * sizeof *pts);
+            memcpy(cut, near, n);
+            m = n;
+        }
+        if (add_pieces(out, l, pts, m, cut, !l->closed, !l->closed, w, h, cx) !=
+            0)
+            goto fail;
+    }
+    /* the cut lines in place of ls's */
+    for (i = 0; i < ls->n; i++)
+        free(ls->v[i].xy);
+    free(ls->v);
+    *ls = *out;
+    free(out);
+    out = NULL;
+    rc = 0;
+fail:
+    if (out)
+        td_lines_free(out);
+    free(pts), free(s), free(near), free(cut);
+    return rc ? (long)td_seterr(cx, TD_ENOMEM, "flank: out of memory") : runs;
+}

@@ -1,0 +1,154 @@
+/* Tests of the cut along other inks (scanner/flank.c): traced lines over a
+ * map of another ink's strokes (a road), as td_binarise_other_ink gives
+ * it. */
+#include "tests/tt.h"
+
+#include "scanner/flank.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define W 120
+#define H 100
+#define STRIDE ((W + 7) / 8)
+
+static void put(uint8_t *b, int x, int y)
+{
+    if (x >= 0 && y >= 0 && x < W && y < H)
+        b[y * STRIDE + (x >> 3)] |= (uint8_t)(1u << (x & 7));
+}
+
+/* A road along y = 50 from x0 to x1, 2 px wide; dash > 0: on for dash px,
+ * off for 2 dash (the patchy map of a thin road's 2 x 2 blocks). */
+static void road(uint8_t *b, int x0, int x1, int dash)
+{
+    int x;
+    for (x = x0; x <= x1; x++)
+        if (dash == 0 || (x - x0) % (3 * dash) < dash)
+            put(b, x, 50), put(b, x, 51);
+}
+
+static td_line *line(td_lines *ls, double x0, double y0, double x1, double y1,
+                     int steps)
+{
+    td_line *l = td_lines_add(ls, NULL);
+    int k;
+    TT_CHECK(l != NULL);
+    for (k = 0; l && k <= steps; k++)
+        TT_CHECK(td_line_push(l, x0 + (x1 - x0) * k / steps,
+                              y0 + (y1 - y0) * k / steps, NULL) == 0);
+    return l;
+}
+
+/* The x extent of line l. */
+static void xrange(const td_line *l, double *lo, double *hi)
+{
+    size_t k;
+    *lo = HUGE_VAL, *hi = -HUGE_VAL;
+    for (k = 0; k < l->n; k++)
+        *lo = fmin(*lo, l->xy[2 * k]), *hi = fmax(*hi, l->xy[2 * k]);
+}
+
+/* A line traced along the road's flank (1 px off it) for 40 px: that
+ * stretch goes, the two ends off the road stay as two lines. */
+static void test_flank_cut(void)
+{
+    uint8_t *b = calloc(STRIDE * H, 1);
+    td_lines *ls = td_lines_new(NULL);
+    double lo, hi;
+    TT_CHECK(b && ls);
+    if (!b || !ls)
+        goto done;
+    road(b, 40, 80, 0);
+    line(ls, 10, 49, 110, 49, 100)->junc = 3;
+    TT_CHECK(td_flank_cut(ls, b, W, H, NULL) == 1);
+    TT_CHECKF(ls->n == 2, "%zu pieces", ls->n);
+    if (ls->n == 2) {
+        xrange(&ls->v[0], &lo, &hi);
+        TT_CHECKF(lo == 10 && hi >= 35 && hi < 40, "first piece %g..%g", lo,
+                  hi);
+        TT_CHECK(ls->v[0].junc == 1); /* its own first end only */
+        xrange(&ls->v[1], &lo, &hi);
+        TT_CHECKF(hi == 110 && lo > 80 && lo <= 85, "second piece %g..%g", lo,
+                  hi);
+        TT_CHECK(ls->v[1].junc == 2);
+    }
+done:
+    td_lines_free(ls);
+    free(b);
+}
+
+/* A contour crossing the road keeps all of it (the joiner bridges the
+ * road); so does a line 4 px off the road, beside it. */
+static void test_crossing_kept(void)
+{
+    uint8_t *b = calloc(STRIDE * H, 1);
+    td_lines *ls = td_lines_new(NULL);
+    TT_CHECK(b && ls);
+    if (!b || !ls)
+        goto done;
+    road(b, 0, W - 1, 0);
+    line(ls, 60, 5, 60, 95, 90);
+    line(ls, 70, 20, 75, 80, 60); /* crosses at a slant */
+    line(ls, 0, 46, 119, 46, 119);
+    line(ls, 0, 55, 119, 55, 119);
+    TT_CHECK(td_flank_cut(ls, b, W, H, NULL) == 0);
+    TT_CHECKF(ls->n == 4 && ls->v[0].n == 91 && ls->v[1].n == 61 &&
+                  ls->v[2].n == 120 && ls->v[3].n == 120,
+              "%zu lines", ls->n);
+done:
+    td_lines_free(ls);
+    free(b);
+}
+
+/* A dashed map of the road (the 2 x 2 blocks of a thin road come and go)
+ * still cuts the flank; a ring with a side along the road opens there. */
+static void test_patchy_and_ring(void)
+{
+    uint8_t *b = calloc(STRIDE * H, 1);
+    td_lines *ls = td_lines_new(NULL);
+    td_line *r;
+    double lo, hi;
+    int k;
+    TT_CHECK(b && ls);
+    if (!b || !ls)
+        goto done;
+    road(b, 20, 100, 3);
+    r = td_lines_add(ls, NULL);
+    TT_CHECK(r != NULL);
+    /* a rectangle 30..90 x 49..80, its top side along the road */
+    for (k = 30; r && k < 90; k++)
+        td_line_push(r, k, 49, NULL);
+    for (k = 49; r && k < 80; k++)
+        td_line_push(r, 90, k, NULL);
+    for (k = 90; r && k > 30; k--)
+        td_line_push(r, k, 80, NULL);
+    for (k = 80; r && k > 49; k--)
+        td_line_push(r, 30, k, NULL);
+    if (r)
+        r->closed = 1;
+    TT_CHECK(td_flank_cut(ls, b, W, H, NULL) == 1);
+    TT_CHECKF(ls->n == 1 && !ls->v[0].closed, "%zu lines, closed %d", ls->n,
+              ls->n ? ls->v[0].closed : -1);
+    if (ls->n == 1) {
+        xrange(&ls->v[0], &lo, &hi);
+        TT_CHECK(lo == 30 && hi == 90);
+        /* its ends are the rectangle's corners' side of the road */
+        TT_CHECKF(ls->v[0].xy[1] >= 52 && ls->v[0].xy[2 * ls->v[0].n - 1] >= 52,
+                  "ends at y %g, %g", ls->v[0].xy[1],
+                  ls->v[0].xy[2 * ls->v[0].n - 1]);
+    }
+    TT_CHECK(td_flank_cut(ls, NULL, W, H, NULL) == 0);
+done:
+    td_lines_free(ls);
+    free(b);
+}
+
+int main(void)
+{
+    TT_RUN(test_flank_cut);
+    TT_RUN(test_crossing_kept);
+    TT_RUN(test_patchy_and_ring);
+    return tt_summary();
+}
