@@ -2316,16 +2316,39 @@ static double share_on(const td_label_params *p, double S)
 
 /* With no interval given.  Labels sit on index contours, every Nth line
  * (N = --index-every, else 5, 4, 10 or 2) at a nice interval I (1, 2,
- * 2.5, 5 x 10^k): the label step S is the largest N x I that at least 80%
- * of the values are multiples of (or one of the two largest that half of
- * them are: misreads), and the interval the nice S / N with the cheapest
- * solve (labels off it counted at their weight, spacings of index lines
- * rarer than every 5th a little). */
+ * 2.5, 5 x 10^k): the label step S is one of the MAX_STEPS largest N x I
+ * that at least half of the values are multiples of (misreads; until
+ * 2026-12-04 the largest that 80 % fit and the two largest that half fit,
+ * which missed the step where a few small numbers were misread), and the
+ * interval the nice S / N with the cheapest solve (labels off it counted
+ * at their weight, spacings of index lines rarer than every 5th a little)
+ * among those that keep the labels' span within the sheet's number of
+ * lines (levels_spanned). */
 static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
                     td_face_edge *fe, size_t nfe, int cost_only, dp_tables *dp,
                     td_label_report *rep, td_ctx *cx);
 static int faces_of(const td_lines *ls, const td_label_params *p, td_faces **fx,
                     td_face_edge **fe, size_t *nfe, td_ctx *cx);
+
+#define MAX_STEPS 6 /* label steps tried for the interval */
+
+/* How many intervals I the labels read on base + a multiple of I span:
+ * each level between the lowest and the highest needs a line of its own
+ * (misreads such as "2" and "16" beside "1875" fit an interval of 0.2
+ * over 9000 levels on a sheet of 400 lines). */
+static double levels_spanned(const td_label_params *p, double I)
+{
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    size_t i;
+    for (i = 0; i < p->nlabels; i++) {
+        const td_ocr_read *r = &p->labels[i];
+        double f = (r->value - p->base) / I;
+        if (r->spot || fabs(f - lround(f)) > 1e-6)
+            continue;
+        lo = fmin(lo, r->value), hi = fmax(hi, r->value);
+    }
+    return hi > lo ? (hi - lo) / I : 0.0;
+}
 
 /* The spacings of index lines tried when none is given, and how much
  * rarer than every 5th each is (infer_interval, td_heights_solve_index). */
@@ -2340,38 +2363,48 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
     td_face_edge *fe = NULL;
     size_t nfe = 0;
     static const double nice[4] = {1.0, 2.0, 2.5, 5.0};
-    double dec, Ss[3] = {0, 0, 0}, best = HUGE_VAL;
+    double dec, Ss[MAX_STEPS], best = HUGE_VAL;
     dp_tables dp = {NULL, NULL, NULL, 0};
     size_t i;
-    int k, rc = 0, si;
-    *best_i = 0;
+    int k, rc = 0, si, ns = 0;
+    *best_i = 0, *best_c = HUGE_VAL;
     *second = HUGE_VAL, *second_i = 0;
-    /* the steps S = N x a nice interval: the largest that 80% of the
-     * values fit, and the two largest that half of them fit (a few
-     * misreads) */
+    /* the steps S = N x a nice interval that half the values or more fit
+     * (a few misreads), the MAX_STEPS largest whose intervals keep the
+     * labels' span within the lines there are */
     for (dec = 0.001; dec <= 1e6; dec *= 10)
         for (k = 0; k < 4; k++) {
             int j;
             for (j = 0; j < 4; j++) {
-                double c = nice[k] * dec * index_every[j], sh = share_on(p, c);
-                if (sh >= 0.8 && c > Ss[0])
-                    Ss[0] = c;
-                if (sh >= 0.5 && c > Ss[1])
-                    Ss[2] = Ss[1], Ss[1] = c;
-                else if (sh >= 0.5 && c > Ss[2] && c != Ss[1])
-                    Ss[2] = c;
+                double c = nice[k] * dec * index_every[j];
+                int m, fits = 0;
+                if (share_on(p, c) < 0.5)
+                    continue;
+                for (m = 0; m < 4; m++)
+                    fits |=
+                        levels_spanned(p, c / index_every[m]) <= (double)ls->n;
+                for (m = 0; m < ns && fits; m++)
+                    fits = fabs(Ss[m] - c) > 1e-9 * c;
+                if (!fits)
+                    continue;
+                /* insert, largest first; the smallest falls off */
+                for (m = ns < MAX_STEPS ? ns++ : MAX_STEPS;
+                     m > 0 && Ss[m - 1] < c; m--)
+                    if (m < MAX_STEPS)
+                        Ss[m] = Ss[m - 1];
+                if (m < MAX_STEPS)
+                    Ss[m] = c;
             }
         }
-    for (si = 0; si < 3; si++)
+    for (si = 0; si < ns; si++)
         for (k = 0; k < 4; k++) {
             int N = p->index_every > 0 ? p->index_every : index_every[k];
             double S = Ss[si], I = S / N;
             double cost = p->index_every > 0 ? 0.0 : index_rarer[k];
             td_label_params q = *p;
             td_label_report r;
-            if (!(S > 0) ||
-                (si > 0 && (S == Ss[0] || (si == 2 && S == Ss[1]))) ||
-                (p->index_every > 0 && k > 0) || !is_nice(I))
+            if ((p->index_every > 0 && k > 0) || !is_nice(I) ||
+                levels_spanned(p, I) > (double)ls->n)
                 continue;
             for (i = 0; i < p->nlabels; i++) /* reads off it: not
                                                    used, or less sure */

@@ -31,6 +31,11 @@ td_ocr_params td_ocr_defaults(void)
  * of its text. */
 /* A read this confident is taken without trying other thresholds. */
 #define SURE_READ 0.9
+#define STRIP_EXTRA 40.0 /* px of strip beyond the label's pieces */
+/* ... and when digits were read but none sure: the cluster's middle can
+ * lie off the label's (Orkhon printed: "1875" cut to "187" and "875" at
+ * 40 px) */
+#define STRIP_LONG 60.0
 #define BIN_LEVEL 0.35 /* the digits binarised: see binarise_digits */
 
 enum { DOT_REACH = 14, DOT_MAX = 7, DOT_MIN_AREA = 5, DOT_MAX_AREA = 40 };
@@ -204,14 +209,14 @@ typedef struct cand {
 } cand;
 
 static int sample_strip(const td_image *im, const uint8_t *lut, const cand *c,
-                        strip *s)
+                        double extra, strip *s)
 {
     int i, j;
     memset(s, 0, sizeof *s);
     if (c->along < 6)
         return 1;
     s->cx = c->cx, s->cy = c->cy, s->ux = c->ux, s->uy = c->uy;
-    s->w = (int)ceil(c->along + 40); /* room for digits not traced */
+    s->w = (int)ceil(c->along + extra); /* room for digits not traced */
     s->h = (int)ceil(
         fmin(fmax(fmax(0.9 * c->along, 3.0 * c->across), 24.0), 80.0));
     if (s->w > MAX_STRIP)
@@ -288,9 +293,13 @@ static int digits_image(const strip *s, const int *b, double digit_px,
 }
 
 /* Read one image: the number and the confidence, or -1 when the text is
- * not a number. */
+ * not a number.  sec (may be NULL; one entry per character of text) gets
+ * each digit's runner-up digit among Tesseract's choices ('\0': none) and
+ * secf its confidence over the digit read's (LSTM choices,
+ * lstm_choice_mode 2: a faint "8" read "6" keeps its "8" there). */
 static int read_number(TessBaseAPI *api, const uint8_t *img, int w, int h,
-                       char *text, size_t tlen, double *conf)
+                       char *text, size_t tlen, double *conf, char *sec,
+                       double *secf)
 {
     char *t, *p, *q;
     int ok = 1, digits = 0;
@@ -307,6 +316,31 @@ static int read_number(TessBaseAPI *api, const uint8_t *img, int w, int h,
     for (p = text; *p; p++) {
         ok &= isdigit((unsigned char)*p) || (*p == '-' && p == text);
         digits += isdigit((unsigned char)*p) != 0;
+    }
+    if (ok && digits > 0 && sec) {
+        TessResultIterator *it = TessBaseAPIGetIterator(api);
+        size_t k = 0, n = strlen(text);
+        memset(sec, 0, n + 1);
+        for (; it && k < n; k++) {
+            TessChoiceIterator *ci = TessResultIteratorGetChoiceIterator(it);
+            double c0 = -1;
+            secf[k] = 0;
+            do {
+                const char *ch = ci ? TessChoiceIteratorGetUTF8Text(ci) : NULL;
+                double c = ci ? TessChoiceIteratorConfidence(ci) : 0;
+                if (!ch)
+                    break;
+                if (c0 < 0)
+                    c0 = c > 0 ? c : 1e-9;
+                else if (ch[0] != text[k] && isdigit((unsigned char)ch[0]) &&
+                         !ch[1] && c / c0 > secf[k])
+                    sec[k] = ch[0], secf[k] = c / c0;
+            } while (ci && TessChoiceIteratorNext(ci));
+            TessChoiceIteratorDelete(ci);
+            if (!TessResultIteratorNext(it, RIL_SYMBOL))
+                k = n; /* fewer symbols than characters: stop */
+        }
+        TessResultIteratorDelete(it);
     }
     return ok && digits > 0 ? 0 : -1;
 }
@@ -549,16 +583,25 @@ static int read_at(TessBaseAPI *api, strip *s, double t,
         return 1;
     for (var = 0; var < 2; var++)
         for (turn = 0; turn < 2; turn++) {
-            char text[24];
-            double conf;
+            char text[24], sec[24];
+            double conf, secf[24];
+            size_t q;
             if (var == 1 && *best >= 0 && turn != *turn0)
                 continue; /* the cores: only the way the text reads */
             if (turn != cur) /* half round: reverse the pixels */
                 turn_round(img, (size_t)w * h), cur = turn;
             if (var == 1 && !bin)
                 binarise_digits(img, (size_t)w * h), bin = 1;
-            if (read_number(api, img, w, h, text, sizeof text, &conf) != 0)
+            if (read_number(api, img, w, h, text, sizeof text, &conf, sec,
+                            secf) != 0)
                 continue;
+            for (q = 0; text[q]; q++) /* one digit read otherwise */
+                if (sec[q]) {
+                    char t2[24];
+                    memcpy(t2, text, sizeof t2);
+                    t2[q] = sec[q];
+                    add_alt(r, atof(t2), conf * secf[q], turn);
+                }
             if (conf <= *best) { /* read worse than the best so far */
                 add_alt(r, atof(text), conf, turn);
                 continue;
@@ -592,14 +635,14 @@ static int read_at(TessBaseAPI *api, strip *s, double t,
  * halfway between ink and paper and a third of the way from paper, on the
  * strip smoothed against the noise.  The most confident read wins. */
 static int read_strip(TessBaseAPI *api, const td_image *im, const uint8_t *lut,
-                      const cand *gap, const td_ocr_params *p, td_ocr_read *r,
-                      double *best, int *turn0)
+                      double extra, const cand *gap, const td_ocr_params *p,
+                      td_ocr_read *r, double *best, int *turn0)
 {
     strip s;
     int rc, k, any;
     double t[3];
     size_t i, n;
-    if ((rc = sample_strip(im, lut, gap, &s)) != 0)
+    if ((rc = sample_strip(im, lut, gap, extra, &s)) != 0)
         goto done;
     n = (size_t)s.w * s.h;
     s.ink = 255, s.paper = 0;
@@ -638,16 +681,25 @@ done:
 
 /* Read the label in one gap into *r (read_strip); on a colour scan whose
  * contour ink is known (lut) and the luminance read nothing sure, in the
- * ink's strength too.  1: nothing read, -1: no memory. */
+ * ink's strength too; and with digits read but none sure, once more in a
+ * strip STRIP_LONG beyond the label's pieces.  1: nothing read, -1: no
+ * memory. */
 static int read_gap(TessBaseAPI *api, const td_image *im, const uint8_t *lut,
                     const cand *gap, const td_ocr_params *p, td_ocr_read *r)
 {
-    int rc, k, turn0 = 0;
+    int rc, k, pass, turn0 = 0;
     double best = -1;
     memset(r, 0, sizeof *r);
-    rc = read_strip(api, im, NULL, gap, p, r, &best, &turn0);
-    if (rc >= 0 && lut && best < SURE_READ) {
-        int q = read_strip(api, im, lut, gap, p, r, &best, &turn0);
+    rc = read_strip(api, im, NULL, STRIP_EXTRA, gap, p, r, &best, &turn0);
+    /* then in the ink; then, when digits were read but none sure (a
+       label cut short), both in a longer strip */
+    for (pass = 1; pass < 4 && rc >= 0 && best < SURE_READ; pass++) {
+        int q;
+        if ((pass % 2 == 1 && !lut) || (pass >= 2 && best < 0))
+            continue;
+        q = read_strip(api, im, pass % 2 ? lut : NULL,
+                       pass < 2 ? STRIP_EXTRA : STRIP_LONG, gap, p, r, &best,
+                       &turn0);
         rc = q < 0 ? q : rc & q;
     }
     for (k = 0; k < TD_OCR_ALTS; k++) /* turned from the read's way */
@@ -747,6 +799,7 @@ static TessBaseAPI *digit_reader(const td_ocr_params *p)
     TessBaseAPISetPageSegMode(api, PSM_SINGLE_LINE);
     TessBaseAPISetVariable(api, "tessedit_do_invert", "0");
     TessBaseAPISetVariable(api, "tessedit_char_whitelist", "0123456789-");
+    TessBaseAPISetVariable(api, "lstm_choice_mode", "2");
     return api;
 }
 

@@ -9,7 +9,10 @@
  * digits about 32 px tall and read by Tesseract as one line of digits
  * (whitelist 0-9 and '-'), as sampled and binarised (the strokes' cores),
  * each way round; the most confident read wins and the other numbers read
- * are kept as its alternatives, for the labeller to choose among.
+ * are kept as its alternatives, for the labeller to choose among, with
+ * each number that one digit's runner-up among Tesseract's choices gives
+ * (LSTM choices: a faint "1875" read "1675" keeps "1875" at 0.67 of its
+ * confidence).
  *
  *     contour ====      2 3 5 0      ==== contour      strip along the
  *                 |<---- gap ---->|                    chord, both ways
@@ -42,7 +45,8 @@ typedef struct td_ocr_read {
     double conf;      /* Tesseract's confidence, 0..1 */
     td_ocr_alt alt[TD_OCR_ALTS]; /* the other numbers read (other
                          thresholds, the digits binarised, the text turned
-                         half round), most confident first, conf 0 after
+                         half round, one digit as Tesseract's runner-up
+                         choice), most confident first, conf 0 after
                          the last: the labeller weighs them all */
     long line[2];     /* indexes into the lines: the line through the
                          label (a joined gap), or the one or two lines

@@ -510,6 +510,41 @@ static void test_new_print_roads(void)
     }
 }
 
+/* Orkhon printed (faded brown labels, blur, JPEG), no hint.  Tesseract
+ * read this draw's upside-down "1875" as "1675" and "1500" as "1900";
+ * the strip cut another "1875" to "187" and "875" (40 px beyond the
+ * label's pieces; 60 now), and among the reads were "16", "2" and "3"
+ * (text, road numbers), so no step fitted 80 % of the values, the right
+ * one (125) was not tried, and the inference stopped ("5 and 2.5 fit
+ * about equally well").  Now every step half the values fit is tried
+ * (the 6 largest), those whose interval would need more levels between
+ * the lowest and highest label than the sheet has lines are not, and each
+ * digit's runner-up among Tesseract's choices is an alternative reading
+ * ("1675" keeps "1875"): interval 25, accuracy 0.929. */
+static void test_printed_interval(void)
+{
+    td_hsheet hs;
+    td_grid_f32 *src;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    memset(&hs, 0, sizeof hs);
+    src = td_hsheet_dem_sheet("orkhon_92m.tif", 10, &hs.gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    if (!src)
+        return;
+    td_hsheet_defects(&hs.gp, 3);
+    hs.read_labels = 1;
+    hs.no_interval = 1;
+    TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
+    TT_CHECKF(hs.interval == 25 && hs.score.accuracy >= 0.9 &&
+                  hs.score.n_wrong_sure == 0,
+              "Orkhon printed, labels only: interval %g, accuracy %.3f, %ld "
+              "wrong and sure",
+              hs.interval, hs.score.accuracy, hs.score.n_wrong_sure);
+    td_label_report_free(&hs.rep);
+    td_grid_f32_free(src);
+}
+
 /* Straight labels printed on curves: the generator's hills, scanned and
  * in colour, with no hint.  A label on a small ring (radius 48 px) sits on
  * the chord of the ring's label gap, 6-8 px from the ring at its middle,
@@ -814,6 +849,7 @@ int main(void)
     TT_RUN(test_labels_on_curves);
     TT_RUN(test_labels_on_tint);
     TT_RUN(test_new_print_roads);
+    TT_RUN(test_printed_interval);
     TT_RUN(test_crowded_labels_only);
     TT_RUN(test_crowded_walls);
     TT_RUN(test_crowded_crisp);
