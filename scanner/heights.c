@@ -2330,7 +2330,13 @@ static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
 static int faces_of(const td_lines *ls, const td_label_params *p, td_faces **fx,
                     td_face_edge **fe, size_t *nfe, td_ctx *cx);
 
-#define MAX_STEPS 6 /* label steps tried for the interval */
+#define MAX_STEPS 4 /* label steps tried for the interval */
+
+static int cmp_desc(const void *pa, const void *pb)
+{
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a < b) - (a > b);
+}
 
 /* How many intervals I the labels read on base + a multiple of I span:
  * each level between the lowest and the highest needs a line of its own
@@ -2363,15 +2369,16 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
     td_face_edge *fe = NULL;
     size_t nfe = 0;
     static const double nice[4] = {1.0, 2.0, 2.5, 5.0};
-    double dec, Ss[MAX_STEPS], best = HUGE_VAL;
+    double dec, Ss[MAX_STEPS], all[160], sh, best = HUGE_VAL;
     dp_tables dp = {NULL, NULL, NULL, 0};
     size_t i;
-    int k, rc = 0, si, ns = 0;
+    int k, rc = 0, si, ns = 0, na = 0;
     *best_i = 0, *best_c = HUGE_VAL;
     *second = HUGE_VAL, *second_i = 0;
     /* the steps S = N x a nice interval that half the values or more fit
-     * (a few misreads), the MAX_STEPS largest whose intervals keep the
-     * labels' span within the lines there are */
+     * (a few misreads) whose intervals keep the labels' span within the
+     * lines there are: the two largest, and smaller ones that fit more of
+     * the values than any larger step tried (MAX_STEPS in all) */
     for (dec = 0.001; dec <= 1e6; dec *= 10)
         for (k = 0; k < 4; k++) {
             int j;
@@ -2383,19 +2390,18 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
                 for (m = 0; m < 4; m++)
                     fits |=
                         levels_spanned(p, c / index_every[m]) <= (double)ls->n;
-                for (m = 0; m < ns && fits; m++)
-                    fits = fabs(Ss[m] - c) > 1e-9 * c;
-                if (!fits)
-                    continue;
-                /* insert, largest first; the smallest falls off */
-                for (m = ns < MAX_STEPS ? ns++ : MAX_STEPS;
-                     m > 0 && Ss[m - 1] < c; m--)
-                    if (m < MAX_STEPS)
-                        Ss[m] = Ss[m - 1];
-                if (m < MAX_STEPS)
-                    Ss[m] = c;
+                for (m = 0; m < na && fits; m++)
+                    fits = fabs(all[m] - c) > 1e-9 * c;
+                if (fits && na < (int)(sizeof all / sizeof all[0]))
+                    all[na++] = c;
             }
         }
+    qsort(all, (size_t)na, sizeof all[0], cmp_desc);
+    for (si = 0, sh = 0; si < na && ns < MAX_STEPS; si++) {
+        double f = share_on(p, all[si]);
+        if (ns < 2 || f > sh + 1e-9)
+            Ss[ns++] = all[si], sh = fmax(sh, f);
+    }
     for (si = 0; si < ns; si++)
         for (k = 0; k < 4; k++) {
             int N = p->index_every > 0 ? p->index_every : index_every[k];
@@ -2411,6 +2417,9 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
                 if (!p->labels[i].spot)
                     cost += W_LABEL * (p->labels[i].conf -
                                        on_step(&p->labels[i], p->base, I, 0));
+            if (cost >= best + fmax(INFER_MARGIN, 0.1 * best))
+                continue; /* the solve only adds: neither the best nor
+                             near enough to it to make the choice unsure */
             q.interval = I;
             q.index_every = N; /* the widths speak when index lines are
                                   thick */

@@ -225,7 +225,10 @@ static void test_misread_no_interval(void)
 
 /* Three separate hills, each ring labelled (2600, 2800, 2900): the values
  * fit an interval of 20 (every 5th labelled), 25 (every 4th), 10 or 50
- * alike and no line lies between them to count: no interval is guessed. */
+ * alike and no line lies between them to count: no interval is guessed.
+ * (Since 2026-12-04 those four are not even tried: 300 m between the
+ * labels would need 6-30 levels, and the sheet has 3 lines; 100 is, and
+ * only two of the labels agree with it.) */
 static void test_isolated_labels_no_interval(void)
 {
     td_lines *ls = td_lines_new(NULL);
@@ -245,7 +248,8 @@ static void test_isolated_labels_no_interval(void)
     p.w = 460, p.h = 200;
     p.labels = r, p.nlabels = 3;
     TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == TD_EINVAL);
-    TT_CHECKF(strstr(td_errmsg(&cx), "about equally well") &&
+    TT_CHECKF((strstr(td_errmsg(&cx), "about equally well") ||
+               strstr(td_errmsg(&cx), "only 2 of the 3")) &&
                   strstr(td_errmsg(&cx), "--interval"),
               "%s", td_errmsg(&cx));
     td_label_report_free(&rep);
