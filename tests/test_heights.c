@@ -438,6 +438,33 @@ static void test_labels_only(void)
     labelled_sheet("elkhorn_srtm3.tif", 6, 0, 0, 10, 0.97);
 }
 
+/* hs set up for a printed sheet (td_hsheet_defects kind: 3 printed, 4
+ * new) drawn from tests/data/dems/<dem> at scale x, and run; the source
+ * DEM for the caller to free, NULL when it did not load or the run
+ * failed (checked here). */
+static td_grid_f32 *printed_run(td_hsheet *hs, const char *dem, double scale,
+                                int kind, int labels_only, int nknown)
+{
+    td_grid_f32 *src;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    memset(hs, 0, sizeof *hs);
+    src = td_hsheet_dem_sheet(dem, scale, &hs->gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    if (!src)
+        return NULL;
+    td_hsheet_defects(&hs->gp, kind);
+    hs->read_labels = hs->no_interval = labels_only;
+    hs->nknown = nknown;
+    hs->index_every = nknown > 0 ? 5 : 0;
+    if (td_hsheet_run(hs, stderr, &cx) != 0) {
+        TT_CHECKF(0, "%s: %s", dem, td_errmsg(&cx));
+        td_grid_f32_free(src);
+        return NULL;
+    }
+    return src;
+}
+
 /* Elkhorn printed (the colour plates over ageing paper, scanned with
  * fringing, blur, noise and JPEG: tdgen --print): labels knocked out of
  * the green tint sit in a light box that the luminance strip takes for
@@ -448,18 +475,9 @@ static void test_labels_only(void)
 static void test_labels_on_tint(void)
 {
     td_hsheet hs;
-    td_grid_f32 *src;
-    td_ctx cx;
-    td_ctx_init(&cx);
-    memset(&hs, 0, sizeof hs);
-    src = td_hsheet_dem_sheet("elkhorn_srtm3.tif", 6, &hs.gp, &cx);
-    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    td_grid_f32 *src = printed_run(&hs, "elkhorn_srtm3.tif", 6, 3, 1, 0);
     if (!src)
         return;
-    td_hsheet_defects(&hs.gp, 3);
-    hs.read_labels = 1;
-    hs.no_interval = 1;
-    TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
     TT_CHECKF(hs.reads_right >= 11 && hs.reads_right == hs.nreads,
               "Elkhorn printed: %zu of %zu labels read right", hs.reads_right,
               hs.nreads);
@@ -488,18 +506,9 @@ static void test_new_print_roads(void)
     int i;
     for (i = 0; i < 2; i++) {
         td_hsheet hs;
-        td_grid_f32 *src;
-        td_ctx cx;
-        td_ctx_init(&cx);
-        memset(&hs, 0, sizeof hs);
-        src = td_hsheet_dem_sheet(v[i].dem, v[i].scale, &hs.gp, &cx);
-        TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+        td_grid_f32 *src = printed_run(&hs, v[i].dem, v[i].scale, 4, 0, 3);
         if (!src)
             continue;
-        td_hsheet_defects(&hs.gp, 4);
-        hs.nknown = 3;
-        hs.index_every = 5;
-        TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
         TT_CHECKF(hs.score.accuracy >= v[i].min_acc &&
                       hs.score.n_wrong_sure == 0,
                   "%s new print, 3 known + index: accuracy %.3f, %ld wrong "
@@ -516,26 +525,18 @@ static void test_new_print_roads(void)
  * label's pieces; 60 now), and among the reads were "16", "2" and "3"
  * (text, road numbers), so no step fitted 80 % of the values, the right
  * one (125) was not tried, and the inference stopped ("5 and 2.5 fit
- * about equally well").  Now every step half the values fit is tried
- * (the 6 largest), those whose interval would need more levels between
- * the lowest and highest label than the sheet has lines are not, and each
+ * about equally well").  Now the two largest steps half the values fit
+ * and smaller ones that fit more are tried, intervals that would need
+ * more levels between the lowest and highest label than the sheet has
+ * lines are not, and each
  * digit's runner-up among Tesseract's choices is an alternative reading
  * ("1675" keeps "1875"): interval 25, accuracy 0.929. */
 static void test_printed_interval(void)
 {
     td_hsheet hs;
-    td_grid_f32 *src;
-    td_ctx cx;
-    td_ctx_init(&cx);
-    memset(&hs, 0, sizeof hs);
-    src = td_hsheet_dem_sheet("orkhon_92m.tif", 10, &hs.gp, &cx);
-    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    td_grid_f32 *src = printed_run(&hs, "orkhon_92m.tif", 10, 3, 1, 0);
     if (!src)
         return;
-    td_hsheet_defects(&hs.gp, 3);
-    hs.read_labels = 1;
-    hs.no_interval = 1;
-    TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
     TT_CHECKF(hs.interval == 25 && hs.score.accuracy >= 0.9 &&
                   hs.score.n_wrong_sure == 0,
               "Orkhon printed, labels only: interval %g, accuracy %.3f, %ld "
