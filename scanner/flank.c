@@ -55,42 +55,47 @@ static long mark_cuts(const double *s, size_t n, uint8_t *near, uint8_t *cut)
     return runs;
 }
 
-/* Append to out the pieces of l's points pts (n, open) between the cut
- * points; first_end / last_end: pts[0] / pts[n - 1] are l's own ends. */
+/* Append to out the pieces of l's points pts (n) between the cut points,
+ * walking from point off round to it again (a closed walk; 0 for an open
+ * line, whose first and last points are l's own ends: they keep their
+ * junction bits). */
 static int add_pieces(td_lines *out, const td_line *l, const double *pts,
-                      size_t n, const uint8_t *cut, int first_end, int last_end,
-                      int w, int h, td_ctx *cx)
+                      size_t n, const uint8_t *cut, size_t off, int w, int h,
+                      td_ctx *cx)
 {
     size_t i = 0;
+#define AT(p) (((p) + off) % n)
     while (i < n) {
         size_t j = i, k;
         td_line *c;
-        if (cut[i]) {
+        if (cut[AT(i)]) {
             i++;
             continue;
         }
-        while (j + 1 < n && !cut[j + 1])
+        while (j + 1 < n && !cut[AT(j + 1)])
             j++;
         if (j > i) {
+            long id;
             if (!(c = td_lines_add(out, cx)))
                 return TD_ENOMEM;
-            {
-                long id = c->id;
-                *c = *l;
-                c->id = id;
-            }
+            id = c->id;
+            *c = *l;
+            c->id = id;
             c->xy = NULL, c->n = c->cap = 0;
             c->closed = 0;
             c->junc =
-                (unsigned char)(((i == 0 && first_end) ? l->junc & 1u : 0u) |
-                                ((j == n - 1 && last_end) ? l->junc & 2u : 0u));
+                (unsigned char)(l->closed ? 0u
+                                          : ((i == 0 ? l->junc & 1u : 0u) |
+                                             (j == n - 1 ? l->junc & 2u : 0u)));
             for (k = i; k <= j; k++)
-                if (td_line_push(c, pts[2 * k], pts[2 * k + 1], cx) != 0)
+                if (td_line_push(c, pts[2 * AT(k)], pts[2 * AT(k) + 1], cx) !=
+                    0)
                     return TD_ENOMEM;
             c->edge = td_line_on_border(c, w, h);
         }
         i = j + 1;
     }
+#undef AT
     return 0;
 }
 
@@ -116,7 +121,7 @@ long td_flank_cut(td_lines *ls, const uint8_t *bits, int w, int h, td_ctx *cx)
             cap = 2 * (n + 2);
             free(pts), free(s), free(near), free(cut);
             pts = malloc(2 * cap * sizeof *pts);
-            s = malloc(2 * cap * sizeof *s); /* also the closed walk */
+            s = malloc(cap * sizeof *s);
             near = malloc(cap);
             cut = malloc(cap);
             if (!pts || !s || !near || !cut)
@@ -171,22 +176,12 @@ long td_flank_cut(td_lines *ls, const uint8_t *bits, int w, int h, td_ctx *cx)
             continue;
         }
         runs += r;
-        if (l->closed && n >= 3) { /* go round from the first point cut,
-                                      so no piece is split at the start */
-            size_t c0 = 0;
-            while (!cut[c0])
-                c0++;
-            for (k = 0; k < n; k++) {
-                size_t q = (c0 + k) % n;
-                s[2 * k] = pts[2 * q], s[2 * k + 1] = pts[2 * q + 1];
-                near[k] = cut[q];
-            }
-            memcpy(pts, s, 2 * n * sizeof *pts);
-            memcpy(cut, near, n);
-            m = n;
-        }
-        if (add_pieces(out, l, pts, m, cut, !l->closed, !l->closed, w, h, cx) !=
-            0)
+        k0 = 0; /* a closed walk: from its first point cut, so no piece is
+                   split where the walk starts */
+        if (l->closed && n >= 3)
+            for (m = n; !cut[k0]; k0++)
+                ;
+        if (add_pieces(out, l, pts, m, cut, k0, w, h, cx) != 0)
             goto fail;
     }
     /* the cut lines in place of ls's */

@@ -445,12 +445,9 @@ static void test_labels_only(void)
 static td_grid_f32 *printed_run(td_hsheet *hs, const char *dem, double scale,
                                 int kind, int labels_only, int nknown)
 {
-    td_grid_f32 *src;
+    td_grid_f32 *src = dem_sheet(hs, dem, scale, 0, 0);
     td_ctx cx;
     td_ctx_init(&cx);
-    memset(hs, 0, sizeof *hs);
-    src = td_hsheet_dem_sheet(dem, scale, &hs->gp, &cx);
-    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
     if (!src)
         return NULL;
     td_hsheet_defects(&hs->gp, kind);

@@ -258,19 +258,28 @@ static void test_print_variants(void)
  * contour 0.988, 11 lines jumping contours); an ink near the brown with
  * under a tenth of its long strokes is another ink (palette.c,
  * ALSO_STROKES): 0.999, 3 lines. */
+/* The Elkhorn sheet (x6) as print kind (td_hsheet_defects) into *gp; its
+ * source DEM for the caller to free, NULL when it did not load. */
+static td_grid_f32 *elkhorn_print(td_gen_params *gp, int kind)
+{
+    td_ctx cx;
+    td_grid_f32 *src;
+    td_ctx_init(&cx);
+    src = td_hsheet_dem_sheet("elkhorn_srtm3.tif", 6, gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    if (src)
+        td_hsheet_defects(gp, kind);
+    return src;
+}
+
 static void test_new_print_roads(void)
 {
     td_gen_params gp;
-    td_grid_f32 *src;
+    td_grid_f32 *src = elkhorn_print(&gp, 4);
     td_palette pal;
     td_scanscore sc;
-    td_ctx cx;
-    td_ctx_init(&cx);
-    src = td_hsheet_dem_sheet("elkhorn_srtm3.tif", 6, &gp, &cx);
-    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
     if (!src)
         return;
-    td_hsheet_defects(&gp, 4);
     scan_scored(&gp, &pal, &sc);
     check_brown(&pal);
     TT_CHECKF(sc.own >= 0.995 && sc.n_jump <= 6 && sc.precision >= 0.985,
@@ -287,16 +296,11 @@ static void test_new_print_roads(void)
 static void test_defringe_scan(void)
 {
     td_gen_params gp;
-    td_grid_f32 *src;
+    td_grid_f32 *src = elkhorn_print(&gp, 3);
     td_palette pal;
     td_scanscore off, on;
-    td_ctx cx;
-    td_ctx_init(&cx);
-    src = td_hsheet_dem_sheet("elkhorn_srtm3.tif", 6, &gp, &cx);
-    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
     if (!src)
         return;
-    td_hsheet_defects(&gp, 3);
     gp.fringe[0] = 1.2;
     scan_scored_ink(&gp, TD_INK_AUTO, 0, &pal, &off);
     scan_scored_ink(&gp, TD_INK_AUTO, 1, &pal, &on);
