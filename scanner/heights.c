@@ -2282,25 +2282,31 @@ static int is_nice(double v)
     return 0;
 }
 
-/* The share of the labels whose values are base + a multiple of S. */
+/* Whether v is base + a multiple of S, to a millionth of v - base (not of
+ * S: a read of "2" is no multiple of an interval of 10^6). */
+static int on_multiple(double v, double base, double S)
+{
+    double d = v - base;
+    return fabs(d - S * (double)lround(d / S)) < 1e-6 * fmax(1.0, fabs(d));
+}
+
 /* The confidence of r's surest reading (its read, or an alternative as
  * sure as least) on base + k S; 0: none. */
 static double on_step(const td_ocr_read *r, double base, double S,
                       double least)
 {
-    double f = (r->value - base) / S, best = 0;
+    double best = 0;
     int k;
-    if (fabs(f - lround(f)) < 1e-6)
+    if (on_multiple(r->value, base, S))
         return r->conf;
-    for (k = 0; k < TD_OCR_ALTS && r->alt[k].conf > 0; k++) {
-        f = (r->alt[k].value - base) / S;
+    for (k = 0; k < TD_OCR_ALTS && r->alt[k].conf > 0; k++)
         if (r->alt[k].conf >= least && r->alt[k].conf > best &&
-            fabs(f - lround(f)) < 1e-6)
+            on_multiple(r->alt[k].value, base, S))
             best = r->alt[k].conf;
-    }
     return best;
 }
 
+/* The share of the labels whose values are base + a multiple of S. */
 static double share_on(const td_label_params *p, double S)
 {
     size_t i, fit = 0;
@@ -2348,8 +2354,7 @@ static double levels_spanned(const td_label_params *p, double I)
     size_t i;
     for (i = 0; i < p->nlabels; i++) {
         const td_ocr_read *r = &p->labels[i];
-        double f = (r->value - p->base) / I;
-        if (r->spot || fabs(f - lround(f)) > 1e-6)
+        if (r->spot || !on_multiple(r->value, p->base, I))
             continue;
         lo = fmin(lo, r->value), hi = fmax(hi, r->value);
     }
@@ -2385,8 +2390,9 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
             for (j = 0; j < 4; j++) {
                 double c = nice[k] * dec * index_every[j];
                 int m, fits = 0;
-                if (share_on(p, c) < 0.5)
-                    continue;
+                if (share_on(p, c) < 0.5 || levels_spanned(p, c) < 1.0)
+                    continue; /* a step no two values read differ by
+                                 cannot be told from its multiples */
                 for (m = 0; m < 4; m++)
                     fits |=
                         levels_spanned(p, c / index_every[m]) <= (double)ls->n;

@@ -256,6 +256,48 @@ static void test_isolated_labels_no_interval(void)
     td_lines_free(ls);
 }
 
+/* Sixteen nested rings, every fifth labelled 1000, 1050, 1100 (interval
+ * 10), and three short misreads (2, 1, 4) beside them.  A step of 10^6
+ * and more fits the misreads to a millionth of the step; until 2026-12-04
+ * that made the error "fit intervals 2.5e+06 and 5e+06 about equally
+ * well".  Now a read fits a step only to a millionth of its own value, and
+ * a step no two reads differ by is not tried: what is left to weigh is 10
+ * against 25 (1000 to 1050 over five rings fits 25 with rings going down
+ * again, which only weak priors speak against), and either the interval 10
+ * is taken and the rings get their heights, or the error names 10. */
+static void test_misreads_no_huge_interval(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_ocr_read r[6];
+    static const double v[6] = {1000, 1050, 1100, 2, 1, 4};
+    static const int ring[6] = {0, 5, 10, 15, 0, 5};
+    td_ctx cx;
+    int k, rc;
+    td_ctx_init(&cx);
+    memset(&rep, 0, sizeof rep);
+    for (k = 0; k < 16; k++)
+        circle(ls, 150, 150, 140 - 8 * k);
+    for (k = 0; k < 6; k++) {
+        r[k] = read_at(150 + 140 - 8 * ring[k], 150 + 20 * (k / 3), v[k]);
+        r[k].line[0] = ring[k];
+    }
+    p.w = 300, p.h = 300;
+    p.labels = r, p.nlabels = 6;
+    rc = td_label_auto(ls, &p, &rep, &cx);
+    if (rc)
+        TT_CHECKF(strstr(td_errmsg(&cx), "intervals 10 ") &&
+                      !strstr(td_errmsg(&cx), "e+"),
+                  "%s", td_errmsg(&cx));
+    else
+        TT_CHECKF(ls->v[10].has_height && ls->v[10].height == 1100 &&
+                      ls->v[3].has_height && ls->v[3].height == 1030,
+                  "ring 10 %g, ring 3 %g", ls->v[10].height, ls->v[3].height);
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+}
+
 int main(void)
 {
     TT_RUN(test_generator_marks_summits);
@@ -265,5 +307,6 @@ int main(void)
     TT_RUN(test_two_labels_no_interval);
     TT_RUN(test_misread_no_interval);
     TT_RUN(test_isolated_labels_no_interval);
+    TT_RUN(test_misreads_no_huge_interval);
     return tt_summary();
 }
