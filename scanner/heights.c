@@ -2460,7 +2460,7 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
                      td_label_report *rep, td_ctx *cx)
 {
     td_label_params q = *p;
-    double I, I2, c1, c2;
+    double I, I2, c1, c2, conf_all = 0, conf_agree = 0;
     int rc, N = 0;
     size_t i, nl = 0, agree;
     for (i = 0; i < p->nlabels; i++)
@@ -2493,14 +2493,33 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
     q.index_auto = p->index_every <= 0;
     if ((rc = td_heights_solve(ls, &q, rep, cx)) != 0)
         return rc;
-    for (i = 0, agree = 0; i < p->nlabels; i++)
-        agree += !p->labels[i].spot && p->labels[i].used;
+    for (i = 0, agree = 0; i < p->nlabels; i++) {
+        const td_ocr_read *r = &p->labels[i];
+        double sure = r->conf;
+        int k;
+        if (r->spot)
+            continue;
+        for (k = 0; k < TD_OCR_ALTS; k++)
+            sure = fmax(sure, r->alt[k].conf);
+        agree += r->used;
+        conf_all += sure;
+        conf_agree += r->used ? r->conf : 0.0;
+    }
     if (agree < MIN_INFER_LABELS || 2 * agree <= nl)
         /* misreads and the solve agree on an interval: not enough */
         return td_seterr(cx, TD_EINVAL,
                          "no interval: only %zu of the %zu printed labels "
                          "read agree with the interval %g they suggest; "
                          "give --interval I",
+                         agree, nl, I);
+    if (2 * conf_agree <= conf_all)
+        /* short misreads ("2", "4", "12") agree on a small interval
+           that the surest reads do not fit */
+        return td_seterr(cx, TD_EINVAL,
+                         "no interval: the %zu of the %zu printed labels "
+                         "read that agree with the interval %g they suggest "
+                         "were read less surely than the rest; give "
+                         "--interval I",
                          agree, nl, I);
     td_label_warn(rep,
                   "interval %g inferred from %zu printed labels, index "

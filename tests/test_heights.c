@@ -543,6 +543,61 @@ static void test_printed_interval(void)
     td_grid_f32_free(src);
 }
 
+/* Orkhon new print (tdgen --print --unfaded), no hint.  Its labels are
+ * knocked out of the green tint; in the luminance the tint joined the
+ * digits at a label's ends, and the reader gave "875" for 1875 and "16"
+ * for 1625 (sure: 0.94); a 4-px stroke of a glyph traced as a line was
+ * taken for the label's line; so 2 of 6 labels agreed and run stopped
+ * ("only 2 of the 6 ... interval 25").  Now the contour ink's strength
+ * is read first, a read that holds the read so far and more wins, and
+ * glyph strokes are no label's line: interval 25, 4 of 6 labels right. */
+static void test_new_print_labels(void)
+{
+    td_hsheet hs;
+    td_grid_f32 *src = printed_run(&hs, "orkhon_92m.tif", 10, 4, 1, 0);
+    if (!src)
+        return;
+    TT_CHECKF(hs.interval == 25 && hs.reads_right >= 4 &&
+                  hs.score.accuracy >= 0.85 && hs.score.n_wrong_sure == 0,
+              "Orkhon new print, labels only: interval %g, %zu of %zu "
+              "labels right, accuracy %.3f, %ld wrong and sure",
+              hs.interval, hs.reads_right, hs.nreads, hs.score.accuracy,
+              hs.score.n_wrong_sure);
+    td_label_report_free(&hs.rep);
+    td_grid_f32_free(src);
+}
+
+/* The crowded Front Range sheet (interval 20) printed new, no hint: the
+ * reader gets 2 or 3 of its labels right (labels squeezed between
+ * touching contours).  With the label reading of 2026-12-04 before its
+ * glyph-count rule and the 0.4 floor, the others came out "2", "4", "4"
+ * and "12"; those fit an interval of 2, four of seven reads agreed, and
+ * the lines were all labelled with it (accuracy 0.000).  Whatever the
+ * reader gets, this sheet must not be labelled wrong: an error asking for
+ * --interval, or the right interval (test_spots' unsure reads test for
+ * the rule that weighs the agreeing reads by how sure they are). */
+static void test_crowded_misreads_refused(void)
+{
+    td_hsheet hs;
+    td_grid_f32 *src = dem_sheet(&hs, "frontrange_srtm3.tif", 10, 0, 0);
+    td_ctx cx;
+    int rc;
+    td_ctx_init(&cx);
+    if (!src)
+        return;
+    hs.gp.interval = 20;
+    td_hsheet_defects(&hs.gp, 4);
+    hs.read_labels = hs.no_interval = 1;
+    rc = td_hsheet_run(&hs, NULL, &cx);
+    TT_CHECKF((rc != 0 && strstr(td_errmsg(&cx), "--interval")) ||
+                  (rc == 0 && hs.interval == 20 && hs.score.accuracy >= 0.9),
+              "crowded new print, labels only: rc %d (%s), interval %g, "
+              "accuracy %.3f",
+              rc, rc ? td_errmsg(&cx) : "", hs.interval, hs.score.accuracy);
+    td_label_report_free(&hs.rep);
+    td_grid_f32_free(src);
+}
+
 /* Straight labels printed on curves: the generator's hills, scanned and
  * in colour, with no hint.  A label on a small ring (radius 48 px) sits on
  * the chord of the ring's label gap, 6-8 px from the ring at its middle,
@@ -848,6 +903,8 @@ int main(void)
     TT_RUN(test_labels_on_tint);
     TT_RUN(test_new_print_roads);
     TT_RUN(test_printed_interval);
+    TT_RUN(test_new_print_labels);
+    TT_RUN(test_crowded_misreads_refused);
     TT_RUN(test_crowded_labels_only);
     TT_RUN(test_crowded_walls);
     TT_RUN(test_crowded_crisp);

@@ -298,6 +298,49 @@ static void test_misreads_no_huge_interval(void)
     td_lines_free(ls);
 }
 
+/* 200 nested squares 3 px apart; the two sure reads (125 and 175, 0.95)
+ * fit an interval of 5, four short misreads (2, 4, 6, 12, 0.45) an
+ * interval of 1, which half the values or more fit.  The solve at 1 uses
+ * the four (the squares can go up and down) and leaves out the two sure
+ * ones, twenty squares from a "2": four of six reads agreed, and the
+ * interval was taken.  Agreement is now weighed by how sure the reads
+ * are (1.8 against 3.7): no interval. */
+static void test_unsure_reads_no_interval(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_label_params p = td_label_defaults();
+    td_label_report rep;
+    td_ocr_read r[6];
+    static const double v[6] = {125, 175, 2, 4, 6, 12};
+    static const int ring[6] = {0, 10, 20, 30, 40, 50};
+    td_ctx cx;
+    int k, rc;
+    td_ctx_init(&cx);
+    memset(&rep, 0, sizeof rep);
+    for (k = 0; k < 200; k++) {
+        td_line *l = td_lines_add(ls, NULL);
+        double a = 610 - 3 * k;
+        td_line_push(l, 620 - a, 620 - a, NULL);
+        td_line_push(l, 620 + a, 620 - a, NULL);
+        td_line_push(l, 620 + a, 620 + a, NULL);
+        td_line_push(l, 620 - a, 620 + a, NULL);
+        l->closed = 1;
+    }
+    for (k = 0; k < 6; k++) {
+        r[k] = read_at(620 + 610 - 3 * ring[k], 620, v[k]);
+        r[k].ux = 0, r[k].uy = 1, r[k].conf = k < 2 ? 0.95 : 0.45;
+        r[k].line[0] = ring[k];
+    }
+    p.w = 1240, p.h = 1240;
+    p.labels = r, p.nlabels = 6;
+    rc = td_label_auto(ls, &p, &rep, &cx);
+    TT_CHECKF(rc == TD_EINVAL && strstr(td_errmsg(&cx), "less surely"),
+              "rc %d: %s (interval %g)", rc, rc ? td_errmsg(&cx) : "",
+              rep.interval);
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+}
+
 int main(void)
 {
     TT_RUN(test_generator_marks_summits);
@@ -308,5 +351,6 @@ int main(void)
     TT_RUN(test_misread_no_interval);
     TT_RUN(test_isolated_labels_no_interval);
     TT_RUN(test_misreads_no_huge_interval);
+    TT_RUN(test_unsure_reads_no_interval);
     return tt_summary();
 }
