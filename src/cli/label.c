@@ -125,6 +125,22 @@ static int hints(label_opts *o, td_ctx *cx)
     return rc;
 }
 
+/* The labeller refused (its error stands): --debug-dir still
+ * gets the heights picture and labels.geojson, every line without a
+ * height, to show what was read. */
+static void refused_debug(const label_opts *o, td_lines *ls,
+                          const td_ocr_read *reads, size_t nreads)
+{
+    td_ctx dc;
+    size_t i;
+    td_ctx_init(&dc);
+    for (i = 0; i < ls->n; i++)
+        ls->v[i].has_height = 0;
+    if (td_pipeline_heights_debug(o->debug_dir, NULL, o->w, o->h, ls, reads,
+                                  nreads, NULL, &dc) != 0)
+        fprintf(stderr, "label: %s\n", td_errmsg(&dc));
+}
+
 /* Label ls and write every output, the secondary ones first: when one
  * fails, the main output (new or old) is left as it was. */
 static int label(label_opts *o, td_lines *ls, const td_georef *frame,
@@ -141,7 +157,10 @@ static int label(label_opts *o, td_lines *ls, const td_georef *frame,
     o->p.w = o->w, o->p.h = o->h;
     if (rc == 0 && (ncross = td_label_warn_crossings(ls, o->quiet, cx)) < 0)
         rc = TD_ENOMEM;
-    if (rc == 0 && (rc = td_label_auto(ls, &o->p, rep, cx)) == 0) {
+    if (rc == 0 && (rc = td_label_auto(ls, &o->p, rep, cx)) == TD_EINVAL &&
+        o->debug_dir)
+        refused_debug(o, ls, reads, nreads);
+    if (rc == 0) {
         *more += (size_t)ncross;
         if (!(o->p.interval > 0))
             o->p.interval = rep->interval;
@@ -158,7 +177,7 @@ static int label(label_opts *o, td_lines *ls, const td_georef *frame,
         rc = td_csv_write_heights(o->csv_out, ls, cx);
     if (rc == 0 && o->debug_dir)
         rc = td_pipeline_heights_debug(o->debug_dir, NULL, o->w, o->h, ls,
-                                       NULL, 0, NULL, cx);
+                                       reads, nreads, NULL, cx);
     if (rc == 0)
         rc = td_vector_write_lines(o->out, ls, frame->valid ? frame : NULL,
                                    cx);

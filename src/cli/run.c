@@ -70,6 +70,22 @@ static int on_labelled(const td_run_result *r, void *user)
     return rc;
 }
 
+/* The labeller refused: --debug-dir still gets the heights picture and
+ * labels.geojson, the labels read being what to look at (the error line
+ * says what to add).  Nothing else is written. */
+static int on_refused(const td_run_result *r, void *user)
+{
+    const run_opts *o = user;
+    td_ctx dc;
+    if (!o->r.debug_dir)
+        return 0;
+    td_ctx_init(&dc);
+    if (td_pipeline_heights_debug(o->r.debug_dir, r->scan, r->w, r->h, r->lines,
+                                  r->reads, r->nreads, &r->geo, &dc) != 0)
+        fprintf(stderr, "run: %s\n", td_errmsg(&dc));
+    return 0;
+}
+
 /* The labeller's warnings but the face conflicts (counted in the summary):
  * contradicting known points and labels, the interval inferred. */
 static void put_warnings(const td_label_report *rep)
@@ -191,6 +207,7 @@ int td_cmd_run(int argc, char **argv)
     }
     o.r.p.keep_scan = o.r.debug_dir != NULL;
     o.r.p.on_labelled = on_labelled;
+    o.r.p.on_refused = on_refused;
     o.r.p.user = &o;
     td_ctx_init(&cx);
     td_cli_progress_init(&pr, &cx, o.quiet);

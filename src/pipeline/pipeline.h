@@ -69,7 +69,12 @@ struct td_run_result;
  * filled in.  on_labelled (may be NULL) is called once every line has its
  * height or null, before the lines without one are dropped: the place to
  * write the labelled lines and the debug pictures (r->scan is kept for it
- * when keep_scan).  A nonzero return stops the run with that code. */
+ * when keep_scan).  A nonzero return stops the run with that code.
+ * on_refused (may be NULL) is called instead when the labeller refuses
+ * (TD_EINVAL: no interval inferred, heights that contradict): every line
+ * without a height, the labels read in r->reads; the place to write the
+ * debug pictures that show why.  The run then stops with the labeller's
+ * error whatever on_refused returns. */
 typedef struct td_run_params {
     td_scan_params scan;
     int read_labels;       /* read the printed labels (default 1) */
@@ -86,6 +91,7 @@ typedef struct td_run_params {
                               default 48; 0: off) */
     int keep_scan;         /* keep the image until on_labelled (debug) */
     int (*on_labelled)(const struct td_run_result *r, void *user);
+    int (*on_refused)(const struct td_run_result *r, void *user);
     void *user;
 } td_run_params;
 
@@ -110,7 +116,8 @@ typedef struct td_run_result {
     td_ocr_read *reads;    /* printed labels read */
     size_t nreads;
     td_palette pal;        /* the inks of a colour scan (n = 0: none) */
-    td_image *scan;        /* keep_scan: until on_labelled returns */
+    td_image *scan;        /* keep_scan: until on_labelled (or
+                              on_refused) returns */
 } td_run_result;
 
 /* Read the scan at path, trace, read its labels, label every line (with

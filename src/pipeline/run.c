@@ -79,6 +79,20 @@ static int checks(td_run_result *r, const td_label_params *lp, td_ctx *cx)
     return rc;
 }
 
+/* The labeller refused (its error in cx): on_refused sees the lines, all
+ * without a height (a refused solve may have left its trial's), and the
+ * labels read; the labeller's error stands. */
+static int refused(const td_run_params *p, td_run_result *r, td_ctx *cx)
+{
+    char msg[sizeof cx->msg];
+    size_t i;
+    snprintf(msg, sizeof msg, "%s", td_errmsg(cx));
+    for (i = 0; i < r->lines->n; i++)
+        r->lines->v[i].has_height = 0;
+    p->on_refused(r, p->user);
+    return td_seterr(cx, TD_EINVAL, "%s", msg);
+}
+
 /* Label; then the callback sees every line, and the lines left without a
  * height are dropped. */
 static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
@@ -101,7 +115,10 @@ static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
     if (!(lp.interval > 0) && (tree || lp.nlabels == 0))
         return td_seterr(cx, TD_EINVAL, "no interval: give --interval I%s",
                          tree ? "" : " (no printed labels to infer it from)");
-    if ((rc = td_label_auto(r->lines, &lp, &r->rep, cx)) != 0 ||
+    if ((rc = td_label_auto(r->lines, &lp, &r->rep, cx)) == TD_EINVAL &&
+        p->on_refused)
+        return refused(p, r, cx);
+    if (rc != 0 ||
         (!tree && (rc = td_label_close_gaps(r->lines, r->reads, r->nreads,
                                             &r->rep.gaps_closed, cx)) != 0))
         return rc;
