@@ -76,7 +76,8 @@ rc=$?
   check "failed interp leaves an existing output untouched" "cmp -s '$T/dem.tif' '$T/keep.tif'"
 }
 
-# --- run: scan + label + interp in one process
+# --- run: scan + label + interp in one process (a run slower than 1 s,
+# on a busy machine, adds "stage: 100%" progress lines: not counted)
 K=$(sed -n 's/.*"height": *320\(\.0*\)\{0,1\},.*"coordinates": *\[ *\[ *\([0-9.]*\), *-\{0,1\}\([0-9.]*\) *\].*/\2,\3,320/p' samples/hills.geojson | head -n 1)
 [ -n "$K" ] || K=213.5,205.603,320
 # three known points on the tilt's open lines (the issue's "three correct
@@ -85,7 +86,7 @@ K3="--known 123.5,263.996,120 --known 267.5,244.206,200 --known 561.5,77.084,240
 "$TD" run samples/hills.png -o "$T/run.tif" --interval 20 $K3 --depressions 205,336 --save-lines "$T/run-lines.geojson" 2>"$T/err"
 rc=$?
 check "run: exit 0, two summary lines (heights by source)" \
-  "[ $rc = 0 ] && [ \$(wc -l <'$T/err') = 2 ] && grep -q '^run: [0-9]* lines, [0-9]* labelled' '$T/err' && grep -q '^run: heights: 3 known' '$T/err'"
+  "[ $rc = 0 ] && [ \$(grep -vc '^[a-z][a-z +]*: [0-9]*%$' '$T/err') = 2 ] && grep -q '^run: [0-9]* lines, [0-9]* labelled' '$T/err' && grep -q '^run: heights: 3 known' '$T/err'"
 if have_gdal; then
   # the lines and the DEM in one frame: each line's first vertex, looked up
   # on the DEM through its geotransform, gives the line's own height
