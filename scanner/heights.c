@@ -2505,10 +2505,6 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
         conf_all += sure;
         conf_agree += r->used ? r->conf : 0.0;
     }
-    if (agree < MIN_INFER_LABELS || 2 * agree <= nl ||
-        2 * conf_agree <= conf_all)
-        for (i = 0; i < ls->n; i++) /* refused: the trial's heights go */
-            ls->v[i].has_height = 0;
     if (agree < MIN_INFER_LABELS || 2 * agree <= nl)
         /* misreads and the solve agree on an interval: not enough */
         return td_seterr(cx, TD_EINVAL,

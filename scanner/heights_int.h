@@ -15,8 +15,8 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
  * TD_EINVAL when fewer than three labels were read, they fit no interval,
  * or fewer than three (or only half) of them agree with the solve at the
  * interval inferred, or those that agree are less sure, summed, than the
- * rest (misreads that happen to fit an interval); the lines are then left
- * without heights. */
+ * rest (misreads that happen to fit an interval; td_label_auto then
+ * takes the solve's heights off the lines). */
 int td_heights_infer(td_lines *ls, const td_label_params *p,
                      td_label_report *rep, td_ctx *cx);
 

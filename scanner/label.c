@@ -832,8 +832,8 @@ static int check_levels(const td_label_params *p, td_ctx *cx)
     return 0;
 }
 
-int td_label_auto(td_lines *ls, const td_label_params *p,
-                  td_label_report *rep, td_ctx *cx)
+static int label_auto(td_lines *ls, const td_label_params *p,
+                      td_label_report *rep, td_ctx *cx)
 {
     solver s;
     size_t i;
@@ -884,5 +884,17 @@ fail:
     free(s.d), free(s.skip), free(s.fixed);
     free(s.unit), free(s.upar), free(s.lock);
     free(s.rel), free(s.order), free(s.mark), free(s.c);
+    return rc;
+}
+
+/* Contract in label.h: the labeller refused, so no line keeps a height (a
+ * refused trial solve, the interval's, had given them some). */
+int td_label_auto(td_lines *ls, const td_label_params *p, td_label_report *rep,
+                  td_ctx *cx)
+{
+    int rc = label_auto(ls, p, rep, cx);
+    size_t i;
+    for (i = 0; rc == TD_EINVAL && i < ls->n; i++)
+        ls->v[i].has_height = 0;
     return rc;
 }

@@ -128,7 +128,8 @@ td_label_params td_label_defaults(void);
  * listed in rep.  Fills *rep (free with td_label_report_free).  Returns 0,
  * TD_EINVAL (bad parameters, a known point off the sheet or off every
  * region, contradictory known points: the message names the points and
- * the line ids) or TD_ENOMEM. */
+ * the line ids; no interval inferred: every line is then left without a
+ * height) or TD_ENOMEM. */
 int td_label_auto(td_lines *ls, const td_label_params *p,
                   td_label_report *rep, td_ctx *cx);
 

@@ -314,7 +314,7 @@ static void test_unsure_reads_no_interval(void)
     static const double v[6] = {125, 175, 2, 4, 6, 12};
     static const int ring[6] = {0, 10, 20, 30, 40, 50};
     td_ctx cx;
-    int k, rc;
+    int k, rc, n;
     td_ctx_init(&cx);
     memset(&rep, 0, sizeof rep);
     for (k = 0; k < 200; k++) {
@@ -337,6 +337,9 @@ static void test_unsure_reads_no_interval(void)
     TT_CHECKF(rc == TD_EINVAL && strstr(td_errmsg(&cx), "less surely"),
               "rc %d: %s (interval %g)", rc, rc ? td_errmsg(&cx) : "",
               rep.interval);
+    for (k = 0, n = 0; k < 200; k++) /* the refused trial's heights go */
+        n += ls->v[k].has_height;
+    TT_CHECKF(n == 0, "%d squares keep a height after the refusal", n);
     td_label_report_free(&rep);
     td_lines_free(ls);
 }

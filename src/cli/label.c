@@ -127,15 +127,12 @@ static int hints(label_opts *o, td_ctx *cx)
 
 /* The labeller refused (its error stands): --debug-dir still
  * gets the heights picture and labels.geojson, every line without a
- * height, to show what was read. */
-static void refused_debug(const label_opts *o, td_lines *ls,
+ * height (td_label_auto), to show what was read. */
+static void refused_debug(const label_opts *o, const td_lines *ls,
                           const td_ocr_read *reads, size_t nreads)
 {
     td_ctx dc;
-    size_t i;
     td_ctx_init(&dc);
-    for (i = 0; i < ls->n; i++)
-        ls->v[i].has_height = 0;
     if (td_pipeline_heights_debug(o->debug_dir, NULL, o->w, o->h, ls, reads,
                                   nreads, NULL, &dc) != 0)
         fprintf(stderr, "label: %s\n", td_errmsg(&dc));

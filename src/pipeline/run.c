@@ -80,15 +80,12 @@ static int checks(td_run_result *r, const td_label_params *lp, td_ctx *cx)
 }
 
 /* The labeller refused (its error in cx): on_refused sees the lines, all
- * without a height (a refused solve may have left its trial's), and the
- * labels read; the labeller's error stands. */
+ * without a height (td_label_auto), and the labels read; the labeller's
+ * error stands. */
 static int refused(const td_run_params *p, td_run_result *r, td_ctx *cx)
 {
     char msg[sizeof cx->msg];
-    size_t i;
     snprintf(msg, sizeof msg, "%s", td_errmsg(cx));
-    for (i = 0; i < r->lines->n; i++)
-        r->lines->v[i].has_height = 0;
     p->on_refused(r, p->user);
     return td_seterr(cx, TD_EINVAL, "%s", msg);
 }
