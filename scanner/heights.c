@@ -64,6 +64,7 @@
                               (and 10 %) more, or none is inferred: half a
                               label read for sure */
 #define W_UP 3.0     /* its top towards higher ground, confidence 1 */
+#define W_VEE 6.0    /* a stream's V on a line points uphill, sharpness 1 */
 #define FACE_A 4.0   /* the search: a broken face edge of w probes costs */
 #define FACE_B 2.6   /* FACE_A + FACE_B ln w (see face_cost) */
 #define SEARCH_WORK 4e7 /* node and edge visits per improve() */
@@ -532,6 +533,26 @@ static void setup_labels(hs *s)
             }
         if (!any)
             r->why = "no traced line at the label";
+    }
+}
+
+/* Streams' Vs (scanner/streams.h): the side of the chunk the V points to
+ * rises. */
+static void setup_vees(hs *s)
+{
+    size_t i;
+    for (i = 0; i < s->p->nvees; i++) {
+        const td_vee *v = &s->p->vees[i];
+        long c;
+        if (v->line < 0 || (size_t)v->line >= s->N ||
+            !td_faces_used(s->fx, (size_t)v->line))
+            continue;
+        c = td_faces_chunk_at(s->fx, (size_t)v->line,
+                              nearest_vertex(&s->ls->v[v->line], v->x, v->y));
+        if (c < 0)
+            continue; /* cost when the other side is the higher: */
+        s->up_cost[2 * c + (1 - v->up)] += W_VEE * v->conf;
+        s->rep->vees += !s->cost_only;
     }
 }
 
@@ -2554,6 +2575,7 @@ static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
     if ((rc = setup_ring_next(&s, touched, cx)) != 0)
         goto fail;
     setup_labels(&s);
+    setup_vees(&s);
     if ((rc = setup_index(&s, cx)) != 0 || (rc = solve_all(&s, cx)) != 0 ||
         cost_only)
         goto fail;

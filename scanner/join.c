@@ -61,6 +61,7 @@ typedef struct jpair {
 td_join_params td_join_defaults(int w, int h)
 {
     td_join_params p;
+    memset(&p, 0, sizeof p); /* other, water: none */
     p.max_gap = 16.0;
     p.max_angle = 40.0;
     p.tangent = 8.0;
@@ -70,6 +71,7 @@ td_join_params td_join_defaults(int w, int h)
     p.junc_ratio = 1.5;
     p.long_gap = 70.0;
     p.long_tangent = 20.0;
+    p.cross_gap = 16.0;
     p.curves = 1;
     p.record = 0;
     p.w = w;
@@ -257,15 +259,20 @@ static double arc_cost(const jend *a, const jend *b, double gx, double gy,
 
 /* Cost of joining ends a and b in stage 1 or 2, or a negative value when
  * not allowed. */
+static double cross_cost(const td_join_params *p, const jend *a, const jend *b,
+                         double gx, double gy, double d);
+
 static double pair_cost(const td_lines *ls, const jend *a, const jend *b,
                         const td_join_params *p, int stage, int *arc)
 {
     double gx = b->x - a->x, gy = b->y - a->y, d = hypot(gx, gy), ga, gb;
-    if (d > (stage == 2 ? p->long_gap : p->max_gap))
+    if (d > (stage == 3 ? p->cross_gap : stage == 2 ? p->long_gap : p->max_gap))
         return -1.0;
     if (a->line == b->line &&
         (ls->v[a->line].n < 4 || td_line_length(&ls->v[a->line]) < 4 * d))
         return -1.0;
+    if (stage == 3)
+        return a->line == b->line ? -1.0 : cross_cost(p, a, b, gx, gy, d);
     if (a->junc && b->junc) { /* across a junction: go on straight */
         double turn = angle_to(a->tx, a->ty, -b->tx, -b->ty);
         /* a small ring cut open where it touches a line: its two ends
@@ -313,7 +320,9 @@ static int find_pairs(const td_lines *ls, const jend *e, size_t ne,
                       const td_join_params *p, int stage, jpair **out,
                       size_t *nout, td_ctx *cx)
 {
-    double gap = stage == 2 ? p->long_gap : p->max_gap;
+    double gap = stage == 3   ? p->cross_gap
+                 : stage == 2 ? p->long_gap
+                              : p->max_gap;
     double cs = gap > 1 ? gap : 1;
     int cw = (int)(p->w / cs) + 1, ch = (int)(p->h / cs) + 1;
     size_t *head = NULL, *nxt = NULL, i, np = 0, cap = 0;
@@ -491,7 +500,7 @@ static int collect_ends(const td_lines *ls, const td_join_params *p,
             end_of(l, k, tangent, &e[n]);
             if (on_border(p, e[n].x, e[n].y))
                 continue;
-            if (stage == 2)
+            if (stage >= 2)
                 end_curve(l, k, &e[n]);
             e[n].line = i;
             eol[2 * i + k] = (long)n++;
@@ -795,8 +804,10 @@ static int keep_path(jend *a, jend *b, const double *pts, size_t np,
     return 0;
 }
 
-/* Whether another ink covers (x, y) or a pixel next to it. */
-static int other_at(const td_join_params *p, double x, double y)
+/* Whether the packed mask m (p's size) is set at (x, y) or a pixel next
+ * to it. */
+static int bits_at(const td_join_params *p, const uint8_t *m, double x,
+                   double y)
 {
     size_t stride = ((size_t)p->w + 7) / 8;
     int X = (int)floor(x), Y = (int)floor(y), dx, dy;
@@ -804,11 +815,22 @@ static int other_at(const td_join_params *p, double x, double y)
         for (dx = -1; dx <= 1; dx++) {
             int u = X + dx, v = Y + dy;
             if (u >= 0 && v >= 0 && u < p->w && v < p->h &&
-                (p->other[(size_t)v * stride + (size_t)(u >> 3)] >> (u & 7)) &
-                    1)
+                (m[(size_t)v * stride + (size_t)(u >> 3)] >> (u & 7)) & 1)
                 return 1;
         }
     return 0;
+}
+
+/* Whether another ink covers (x, y) or a pixel next to it. */
+static int other_at(const td_join_params *p, double x, double y)
+{
+    return bits_at(p, p->other, x, y);
+}
+
+/* Whether the water covers (x, y) or a pixel next to it. */
+static int water_at(const td_join_params *p, double x, double y)
+{
+    return bits_at(p, p->water, x, y);
 }
 
 /* The path pts (np points) runs over another ink (p->other) for more than
@@ -836,6 +858,166 @@ static int under_other(const td_join_params *p, const double *pts, size_t np)
         len += d;
     }
     return over > OTHER_MIN && over > OTHER_SHARE * len;
+}
+
+/* ---- stage 3: across a stream ----------------------------------------
+ *
+ *        a \   P   / b        a stream printed over a contour hides it
+ *           \  #  /           where they cross, and binarisation clears
+ *            \ # /            the other ink's pixels: at the bottom of a
+ *              #              V the two ends then point into the stream.
+ *   Ends a, b (at most cross_gap apart, each within CROSS_NEAR px of the
+ *   water) whose tangents meet within CROSS_MEET px of the water, no
+ *   farther from either than the gap, are joined a-P-b; ends that point
+ *   the same way side by side across the water (a narrow V whose tip it
+ *   hid) by the cap of a U; ends that face each other straight across it
+ *   (within max_angle) by their chord.  Roads are left out: across a
+ *   road the ends of two contours line up as often as one's.  (A rule
+ *   that the path run over the water for at most 60 % of its length
+ *   refused the V's whose tip lies in the stream: all of a short path is
+ *   within a pixel of it.) */
+#define CROSS_NEAR 5       /* px: an end this near the water */
+#define CROSS_MEET 3       /* px: the tangents meet this near it */
+#define U_COS 0.87         /* a U's two ends within 30 deg of one way */
+#define STREAM_R 6         /* px about P for the water's direction */
+#define STREAM_CROSS 0.64  /* |cos|: the gap at least 50 deg off it */
+#define STREAM_BISECT 0.77 /* |cos|: a V's bisector within 40 deg of it */
+#define U_LEVEL 0.7        /* and level: the gap's share along that way */
+
+/* Another ink within r px of (x, y). */
+static int water_near(const td_join_params *p, double x, double y, int r)
+{
+    int dx, dy;
+    for (dy = 1 - r; dy <= r - 1; dy += 2) /* other_at looks 1 px about */
+        for (dx = 1 - r; dx <= r - 1; dx += 2)
+            if (dx * dx + dy * dy <= r * r && water_at(p, x + dx, y + dy))
+                return 1;
+    return 0;
+}
+
+/* The water's direction about (x, y): the main axis of its pixels within
+ * STREAM_R px (*sx, *sy, unit); 0 when there are too few. */
+static int stream_dir(const td_join_params *p, double x, double y, double *sx,
+                      double *sy)
+{
+    size_t stride = ((size_t)p->w + 7) / 8;
+    int X = (int)floor(x), Y = (int)floor(y), dx, dy, n = 0;
+    double mx = 0, my = 0, xx = 0, yy = 0, xy = 0, a;
+    for (dy = -STREAM_R; dy <= STREAM_R; dy++)
+        for (dx = -STREAM_R; dx <= STREAM_R; dx++) {
+            int u = X + dx, v = Y + dy;
+            if (dx * dx + dy * dy > STREAM_R * STREAM_R || u < 0 || v < 0 ||
+                u >= p->w || v >= p->h ||
+                !((p->water[(size_t)v * stride + (size_t)(u >> 3)] >> (u & 7)) &
+                  1))
+                continue;
+            n++, mx += dx, my += dy;
+            xx += (double)dx * dx, yy += (double)dy * dy, xy += (double)dx * dy;
+        }
+    if (n < STREAM_R)
+        return 0;
+    mx /= n, my /= n;
+    xx = xx / n - mx * mx, yy = yy / n - my * my, xy = xy / n - mx * my;
+    a = 0.5 * atan2(2 * xy, xx - yy);
+    *sx = cos(a), *sy = sin(a);
+    return 1;
+}
+
+/* The stream about P runs across the gap a-b (at least STREAM_CROSS from
+ * along it) and, for a V (bend: its two arms' tangents meet at P), along
+ * the V's bisector: two contours ending on either side of a stream that
+ * hides a third between them line up across it as well, but their gap
+ * runs along the stream. */
+static int stream_fits(const td_join_params *p, const jend *a, const jend *b,
+                       double px, double py, int bend)
+{
+    double sx, sy, gx = b->x - a->x, gy = b->y - a->y, g = hypot(gx, gy);
+    if (!stream_dir(p, px, py, &sx, &sy) || g <= 0)
+        return 0;
+    if (fabs(sx * gx + sy * gy) / g > STREAM_CROSS)
+        return 0;
+    if (bend) {
+        double bx = a->ux + b->ux, by = a->uy + b->uy, bl = hypot(bx, by);
+        if (bl > 0.2 && fabs(sx * bx + sy * by) / bl < STREAM_BISECT)
+            return 0;
+    }
+    return 1;
+}
+
+/* Where the tangent rays of a and b meet (a + sa u_a = b + sb u_b), with
+ * sa, sb in (0, limit]: 1 and *px, *py; else 0. */
+static int rays_meet(const jend *a, const jend *b, double limit, double *px,
+                     double *py)
+{
+    double gx = b->x - a->x, gy = b->y - a->y;
+    double den = a->ux * b->uy - a->uy * b->ux, sa, sb;
+    if (fabs(den) < 1e-6)
+        return 0;
+    sa = (gx * b->uy - gy * b->ux) / den;
+    sb = (gx * a->uy - gy * a->ux) / den;
+    if (!(sa > 0 && sb > 0 && sa <= limit && sb <= limit))
+        return 0;
+    *px = a->x + sa * a->ux, *py = a->y + sa * a->uy;
+    return 1;
+}
+
+/* a and b point the same way, side by side across the other ink (a
+ * narrow V whose tip the ink hid): the cap of a U joins them. */
+static int u_pair(const td_join_params *p, const jend *a, const jend *b,
+                  double gx, double gy, double d)
+{
+    return a->ux * b->ux + a->uy * b->uy > U_COS &&
+           fabs(gx * a->ux + gy * a->uy) < U_LEVEL * d &&
+           fabs(gx * b->ux + gy * b->uy) < U_LEVEL * d &&
+           water_near(p, a->x + 0.5 * gx, a->y + 0.5 * gy, 2);
+}
+
+static double cross_cost(const td_join_params *p, const jend *a, const jend *b,
+                         double gx, double gy, double d)
+{
+    double px, py;
+    if (!water_near(p, a->x, a->y, CROSS_NEAR) ||
+        !water_near(p, b->x, b->y, CROSS_NEAR))
+        return -1.0;
+    if (rays_meet(a, b, d, &px, &py))
+        return water_near(p, px, py, CROSS_MEET) &&
+                       stream_fits(p, a, b, px, py, 1)
+                   ? hypot(px - a->x, py - a->y) + hypot(px - b->x, py - b->y)
+                   : -1.0;
+    if (u_pair(p, a, b, gx, gy, d))
+        return stream_fits(p, a, b, a->x + 0.5 * gx, a->y + 0.5 * gy, 1)
+                   ? 2.0 * d
+                   : -1.0;
+    if (!faces(a->tx, a->ty, gx, gy, angle_to(a->tx, a->ty, gx, gy),
+               p->max_angle) ||
+        !faces(b->tx, b->ty, -gx, -gy, angle_to(b->tx, b->ty, -gx, -gy),
+               p->max_angle) ||
+        !water_at(p, a->x + 0.5 * gx, a->y + 0.5 * gy) ||
+        !stream_fits(p, a, b, a->x + 0.5 * gx, a->y + 0.5 * gy, 0))
+        return -1.0;
+    return d;
+}
+
+/* Stage 3's path: a, P (where the tangents meet, when they do), b; or a
+ * U's cap half the gap beyond the ends (u_pair). */
+static size_t cross_path(const td_join_params *p, const jend *a, const jend *b,
+                         double *pts)
+{
+    double gx = b->x - a->x, gy = b->y - a->y, d = hypot(gx, gy), px, py;
+    size_t n = 0;
+    pts[2 * n] = a->x, pts[2 * n + 1] = a->y, n++;
+    if (rays_meet(a, b, d, &px, &py)) {
+        pts[2 * n] = px, pts[2 * n + 1] = py, n++;
+    } else if (u_pair(p, a, b, gx, gy, d)) {
+        double ux = a->ux + b->ux, uy = a->uy + b->uy, u = hypot(ux, uy);
+        ux *= 0.5 * d / u, uy *= 0.5 * d / u;
+        pts[2 * n] = a->x + ux, pts[2 * n + 1] = a->y + uy, n++;
+        pts[2 * n] = a->x + 0.5 * gx + 1.5 * ux;
+        pts[2 * n + 1] = a->y + 0.5 * gy + 1.5 * uy, n++;
+        pts[2 * n] = b->x + ux, pts[2 * n + 1] = b->y + uy, n++;
+    }
+    pts[2 * n] = b->x, pts[2 * n + 1] = b->y, n++;
+    return n;
 }
 
 /* Greedy acceptance, cheapest first; stage 2 also rejects joins whose path
@@ -1018,7 +1200,7 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
     memset(&g, 0, sizeof g);
     if (np > 0)
         qsort(pairs, np, sizeof *pairs, cmp_pair);
-    if (stage == 2 && np > 0 && sgrid_build(&g, ls, p, e, pairs, np, cx) != 0)
+    if (stage >= 2 && np > 0 && sgrid_build(&g, ls, p, e, pairs, np, cx) != 0)
         return TD_ENOMEM;
     for (i = 0; i < np && rc == 0; i++) {
         jend *a = &e[pairs[i].a], *b = &e[pairs[i].b];
@@ -1037,13 +1219,20 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
                                 cx)) != 0)
                 break;
             st->long_joins++;
+        } else if (stage == 3) {
+            n = cross_path(p, a, b, pts);
+            if (path_crosses(&g, ls, a, b, pts, n, *acc, *nacc))
+                continue;
+            if ((rc = keep_path(a, b, pts, n, acc, nacc, &cap, paths, cx)) != 0)
+                break;
+            st->cross_joins++;
         }
         a->partner = (long)pairs[i].b;
         b->partner = (long)pairs[i].a;
         st->joins++;
         st->closures += a->line == b->line;
     }
-    if (stage == 2 && np > 0)
+    if (stage >= 2 && np > 0)
         sgrid_free(&g);
     return rc;
 }
@@ -1467,6 +1656,9 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
         goto fail;
     junc_restore(*lsp, jpts, njpts);
     if (p->long_gap > p->max_gap && (rc = join_pass(lsp, p, 2, st, cx)) != 0)
+        goto fail;
+    if (p->water && p->cross_gap > 0 &&
+        (rc = join_pass(lsp, p, 3, st, cx)) != 0)
         goto fail;
     st->ends_open = count_open_ends(*lsp, p);
 fail:

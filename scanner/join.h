@@ -51,6 +51,16 @@ typedef struct td_join_params {
                              more than 8 px and a third of its length is
                              not made (default NULL; td_scan sets it on
                              colour scans) */
+    const uint8_t *water; /* stage 3 (ours): pixels the water ink covers
+                             (td_streams_water_bits: packed bits, w x h),
+                             or NULL (default; td_scan sets it on colour
+                             scans) */
+    double cross_gap;     /* stage 3: contours cut where a stream crosses
+                             them: two ends this near (px) whose tangents
+                             meet on the water (the V of a contour cut at a
+                             stream), or face each other across it, are
+                             joined through that point (default 16; 0:
+                             off) */
     double junc_ratio; /* junction zones: a pair whose end has another
                           partner (on another line) costing under this
                           many times as much is left open: two contours
@@ -64,6 +74,7 @@ typedef struct td_join_stats {
     size_t ends_open;  /* open ends left (not on the border) */
     size_t fragments;  /* short open fragments removed (stage 0) */
     size_t long_joins; /* of joins: made by stage 2 */
+    size_t cross_joins; /* of joins: made by stage 3, across other ink */
     size_t bridges;    /* short pieces between two junctions removed */
     size_t glyphs;     /* small closed rings (digits such as 0, 6, 8, 9)
                           removed because a stage-2 join passes through,

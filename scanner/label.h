@@ -29,8 +29,9 @@
 #ifndef TD_LABEL_H
 #define TD_LABEL_H
 
-#include "src/core/core.h"
 #include "scanner/ocr.h"
+#include "scanner/streams.h"
+#include "src/core/core.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -84,6 +85,9 @@ typedef struct td_label_params {
     td_ocr_read *labels;   /* faces: printed labels read from the sheet
                               (scanner/ocr.h); each gets used / why */
     size_t nlabels;
+    const td_vee *vees; /* faces: where streams cross the lines, their
+                           Vs pointing uphill (scanner/streams.h) */
+    size_t nvees;
     int index_auto;        /* index_every was inferred: no warning when the
                               widths show no thick lines */
     int label_up;          /* faces: a label's top faces uphill, as printed
@@ -112,6 +116,7 @@ typedef struct td_label_report {
     size_t split;           /* lines cut where their height changes: two
                                contours traced as one (faces) */
     size_t labels_used;     /* printed labels the solution agrees with */
+    size_t vees;            /* streams' Vs on the lines solved (faces) */
     size_t gaps_closed;     /* td_label_close_gaps: lines joined across a
                                label (run) */
     double interval;        /* the interval used (inferred from the labels

@@ -4,6 +4,7 @@
 
 #include "scanner/blobring.h"
 #include "scanner/flank.h"
+#include "scanner/streams.h"
 #include "scanner/ticks.h"
 #include "scanner/widecut.h"
 
@@ -56,7 +57,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     td_grid_u8 *g = NULL;
     td_image *clean = NULL; /* the scan defringed (colour) */
     const td_image *src = im;
-    uint8_t *bits = NULL, *seams = NULL, *other = NULL;
+    uint8_t *bits = NULL, *seams = NULL, *other = NULL, *water = NULL;
     td_join_params jp = p->join;
     double t0, halftone = -1;
     int rc;
@@ -116,6 +117,10 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         (rc = td_binarise_other_ink(src, &res->palette, &other, cx)) != 0)
         goto fail;
     jp.other = other;
+    if (p->do_join && p->join_other &&
+        (rc = td_streams_water_bits(src, &res->palette, &water, cx)) != 0)
+        goto fail;
+    jp.water = water;
     if (p->flank_cut && other) {
         long nf = td_flank_cut(res->lines, other, im->w, im->h, cx);
         if (nf < 0) {
@@ -127,6 +132,8 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     td_image_free(clean);
     clean = NULL;
     rc = p->do_join ? td_join(&res->lines, &jp, &res->join, cx) : 0;
+    free(water);
+    water = NULL;
     if (p->keep_debug)
         res->other = other;
     else
@@ -194,6 +201,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
 fail:
     td_image_free(clean);
     free(other);
+    free(water);
     free(bits);
     free(seams);
     td_grid_u8_free(g);

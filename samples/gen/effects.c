@@ -137,8 +137,10 @@ void td_gen_distractors(td_image *im, const uint8_t *contours, uint8_t *scratch,
     td_rng r = td_rng_make(p->seed, 6);
     double S = p->w < p->h ? p->w : p->h, gh = fmax(8.0, S / 70.0);
     int nwords = 4 + (int)((double)p->w * p->h / 250000.0), k, tries;
-    draw_river(scratch, p, &r);
-    td_gen_composite(im, scratch, blue);
+    draw_river(scratch, p, &r); /* with streams drawn from the terrain
+                                   instead, the words stay where they were */
+    if (!p->streams)
+        td_gen_composite(im, scratch, blue);
     memset(scratch, 0, (size_t)p->w * (size_t)p->h);
     for (k = 0; k < nwords; k++)
         for (tries = 0; tries < 60; tries++) {

@@ -74,6 +74,10 @@ typedef struct td_gen_params {
                           a dot and their height (rounded) beside it,
                           horizontal, as printed maps do (0: none, the
                           default; needs labels' font settings) */
+    int streams;       /* with colour: the water plate from the terrain's
+                          flow (samples/gen/streams.c) instead of a random
+                          river: streams crossing the contours at their Vs
+                          (0: the river, the default) */
     double label_bend; /* labels only where the line stays within this many
                           px of the chord over the label and 25 px either
                           side; 0: 2.5 (straight stretches, the default);

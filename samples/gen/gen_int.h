@@ -85,6 +85,20 @@ int td_gen_print_plates(td_image *im, const uint8_t *contours,
                         const td_gen_params *p, const td_gen_break *br,
                         size_t nbr, td_ctx *cx);
 
+/* Print ink colour col over im (RGB) with coverage lay: inks are filters
+ * (coverage a of ink k turns v into v (1 - a (1 - k/255))). */
+void td_gen_overprint(td_image *im, const uint8_t *lay, const uint8_t *col);
+
+/* The drainage area, cells, from which tdgen --streams draws a stream:
+ * (min(w, h) / 14)^2. */
+double td_gen_stream_area(const td_gen_params *p);
+
+/* With p->streams: the streams of the surface dem (the sheet's size) in
+ * blue over im (RGB; overprinted with p->print, else painted), see
+ * samples/gen/streams.c.  Returns 0, TD_EINVAL (sizes), TD_ENOMEM. */
+int td_gen_streams(const td_gen_params *p, const td_grid_f32 *dem, td_image *im,
+                   td_ctx *cx);
+
 /* What the scanner does to a rendered sheet, in place: with p->print the
  * paper's ageing and colour fringing; blur (p->blur) and noise (p->noise);
  * with p->print JPEG at quality 75. */

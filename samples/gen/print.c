@@ -52,8 +52,8 @@ static double field_at(const field *f, double x, double y)
     return s / 2.45; /* sd of the sum is sqrt(3) */
 }
 
-/* Print ink colour col over im with coverage lay (a filter). */
-static void overprint(td_image *im, const uint8_t *lay, const uint8_t *col)
+/* Contract in gen_int.h. */
+void td_gen_overprint(td_image *im, const uint8_t *lay, const uint8_t *col)
 {
     size_t i, n = (size_t)im->w * (size_t)im->h;
     int c;
@@ -128,7 +128,7 @@ int td_gen_print_plates(td_image *im, const uint8_t *contours,
             lay[(size_t)y * p->w + x] =
                 (uint8_t)(255.0 * (v < 0 ? 0 : v > 1 ? 1 : v));
         }
-    overprint(im, lay, green);
+    td_gen_overprint(im, lay, green);
     for (y = 0; y < p->h; y++) /* contours, faded in patches */
         for (x = 0; x < p->w; x++) {
             size_t k = (size_t)y * p->w + x;
@@ -136,11 +136,11 @@ int td_gen_print_plates(td_image *im, const uint8_t *contours,
             f = p->unfaded ? 1.0 : f < 0.55 ? 0.55 : f > 1 ? 1 : f;
             lay[k] = (uint8_t)(contours[k] * f + 0.5);
         }
-    overprint(im, lay, brown);
+    td_gen_overprint(im, lay, brown);
     memset(lay, 0, n);
     draw_road(lay, p, &r, 0.0);
     draw_road(lay, p, &r, 14.0);
-    overprint(im, lay, red);
+    td_gen_overprint(im, lay, red);
     memset(lay, 0, n);
     for (i = 1; i <= 2; i++) { /* the grid */
         td_gen_draw_seg(lay, p->w, p->h, p->w * i / 3.0, -2, p->w * i / 3.0,
@@ -148,7 +148,7 @@ int td_gen_print_plates(td_image *im, const uint8_t *contours,
         td_gen_draw_seg(lay, p->w, p->h, -2, p->h * i / 3.0, p->w + 2,
                         p->h * i / 3.0, 0.6);
     }
-    overprint(im, lay, black);
+    td_gen_overprint(im, lay, black);
     memset(lay, 0, n);
     td_gen_distractors(im, contours, lay, p, br, nbr);
     free(lay);

@@ -21,7 +21,7 @@ static const char usage[] =
     "             [--spot-heights N] [--hachures]\n"
     "             [--label-font segments|dejavu]\n"
     "             [--colour] [--distractors] [--print [--unfaded]\n"
-    "             [--fringe DX[,DY]]]\n"
+    "             [--fringe DX[,DY]]] [--streams]\n"
     "             [--dem-in REAL.tif [--scale S]] [--tiff] [-q|--quiet]\n"
     "\n"
     "Writes a synthetic scanned contour sheet (PNG, or grey GeoTIFF with\n"
@@ -46,6 +46,9 @@ static const char usage[] =
     "fringing, then --blur/--noise, then JPEG losses; --unfaded: the\n"
     "contours at full strength (a new map); --fringe: the red channel\n"
     "shifted by (DX, DY) px, the blue one by the opposite (default 0.6,0).\n"
+    "--streams (implies --colour --distractors): blue streams where the\n"
+    "terrain's flow gathers, crossing the contours at their Vs, instead\n"
+    "of the random river.\n"
     "--dem-in: draw the sheet from a real DEM (any single-band\n"
     "GeoTIFF or .asc without nodata cells), stretched smoothly (bicubic)\n"
     "to --size, or to S times its size with --scale S (default 8); the\n"
@@ -218,6 +221,8 @@ static int flag_opt(const char *o, opts *op)
         op->p.unfaded = 1;
     else if (!strcmp(o, "--hachures"))
         op->p.hachures = 1;
+    else if (!strcmp(o, "--streams"))
+        op->p.colour = op->p.distractors = op->p.streams = 1;
     else if (!strcmp(o, "--tiff"))
         op->tiff = 1;
     else if (!strcmp(o, "--quiet") || !strcmp(o, "-q"))

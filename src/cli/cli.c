@@ -126,6 +126,9 @@ void td_cli_heights_summary(const char *cmd, const td_label_report *rep)
             "%zu known points overridden\n", cmd, b[TD_HS_KNOWN],
             b[TD_HS_LABEL], b[TD_HS_SOLVED], b[TD_HS_ASSUMED],
             rep->undetermined, rep->conflicts, rep->split, rep->known_broken);
+    if (rep->vees)
+        fprintf(stderr, "%s: streams: %zu crossings read as Vs pointing "
+                "uphill\n", cmd, rep->vees);
 }
 /* Contract in cli.h. */
 void td_cli_print_palette(const char *prog, const td_palette *pal)

@@ -31,6 +31,10 @@ static int parse_args(int argc, char **argv, label_opts *o)
         {"sheet", 0, TD_OPT_STRING, &o->scan, .meta = "SCAN", .help = "read "
          "the height labels printed on the scan the\nlines were traced from "
          "(Tesseract); with them\n--interval may be left out (inferred)"},
+        {"streams", 0, TD_OPT_CHOICE, &o->no_streams, .choices = "read|none",
+         .meta = "MODE", .help = "with --sheet, a colour scan: read where "
+         "streams\n(the water ink) cross the lines: contours'\nVs point "
+         "uphill (ours), or not"},
         {"interval", 0, TD_OPT_DOUBLE, &p->interval, 1e-9, 1e9, .meta = "I",
          .help = "contour interval (required without --sheet)",
          .no_default = 1},
@@ -134,7 +138,8 @@ static void refused_debug(const label_opts *o, const td_lines *ls,
     td_ctx dc;
     td_ctx_init(&dc);
     if (td_pipeline_heights_debug(o->debug_dir, NULL, o->w, o->h, ls, reads,
-                                  nreads, NULL, &dc) != 0)
+                                  nreads, o->p.vees, o->p.nvees, NULL,
+                                  &dc) != 0)
         fprintf(stderr, "label: %s\n", td_errmsg(&dc));
 }
 
@@ -145,12 +150,16 @@ static int label(label_opts *o, td_lines *ls, const td_georef *frame,
                  td_pts *seen, size_t *more, td_ctx *cx)
 {
     td_ocr_read *reads = NULL;
-    size_t nreads = 0;
+    td_vee *vees = NULL;
+    size_t nreads = 0, nvees = 0;
     long ncross;
     int rc = 0;
     if (o->scan && o->p.method != TD_LABEL_TREE)
-        rc = td_pipeline_sheet_labels(o->scan, ls, &reads, &nreads, cx);
+        rc = td_pipeline_sheet_labels(o->scan, ls, &reads, &nreads,
+                                      o->no_streams ? NULL : &vees, &nvees,
+                                      cx);
     o->p.labels = reads, o->p.nlabels = nreads;
+    o->p.vees = vees, o->p.nvees = nvees;
     o->p.w = o->w, o->p.h = o->h;
     if (rc == 0 && (ncross = td_label_warn_crossings(ls, o->quiet, cx)) < 0)
         rc = TD_ENOMEM;
@@ -174,11 +183,13 @@ static int label(label_opts *o, td_lines *ls, const td_georef *frame,
         rc = td_csv_write_heights(o->csv_out, ls, cx);
     if (rc == 0 && o->debug_dir)
         rc = td_pipeline_heights_debug(o->debug_dir, NULL, o->w, o->h, ls,
-                                       reads, nreads, NULL, cx);
+                                       reads, nreads, vees, nvees, NULL, cx);
     if (rc == 0)
         rc = td_vector_write_lines(o->out, ls, frame->valid ? frame : NULL,
                                    cx);
     free(reads);
+    free(vees);
+    o->p.vees = NULL, o->p.nvees = 0;
     return rc;
 }
 

@@ -18,7 +18,7 @@ typedef struct td_pts {
 typedef struct label_opts {
     const char *in, *out, *csv_out, *label_sheet, *like, *scan, *debug_dir;
     const char *known_file, *heights, *walls;
-    int quiet, w, h, interactive, no_missing;
+    int quiet, w, h, interactive, no_missing, no_streams;
     td_opt_points known, dep;
     td_label_params p;
     td_pts pts;        /* --known and --known-file */

@@ -66,7 +66,7 @@ static int on_labelled(const td_run_result *r, void *user)
     if (rc == 0 && o->r.debug_dir)
         rc = td_pipeline_heights_debug(o->r.debug_dir, r->scan, r->w, r->h,
                                        r->lines, r->reads, r->nreads,
-                                       &r->geo, cx);
+                                       r->vees, r->nvees, &r->geo, cx);
     return rc;
 }
 
@@ -81,7 +81,8 @@ static int on_refused(const td_run_result *r, void *user)
         return 0;
     td_ctx_init(&dc);
     if (td_pipeline_heights_debug(o->r.debug_dir, r->scan, r->w, r->h, r->lines,
-                                  r->reads, r->nreads, &r->geo, &dc) != 0)
+                                  r->reads, r->nreads, r->vees, r->nvees,
+                                  &r->geo, &dc) != 0)
         fprintf(stderr, "run: %s\n", td_errmsg(&dc));
     return 0;
 }

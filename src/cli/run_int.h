@@ -8,12 +8,12 @@
 
 typedef struct td_cli_run {
     const char *save_lines, *debug_dir;
-    int no_labels;
+    int no_labels, no_streams;
     td_opt_points known, dep;
     td_run_params p;
 } td_cli_run;
 
-enum { TD_CLI_RUN_OPTS = 14 + TD_CLI_INTERP_OPTS };
+enum { TD_CLI_RUN_OPTS = 15 + TD_CLI_INTERP_OPTS };
 
 /* r's defaults (td_run_defaults). */
 void td_cli_run_init(td_cli_run *r);

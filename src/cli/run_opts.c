@@ -26,7 +26,7 @@ void td_cli_run_init(td_cli_run *r)
 size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
 {
     td_label_params *lp = &r->p.label;
-    const td_opt o[14] = {
+    const td_opt o[15] = {
         {"interval", 0, TD_OPT_DOUBLE, &lp->interval, 1e-9, 1e9, .meta = "I",
          .help = "contour interval (default: inferred from\nthe printed "
          "labels)", .no_default = 1},
@@ -37,6 +37,10 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
          "height (repeatable; needed when the\nsheet has no readable labels)"},
         {"labels", 0, TD_OPT_CHOICE, &r->no_labels, .choices = "read|none",
          .meta = "MODE", .help = "read the printed labels, or not"},
+        {"streams", 0, TD_OPT_CHOICE, &r->no_streams, .choices = "read|none",
+         .meta = "MODE", .help = "colour scans: read where streams (the\n"
+         "water ink) cross the lines: contours' Vs\npoint uphill (ours), "
+         "or not"},
         {"depressions", 0, TD_OPT_POINTS, &r->dep, .n = 2, .meta = "X,Y",
          .help = "the ring around X,Y is a depression"},
         {"index-every", 0, TD_OPT_INT, &lp->index_every, 2, 1000, .meta = "N",
@@ -74,7 +78,7 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
          "(one point per label read:\ntext, value, angle, confidence, used, "
          "why)"}};
     memcpy(v, o, sizeof o);
-    return 14 + td_cli_interp_opts(v + 14, &r->p.interp);
+    return 15 + td_cli_interp_opts(v + 15, &r->p.interp);
 }
 
 /* See run_int.h. */
@@ -95,6 +99,7 @@ int td_cli_run_hints(td_cli_run *r, const char *cmd)
     r->p.label.depressions = r->dep.v;
     r->p.label.ndepressions = r->dep.n;
     r->p.read_labels = !r->no_labels;
+    r->p.read_streams = !r->no_streams;
     return 0;
 }
 

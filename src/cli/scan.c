@@ -99,6 +99,11 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          "ends continue each other and the join crosses\nno line (<= "
          "--small-gap: off); curved gaps\ntoo when each end curves alike, "
          "the join\nfollowing the curve"},
+        {"stream-gap", 0, TD_OPT_DOUBLE, &p->join.cross_gap, 0, 10000,
+         .meta = "PX", .help = "colour scans (ours): ends this near on both "
+         "sides\nof a stream (the water ink) whose tangents\nmeet on it, "
+         "or that face each other across\nit, are joined through it: a "
+         "contour the\nstream's ink hides at its V (0: off)"},
         {"no-curves", 0, TD_OPT_OFF, &p->join.curves, .help = "label-gap "
          "stage: straight rule and chords only"},
         {"no-grid", 0, TD_OPT_OFF, &p->straight.on, .help = "keep long "
@@ -183,6 +188,10 @@ static void summary(const td_scan_result *r, double secs)
         fprintf(stderr, "scan: %zu stretch%s along roads or other inks cut "
                 "out (their flanks look like contour ink)\n", r->flank_cuts,
                 r->flank_cuts == 1 ? "" : "es");
+    if (r->join.cross_joins > 0)
+        fprintf(stderr, "scan: %zu gap%s where streams hide a contour "
+                "joined across the water\n", r->join.cross_joins,
+                r->join.cross_joins == 1 ? "" : "s");
     if (r->depressions > 0)
         fprintf(stderr, "scan: %zu ring%s read as depression%s (ticks "
                 "inside)\n", r->depressions, r->depressions == 1 ? "" : "s",

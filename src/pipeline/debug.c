@@ -18,10 +18,11 @@ static int write_join_report(const char *path, const td_join_stats *j,
     if (!f)
         return td_seterr(cx, TD_EIO, "%s: cannot write (%s)", path,
                          strerror(errno));
-    fprintf(f, "joins %zu\nlabel_gap_joins %zu\nclosures %zu\n"
+    fprintf(f, "joins %zu\nlabel_gap_joins %zu\nstream_joins %zu\n"
+            "closures %zu\n"
             "fragments_removed %zu\nglyph_rings_removed %zu\nends_open %zu\n"
             "merges %zu\nmerges_left_open %zu\n",
-            j->joins, j->long_joins, j->closures, j->fragments, j->glyphs,
+            j->joins, j->long_joins, j->cross_joins, j->closures, j->fragments, j->glyphs,
             j->ends_open, j->merges, j->merges_open);
     bad = ferror(f);
     if (fclose(f) != 0 || bad)
@@ -219,6 +220,7 @@ static int write_labels_geojson(const char *path, const td_lines *ls,
 int td_pipeline_heights_debug(const char *dir, const td_image *scan, int w,
                               int h, const td_lines *ls,
                               const td_ocr_read *reads, size_t nreads,
+                              const td_vee *vees, size_t nvees,
                               const td_georef *geo, td_ctx *cx)
 {
     td_image *pic = NULL;
@@ -229,6 +231,7 @@ int td_pipeline_heights_debug(const char *dir, const td_image *scan, int w,
                          strerror(errno));
     snprintf(path, sizeof path, "%s/heights.png", dir);
     if ((rc = td_draw_heights(scan, w, h, ls, &pic, cx)) == 0) {
+        td_streams_draw(pic, vees, nvees);
         if (reads)
             td_ocr_draw(pic, reads, nreads);
         rc = td_png_write(path, pic, cx);

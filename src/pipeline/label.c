@@ -9,11 +9,13 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* See pipeline.h. */
 int td_pipeline_sheet_labels(const char *scan, const td_lines *ls,
-                             td_ocr_read **reads, size_t *n, td_ctx *cx)
+                             td_ocr_read **reads, size_t *n, td_vee **vees,
+                             size_t *nvees, td_ctx *cx)
 {
     td_image *im = NULL;
     td_scan_params sp = td_scan_defaults();
@@ -29,6 +31,12 @@ int td_pipeline_sheet_labels(const char *scan, const td_lines *ls,
         op.ink = &res.palette; /* labels on a tint read in the ink */
         rc =
             td_ocr_scan_labels(im, res.lines, &res.join, ls, &op, reads, n, cx);
+    }
+    if (rc == 0 && vees &&
+        (rc = td_streams_vees(im, &res.palette, ls, vees, nvees, cx)) != 0) {
+        free(*reads);
+        *reads = NULL;
+        *n = 0;
     }
     td_scan_result_free(&res);
     td_image_free(im);

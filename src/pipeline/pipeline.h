@@ -27,21 +27,26 @@ int td_pipeline_scan_debug(const char *dir, const td_image *im,
 
 /* --debug-dir DIR of label and run (made when missing): heights.png,
  * every line over the scan (NULL: white, w x h) coloured by its height,
- * and when reads is not NULL the labels read boxed on it and
- * labels.geojson, one point per label read (text, value, angle,
- * confidence, line, used, why), through geo.  0 or an error. */
+ * the streams' Vs as blue arrows uphill, and when reads is not NULL the
+ * labels read boxed on it and labels.geojson, one point per label read
+ * (text, value, angle, confidence, line, used, why), through geo.  0 or
+ * an error. */
 int td_pipeline_heights_debug(const char *dir, const td_image *scan, int w,
                               int h, const td_lines *ls,
                               const td_ocr_read *reads, size_t nreads,
+                              const td_vee *vees, size_t nvees,
                               const td_georef *geo, td_ctx *cx);
 
 /* ---- around the labeller (label.c) ---- */
 
 /* The printed height labels of the scan the lines ls were traced from:
  * the scan traced again for where the labels are, read (Tesseract) and
- * tied to ls's lines.  *reads (free()), *n.  0 or an error. */
+ * tied to ls's lines.  *reads (free()), *n; and on a colour scan the Vs
+ * where streams cross ls's lines (scanner/streams.h): *vees (free()),
+ * *nvees (vees NULL: not read).  0 or an error. */
 int td_pipeline_sheet_labels(const char *scan, const td_lines *ls,
-                             td_ocr_read **reads, size_t *n, td_ctx *cx);
+                             td_ocr_read **reads, size_t *n, td_vee **vees,
+                             size_t *nvees, td_ctx *cx);
 /* Ink widths of lines that carry none (a file not written by topodig
  * scan), measured on the scan binarised with the scanner's defaults.
  * Nothing happens when any line has a width.  0 or an error. */
@@ -78,6 +83,8 @@ struct td_run_result;
 typedef struct td_run_params {
     td_scan_params scan;
     int read_labels;       /* read the printed labels (default 1) */
+    int read_streams;      /* colour scans: read the streams' Vs
+                              (scanner/streams.h; default 1) */
     td_label_params label;
     td_interp_params interp;
     int walls_back;        /* after labelling, the stretches the scanner
@@ -115,6 +122,8 @@ typedef struct td_run_result {
     td_homotopy_stats hs;
     td_ocr_read *reads;    /* printed labels read */
     size_t nreads;
+    td_vee *vees;          /* where streams cross the lines (colour) */
+    size_t nvees;
     td_palette pal;        /* the inks of a colour scan (n = 0: none) */
     td_image *scan;        /* keep_scan: until on_labelled (or
                               on_refused) returns */

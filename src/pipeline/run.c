@@ -15,6 +15,7 @@ td_run_params td_run_defaults(void)
     memset(&p, 0, sizeof p);
     p.scan = td_scan_defaults();
     p.read_labels = 1;
+    p.read_streams = 1;
     p.walls_back = 1;
     p.bridge = 48;
     p.label = td_label_defaults();
@@ -50,6 +51,9 @@ static int do_scan(const char *path, const td_run_params *p, td_run_result *r,
         }
         r->ocr_secs = td_now() - t1;
     }
+    if (rc == 0 && p->read_streams)
+        rc = td_streams_vees(im, &res.palette, res.lines, &r->vees, &r->nvees,
+                             cx);
     if (rc == 0) {
         r->lines = res.lines;
         res.lines = NULL;
@@ -100,6 +104,8 @@ static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
     int rc, tree = lp.method == TD_LABEL_TREE;
     lp.labels = r->reads;
     lp.nlabels = tree ? 0 : r->nreads;
+    lp.vees = r->vees;
+    lp.nvees = tree ? 0 : r->nvees;
     lp.walls = r->walls;
     lp.w = r->w;
     lp.h = r->h;
@@ -194,6 +200,7 @@ void td_run_result_free(td_run_result *r)
     td_label_report_free(&r->checks);
     td_image_free(r->scan);
     free(r->reads);
+    free(r->vees);
     td_georef_clear(&r->geo);
     memset(r, 0, sizeof *r);
 }

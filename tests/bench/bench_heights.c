@@ -7,7 +7,13 @@
  * docs/benchmarks.md.
  *
  *   bench_heights [--dems DIR] [--only NAME] [--tree] [--search N] [--log]
- *                 [--all-hints] [--png DIR] */
+ *                 [--all-hints] [--png DIR] [--streams] [--no-vees]
+ *                 [--no-stream-joins]
+ *
+ * --streams: the colour sheets' water drawn from the terrain (tdgen
+ * --streams) instead of the random river; --no-vees: the streams' Vs not
+ * read (scanner/streams.h); --no-stream-joins: the joiner's stage 3 (across
+ * the water) off. */
 #include "tests/util/hsheet.h"
 
 #include <math.h>
@@ -41,6 +47,7 @@ int main(int argc, char **argv)
 {
     const char *dir = "tests/data/dems", *only = NULL, *png = NULL;
     int tree = 0, logit = 0, paperj = 0, all = 0, search = 0, hach = 0, a;
+    int streams = 0, novees = 0, nojoins = 0;
     size_t c;
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--dems") && a + 1 < argc)
@@ -51,6 +58,12 @@ int main(int argc, char **argv)
             tree = 1;
         else if (!strcmp(argv[a], "--search") && a + 1 < argc)
             search = atoi(argv[++a]);
+        else if (!strcmp(argv[a], "--streams"))
+            streams = 1;
+        else if (!strcmp(argv[a], "--no-vees"))
+            novees = 1;
+        else if (!strcmp(argv[a], "--no-stream-joins"))
+            nojoins = 1;
         else if (!strcmp(argv[a], "--hachures"))
             hach = 1;
         else if (!strcmp(argv[a], "--paper-junctions"))
@@ -101,6 +114,9 @@ int main(int argc, char **argv)
                 }
                 td_hsheet_defects(&hs.gp, scanned >= 2 ? scanned - 1 : 0);
                 hs.gp.hachures = hach;
+                hs.gp.streams = streams && hs.gp.colour;
+                hs.no_vees = novees;
+                hs.no_stream_joins = nojoins;
                 hs.use_truth_lines = scanned == 0;
                 if (hint == 2 && scanned < 2)
                     continue; /* labels: on the scanned sheets */

@@ -119,6 +119,8 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
     td_label_params lp = td_label_defaults();
     td_label_point kp[8];
     td_ocr_read *reads = NULL;
+    td_vee *vees = NULL;
+    size_t nvees = 0;
     double t0, *truth = NULL; /* per read: the true line's height */
     int rc;
     memset(&res, 0, sizeof res);
@@ -153,6 +155,8 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
         if (hs->gp.colour)
             sp.bin.ink = TD_INK_BROWN;
         sp.trace.cut = !hs->paper_junctions;
+        if (hs->no_stream_joins)
+            sp.join.cross_gap = 0;
         sp.join.record = hs->read_labels;
         if ((rc = td_scan(im, &sp, &res, cx)) != 0)
             goto done;
@@ -180,6 +184,9 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
                 truth[i] = th;
             }
         }
+        if (!hs->no_vees && (rc = td_streams_vees(im, &res.palette, res.lines,
+                                                  &vees, &nvees, cx)) != 0)
+            goto done;
         ls = res.lines;
         res.lines = NULL;
     }
@@ -189,6 +196,8 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
     lp.interval = hs->no_interval ? 0 : hs->interval;
     lp.labels = reads;
     lp.nlabels = hs->nreads;
+    lp.vees = vees;
+    lp.nvees = nvees;
     lp.base = hs->gp.base;
     lp.w = im->w;
     lp.h = im->h;
@@ -239,6 +248,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
 done:
     free(truth);
     free(reads);
+    free(vees);
     td_scan_result_free(&res);
     td_image_free(im);
     td_lines_free(tl);

@@ -20,6 +20,10 @@ typedef struct td_hsheet {
     int read_labels;            /* read the printed labels (scanner/ocr.h) and
                                    give them to the labeller */
     int no_interval;            /* infer the interval from the labels */
+    int no_vees;                /* colour: do not read the streams' Vs
+                                   (scanner/streams.h; read by default) */
+    int no_stream_joins;        /* colour: the joiner's stage 3 off
+                                   (td_join_params.cross_gap 0) */
     size_t nreads, reads_right; /* labels read; read right (the value of
                                    the true line under them) */
     size_t used_right, used_wrong; /* labels the labeller used, with the

@@ -1,0 +1,207 @@
+/* Tests of the streams' Vs (scanner/streams.c): printed sheets drawn from
+ * a real DEM with the water plate from the terrain's flow (tdgen
+ * --streams), each V's uphill side checked against the true surface; a
+ * river across straight contours (no V to read); and what the Vs give
+ * the labeller. */
+#include "tests/tt.h"
+#include "tests/util/hsheet.h"
+#include "tests/util/match.h"
+
+#include "scanner/scan.h"
+#include "scanner/streams.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define VEES_ACC 0.35  /* test_vees_heights: measured 0.405 */
+#define VEES_GAIN 0.15 /* measured +0.248 */
+
+static double at(const td_grid_f32 *g, double x, double y)
+{
+    long ix = lround(x), iy = lround(y);
+    ix = ix < 0 ? 0 : ix >= g->w ? g->w - 1 : ix;
+    iy = iy < 0 ? 0 : iy >= g->h ? g->h - 1 : iy;
+    return g->data[(size_t)iy * g->stride + (size_t)ix];
+}
+
+/* Scan sheet gp, read its Vs; how many, and how many point to the side
+ * the true surface dem (the sheet's size) is higher on, 4 px either side
+ * of the line. */
+static int vees_on(const td_gen_params *gp, size_t *n, size_t *right)
+{
+    td_image *im = NULL;
+    td_grid_f32 *dem = NULL;
+    td_scan_result res;
+    td_scan_params sp = td_scan_defaults();
+    td_vee *v = NULL;
+    td_ctx cx;
+    size_t i;
+    int rc;
+    td_ctx_init(&cx);
+    memset(&res, 0, sizeof res);
+    *n = *right = 0;
+    if ((rc = td_gen_sheet(gp, &im, NULL, &dem, &cx)) == 0 &&
+        (rc = td_scan(im, &sp, &res, &cx)) == 0)
+        rc = td_streams_vees(im, &res.palette, res.lines, &v, n, &cx);
+    TT_CHECKF(rc == 0, "%s", td_errmsg(&cx));
+    for (i = 0; rc == 0 && i < *n; i++) {
+        const td_line *l = &res.lines->v[v[i].line];
+        size_t k, b = 0, a0, a1;
+        double bd = HUGE_VAL, tx, ty, t, h0, h1;
+        for (k = 0; k < l->n; k++) {
+            double d = hypot(l->xy[2 * k] - v[i].x, l->xy[2 * k + 1] - v[i].y);
+            if (d < bd)
+                bd = d, b = k;
+        }
+        a0 = b >= 3 ? b - 3 : 0;
+        a1 = b + 3 < l->n ? b + 3 : l->n - 1;
+        tx = l->xy[2 * a1] - l->xy[2 * a0];
+        ty = l->xy[2 * a1 + 1] - l->xy[2 * a0 + 1];
+        t = hypot(tx, ty) + 1e-12;
+        h0 = at(dem, v[i].x + 4 * ty / t, v[i].y - 4 * tx / t);
+        h1 = at(dem, v[i].x - 4 * ty / t, v[i].y + 4 * tx / t);
+        *right += (h0 > h1) == (v[i].up == 0);
+    }
+    free(v);
+    td_scan_result_free(&res);
+    td_image_free(im);
+    td_grid_f32_free(dem);
+    return rc;
+}
+
+/* A printed map of the Orkhon valley (new, 980 x 1800, interval 25) with
+ * its streams: 51 Vs read (2026-12-04), all pointing uphill.  With the
+ * sides swapped none would be right; with the two-sided water check
+ * taken out, stray water-coloured pixels on the contours' edges pass. */
+static void test_vees_real(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_ctx cx;
+    td_grid_f32 *src;
+    size_t n, right;
+    td_ctx_init(&cx);
+    src = td_hsheet_dem_sheet("orkhon_92m.tif", 10, &gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    if (!src)
+        return;
+    td_hsheet_defects(&gp, 4);
+    gp.streams = 1;
+    if (vees_on(&gp, &n, &right) == 0)
+        TT_CHECKF(n >= 40 && right >= n - n / 20,
+                  "Orkhon new print with streams: %zu Vs, %zu right", n, right);
+    td_grid_f32_free(src);
+}
+
+/* A blue river across straight contours (a plane, tdgen --colour
+ * --distractors): it crosses them everywhere and bends none. */
+static void test_no_vee_on_straight(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    size_t n, right;
+    gp.terrain = TD_GEN_PLANE;
+    gp.w = gp.h = 800;
+    gp.colour = gp.distractors = 1;
+    if (vees_on(&gp, &n, &right) == 0)
+        TT_CHECKF(n == 0, "a river across straight contours: %zu Vs", n);
+    gp.colour = gp.distractors = 0; /* grey: no water ink */
+    gp.terrain = TD_GEN_HILLS;
+    if (vees_on(&gp, &n, &right) == 0)
+        TT_CHECKF(n == 0, "a grey sheet: %zu Vs", n);
+}
+
+/* The labeller with the Vs and the joins across the water, against
+ * neither: the crowded Front Range map (interval 20) printed new with its
+ * streams, three known points and the index widths.  Measured 2026-12-04
+ * (docs/label.md, "Streams"): 0.157 without either, 0.308 with the Vs,
+ * 0.405 with both. */
+static void test_vees_heights(void)
+{
+    td_hsheet hs[2];
+    td_ctx cx;
+    int k;
+    for (k = 0; k < 2; k++) {
+        td_grid_f32 *src;
+        memset(&hs[k], 0, sizeof hs[k]);
+        td_ctx_init(&cx);
+        src = td_hsheet_dem_sheet("frontrange_srtm3.tif", 10, &hs[k].gp, &cx);
+        TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+        if (!src)
+            return;
+        hs[k].gp.interval = 20;
+        td_hsheet_defects(&hs[k].gp, 4);
+        hs[k].gp.streams = 1;
+        hs[k].nknown = 3;
+        hs[k].index_every = 5;
+        hs[k].no_vees = hs[k].no_stream_joins = k == 1;
+        TT_CHECKF(td_hsheet_run(&hs[k], NULL, &cx) == 0, "%s", td_errmsg(&cx));
+        td_grid_f32_free(src);
+    }
+    TT_CHECKF(hs[0].rep.vees >= 20 && hs[1].rep.vees == 0 &&
+                  hs[0].score.accuracy >= VEES_ACC &&
+                  hs[0].score.accuracy >= hs[1].score.accuracy + VEES_GAIN,
+              "crowded Front Range with streams, 3 known + widths: %zu Vs, "
+              "accuracy %.3f, without the Vs and joins %.3f",
+              hs[0].rep.vees, hs[0].score.accuracy, hs[1].score.accuracy);
+    td_label_report_free(&hs[0].rep);
+    td_label_report_free(&hs[1].rep);
+}
+
+/* The joiner's stage 3 on the same map: contours the streams' ink hides
+ * at their Vs joined across the water.  Measured 2026-12-04 (docs/
+ * scanner.md, "Contours under streams"): 473 -> 420 lines (53 joins), the
+ * traced length on its own contour 0.973 both; every stage-3 join on
+ * seven sheets checked against the truth, 188 of 188 on one contour.  A
+ * join across two contours would show as a jump. */
+static void test_stream_joins(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_image *im = NULL;
+    td_lines *tl = NULL;
+    td_scan_result res[2];
+    td_scanscore sc[2];
+    td_ctx cx;
+    td_grid_f32 *src;
+    int k, ok = 1;
+    td_ctx_init(&cx);
+    memset(res, 0, sizeof res);
+    src = td_hsheet_dem_sheet("orkhon_92m.tif", 10, &gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    if (!src)
+        return;
+    td_hsheet_defects(&gp, 4);
+    gp.streams = 1;
+    ok = td_gen_sheet(&gp, &im, &tl, NULL, &cx) == 0;
+    for (k = 0; ok && k < 2; k++) {
+        td_scan_params sp = td_scan_defaults();
+        sp.join.cross_gap = k == 0 ? 16.0 : 0.0;
+        ok = td_scan(im, &sp, &res[k], &cx) == 0 &&
+             td_match_scan(tl, res[k].lines, im->w, im->h, 2.0, 20.0, &sc[k],
+                           NULL) == 0;
+    }
+    TT_CHECKF(ok, "%s", td_errmsg(&cx));
+    if (ok)
+        TT_CHECKF(res[0].join.cross_joins >= 20 &&
+                      res[1].join.cross_joins == 0 &&
+                      res[0].lines->n + 10 <= res[1].lines->n &&
+                      sc[0].own >= sc[1].own - 0.002 &&
+                      sc[0].n_jump <= sc[1].n_jump + 2,
+                  "stream joins %zu: %zu lines (%zu without), own %.4f "
+                  "(%.4f), %ld jumps (%ld)",
+                  res[0].join.cross_joins, res[0].lines->n, res[1].lines->n,
+                  sc[0].own, sc[1].own, sc[0].n_jump, sc[1].n_jump);
+    for (k = 0; k < 2; k++)
+        td_scan_result_free(&res[k]);
+    td_image_free(im);
+    td_lines_free(tl);
+    td_grid_f32_free(src);
+}
+
+int main(void)
+{
+    TT_RUN(test_vees_real);
+    TT_RUN(test_no_vee_on_straight);
+    TT_RUN(test_stream_joins);
+    TT_RUN(test_vees_heights);
+    return tt_summary();
+}
