@@ -10,6 +10,8 @@
 #define VEE_RUN 12.0   /* px: a longer wet stretch runs along the line */
 #define VEE_APEX 2.0   /* px: the bend's offset 8 px either side, at least */
 #define VEE_SURE 4.0   /* ... and this much counts in full */
+#define WET_R 8        /* px: about a crossing, ... */
+#define WET_MIN 8      /* ... at least this many water pixels */
 #define SIDE_LO 3.0    /* water on both sides this far ... */
 #define SIDE_HI 10.0   /* ... to this far (px) */
 
@@ -104,6 +106,17 @@ static int wet_sides(const wet *w, double x, double y, double nx, double ny)
     return side == 3;
 }
 
+/* Water pixels within WET_R px of (x, y). */
+static int wet_count(const wet *w, double x, double y)
+{
+    int X = (int)lround(x), Y = (int)lround(y), dx, dy, n = 0;
+    for (dy = -WET_R; dy <= WET_R; dy++)
+        for (dx = -WET_R; dx <= WET_R; dx++)
+            n +=
+                dx * dx + dy * dy <= WET_R * WET_R && wet_px(w, X + dx, Y + dy);
+    return n;
+}
+
 /* The V at vertex k of line li, if the stream goes through there. */
 static int vee_at(const wet *w, const td_lines *ls, size_t li, size_t k,
                   td_vee *v)
@@ -119,7 +132,7 @@ static int vee_at(const wet *w, const td_lines *ls, size_t li, size_t k,
     if (t < 1e-9)
         return 0;
     nx = ty / t, ny = -tx / t; /* side 0 */
-    if (!wet_sides(w, px, py, nx, ny))
+    if (wet_count(w, px, py) < WET_MIN || !wet_sides(w, px, py, nx, ny))
         return 0;
     for (j = 0; j < 3; j++) { /* the offsets, side 0 positive */
         if (!walk(l, k, -arm[j], &ax, &ay) || !walk(l, k, arm[j], &bx, &by))

@@ -5,8 +5,9 @@
  * to higher ground (the rule of Vs).  On a colour scan the water inks (the
  * palette's blue inks) mark the streams.  Where a traced line
  * crosses water (a stretch of at most VEE_RUN px with water within 2 px,
- * and water again 3-10 px away on both sides of the line: the stream goes
- * through, it does not run along or start there), the line's bend is
+ * at least 8 water pixels within 8 px, and water again 3-10 px away on
+ * both sides of the line: the stream goes through, it does not run along
+ * or start there, and it is more than a few stray pixels), the line's bend is
  * measured: the crossing's offset from the chord between the points 8, 16
  * and 24 px along the line either way.  A V is sharp at its apex: offset
  * at least VEE_APEX (2 px) at 8 px, more at 16, all on one side (a round
