@@ -117,7 +117,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         (rc = td_binarise_other_ink(src, &res->palette, &other, cx)) != 0)
         goto fail;
     jp.other = other;
-    if (p->do_join && p->join_other &&
+    if (p->do_join && p->join_other && p->join.cross_gap > 0 &&
         (rc = td_streams_water_bits(src, &res->palette, &water, cx)) != 0)
         goto fail;
     jp.water = water;
