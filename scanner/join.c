@@ -1020,6 +1020,25 @@ static size_t cross_path(const td_join_params *p, const jend *a, const jend *b,
     return n;
 }
 
+/* Keep where stage-3 join pts (np points) crosses the water: its middle
+ * point, in st->cross_at. */
+static int keep_cross(td_join_stats *st, const double *pts, size_t np,
+                      td_ctx *cx)
+{
+    size_t n = st->cross_joins, m = np / 2;
+    double *v = realloc(st->cross_at, 2 * (n + 1) * sizeof *v);
+    if (!v)
+        return td_seterr(cx, TD_ENOMEM, "join: out of memory");
+    st->cross_at = v;
+    if (np % 2) { /* a, P, b or a, U, cap, U, b: the middle point */
+        v[2 * n] = pts[2 * m], v[2 * n + 1] = pts[2 * m + 1];
+    } else { /* the chord */
+        v[2 * n] = 0.5 * (pts[0] + pts[2 * np - 2]);
+        v[2 * n + 1] = 0.5 * (pts[1] + pts[2 * np - 1]);
+    }
+    return 0;
+}
+
 /* Greedy acceptance, cheapest first; stage 2 also rejects joins whose path
  * meets a line or an accepted join, or runs under another ink, and keeps
  * the accepted paths (pieces in *acc, polylines in paths). */
@@ -1223,7 +1242,9 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
             n = cross_path(p, a, b, pts);
             if (path_crosses(&g, ls, a, b, pts, n, *acc, *nacc))
                 continue;
-            if ((rc = keep_path(a, b, pts, n, acc, nacc, &cap, paths, cx)) != 0)
+            if ((rc = keep_path(a, b, pts, n, acc, nacc, &cap, paths, cx)) !=
+                    0 ||
+                (rc = keep_cross(st, pts, n, cx)) != 0)
                 break;
             st->cross_joins++;
         }
@@ -1635,6 +1656,8 @@ void td_join_stats_free(td_join_stats *st)
     st->segments = NULL;
     td_lines_free(st->text);
     st->text = NULL;
+    free(st->cross_at);
+    st->cross_at = NULL;
 }
 
 int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,

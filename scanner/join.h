@@ -74,7 +74,10 @@ typedef struct td_join_stats {
     size_t ends_open;  /* open ends left (not on the border) */
     size_t fragments;  /* short open fragments removed (stage 0) */
     size_t long_joins; /* of joins: made by stage 2 */
-    size_t cross_joins; /* of joins: made by stage 3, across other ink */
+    size_t cross_joins; /* of joins: made by stage 3, across the water */
+    double *cross_at;   /* x, y of each stage-3 join's middle (its bend
+                           P, or its chord's middle): cross_joins pairs;
+                           free with td_join_stats_free */
     size_t bridges;    /* short pieces between two junctions removed */
     size_t glyphs;     /* small closed rings (digits such as 0, 6, 8, 9)
                           removed because a stage-2 join passes through,

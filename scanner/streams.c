@@ -12,6 +12,7 @@
 #define VEE_SURE 4.0   /* ... and this much counts in full */
 #define WET_R 8        /* px: about a crossing, ... */
 #define WET_MIN 8      /* ... at least this many water pixels */
+#define SKIP_R 4.0     /* px from a join across the water */
 #define SIDE_LO 3.0    /* water on both sides this far ... */
 #define SIDE_HI 10.0   /* ... to this far (px) */
 
@@ -253,7 +254,8 @@ int td_streams_water_bits(const td_image *im, const td_palette *pal,
 
 /* See streams.h. */
 int td_streams_vees(const td_image *im, const td_palette *pal,
-                    const td_lines *ls, td_vee **out, size_t *n, td_ctx *cx)
+                    const td_lines *ls, const double *skip, size_t nskip,
+                    td_vee **out, size_t *n, td_ctx *cx)
 {
     uint8_t *tab = NULL, *wv = NULL;
     size_t i, cap = 0, maxn = 1;
@@ -275,6 +277,18 @@ int td_streams_vees(const td_image *im, const td_palette *pal,
     w.tab = tab;
     for (i = 0; i < ls->n && rc == 0; i++)
         rc = line_vees(&w, ls, i, wv, out, n, &cap);
+    if (rc == 0 && nskip) { /* not at the joiner's joins across the water */
+        size_t k, j, m = 0;
+        for (k = 0; k < *n; k++) {
+            for (j = 0; j < nskip; j++)
+                if (hypot((*out)[k].x - skip[2 * j],
+                          (*out)[k].y - skip[2 * j + 1]) <= SKIP_R)
+                    break;
+            if (j == nskip)
+                (*out)[m++] = (*out)[k];
+        }
+        *n = m;
+    }
     free(tab);
     free(wv);
     if (rc) {

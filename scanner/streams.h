@@ -42,9 +42,15 @@ int td_streams_water_bits(const td_image *im, const td_palette *pal,
 
 /* The Vs of the lines ls where the water ink of pal crosses them on the
  * RGB scan im (none when the palette has no water ink): *out (free()) and
- * *n.  Returns 0 or TD_ENOMEM.  Memory: a 33^3 table and the Vs. */
+ * *n.  Crossings within 4 px of one of the nskip points skip (x, y pairs:
+ * where the joiner joined a contour across the water, td_join_stats.
+ * cross_at) are not read: the bend there is the join's, drawn from the
+ * ends' tangents, and it is a V only where the water is a stream in its
+ * valley (across the generator's random river 7 of 8 such "Vs" were
+ * wrong).  Returns 0 or TD_ENOMEM.  Memory: a 33^3 table and the Vs. */
 int td_streams_vees(const td_image *im, const td_palette *pal,
-                    const td_lines *ls, td_vee **out, size_t *n, td_ctx *cx);
+                    const td_lines *ls, const double *skip, size_t nskip,
+                    td_vee **out, size_t *n, td_ctx *cx);
 
 /* Each V drawn on im (RGB): an arrow 9 px long from the crossing towards
  * the higher side, in blue. */

@@ -14,8 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define VEES_ACC 0.35  /* test_vees_heights: measured 0.395 */
-#define VEES_GAIN 0.15 /* measured +0.238 */
+#define VEES_ACC 0.25  /* test_vees_heights: measured 0.291 */
+#define VEES_GAIN 0.10 /* measured +0.134 */
 
 static double at(const td_grid_f32 *g, double x, double y)
 {
@@ -43,7 +43,8 @@ static int vees_on(const td_gen_params *gp, size_t *n, size_t *right)
     *n = *right = 0;
     if ((rc = td_gen_sheet(gp, &im, NULL, &dem, &cx)) == 0 &&
         (rc = td_scan(im, &sp, &res, &cx)) == 0)
-        rc = td_streams_vees(im, &res.palette, res.lines, &v, n, &cx);
+        rc = td_streams_vees(im, &res.palette, res.lines, res.join.cross_at,
+                             res.join.cross_joins, &v, n, &cx);
     TT_CHECKF(rc == 0, "%s", td_errmsg(&cx));
     for (i = 0; rc == 0 && i < *n; i++) {
         const td_line *l = &res.lines->v[v[i].line];
@@ -71,7 +72,8 @@ static int vees_on(const td_gen_params *gp, size_t *n, size_t *right)
 }
 
 /* A printed map of the Orkhon valley (new, 980 x 1800, interval 25) with
- * its streams: 51 Vs read (2026-12-04), all pointing uphill.  With the
+ * its streams: 33 Vs read (2026-12-04), all pointing uphill (51 with
+ * the ones at the joins across the water, all right too).  With the
  * sides swapped none would be right; with the two-sided water check
  * taken out, stray water-coloured pixels on the contours' edges pass. */
 static void test_vees_real(void)
@@ -88,7 +90,7 @@ static void test_vees_real(void)
     td_hsheet_defects(&gp, 4);
     gp.streams = 1;
     if (vees_on(&gp, &n, &right) == 0)
-        TT_CHECKF(n >= 40 && right >= n - n / 20,
+        TT_CHECKF(n >= 25 && right >= n - n / 20,
                   "Orkhon new print with streams: %zu Vs, %zu right", n, right);
     td_grid_f32_free(src);
 }
@@ -113,8 +115,8 @@ static void test_no_vee_on_straight(void)
 /* The labeller with the Vs and the joins across the water, against
  * neither: the crowded Front Range map (interval 20) printed new with its
  * streams, three known points and the index widths.  Measured 2026-12-04
- * (docs/label.md, "Streams"): 0.157 without either, 0.308 with the Vs,
- * 0.395 with both. */
+ * (docs/label.md, "Streams"): 0.157 without either, 0.291 with both
+ * (0.395 when the Vs at the joins were read too). */
 static void test_vees_heights(void)
 {
     td_hsheet hs[2];

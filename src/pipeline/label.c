@@ -33,7 +33,8 @@ int td_pipeline_sheet_labels(const char *scan, const td_lines *ls,
             td_ocr_scan_labels(im, res.lines, &res.join, ls, &op, reads, n, cx);
     }
     if (rc == 0 && vees &&
-        (rc = td_streams_vees(im, &res.palette, ls, vees, nvees, cx)) != 0) {
+        (rc = td_streams_vees(im, &res.palette, ls, res.join.cross_at,
+                              res.join.cross_joins, vees, nvees, cx)) != 0) {
         free(*reads);
         *reads = NULL;
         *n = 0;

@@ -52,8 +52,8 @@ static int do_scan(const char *path, const td_run_params *p, td_run_result *r,
         r->ocr_secs = td_now() - t1;
     }
     if (rc == 0 && p->read_streams)
-        rc = td_streams_vees(im, &res.palette, res.lines, &r->vees, &r->nvees,
-                             cx);
+        rc = td_streams_vees(im, &res.palette, res.lines, res.join.cross_at,
+                             res.join.cross_joins, &r->vees, &r->nvees, cx);
     if (rc == 0) {
         r->lines = res.lines;
         res.lines = NULL;

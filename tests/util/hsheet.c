@@ -184,8 +184,9 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
                 truth[i] = th;
             }
         }
-        if (!hs->no_vees && (rc = td_streams_vees(im, &res.palette, res.lines,
-                                                  &vees, &nvees, cx)) != 0)
+        if (!hs->no_vees && (rc = td_streams_vees(
+                                 im, &res.palette, res.lines, res.join.cross_at,
+                                 res.join.cross_joins, &vees, &nvees, cx)) != 0)
             goto done;
         ls = res.lines;
         res.lines = NULL;
