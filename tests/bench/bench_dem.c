@@ -6,7 +6,11 @@
  * back and the breaks bridged as run does them, and each turned off.
  * Numbers for docs/label.md ("Where the DEMs stand") and benchmarks.md.
  *
- *   bench_dem [--dems DIR] [--only NAME] [--dir TMPDIR] */
+ *   bench_dem [--dems DIR] [--only NAME] [--dir TMPDIR] [--streams]
+ *             [--stream-gap PX]
+ *
+ * --streams: the colour sheets' water from the terrain (tdgen --streams);
+ * --stream-gap: the scan's joins across the water (0: off). */
 #include "tests/util/hsheet.h"
 
 #include "interp/interp.h"
@@ -54,12 +58,17 @@ int main(int argc, char **argv)
     const char *only = NULL, *dir = "build-bench/data";
     static const int kinds[4] = {1, 2, 3, 4};
     size_t s;
-    int a, k;
+    int a, k, streams = 0;
+    double gap = -1;
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--only") && a + 1 < argc)
             only = argv[++a];
         else if (!strcmp(argv[a], "--dir") && a + 1 < argc)
             dir = argv[++a];
+        else if (!strcmp(argv[a], "--streams"))
+            streams = 1;
+        else if (!strcmp(argv[a], "--stream-gap") && a + 1 < argc)
+            gap = atof(argv[++a]);
         else if (!strcmp(argv[a], "--topodig") && a + 1 < argc)
             a++; /* make bench passes it to every benchmark */
     }
@@ -91,6 +100,9 @@ int main(int argc, char **argv)
             }
             gp.interval = rs->interval;
             td_hsheet_defects(&gp, kinds[k]);
+            gp.streams = streams && gp.colour;
+            if (gap >= 0)
+                p.scan.join.cross_gap = gap;
             snprintf(path, sizeof path, "%s/bench_dem_%s_%d.png", dir, rs->name,
                      kinds[k]);
             if (td_gen_sheet(&gp, &im, &tl, &tdem, &cx) != 0 ||
