@@ -71,6 +71,23 @@ static int vees_on(const td_gen_params *gp, size_t *n, size_t *right)
     return rc;
 }
 
+/* *gp: the Orkhon valley printed new (980 x 1800, interval 25) with its
+ * streams; the source DEM to free once drawn, or NULL (checked). */
+static td_grid_f32 *orkhon_streams(td_gen_params *gp)
+{
+    td_ctx cx;
+    td_grid_f32 *src;
+    td_ctx_init(&cx);
+    *gp = td_gen_defaults();
+    src = td_hsheet_dem_sheet("orkhon_92m.tif", 10, gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    if (src) {
+        td_hsheet_defects(gp, 4);
+        gp->streams = 1;
+    }
+    return src;
+}
+
 /* A printed map of the Orkhon valley (new, 980 x 1800, interval 25) with
  * its streams: 33 Vs read (2026-12-04), all pointing uphill (51 with
  * the ones at the joins across the water, all right too).  With the
@@ -78,17 +95,11 @@ static int vees_on(const td_gen_params *gp, size_t *n, size_t *right)
  * taken out, stray water-coloured pixels on the contours' edges pass. */
 static void test_vees_real(void)
 {
-    td_gen_params gp = td_gen_defaults();
-    td_ctx cx;
-    td_grid_f32 *src;
+    td_gen_params gp;
+    td_grid_f32 *src = orkhon_streams(&gp);
     size_t n, right;
-    td_ctx_init(&cx);
-    src = td_hsheet_dem_sheet("orkhon_92m.tif", 10, &gp, &cx);
-    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
     if (!src)
         return;
-    td_hsheet_defects(&gp, 4);
-    gp.streams = 1;
     if (vees_on(&gp, &n, &right) == 0)
         TT_CHECKF(n >= 25 && right >= n - n / 20,
                   "Orkhon new print with streams: %zu Vs, %zu right", n, right);
@@ -157,22 +168,18 @@ static void test_vees_heights(void)
  * join across two contours would show as a jump. */
 static void test_stream_joins(void)
 {
-    td_gen_params gp = td_gen_defaults();
+    td_gen_params gp;
     td_image *im = NULL;
     td_lines *tl = NULL;
     td_scan_result res[2];
     td_scanscore sc[2];
     td_ctx cx;
-    td_grid_f32 *src;
+    td_grid_f32 *src = orkhon_streams(&gp);
     int k, ok = 1;
     td_ctx_init(&cx);
     memset(res, 0, sizeof res);
-    src = td_hsheet_dem_sheet("orkhon_92m.tif", 10, &gp, &cx);
-    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
     if (!src)
         return;
-    td_hsheet_defects(&gp, 4);
-    gp.streams = 1;
     ok = td_gen_sheet(&gp, &im, &tl, NULL, &cx) == 0;
     for (k = 0; ok && k < 2; k++) {
         td_scan_params sp = td_scan_defaults();
