@@ -30,8 +30,9 @@
  * only with them "assumed", one decided by neither has no height. */
 #include "scanner/heights_int.h"
 
-#include "src/core/core.h"
+#include "scanner/endpair.h"
 #include "scanner/faces.h"
+#include "src/core/core.h"
 
 #include <limits.h>
 #include <math.h>
@@ -76,6 +77,16 @@
 #define SAME_KEY                                                               \
     145.0 /* same_pieces' edges in the forest's order: with a                  \
              face edge of 72 probes (WFACE each) */
+#define W_GAP                                                                  \
+    60.0 /* two free ends that continue each other (gap_pairs):                \
+            breaking the tie costs */
+#define GAP_KEY                                                                \
+    150.0 /* ... its place in the forest's order (30 and 60                    \
+             gave the same answers on every bench sheet) */
+#define GAP_COST                                                               \
+    1.0 /* ... pairs that fit worse (endpair.h's cost) are                     \
+           not used: on the two printed Orkhon sheets 13 of                    \
+           the 15 wrong pairs fit worse, 24 of the 190 right */
 #define W_SAME                                                                 \
     100.0 /* the pieces of a line the scanner cut at a blob                    \
              of ink differ (the priors pass only) */
@@ -85,8 +96,8 @@
             for sure alone 0.85, two 0.98 */
 #define MAX_CELLS (96u << 20) /* state table entries (8 bytes each, x3) */
 
-enum { E_LINE, E_FACE, E_CONT, E_SAME };
-#define IS_CONT(k) ((k) == E_CONT || (k) == E_SAME)
+enum { E_LINE, E_FACE, E_CONT, E_SAME, E_GAP };
+#define IS_CONT(k) ((k) == E_CONT || (k) == E_SAME || (k) == E_GAP)
 
 typedef struct tedge {
     uint32_t to, kind, id; /* id: chunk (line, continuity) or face edge */
@@ -117,6 +128,9 @@ typedef struct hs {
     uint32_t *same;      /* node pairs: two pieces of one cut line
                             (same_pieces), nsame pairs */
     size_t nsame;
+    uint32_t *gaps; /* node pairs: free ends that continue each other
+                       across a gap (gap_pairs), ngaps pairs */
+    size_t ngaps;
     /* per chunk */
     double *lknown;               /* level a known point gives (NAN: none) */
     double *wlab;                 /* weight of a printed label */
@@ -767,6 +781,8 @@ static int cmp_ce(const void *pa, const void *pb)
  * prior, W_SAME in the priors pass only). */
 static double cont_w(const hs *s, uint32_t kind)
 {
+    if (kind == E_GAP)
+        return W_GAP;
     if (kind != E_SAME)
         return WCONT;
     return s->priors ? W_SAME : 0.0;
@@ -777,7 +793,8 @@ static double cont_w(const hs *s, uint32_t kind)
 static int candidates(hs *s, td_ctx *cx)
 {
     size_t i, c, n = 0, c0, m;
-    if (!(s->ce = td_malloc((2 * s->C + s->nfe + s->nsame + 1) * sizeof *s->ce,
+    if (!(s->ce = td_malloc((2 * s->C + s->nfe + s->nsame + s->ngaps + 1) *
+                                sizeof *s->ce,
                             cx)))
         return TD_ENOMEM;
     for (c = 0; c < s->C; c++)
@@ -799,6 +816,10 @@ static int candidates(hs *s, td_ctx *cx)
     for (i = 0; i < s->nsame; i++)
         s->ce[n++] = (cedge){s->same[2 * i], s->same[2 * i + 1], E_SAME,
                              (uint32_t)i,    SAME_KEY,           SAME_KEY};
+    for (i = 0; i < s->ngaps; i++)
+        s->ce[n++] = (cedge){s->gaps[2 * i], s->gaps[2 * i + 1],
+                             E_GAP,          (uint32_t)i,
+                             W_GAP,          GAP_KEY};
     qsort(s->ce + s->C, n - s->C, sizeof *s->ce, cmp_ce);
     s->nce = n;
     return 0;
@@ -1545,7 +1566,7 @@ static void free_all(hs *s)
     free(s->lknown), free(s->nknown), free(s->idx), free(s->ilen);
     free(s->llab), free(s->wlab), free(s->clab);
     free(s->up_cost), free(s->up_prior), free(s->hole), free(s->uf);
-    free(s->rnear), free(s->contra), free(s->same);
+    free(s->rnear), free(s->contra), free(s->same), free(s->gaps);
     free(s->comp);
     free(s->par), free(s->order), free(s->pkind), free(s->pid);
     free(s->adj_start), free(s->adj), free(s->intree), free(s->compdepth);
@@ -1827,6 +1848,56 @@ static int same_pieces(hs *s, td_ctx *cx)
            there and b starts, else swapped */
         s->same[2 * s->nsame] = (uint32_t)a;
         s->same[2 * s->nsame++ + 1] = (uint32_t)b + (uint32_t)(alast == blast);
+    }
+    free(v);
+    return 0;
+}
+
+/* Free ends that continue each other across a gap (endpair.h; ours): the
+ * two pieces are one contour.  A continuity edge (E_GAP, both passes:
+ * W_GAP to break, in the forest's order with GAP_KEY) between the chunks
+ * at the ends, sides matched as in same_pieces.  Truth lines cut where a
+ * road and the streams run over them (Orkhon, new print): 532 pairs, 528
+ * on one contour; the share of the length right went from 0.62 to 0.94
+ * (the pieces beyond the road had hung on the rest by a leak). */
+static int gap_pairs(hs *s, td_ctx *cx)
+{
+    td_end_pair *v;
+    size_t i, n;
+    if (!(s->p->gap_pairs > 0))
+        return 0;
+    if (td_end_pairs(s->ls, end_used, s->fx, s->p->w, s->p->h, s->p->gap_pairs,
+                     &v, &n, cx) != 0)
+        return TD_ENOMEM;
+    if (!(s->gaps = td_malloc((2 * n + 1) * sizeof *s->gaps, cx))) {
+        free(v);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < n; i++) {
+        const td_line *la = &s->ls->v[v[i].a], *lb = &s->ls->v[v[i].b];
+        long a = td_faces_chunk_at(s->fx, v[i].a, v[i].alast ? la->n - 1 : 0),
+             b = td_faces_chunk_at(s->fx, v[i].b, v[i].blast ? lb->n - 1 : 0);
+        if (a < 0 || b < 0 || a == b || v[i].cost > GAP_COST)
+            continue;
+        { /* the chord between the ends crosses no other line */
+            double ax = la->xy[v[i].alast ? 2 * la->n - 2 : 0],
+                   ay = la->xy[v[i].alast ? 2 * la->n - 1 : 1],
+                   bx = lb->xy[v[i].blast ? 2 * lb->n - 2 : 0],
+                   by = lb->xy[v[i].blast ? 2 * lb->n - 1 : 1], t = 0;
+            long hit =
+                v[i].d > 1.0
+                    ? td_faces_ray(s->fx, ax, ay, (bx - ax) / v[i].d,
+                                   (by - ay) / v[i].d, (long)v[i].a, 1.5, &t)
+                    : -1;
+            if (hit >= 0 && t < v[i].d - 1.5 &&
+                td_faces_chunk_line(s->fx, (size_t)hit / 2) != v[i].b)
+                continue;
+        }
+        /* travelling on from a's end into b: the same sides when a ends
+           there and b starts, else swapped */
+        s->gaps[2 * s->ngaps] = (uint32_t)(2 * a);
+        s->gaps[2 * s->ngaps++ + 1] =
+            (uint32_t)(2 * b) + (uint32_t)(v[i].alast == v[i].blast);
     }
     free(v);
     return 0;
@@ -2568,6 +2639,7 @@ static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
     s.C = td_faces_nchunks(fx);
     s.V = 2 * s.C;
     if ((rc = alloc_all(&s, cx)) != 0 || (rc = same_pieces(&s, cx)) != 0 ||
+        (rc = gap_pairs(&s, cx)) != 0 ||
         (rc = touched_nodes(&s, &touched, cx)) != 0 ||
         (rc = setup_known(&s, cx)) != 0 || (rc = setup_spots(&s, cx)) != 0)
         goto fail;

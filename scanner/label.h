@@ -93,6 +93,9 @@ typedef struct td_label_params {
     int label_up;          /* faces: a label's top faces uphill, as printed
                               maps draw them (default 1; 0: the reading
                               direction says nothing) */
+    double gap_pairs;      /* faces: free ends at most this many px apart
+                              that face each other are taken as one
+                              contour (endpair.h; ours; 0: off) */
     int search;            /* faces: 0 the forest's best (default); N > 0
                               also N forests in other orders and a local
                               search over every face edge, the cheapest

@@ -84,6 +84,9 @@ static int parse_args(int argc, char **argv, label_opts *o)
          .help = "faces: also try N forests and a local search\nover every "
          "face edge, keep the cheapest (ours;\nslower; helps where a region "
          "folds the\nwrong way; 8 measured best; 0: off)"},
+        {"gap-pairs", 0, TD_OPT_DOUBLE, &p->gap_pairs, 0, 200, .meta = "PX",
+         .help = "faces: two free line ends at most PX apart\nthat face each "
+         "other are one contour (ours;\nmeasured: see docs/label.md; 0: off)"},
         {"debug-dir", 0, TD_OPT_STRING, &o->debug_dir, .meta = "DIR", .help =
          "write heights.png: the lines coloured by height\n(over --like SCAN "
          "when given; thick: known,\ndashed: assumed, grey dots: no height)"},

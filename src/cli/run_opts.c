@@ -26,7 +26,7 @@ void td_cli_run_init(td_cli_run *r)
 size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
 {
     td_label_params *lp = &r->p.label;
-    const td_opt o[15] = {
+    const td_opt o[16] = {
         {"interval", 0, TD_OPT_DOUBLE, &lp->interval, 1e-9, 1e9, .meta = "I",
          .help = "contour interval (default: inferred from\nthe printed "
          "labels)", .no_default = 1},
@@ -55,6 +55,9 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
          .help = "faces: also try N forests and a local search\nover every "
          "face edge, keep the cheapest (ours;\nslower; helps where a region "
          "folds the\nwrong way; 8 measured best; 0: off)"},
+        {"gap-pairs", 0, TD_OPT_DOUBLE, &lp->gap_pairs, 0, 200, .meta = "PX",
+         .help = "faces: two free line ends at most PX apart\nthat face each "
+         "other are one contour (ours;\nmeasured: see docs/label.md; 0: off)"},
         {"ink", 0, TD_OPT_FUNC, &r->p.scan.bin, .fn = ink, .meta = "KIND",
          .help = "auto | dark | brown | brown-hue | R,G,B[:tol]\n(default "
          "auto; see topodig scan --help)"},

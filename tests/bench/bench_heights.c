@@ -8,12 +8,13 @@
  *
  *   bench_heights [--dems DIR] [--only NAME] [--tree] [--search N] [--log]
  *                 [--all-hints] [--png DIR] [--streams] [--no-vees]
- *                 [--no-stream-joins]
+ *                 [--no-stream-joins] [--gap-pairs PX]
  *
  * --streams: the colour sheets' water drawn from the terrain (tdgen
  * --streams) instead of the random river; --no-vees: the streams' Vs not
  * read (scanner/streams.h); --no-stream-joins: the joiner's stage 3 (across
- * the water) off. */
+ * the water) off; --gap-pairs: the labeller's free-end pairs
+ * (td_label_params.gap_pairs, endpair.h). */
 #include "tests/util/hsheet.h"
 
 #include <math.h>
@@ -48,6 +49,7 @@ int main(int argc, char **argv)
     const char *dir = "tests/data/dems", *only = NULL, *png = NULL;
     int tree = 0, logit = 0, paperj = 0, all = 0, search = 0, hach = 0, a;
     int streams = 0, novees = 0, nojoins = 0;
+    double gap_pairs = 0;
     size_t c;
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--dems") && a + 1 < argc)
@@ -60,6 +62,8 @@ int main(int argc, char **argv)
             search = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--streams"))
             streams = 1;
+        else if (!strcmp(argv[a], "--gap-pairs") && a + 1 < argc)
+            gap_pairs = atof(argv[++a]);
         else if (!strcmp(argv[a], "--no-vees"))
             novees = 1;
         else if (!strcmp(argv[a], "--no-stream-joins"))
@@ -130,6 +134,7 @@ int main(int argc, char **argv)
                 hs.method = tree ? TD_LABEL_TREE : TD_LABEL_FACES;
                 hs.paper_junctions = paperj;
                 hs.search = search;
+                hs.gap_pairs = gap_pairs;
                 if (png) {
                     snprintf(path, sizeof path, "%s/%s_%d_%d.png", png, k->name,
                              scanned, hint);

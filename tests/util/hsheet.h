@@ -17,6 +17,7 @@ typedef struct td_hsheet {
     int use_truth_lines;        /* label the truth lines, not the traced ones */
     int paper_junctions;        /* trace through junctions as the paper does */
     int search;                 /* td_label_params.search */
+    double gap_pairs;           /* td_label_params.gap_pairs (0: off) */
     int read_labels;            /* read the printed labels (scanner/ocr.h) and
                                    give them to the labeller */
     int no_interval;            /* infer the interval from the labels */
