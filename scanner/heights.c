@@ -2138,6 +2138,48 @@ static double full_cost(hs *s, const long *nb)
     return t;
 }
 
+/* Benchmarks: the whole model's cost of the answer nb and of the true
+ * heights (p->oracle_h, p->oracle_up; chunks of lines without one keep
+ * their answer) into rep->oracle_cost: an answer that costs more than the
+ * truth is the optimiser's error, one that costs less the model's. */
+static int oracle_costs(hs *s, const long *nb, td_ctx *cx)
+{
+    long *no = td_malloc((s->V + 1) * sizeof *no, cx);
+    size_t c, i;
+    int pass, pri = s->priors;
+    if (!no)
+        return TD_ENOMEM;
+    memcpy(no, nb, s->V * sizeof *no);
+    for (c = 0; c < s->C; c++) {
+        size_t l = td_faces_chunk_line(s->fx, c);
+        double H = s->p->oracle_h[l];
+        long L;
+        if (!isfinite(H))
+            continue;
+        L = lround((H - s->p->base) / s->p->interval) - s->kofs;
+        if (L < 1 || L >= (long)s->K)
+            continue;
+        no[2 * c] = s->p->oracle_up[l] ? L : L - 1;
+        no[2 * c + 1] = s->p->oracle_up[l] ? L - 1 : L;
+    }
+    s->priors = 1;
+    for (pass = 0; pass < 2; pass++) {
+        const long *b = pass ? no : nb;
+        double face = 0;
+        for (i = 0; i < s->nce; i++) {
+            const cedge *e = &s->ce[i];
+            if (e->kind == E_FACE)
+                face += edge_cost(s, e, b[e->a], b[e->a ^ 1] > b[e->a], b[e->b],
+                                  b[e->b ^ 1] > b[e->b]);
+        }
+        s->rep->oracle_cost[pass][0] = full_cost(s, b);
+        s->rep->oracle_cost[pass][1] = face;
+    }
+    s->priors = pri;
+    free(no);
+    return 0;
+}
+
 /* The forest in the order of the candidates' keys, its domain and tables. */
 static int forest_tables(hs *s, double **H, td_ctx *cx)
 {
@@ -2331,6 +2373,9 @@ static int solve_all(hs *s, td_ctx *cx)
         free(nb0), free(bp0), free(gp0);
     }
     s->rep->cost = total_cost(s);
+    if (!s->cost_only && s->p->oracle_h && s->p->oracle_up &&
+        (rc = oracle_costs(s, nb, cx)) != 0)
+        goto done;
     if (!s->cost_only && (rc = report_conflicts(s, nb, cx)) == 0) {
         report_known(s);
         judge_labels(s);

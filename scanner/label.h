@@ -96,6 +96,11 @@ typedef struct td_label_params {
     double gap_pairs;      /* faces: free ends at most this many px apart
                               that face each other are taken as one
                               contour (endpair.h; ours; 0: off) */
+    const double *oracle_h; /* benchmarks (faces): per line of ls, its true
+                               height (NAN: unknown), and ... */
+    const signed char *oracle_up; /* ... 1 when its side 0 (left of its
+                                     direction, y down) is the higher:
+                                     rep.oracle_cost prices the truth */
     int search;            /* faces: 0 the forest's best (default); N > 0
                               also N forests in other orders and a local
                               search over every face edge, the cheapest
@@ -125,6 +130,12 @@ typedef struct td_label_report {
     double interval;        /* the interval used (inferred from the labels
                                when the parameters gave none) */
     double cost;            /* the solution's total cost (faces) */
+    double oracle_cost[2][2]; /* p.oracle_h: the whole model's cost (every
+                                 line, unary term and edge, the priors
+                                 in) of the answer [0] and of the true
+                                 heights [1] (lines without one as
+                                 answered): total, and the broken face
+                                 edges' part */
 } td_label_report;
 
 /* Defaults: base 0, interval 0 (must be set), w = h = 0 (must be set),

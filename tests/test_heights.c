@@ -769,6 +769,35 @@ static void test_ocr_threads(void)
     td_grid_f32_free(src);
 }
 
+/* The oracle price (bench_heights --oracle): where the answer is the
+ * truth (the Orkhon valley's true lines, 3 known points + widths: 0.9986
+ * of the length right), the true heights, each line's up side read off
+ * the true surface, cost what the answer costs (measured 43 and 42: one
+ * fold); the up sides swapped, 96587 (the lines' own costs, every face
+ * edge broken). */
+static void test_oracle_price(void)
+{
+    td_hsheet hs;
+    td_grid_f32 *src = dem_sheet(&hs, "orkhon_92m.tif", 8, 0, 0);
+    td_ctx cx;
+    td_ctx_init(&cx);
+    if (!src)
+        return;
+    hs.use_truth_lines = 1;
+    hs.nknown = 3;
+    hs.index_every = 5;
+    hs.oracle = 1;
+    TT_CHECKF(td_hsheet_run(&hs, NULL, &cx) == 0, "%s", td_errmsg(&cx));
+    TT_CHECKF(hs.score.accuracy > 0.99 && hs.rep.oracle_cost[1][0] > 0 &&
+                  fabs(hs.rep.oracle_cost[0][0] - hs.rep.oracle_cost[1][0]) <=
+                      0.05 * hs.rep.oracle_cost[0][0],
+              "accuracy %.4f: the answer costs %.3f, the truth %.3f",
+              hs.score.accuracy, hs.rep.oracle_cost[0][0],
+              hs.rep.oracle_cost[1][0]);
+    td_label_report_free(&hs.rep);
+    td_grid_f32_free(src);
+}
+
 /* Real terrain: a valley with dissected hills and steep mountains. */
 static void test_real_orkhon(void)
 {
@@ -896,6 +925,7 @@ int main(void)
     TT_RUN(test_probes_parallel);
     TT_RUN(test_probes_wall);
     TT_RUN(test_real_orkhon);
+    TT_RUN(test_oracle_price);
     TT_RUN(test_real_frontrange);
     TT_RUN(test_real_elkhorn);
     TT_RUN(test_labels_only);

@@ -8,13 +8,17 @@
  *
  *   bench_heights [--dems DIR] [--only NAME] [--tree] [--search N] [--log]
  *                 [--all-hints] [--png DIR] [--streams] [--no-vees]
- *                 [--no-stream-joins] [--gap-pairs PX]
+ *                 [--no-stream-joins] [--gap-pairs PX] [--oracle]
  *
  * --streams: the colour sheets' water drawn from the terrain (tdgen
  * --streams) instead of the random river; --no-vees: the streams' Vs not
  * read (scanner/streams.h); --no-stream-joins: the joiner's stage 3 (across
  * the water) off; --gap-pairs: the labeller's free-end pairs
- * (td_label_params.gap_pairs, endpair.h). */
+ * (td_label_params.gap_pairs, endpair.h); --oracle: each traced row
+ * also prices the true heights under the labeller's whole model (each
+ * traced line's majority contour, its up side from the true surface):
+ * an answer dearer than the truth is the optimiser's error, a cheaper
+ * one the model's. */
 #include "tests/util/hsheet.h"
 
 #include <math.h>
@@ -50,6 +54,7 @@ int main(int argc, char **argv)
     int tree = 0, logit = 0, paperj = 0, all = 0, search = 0, hach = 0, a;
     int streams = 0, novees = 0, nojoins = 0;
     double gap_pairs = 0;
+    int oracle = 0;
     size_t c;
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--dems") && a + 1 < argc)
@@ -62,6 +67,8 @@ int main(int argc, char **argv)
             search = atoi(argv[++a]);
         else if (!strcmp(argv[a], "--streams"))
             streams = 1;
+        else if (!strcmp(argv[a], "--oracle"))
+            oracle = 1;
         else if (!strcmp(argv[a], "--gap-pairs") && a + 1 < argc)
             gap_pairs = atof(argv[++a]);
         else if (!strcmp(argv[a], "--no-vees"))
@@ -135,6 +142,7 @@ int main(int argc, char **argv)
                 hs.paper_junctions = paperj;
                 hs.search = search;
                 hs.gap_pairs = gap_pairs;
+                hs.oracle = oracle;
                 if (png) {
                     snprintf(path, sizeof path, "%s/%s_%d_%d.png", png, k->name,
                              scanned, hint);
@@ -165,6 +173,17 @@ int main(int argc, char **argv)
                        hs.score.right_sure / (hs.score.right + hs.score.wrong +
                                               hs.score.null_len + 1e-9),
                        td_hscore_rmse(&hs.score));
+                if (oracle && hs.rep.oracle_cost[1][0] > 0)
+                    printf("%-11s   oracle: the answer costs %.0f (broken "
+                           "face edges %.0f), the true heights %.0f (%.0f)"
+                           ": %s\n",
+                           "", hs.rep.oracle_cost[0][0],
+                           hs.rep.oracle_cost[0][1], hs.rep.oracle_cost[1][0],
+                           hs.rep.oracle_cost[1][1],
+                           hs.rep.oracle_cost[0][0] >
+                                   hs.rep.oracle_cost[1][0] + 1e-6
+                               ? "the optimiser's error"
+                               : "the model prefers the answer");
                 if (logit && hs.rep.text)
                     printf("%s\n", hs.rep.text);
                 fflush(stdout);

@@ -110,6 +110,112 @@ static int draw_verdicts(const td_hsheet *hs, const td_image *im,
     return rc;
 }
 
+/* Per line of ls: its true height (the truth line of tl nearest each
+ * vertex within 2 px, the most vertices; NAN: none) and whether its side
+ * 0 (left of its direction, y down) is the higher, by the true surface
+ * dem 2.5 px either side of its vertices on that contour.  0 or
+ * TD_ENOMEM. */
+static int true_heights(const td_lines *tl, const td_lines *ls,
+                        const td_grid_f32 *dem, double *h, signed char *up,
+                        td_ctx *cx)
+{
+    const int cell = 4;
+    int gw = dem->w / cell + 1, gh = dem->h / cell + 1;
+    size_t nv = 0, i, k;
+    long *head = td_malloc((size_t)gw * gh * sizeof *head, cx), *next;
+    double *vh;
+    float *vx;
+    for (i = 0; i < tl->n; i++)
+        nv += tl->v[i].n;
+    next = td_malloc((nv + 1) * sizeof *next, cx);
+    vh = td_malloc((nv + 1) * sizeof *vh, cx);
+    vx = td_malloc((2 * nv + 1) * sizeof *vx, cx);
+    if (!head || !next || !vh || !vx) {
+        free(head), free(next), free(vh), free(vx);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < (size_t)gw * gh; i++)
+        head[i] = -1;
+    for (i = 0, nv = 0; i < tl->n; i++)
+        for (k = 0; k < tl->v[i].n; k++, nv++) {
+            double x = tl->v[i].xy[2 * k], y = tl->v[i].xy[2 * k + 1];
+            int cx0 = (int)(x / cell), cy0 = (int)(y / cell);
+            size_t c;
+            cx0 = cx0 < 0 ? 0 : cx0 >= gw ? gw - 1 : cx0;
+            cy0 = cy0 < 0 ? 0 : cy0 >= gh ? gh - 1 : cy0;
+            c = (size_t)cy0 * gw + cx0;
+            vx[2 * nv] = (float)x, vx[2 * nv + 1] = (float)y;
+            vh[nv] = tl->v[i].height;
+            next[nv] = head[c];
+            head[c] = (long)nv;
+        }
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        double hv[64], best = -1;
+        size_t cnt[64], nh = 0, j;
+        int pass, upv = 0, nup = 0;
+        h[i] = NAN, up[i] = 0;
+        for (pass = 0; pass < 2; pass++) {
+            if (pass == 1) /* the majority */
+                for (j = 0; j < nh; j++)
+                    if ((double)cnt[j] > best)
+                        best = (double)cnt[j], h[i] = hv[j];
+            for (k = 0; k < l->n; k++) {
+                double x = l->xy[2 * k], y = l->xy[2 * k + 1], bd = 4.0,
+                       th = NAN;
+                int cx0 = (int)(x / cell), cy0 = (int)(y / cell), dx, dy;
+                for (dy = -1; dy <= 1; dy++)
+                    for (dx = -1; dx <= 1; dx++) {
+                        long q;
+                        if (cx0 + dx < 0 || cy0 + dy < 0 || cx0 + dx >= gw ||
+                            cy0 + dy >= gh)
+                            continue;
+                        for (q = head[(size_t)(cy0 + dy) * gw + cx0 + dx];
+                             q >= 0; q = next[q]) {
+                            double d =
+                                (vx[2 * q] - x) * (vx[2 * q] - x) +
+                                (vx[2 * q + 1] - y) * (vx[2 * q + 1] - y);
+                            if (d < bd)
+                                bd = d, th = vh[q];
+                        }
+                    }
+                if (!isfinite(th))
+                    continue;
+                if (pass == 0) {
+                    for (j = 0; j < nh && hv[j] != th; j++)
+                        ;
+                    if (j == nh && nh < 64)
+                        hv[nh] = th, cnt[nh++] = 0;
+                    if (j < nh)
+                        cnt[j]++;
+                } else if (th == h[i] && k > 0 && k + 1 < l->n) {
+                    double tx = l->xy[2 * k + 2] - l->xy[2 * k - 2],
+                           ty = l->xy[2 * k + 3] - l->xy[2 * k - 1],
+                           t = hypot(tx, ty);
+                    long ax, ay, bx, by;
+                    if (!(t > 0))
+                        continue;
+                    ax = lround(x + 2.5 * ty / t),
+                    ay = lround(y - 2.5 * tx / t);
+                    bx = lround(x - 2.5 * ty / t),
+                    by = lround(y + 2.5 * tx / t);
+                    if (ax < 0 || ay < 0 || bx < 0 || by < 0 || ax >= dem->w ||
+                        bx >= dem->w || ay >= dem->h || by >= dem->h)
+                        continue;
+                    upv += dem->data[(size_t)ay * dem->stride + ax] >
+                           dem->data[(size_t)by * dem->stride + bx];
+                    nup++;
+                }
+            }
+        }
+        up[i] = (signed char)(2 * upv > nup);
+        if (nup == 0)
+            h[i] = NAN;
+    }
+    free(head), free(next), free(vh), free(vx);
+    return 0;
+}
+
 int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
 {
     td_image *im = NULL;
@@ -122,6 +228,9 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
     td_vee *vees = NULL;
     size_t nvees = 0;
     double t0, *truth = NULL; /* per read: the true line's height */
+    double *oh = NULL;        /* hs->oracle: per traced line, its true
+                                 height and up side */
+    signed char *oup = NULL;
     int rc;
     memset(&res, 0, sizeof res);
     memset(&hs->rep, 0, sizeof hs->rep);
@@ -211,6 +320,15 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
     lp.nknown = (size_t)td_hsheet_pick_known(
         tl, hs->interval, hs->nknown > 8 ? 8 : hs->nknown, kp);
     lp.known = kp;
+    if (hs->oracle) {
+        if (!(oh = malloc((ls->n + 1) * sizeof *oh)) ||
+            !(oup = malloc(ls->n + 1)) ||
+            (rc = true_heights(tl, ls, dem, oh, oup, cx)) != 0) {
+            rc = rc ? rc : TD_ENOMEM;
+            goto done;
+        }
+        lp.oracle_h = oh, lp.oracle_up = oup;
+    }
     t0 = td_now();
     rc = td_label_auto(ls, &lp, &hs->rep, cx);
     hs->label_secs = td_now() - t0;
@@ -248,6 +366,8 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
         free(verdict);
     }
 done:
+    free(oh);
+    free(oup);
     free(truth);
     free(reads);
     free(vees);

@@ -18,6 +18,8 @@ typedef struct td_hsheet {
     int paper_junctions;        /* trace through junctions as the paper does */
     int search;                 /* td_label_params.search */
     double gap_pairs;           /* td_label_params.gap_pairs (0: off) */
+    int oracle;                 /* price the true heights under the whole
+                                   model too (rep.oracle_cost; faces) */
     int read_labels;            /* read the printed labels (scanner/ocr.h) and
                                    give them to the labeller */
     int no_interval;            /* infer the interval from the labels */
