@@ -13,7 +13,10 @@
  *   face edge:     probes say sides u and v border one face: b(u) = b(v),
  *                  else WFACE per probe;
  *   spot height:   on the sides its 16 rays meet, the band holding it,
- *                  WKNOWN split over the rays.
+ *                  WKNOWN split over the rays;
+ *   gap pair:      (--gap-pairs, off by default) two free ends that face
+ *                  each other (endpair.h): the two chunks one state, else
+ *                  W_GAP.
  *
  *      side 0 ----- line l ----- side 1        face edges (probes) join
  *        |  b = k            b = k+1 |         sides of different lines;
