@@ -26,7 +26,7 @@ void td_cli_run_init(td_cli_run *r)
 size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
 {
     td_label_params *lp = &r->p.label;
-    const td_opt o[16] = {
+    const td_opt o[TD_CLI_RUN_OPTS - TD_CLI_INTERP_OPTS] = {
         {"interval", 0, TD_OPT_DOUBLE, &lp->interval, 1e-9, 1e9, .meta = "I",
          .help = "contour interval (default: inferred from\nthe printed "
          "labels)", .no_default = 1},
@@ -80,8 +80,9 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
          "height; labels read boxed, refused in grey)\nand labels.geojson "
          "(one point per label read:\ntext, value, angle, confidence, used, "
          "why)"}};
+    const size_t n = sizeof o / sizeof o[0];
     memcpy(v, o, sizeof o);
-    return 15 + td_cli_interp_opts(v + 15, &r->p.interp);
+    return n + td_cli_interp_opts(v + n, &r->p.interp);
 }
 
 /* See run_int.h. */
