@@ -37,6 +37,20 @@ static void add_run(td_lines *ls, double x0, double y0, double x1, double y1)
     add(ls, xy, n);
 }
 
+/* Lines of the straight runs r (x0, y0, x1, y1 each), n of them. */
+static td_lines *runs_of(const double *r, size_t n)
+{
+    td_ctx cx;
+    td_lines *ls;
+    size_t i;
+    td_ctx_init(&cx);
+    ls = td_lines_new(&cx);
+    TT_CHECK(ls != NULL);
+    for (i = 0; ls && i < n; i++)
+        add_run(ls, r[4 * i], r[4 * i + 1], r[4 * i + 2], r[4 * i + 3]);
+    return ls;
+}
+
 static size_t pairs_of(const td_lines *ls, double gap, td_end_pair **p)
 {
     td_ctx cx;
@@ -51,15 +65,10 @@ static size_t pairs_of(const td_lines *ls, double gap, td_end_pair **p)
  * max_gap) nothing. */
 static void test_broken_line(void)
 {
-    td_ctx cx;
-    td_lines *ls;
+    static const double r[] = {50, 200, 150, 200, 160, 201, 300, 201};
+    td_lines *ls = runs_of(r, 2);
     td_end_pair *p = NULL;
-    size_t n;
-    td_ctx_init(&cx);
-    ls = td_lines_new(&cx);
-    add_run(ls, 50, 200, 150, 200);
-    add_run(ls, 160, 201, 300, 201);
-    n = pairs_of(ls, 24, &p);
+    size_t n = pairs_of(ls, 24, &p);
     TT_CHECKF(n == 1 && p[0].a == 0 && p[0].alast == 1 && p[0].b == 1 &&
                   p[0].blast == 0 && fabs(p[0].d - 10.05) < 0.1,
               "%zu pairs", n);
@@ -74,17 +83,13 @@ static void test_broken_line(void)
  * each arm's tangent 60 degrees off the chord, paired. */
 static void test_vee_arms(void)
 {
-    td_ctx cx;
-    td_lines *ls;
-    td_end_pair *p = NULL;
-    size_t n;
     double s = sin(M_PI / 6), c = cos(M_PI / 6);
-    td_ctx_init(&cx);
-    ls = td_lines_new(&cx);
     /* apex at (200, 200) pointing up; arms from 6 px off the apex */
-    add_run(ls, 200 - 80 * s, 200 + 80 * c, 200 - 6 * s, 200 + 6 * c);
-    add_run(ls, 200 + 6 * s, 200 + 6 * c, 200 + 80 * s, 200 + 80 * c);
-    n = pairs_of(ls, 24, &p);
+    const double r[] = {200 - 80 * s, 200 + 80 * c, 200 - 6 * s,  200 + 6 * c,
+                        200 + 6 * s,  200 + 6 * c,  200 + 80 * s, 200 + 80 * c};
+    td_lines *ls = runs_of(r, 2);
+    td_end_pair *p = NULL;
+    size_t n = pairs_of(ls, 24, &p);
     TT_CHECKF(n == 1 && p[0].alast == 1 && p[0].blast == 0, "%zu pairs", n);
     free(p);
     td_lines_free(ls);
@@ -94,17 +99,13 @@ static void test_vee_arms(void)
  * 150) do not face each other; ends at the sheet's border are left out. */
 static void test_no_pair(void)
 {
-    td_ctx cx;
-    td_lines *ls;
+    static const double r[] = {
+        50,  200, 150, 200, 50,  204,
+        150, 204, 0,   300, 100, 300, /* starts on the border */
+        0.5, 310, 100, 310};          /* within 2 px of it */
+    td_lines *ls = runs_of(r, 4);
     td_end_pair *p = NULL;
-    size_t n;
-    td_ctx_init(&cx);
-    ls = td_lines_new(&cx);
-    add_run(ls, 50, 200, 150, 200);
-    add_run(ls, 50, 204, 150, 204);
-    add_run(ls, 0, 300, 100, 300);   /* starts on the border */
-    add_run(ls, 0.5, 310, 100, 310); /* and within 2 px of it */
-    n = pairs_of(ls, 24, &p);
+    size_t n = pairs_of(ls, 24, &p);
     TT_CHECKF(n == 0, "%zu pairs", n);
     free(p);
     td_lines_free(ls);
@@ -115,17 +116,12 @@ static void test_no_pair(void)
  * to the straight one. */
 static void test_best_partner(void)
 {
-    td_ctx cx;
-    td_lines *ls;
+    static const double r[] = {20,  100, 100, 100, 108, 100, 200,
+                               100, 210, 100, 300, 100, /* 3: 10 px off, bent */
+                               214, 90,  300, 40};
+    td_lines *ls = runs_of(r, 4);
     td_end_pair *p = NULL;
-    size_t n;
-    td_ctx_init(&cx);
-    ls = td_lines_new(&cx);
-    add_run(ls, 20, 100, 100, 100);  /* 0 */
-    add_run(ls, 108, 100, 200, 100); /* 1 */
-    add_run(ls, 210, 100, 300, 100); /* 2 */
-    add_run(ls, 214, 90, 300, 40);   /* 3: starts 10 px off the line, bent */
-    n = pairs_of(ls, 24, &p);
+    size_t n = pairs_of(ls, 24, &p);
     TT_CHECKF(n == 2 && p[0].a == 0 && p[0].b == 1 && p[1].a == 1 &&
                   p[1].alast == 1 && p[1].b == 2 && p[1].blast == 0,
               "%zu pairs (first %zu-%zu)", n, n ? p[0].a : 0, n ? p[0].b : 0);
