@@ -145,6 +145,8 @@ int td_end_pairs(const td_lines *ls, int (*keep)(size_t i, const void *u),
         if (j > (long)i && e[j].best == (long)i) {
             p[np].a = e[i].line, p[np].alast = e[i].last;
             p[np].b = e[j].line, p[np].blast = e[j].last;
+            p[np].ax = e[i].x, p[np].ay = e[i].y;
+            p[np].bx = e[j].x, p[np].by = e[j].y;
             p[np].d = hypot(e[j].x - e[i].x, e[j].y - e[i].y);
             p[np++].cost = e[i].cost;
         }

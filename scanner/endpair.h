@@ -29,7 +29,8 @@ extern "C" {
 typedef struct td_end_pair {
     size_t a, b;      /* lines (a == b: a line's own two ends) */
     int alast, blast; /* the end: 1 the line's last vertex, 0 its first */
-    double d;         /* px between the ends */
+    double ax, ay, bx, by; /* the two ends */
+    double d;              /* px between them */
     double cost;      /* d / max_gap + (angle a + angle b) / 180 */
 } td_end_pair;
 

@@ -1883,17 +1883,15 @@ static int gap_pairs(hs *s, td_ctx *cx)
         if (a < 0 || b < 0 || a == b || v[i].cost > GAP_COST)
             continue;
         { /* the chord between the ends crosses no other line */
-            double ax = la->xy[v[i].alast ? 2 * la->n - 2 : 0],
-                   ay = la->xy[v[i].alast ? 2 * la->n - 1 : 1],
-                   bx = lb->xy[v[i].blast ? 2 * lb->n - 2 : 0],
-                   by = lb->xy[v[i].blast ? 2 * lb->n - 1 : 1], t = 0;
+            const td_end_pair *q = &v[i];
+            double t = 0;
             long hit =
-                v[i].d > 1.0
-                    ? td_faces_ray(s->fx, ax, ay, (bx - ax) / v[i].d,
-                                   (by - ay) / v[i].d, (long)v[i].a, 1.5, &t)
+                q->d > 1.0
+                    ? td_faces_ray(s->fx, q->ax, q->ay, (q->bx - q->ax) / q->d,
+                                   (q->by - q->ay) / q->d, (long)q->a, 1.5, &t)
                     : -1;
-            if (hit >= 0 && t < v[i].d - 1.5 &&
-                td_faces_chunk_line(s->fx, (size_t)hit / 2) != v[i].b)
+            if (hit >= 0 && t < q->d - 1.5 &&
+                td_faces_chunk_line(s->fx, (size_t)hit / 2) != q->b)
                 continue;
         }
         /* travelling on from a's end into b: the same sides when a ends

@@ -70,7 +70,8 @@ static void test_broken_line(void)
     td_end_pair *p = NULL;
     size_t n = pairs_of(ls, 24, &p);
     TT_CHECKF(n == 1 && p[0].a == 0 && p[0].alast == 1 && p[0].b == 1 &&
-                  p[0].blast == 0 && fabs(p[0].d - 10.05) < 0.1,
+                  p[0].blast == 0 && fabs(p[0].d - 10.05) < 0.1 &&
+                  p[0].ax == 150 && p[0].bx == 160 && p[0].by == 201,
               "%zu pairs", n);
     free(p);
     n = pairs_of(ls, 8, &p);
