@@ -264,7 +264,9 @@ static void test_isolated_labels_no_interval(void)
  * a step no two reads differ by is not tried: what is left to weigh is 10
  * against 25 (1000 to 1050 over five rings fits 25 with rings going down
  * again, which only weak priors speak against), and either the interval 10
- * is taken and the rings get their heights, or the error names 10. */
+ * is taken and the rings get their heights, or the error names 10.  (Since
+ * rings going down inside rings cost W_NEST, 10 wins alone and the three
+ * misreads make half the labels disagree with it: refused, naming 10.) */
 static void test_misreads_no_huge_interval(void)
 {
     td_lines *ls = td_lines_new(NULL);
@@ -287,7 +289,8 @@ static void test_misreads_no_huge_interval(void)
     p.labels = r, p.nlabels = 6;
     rc = td_label_auto(ls, &p, &rep, &cx);
     if (rc)
-        TT_CHECKF(strstr(td_errmsg(&cx), "intervals 10 ") &&
+        TT_CHECKF((strstr(td_errmsg(&cx), "intervals 10 ") ||
+                   strstr(td_errmsg(&cx), "interval 10 ")) &&
                       !strstr(td_errmsg(&cx), "e+"),
                   "%s", td_errmsg(&cx));
     else
@@ -304,7 +307,9 @@ static void test_misreads_no_huge_interval(void)
  * the four (the squares can go up and down) and leaves out the two sure
  * ones, twenty squares from a "2": four of six reads agreed, and the
  * interval was taken.  Agreement is now weighed by how sure the reads
- * are (1.8 against 3.7): no interval. */
+ * are (1.8 against 3.7): no interval.  (Since squares going down inside
+ * squares cost W_NEST, the solve at 1 keeps only one of the reads, and
+ * the refusal says so first.) */
 static void test_unsure_reads_no_interval(void)
 {
     td_lines *ls = td_lines_new(NULL);
@@ -334,7 +339,8 @@ static void test_unsure_reads_no_interval(void)
     p.w = 1240, p.h = 1240;
     p.labels = r, p.nlabels = 6;
     rc = td_label_auto(ls, &p, &rep, &cx);
-    TT_CHECKF(rc == TD_EINVAL && strstr(td_errmsg(&cx), "less surely"),
+    TT_CHECKF(rc == TD_EINVAL && (strstr(td_errmsg(&cx), "less surely") ||
+                                  strstr(td_errmsg(&cx), "only 1 of the 6")),
               "rc %d: %s (interval %g)", rc, rc ? td_errmsg(&cx) : "",
               rep.interval);
     for (k = 0, n = 0; k < 200; k++) /* the refused trial's heights go */
