@@ -64,7 +64,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[a], "--tree"))
             tree = 1;
         else if (!strcmp(argv[a], "--search") && a + 1 < argc)
-            search = atoi(argv[++a]);
+            search = atoi(argv[++a]) ? atoi(argv[a]) : -1; /* 0: off */
         else if (!strcmp(argv[a], "--streams"))
             streams = 1;
         else if (!strcmp(argv[a], "--oracle"))

@@ -302,7 +302,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
     }
     hs->traced = ls->n;
     lp.method = hs->method;
-    lp.search = hs->search;
+    lp.search = hs->search < 0 ? 0 : hs->search ? hs->search : lp.search;
     lp.gap_pairs = hs->gap_pairs;
     lp.interval = hs->no_interval ? 0 : hs->interval;
     lp.labels = reads;

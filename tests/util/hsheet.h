@@ -16,7 +16,8 @@ typedef struct td_hsheet {
                                    picked by the solve) */
     int use_truth_lines;        /* label the truth lines, not the traced ones */
     int paper_junctions;        /* trace through junctions as the paper does */
-    int search;                 /* td_label_params.search */
+    int search;                 /* td_label_params.search: 0 its default,
+                                   -1 off */
     double gap_pairs;           /* td_label_params.gap_pairs (0: off) */
     int oracle;                 /* price the true heights under the whole
                                    model too (rep.oracle_cost; faces) */
