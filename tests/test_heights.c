@@ -63,24 +63,31 @@ static void test_rings_rise(void)
     td_lines_free(ls);
 }
 
+/* A sheet of the generator's terrain (its default parameters), size x
+ * size px. */
+static void gen_sheet(td_hsheet *hs, int terrain, int size)
+{
+    memset(hs, 0, sizeof *hs);
+    hs->gp = td_gen_defaults();
+    hs->gp.terrain = terrain;
+    hs->gp.w = hs->gp.h = size;
+}
+
 /* The generator's hills (1500 px), its true lines, three known points on
  * index contours and the index widths.  Near the top of the south-west
  * hill three rings had no height and two a wrong one (0.968 of the length
  * right): a ring turning back inside the ring around it cost nothing (the
  * inner ring's outside is a hole of the face, where no fold prior was), so
- * the priors tied or went the wrong way.  A
- * ring and a ring it holds at one level were 0 of 208 such pairs on the
- * true lines of the four real DEMs (inner ring 60 px^2 or more: W_NEST),
- * so that costs now: every line right. */
+ * the priors tied or went the wrong way.  A ring and a ring it holds at
+ * one level were 0 of 208 such pairs on the true lines of the four real
+ * DEMs (inner ring 60 px^2 or more: W_NEST), so that costs now: every
+ * line right. */
 static void test_hill_rises_on(void)
 {
     td_hsheet hs;
     td_ctx cx;
     td_ctx_init(&cx);
-    memset(&hs, 0, sizeof hs);
-    hs.gp = td_gen_defaults();
-    hs.gp.terrain = TD_GEN_HILLS;
-    hs.gp.w = hs.gp.h = 1500;
+    gen_sheet(&hs, TD_GEN_HILLS, 1500);
     td_hsheet_defects(&hs.gp, 0);
     hs.use_truth_lines = 1;
     hs.nknown = 3;
@@ -865,9 +872,7 @@ static void test_ambiguous(void)
     td_hsheet hs;
     td_ctx cx;
     td_ctx_init(&cx);
-    memset(&hs, 0, sizeof hs);
-    hs.gp = td_gen_defaults();
-    hs.gp.w = hs.gp.h = 800;
+    gen_sheet(&hs, td_gen_defaults().terrain, 800);
     hs.gp.line_width = 2;
     hs.nknown = 1;
     TT_CHECK(td_hsheet_run(&hs, stderr, &cx) == 0);
