@@ -1002,22 +1002,34 @@ static double vmin(const double *v, size_t K, size_t *arg)
 }
 
 /* Cost of line l with side 0 at band a0 and side 1 at a1 (adjacent). */
-static double line_cost(const hs *s, size_t l, long a0, long a1)
+/* The same, its parts added to t[TD_OT_*] when t is not NULL. */
+static inline double line_parts(const hs *s, size_t l, long a0, long a1,
+                                double *t)
 {
     long h = (a0 > a1 ? a0 : a1) + s->kofs;
-    double c = a0 > a1 ? s->up_cost[2 * l] : s->up_cost[2 * l + 1];
+    double d = a0 > a1 ? s->up_cost[2 * l] : s->up_cost[2 * l + 1], k = 0,
+           lb = 0, ix = 0;
     if (s->priors)
-        c += a0 > a1 ? s->up_prior[2 * l] : s->up_prior[2 * l + 1];
+        d += a0 > a1 ? s->up_prior[2 * l] : s->up_prior[2 * l + 1];
     if (s->nknown[l] && (double)h != s->lknown[l])
-        c += WKNOWN * s->nknown[l];
+        k = WKNOWN * s->nknown[l];
     if (s->wlab[l] > 0) /* W (1 - confidence of the reading giving h) */
-        c += s->wlab[l] * (1.0 - lab_conf(s, l, h));
+        lb = s->wlab[l] * (1.0 - lab_conf(s, l, h));
     if (s->idx[l]) {
         long N = s->p->index_every, m = ((h % N) + N) % N;
         if ((s->idx[l] > 0) != (m == 0))
-            c += s->ilen[l];
+            ix = s->ilen[l];
     }
-    return c;
+    if (t) {
+        t[TD_OT_DIR] += d, t[TD_OT_KNOWN] += k;
+        t[TD_OT_LABEL] += lb, t[TD_OT_INDEX] += ix;
+    }
+    return d + k + lb + ix;
+}
+
+static double line_cost(const hs *s, size_t l, long a0, long a1)
+{
+    return line_parts(s, l, a0, a1, NULL);
 }
 
 /* The state of the other side of line l from state st of its side xs, or
@@ -2168,13 +2180,15 @@ static double full_cost(hs *s, const long *nb)
 
 /* Benchmarks: the whole model's cost of the answer nb and of the true
  * heights (p->oracle_h, p->oracle_up; chunks of lines without one keep
- * their answer) into rep->oracle_cost: an answer that costs more than the
- * truth is the optimiser's error, one that costs less the model's. */
+ * their answer) and its parts (td_oracle_term, priced here term by term;
+ * the total is full_cost's) into rep->oracle_cost: an answer that costs
+ * more than the truth is the optimiser's error, one that costs less the
+ * model's. */
 static int oracle_costs(hs *s, const long *nb, td_ctx *cx)
 {
     long *no = td_malloc((s->V + 1) * sizeof *no, cx);
     size_t c, i;
-    int pass, pri = s->priors;
+    int pass, k, pri = s->priors;
     if (!no)
         return TD_ENOMEM;
     memcpy(no, nb, s->V * sizeof *no);
@@ -2193,15 +2207,31 @@ static int oracle_costs(hs *s, const long *nb, td_ctx *cx)
     s->priors = 1;
     for (pass = 0; pass < 2; pass++) {
         const long *b = pass ? no : nb;
-        double face = 0;
+        double *t = s->rep->oracle_cost[pass];
+        memset(t, 0, TD_OT_N * sizeof *t);
+        for (c = 0; c < s->C; c++) /* (a line's sides always one band
+                                        apart: no PLINE) */
+            if (labs(b[2 * c] - b[2 * c + 1]) == 1)
+                line_parts(s, c, b[2 * c], b[2 * c + 1], t);
+        for (i = 0; i < s->nun; i++) {
+            long u = b[(size_t)s->un[4 * i]] + s->kofs;
+            if (u < (long)s->un[4 * i + 1] || u > (long)s->un[4 * i + 2])
+                t[TD_OT_UNARY] += s->un[4 * i + 3];
+        }
         for (i = 0; i < s->nce; i++) {
             const cedge *e = &s->ce[i];
-            if (e->kind == E_FACE)
-                face += edge_cost(s, e, b[e->a], b[e->a ^ 1] > b[e->a], b[e->b],
-                                  b[e->b ^ 1] > b[e->b]);
+            double v;
+            if (e->kind == E_LINE)
+                continue;
+            v = edge_cost(s, e, b[e->a], b[e->a ^ 1] > b[e->a], b[e->b],
+                          b[e->b ^ 1] > b[e->b]);
+            k = IS_CONT(e->kind)                     ? TD_OT_CONT
+                : b[e->a] != b[e->b]                 ? TD_OT_FACE
+                : s->ring[e->a] + s->ring[e->b] == 3 ? TD_OT_NEST
+                                                     : TD_OT_FOLD;
+            t[k] += v;
         }
-        s->rep->oracle_cost[pass][0] = full_cost(s, b);
-        s->rep->oracle_cost[pass][1] = face;
+        t[TD_OT_TOTAL] = full_cost(s, b); /* the parts add up to it */
     }
     s->priors = pri;
     free(no);

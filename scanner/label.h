@@ -108,6 +108,27 @@ typedef struct td_label_params {
                               docs/label.md, "The search") */
 } td_label_params;
 
+/* The parts of the whole model's cost that td_label_report.oracle_cost
+ * prices (faces labeller): the total, broken face edges, folds (a face
+ * whose two lines step the same way), folds between a ring and a ring it
+ * holds, broken continuity edges (a line's pieces, free-end pairs), the
+ * lines' index widths, printed labels, known points on them, their
+ * directions (stream Vs, ticks, the ring priors), and the unary terms
+ * (spot heights, known points off the lines). */
+enum td_oracle_term {
+    TD_OT_TOTAL,
+    TD_OT_FACE,
+    TD_OT_FOLD,
+    TD_OT_NEST,
+    TD_OT_CONT,
+    TD_OT_INDEX,
+    TD_OT_LABEL,
+    TD_OT_KNOWN,
+    TD_OT_DIR,
+    TD_OT_UNARY,
+    TD_OT_N
+};
+
 typedef struct td_label_report {
     size_t labelled, undetermined, warnings;
     size_t index_mismatches; /* td_label_check_index: lines whose width
@@ -130,12 +151,12 @@ typedef struct td_label_report {
     double interval;        /* the interval used (inferred from the labels
                                when the parameters gave none) */
     double cost;            /* the solution's total cost (faces) */
-    double oracle_cost[2][2]; /* p.oracle_h: the whole model's cost (every
-                                 line, unary term and edge, the priors
-                                 in) of the answer [0] and of the true
-                                 heights [1] (lines without one as
-                                 answered): total, and the broken face
-                                 edges' part */
+    double oracle_cost[2][TD_OT_N]; /* p.oracle_h: the whole model's cost
+                                       (every line, unary term and edge,
+                                       the priors in) of the answer [0]
+                                       and of the true heights [1] (lines
+                                       without one as answered): the total
+                                       and its parts (td_oracle_term) */
 } td_label_report;
 
 /* Defaults: base 0, interval 0 (must be set), w = h = 0 (must be set),

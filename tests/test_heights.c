@@ -820,6 +820,7 @@ static void test_oracle_price(void)
     td_hsheet hs;
     td_grid_f32 *src = dem_sheet(&hs, "orkhon_92m.tif", 8, 0, 0);
     td_ctx cx;
+    int k;
     td_ctx_init(&cx);
     if (!src)
         return;
@@ -834,6 +835,17 @@ static void test_oracle_price(void)
               "accuracy %.4f: the answer costs %.3f, the truth %.3f",
               hs.score.accuracy, hs.rep.oracle_cost[0][0],
               hs.rep.oracle_cost[1][0]);
+    for (k = 0; k < 2; k++) { /* the parts, priced one by one, make up the
+                                  model's whole cost */
+        double sum = 0;
+        int t;
+        for (t = 1; t < TD_OT_N; t++)
+            sum += hs.rep.oracle_cost[k][t];
+        TT_CHECKF(fabs(sum - hs.rep.oracle_cost[k][TD_OT_TOTAL]) <=
+                      1e-6 * hs.rep.oracle_cost[k][TD_OT_TOTAL],
+                  "%s: parts %.6f, whole %.6f", k ? "truth" : "answer", sum,
+                  hs.rep.oracle_cost[k][TD_OT_TOTAL]);
+    }
     td_label_report_free(&hs.rep);
     td_grid_f32_free(src);
 }

@@ -18,7 +18,8 @@
  * also prices the true heights under the labeller's whole model (each
  * traced line's majority contour, its up side from the true surface):
  * an answer dearer than the truth is the optimiser's error, a cheaper
- * one the model's. */
+ * one the model's; and the parts of both (td_oracle_term: where the truth
+ * pays more than the answer, the model's weights are worth a look). */
 #include "tests/util/hsheet.h"
 
 #include <math.h>
@@ -184,6 +185,18 @@ int main(int argc, char **argv)
                                    hs.rep.oracle_cost[1][0] + 1e-6
                                ? "the optimiser's error"
                                : "the model prefers the answer");
+                if (oracle && hs.rep.oracle_cost[1][0] > 0) {
+                    static const char *const part[TD_OT_N] = {
+                        "",      "faces",  "folds", "nests", "cont",
+                        "index", "labels", "known", "dirs",  "unary"};
+                    int t;
+                    printf("%-11s   parts (answer / truth):", "");
+                    for (t = 1; t < TD_OT_N; t++)
+                        printf(" %s %.0f/%.0f", part[t],
+                               hs.rep.oracle_cost[0][t],
+                               hs.rep.oracle_cost[1][t]);
+                    printf("\n");
+                }
                 if (logit && hs.rep.text)
                     printf("%s\n", hs.rep.text);
                 fflush(stdout);
