@@ -731,17 +731,17 @@ static void setup_directions(hs *s, const unsigned char *touched)
                       marks == 1 ? "s" : "");
     for (i = 0; i < s->N; i++) {
         const td_line *l = &s->ls->v[i];
-        int in, empty = 1;
+        int in, big, empty = 1;
         if (!td_faces_used(s->fx, i) || !l->closed)
             continue;
         in = inner_side(l);
         m = line_chunks(s, i, &c0);
         for (k = 0; k < m; k++)
             s->hole[2 * (c0 + k) + (1 - in)] = 1;
+        big = fabs(td_line_signed_area(l)) >= NEST_AREA;
         for (k = 0; k < m; k++) {
             s->ring[2 * (c0 + k) + in] = 1;
-            s->ring[2 * (c0 + k) + (1 - in)] =
-                fabs(td_line_signed_area(l)) >= NEST_AREA ? 2 : 0;
+            s->ring[2 * (c0 + k) + (1 - in)] = big ? 2 : 0;
         }
         for (k = 0; k < m; k++)
             empty &= !touched[2 * (c0 + k) + in];
@@ -1001,8 +1001,22 @@ static double vmin(const double *v, size_t K, size_t *arg)
     return m;
 }
 
-/* Cost of line l with side 0 at band a0 and side 1 at a1 (adjacent). */
-/* The same, its parts added to t[TD_OT_*] when t is not NULL. */
+/* What unary term q (node, lo, hi, w) costs at band b (absolute:
+ * band index + kofs). */
+static double unary_at(const double *q, long b)
+{
+    return b < (long)q[1] || b > (long)q[2] ? q[3] : 0.0;
+}
+
+/* A ring's inside and the outside of a ring it holds (NEST_AREA px^2 or
+ * more): a fold between them costs W_NEST. */
+static int nest_pair(const hs *s, uint32_t a, uint32_t b)
+{
+    return s->ring[a] + s->ring[b] == 3;
+}
+
+/* Cost of line l with side 0 at band a0 and side 1 at a1 (adjacent), its
+ * parts added to t[TD_OT_*] when t is not NULL (line_cost: without). */
 static inline double line_parts(const hs *s, size_t l, long a0, long a1,
                                 double *t)
 {
@@ -1027,6 +1041,7 @@ static inline double line_parts(const hs *s, size_t l, long a0, long a1,
     return d + k + lb + ix;
 }
 
+/* Cost of line l with side 0 at band a0 and side 1 at a1 (adjacent). */
 static double line_cost(const hs *s, size_t l, long a0, long a1)
 {
     return line_parts(s, l, a0, a1, NULL);
@@ -1053,7 +1068,7 @@ static double fold_w(const hs *s, uint32_t c)
 {
     if (!s->priors)
         return 0.0;
-    if (s->ring[c] + s->ring[s->par[c]] == 3)
+    if (nest_pair(s, c, s->par[c]))
         return W_NEST;
     if (s->hole[c] || s->hole[s->par[c]])
         return 0.0;
@@ -1114,11 +1129,8 @@ static void solve_pass(hs *s)
         const double *q =
             i < s->nun ? s->un + 4 * i : s->unx + 4 * (i - s->nun);
         long node = (long)q[0], k;
-        for (k = 0; k < (long)K2; k++) {
-            long b = (k >> 1) + s->kofs;
-            if (b < (long)q[1] || b > (long)q[2])
-                s->up[node * K2 + k] += q[3];
-        }
+        for (k = 0; k < (long)K2; k++)
+            s->up[node * K2 + k] += unary_at(q, (k >> 1) + s->kofs);
     }
     for (n = 0; s->order[n] != UINT32_MAX; n++)
         ;
@@ -1968,7 +1980,7 @@ static double edge_cost(const hs *s, const cedge *e, long ba, int da, long bb,
         return ba != bb || da != db ? cont_w(s, e->kind) : 0.0;
     if (ba != bb)
         return face_cost(s->fe[e->id].w);
-    if (da == db && s->priors && s->ring[e->a] + s->ring[e->b] == 3)
+    if (da == db && s->priors && nest_pair(s, e->a, e->b))
         return W_NEST;
     if (da == db && s->priors && !s->hole[e->a] && !s->hole[e->b])
         return WFOLD;
@@ -2104,13 +2116,11 @@ static int improve(hs *s, long *nb, td_ctx *cx)
                 }
                 for (k = us[v]; k < us[v + 1]; k++) {
                     const double *q = s->un + 4 * ua[k];
-                    long b = nb[v] + s->kofs;
-                    double old = b < (long)q[1] || b > (long)q[2] ? q[3] : 0;
-                    for (t = 0; t < NMOVE; t++) {
-                        long bn = move_band(nb[v], nb[u], t) + s->kofs;
-                        dl[t] += (bn < (long)q[1] || bn > (long)q[2] ? q[3] : 0) -
-                                 old;
-                    }
+                    double old = unary_at(q, nb[v] + s->kofs);
+                    for (t = 0; t < NMOVE; t++)
+                        dl[t] +=
+                            unary_at(q, move_band(nb[v], nb[u], t) + s->kofs) -
+                            old;
                 }
                 for (k = es[v]; k < es[v + 1]; k++) {
                     const cedge *e = &s->ce[ea[k]];
@@ -2163,11 +2173,8 @@ static double full_cost(hs *s, const long *nb)
     s->priors = 1;
     for (c = 0; c < s->C; c++)
         t += chunk_cost(s, c, nb[2 * c], nb[2 * c + 1]);
-    for (i = 0; i < s->nun; i++) {
-        long b = nb[(size_t)s->un[4 * i]] + s->kofs;
-        if (b < (long)s->un[4 * i + 1] || b > (long)s->un[4 * i + 2])
-            t += s->un[4 * i + 3];
-    }
+    for (i = 0; i < s->nun; i++)
+        t += unary_at(s->un + 4 * i, nb[(size_t)s->un[4 * i]] + s->kofs);
     for (i = 0; i < s->nce; i++) {
         const cedge *e = &s->ce[i];
         if (e->kind != E_LINE)
@@ -2213,11 +2220,9 @@ static int oracle_costs(hs *s, const long *nb, td_ctx *cx)
                                         apart: no PLINE) */
             if (labs(b[2 * c] - b[2 * c + 1]) == 1)
                 line_parts(s, c, b[2 * c], b[2 * c + 1], t);
-        for (i = 0; i < s->nun; i++) {
-            long u = b[(size_t)s->un[4 * i]] + s->kofs;
-            if (u < (long)s->un[4 * i + 1] || u > (long)s->un[4 * i + 2])
-                t[TD_OT_UNARY] += s->un[4 * i + 3];
-        }
+        for (i = 0; i < s->nun; i++)
+            t[TD_OT_UNARY] +=
+                unary_at(s->un + 4 * i, b[(size_t)s->un[4 * i]] + s->kofs);
         for (i = 0; i < s->nce; i++) {
             const cedge *e = &s->ce[i];
             double v;
@@ -2225,10 +2230,10 @@ static int oracle_costs(hs *s, const long *nb, td_ctx *cx)
                 continue;
             v = edge_cost(s, e, b[e->a], b[e->a ^ 1] > b[e->a], b[e->b],
                           b[e->b ^ 1] > b[e->b]);
-            k = IS_CONT(e->kind)                     ? TD_OT_CONT
-                : b[e->a] != b[e->b]                 ? TD_OT_FACE
-                : s->ring[e->a] + s->ring[e->b] == 3 ? TD_OT_NEST
-                                                     : TD_OT_FOLD;
+            k = IS_CONT(e->kind)           ? TD_OT_CONT
+                : b[e->a] != b[e->b]       ? TD_OT_FACE
+                : nest_pair(s, e->a, e->b) ? TD_OT_NEST
+                                           : TD_OT_FOLD;
             t[k] += v;
         }
         t[TD_OT_TOTAL] = full_cost(s, b); /* the parts add up to it */
