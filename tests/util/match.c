@@ -520,7 +520,8 @@ int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
         return TD_ENOMEM;
     for (i = 0; i < traced->n; i++) {
         const td_line *l = &traced->v[i];
-        double same = 0, other = 0, major_h = 0, major_len = 0, off = 0;
+        double same = 0, other = 0, major_h = 0, major_len = 0, off = 0,
+               on = 0;
         double tlen[16] = {0};
         size_t tid[16], nt = 0, j;
         for (k = 0; k < nseg(l); k++) {
@@ -543,6 +544,7 @@ int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
                 tid[nt++] = best;
             if (j < 16)
                 tlen[j] += len;
+            on += len;
             if (!l->has_height)
                 r->null_len += len;
             else if (fabs(l->height - th) < 1e-6 * (1 + fabs(th)))
@@ -562,7 +564,7 @@ int td_match_heights_v(const td_lines *truth, const td_lines *traced, int w,
             r->own += mx;
         }
         if (verdict)
-            verdict[i] = off > same + other ? 3 : !l->has_height ? 2
+            verdict[i] = off > on ? 3 : !l->has_height ? 2
                          : same >= other    ? 0
                                             : 1;
         if (l->has_height && l->confidence >= 0.9)
