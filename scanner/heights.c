@@ -35,6 +35,7 @@
 
 #include "scanner/endpair.h"
 #include "scanner/faces.h"
+#include "scanner/width.h"
 #include "src/core/core.h"
 
 #include <limits.h>
@@ -764,7 +765,7 @@ static int setup_index(hs *s, td_ctx *cx)
 {
     double cut;
     size_t i, k, c0, m;
-    int rc;
+    int rc, inked;
     if (s->p->index_every <= 0 || s->p->index_off)
         return 0;
     if ((rc = td_label_thick_cut(s->ls, s->p, &cut, cx)) < 0)
@@ -775,14 +776,16 @@ static int setup_index(hs *s, td_ctx *cx)
                                   "thicker index contours; not used");
         return 0;
     }
+    if ((inked = td_label_use_ink(s->ls, s->p->index_every, cx)) < 0)
+        return inked;
     for (i = 0; i < s->N; i++) {
         const td_line *l = &s->ls->v[i];
-        double len = td_line_length(l);
-        if (!td_faces_used(s->fx, i) || !(l->width > 0) || len < 30)
+        double len = td_line_length(l), wt = td_line_weight(l, inked);
+        if (!td_faces_used(s->fx, i) || !(wt > 0) || len < 30)
             continue;
         m = line_chunks(s, i, &c0);
         for (k = 0; k < m; k++) {
-            s->idx[c0 + k] = l->width >= cut ? 1 : -1;
+            s->idx[c0 + k] = wt >= cut ? 1 : -1;
             s->ilen[c0 + k] = W_INDEX * fmin(1.0, len / 80.0) / m;
         }
     }
@@ -1406,6 +1409,7 @@ static int piece(const td_line *l, size_t k0, size_t k1, td_line *out,
     out->n = out->cap = n;
     out->edge = l->edge;
     out->width = l->width;
+    out->ink = l->ink;
     out->parent = -1;
     return 0;
 }

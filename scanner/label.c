@@ -14,6 +14,7 @@
 
 #include "src/core/core.h"
 #include "scanner/heights_int.h"
+#include "scanner/width.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -753,17 +754,23 @@ static int index_directions(solver *s, td_ctx *cx)
     signed char *thick;
     double cut = 0;
     size_t i, k, best, m;
-    int rc, pass;
+    int rc, pass, inked;
     if (s->p->index_every <= 0 || s->nc == 0 ||
         (rc = td_label_thick_cut(s->ls, s->p, &cut, cx)) <= 0)
         return s->p->index_every <= 0 || s->nc == 0 ? 0 : rc;
     if (!(thick = td_calloc(s->n + 1, 1, cx)))
         return TD_ENOMEM;
-    for (i = 0; i < s->n; i++)
-        thick[i] = s->ct.parent[i] != -2 && s->ls->v[i].width > 0 &&
+    if ((inked = td_label_use_ink(s->ls, s->p->index_every, cx)) < 0) {
+        free(thick);
+        return inked;
+    }
+    for (i = 0; i < s->n; i++) {
+        double wt = td_line_weight(&s->ls->v[i], inked);
+        thick[i] = s->ct.parent[i] != -2 && wt > 0 &&
                            td_line_length(&s->ls->v[i]) >= MIN_INDEX_LEN
-                       ? s->ls->v[i].width >= cut
+                       ? wt >= cut
                        : -1;
+    }
     best = index_misfits(s, thick);
     for (pass = 0; pass < 2 && best > 0; pass++)
         for (k = 0; k < s->n && s->order[k] >= 0; k++) {

@@ -228,6 +228,16 @@ void td_label_where(const td_line *l, double *x, double *y);
 int td_label_check_index(const td_lines *ls, const td_label_params *p,
                          td_label_report *rep, td_ctx *cx);
 
+/* Whether the index contours are told by their ink weight (width times
+ * darkness, width.h) rather than their width: the lines are inked
+ * (td_lines_inked) and the weights split into two pens more clearly
+ * (class means' squared gap over their variances at Otsu's cut of the
+ * logs; blur leaves thin lines' middles lighter, so on a new print the
+ * weights part the pens that the mask's widths, quantized, mix; where
+ * the print fades in patches the widths are the clearer).  1, 0, or
+ * TD_ENOMEM. */
+int td_label_use_ink(const td_lines *ls, int every, td_ctx *cx);
+
 /* The width that splits ls's lines into thin and thick (as the index check
  * does): 1 and *cut when the widths have that contrast, 0 when not (no
  * widths, or no thicker lines), TD_ENOMEM. */

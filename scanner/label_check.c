@@ -8,6 +8,7 @@
  *                      2.2     ratio >= 1.3  4.2      only with contrast
  */
 #include "scanner/label.h"
+#include "scanner/width.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -64,18 +65,18 @@ static int is_index(long k, long j, int every)
 
 /* How many checked lines agree with index levels shifted by j. */
 static size_t agree(const td_lines *ls, const td_label_params *p,
-                    double cut, long j)
+                    double cut, long j, int inked)
 {
     size_t i, n = 0;
     for (i = 0; i < ls->n; i++) {
         const td_line *l = &ls->v[i];
+        double wt = td_line_weight(l, inked);
         int off;
         long k;
-        if (!l->has_height || !(l->width > 0) ||
-            td_line_length(l) < MIN_CHECK_LEN)
+        if (!l->has_height || !(wt > 0) || td_line_length(l) < MIN_CHECK_LEN)
             continue;
         k = level_of(p, l->height, &off);
-        n += is_index(k, j, p->index_every) == (l->width >= cut);
+        n += is_index(k, j, p->index_every) == (wt >= cut);
     }
     return n;
 }
@@ -83,29 +84,74 @@ static size_t agree(const td_lines *ls, const td_label_params *p,
 /* One warning per line whose width and height disagree. */
 static void mismatches(const td_lines *ls, const td_label_params *p,
                        double cut, double thin, double thick,
-                       td_label_report *rep)
+                       td_label_report *rep, int inked)
 {
     size_t i;
     double every = p->index_every * p->interval;
     for (i = 0; i < ls->n; i++) {
         const td_line *l = &ls->v[i];
+        double wt = td_line_weight(l, inked), x, y;
         int off, idx;
-        double x, y;
-        if (!l->has_height || !(l->width > 0) ||
-            td_line_length(l) < MIN_CHECK_LEN)
+        if (!l->has_height || !(wt > 0) || td_line_length(l) < MIN_CHECK_LEN)
             continue;
         idx = is_index(level_of(p, l->height, &off), 0, p->index_every);
-        if (idx == (l->width >= cut))
+        if (idx == (wt >= cut))
             continue;
         td_label_where(l, &x, &y);
-        td_label_warn(rep, "line %ld (near %.0f,%.0f) is drawn %s (%.1f px; "
-                      "%s lines %.1f px) but its height %g is %san index "
+        td_label_warn(rep, "line %ld (near %.0f,%.0f) is drawn %s (%s %.2f; "
+                      "%s lines %.2f) but its height %g is %san index "
                       "height (base %g + a multiple of %g)", l->id, x, y,
-                      idx ? "thin" : "thick", l->width,
+                      idx ? "thin" : "thick",
+                      inked ? "ink weight, px x darkness" : "px", wt,
                       idx ? "index" : "other", idx ? thick : thin, l->height,
                       idx ? "" : "not ", p->base, every);
         rep->index_mismatches++;
     }
+}
+
+/* How clearly sorted log values v[0..n-1] split into two pens at Otsu's
+ * cut: the squared gap of the class means over the summed variances. */
+static double split_clarity(const double *v, size_t n, int every)
+{
+    double thin, thick, m0 = 0, m1 = 0, s0 = 0, s1 = 0;
+    size_t k, i;
+    if (n < 4)
+        return 0;
+    k = otsu_split(v, n, &thin, &thick, every);
+    for (i = 0; i < n; i++)
+        *(i < k ? &m0 : &m1) += v[i];
+    m0 /= (double)k, m1 /= (double)(n - k);
+    for (i = 0; i < n; i++)
+        *(i < k ? &s0 : &s1) += (v[i] - (i < k ? m0 : m1)) *
+                                (v[i] - (i < k ? m0 : m1));
+    s0 /= (double)k, s1 /= (double)(n - k);
+    return (m1 - m0) * (m1 - m0) / (s0 + s1 + 1e-12);
+}
+
+/* Contract in label.h. */
+int td_label_use_ink(const td_lines *ls, int every, td_ctx *cx)
+{
+    double *a, *b, ca, cb;
+    size_t i, n = 0;
+    if (!td_lines_inked(ls))
+        return 0;
+    a = td_malloc((ls->n + 1) * sizeof *a, cx);
+    b = td_malloc((ls->n + 1) * sizeof *b, cx);
+    if (!a || !b) {
+        free(a), free(b);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        if (l->width > 0 && l->ink > 0 && td_line_length(l) >= MIN_CHECK_LEN)
+            a[n] = log(l->width), b[n++] = log(l->width * l->ink);
+    }
+    qsort(a, n, sizeof *a, cmp_d);
+    qsort(b, n, sizeof *b, cmp_d);
+    ca = split_clarity(a, n, every);
+    cb = split_clarity(b, n, every);
+    free(a), free(b);
+    return cb > ca;
 }
 
 /* Contract in label.h. */
@@ -114,11 +160,15 @@ int td_label_thick_cut(const td_lines *ls, const td_label_params *p,
 {
     double *v, thin = 0, thick = 0;
     size_t i, n = 0, k = 1;
+    int inked = td_label_use_ink(ls, p->index_every, cx);
+    if (inked < 0)
+        return inked;
     if (!(v = td_calloc(ls->n + 1, sizeof *v, cx)))
         return TD_ENOMEM;
     for (i = 0; i < ls->n; i++)
-        if (ls->v[i].width > 0 && td_line_length(&ls->v[i]) >= MIN_CHECK_LEN)
-            v[n++] = log(ls->v[i].width);
+        if (td_line_weight(&ls->v[i], inked) > 0 &&
+            td_line_length(&ls->v[i]) >= MIN_CHECK_LEN)
+            v[n++] = log(td_line_weight(&ls->v[i], inked));
     qsort(v, n, sizeof *v, cmp_d);
     if (n >= 2)
         k = otsu_split(v, n, &thin, &thick, p->index_every);
@@ -137,15 +187,19 @@ int td_label_check_index(const td_lines *ls, const td_label_params *p,
     double *v, thin = 0, thick = 0, cut;
     size_t i, n = 0, best = 0, cnt;
     long j, bestj = 0;
+    int inked;
     if (p->index_every < 0)
         return td_seterr(cx, TD_EINVAL, "label: index-every must be >= 0");
     if (p->index_every == 0 || !(p->interval > 0))
         return 0;
+    if ((inked = td_label_use_ink(ls, p->index_every, cx)) < 0)
+        return inked;
     if (!(v = td_calloc(ls->n + 1, sizeof *v, cx)))
         return TD_ENOMEM;
     for (i = 0; i < ls->n; i++)
-        if (ls->v[i].width > 0 && td_line_length(&ls->v[i]) >= MIN_CHECK_LEN)
-            v[n++] = log(ls->v[i].width);
+        if (td_line_weight(&ls->v[i], inked) > 0 &&
+            td_line_length(&ls->v[i]) >= MIN_CHECK_LEN)
+            v[n++] = log(td_line_weight(&ls->v[i], inked));
     qsort(v, n, sizeof *v, cmp_d);
     if (n < 2 || (otsu_split(v, n, &thin, &thick, p->index_every),
                   thick < p->thick_ratio * thin)) {
@@ -157,11 +211,11 @@ int td_label_check_index(const td_lines *ls, const td_label_params *p,
     }
     cut = sqrt(thin * thick); /* the geometric middle */
     free(v);
-    mismatches(ls, p, cut, thin, thick, rep);
+    mismatches(ls, p, cut, thin, thick, rep, inked);
     for (j = 0; j < p->index_every; j++)
-        if ((cnt = agree(ls, p, cut, j)) > best)
+        if ((cnt = agree(ls, p, cut, j, inked)) > best)
             best = cnt, bestj = j;
-    if (bestj != 0 && best > (cnt = agree(ls, p, cut, 0))) {
+    if (bestj != 0 && best > (cnt = agree(ls, p, cut, 0, inked))) {
         long sh = bestj <= p->index_every / 2 ? bestj : bestj - p->index_every;
         td_label_warn(rep, "the heights look %+g off: with the index heights "
                       "moved by that, %zu lines' widths agree against %zu; "

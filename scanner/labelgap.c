@@ -65,6 +65,7 @@ static int join(td_line *a, int ka, td_line *b, int kb, const td_ocr_read *r,
     a->edge |= b->edge;
     a->bridged += b->bridged + 1;
     a->width = fmax(a->width, b->width);
+    a->ink = fmax(a->ink, b->ink);
     if (r)
         a->confidence = fmax(a->confidence, b->confidence);
     else if (b->confidence < a->confidence) { /* the less sure piece's */

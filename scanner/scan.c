@@ -193,6 +193,8 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         }
         res->depressions = (size_t)nd;
     }
+    if (p->measure_width && (rc = td_line_darkness(im, res->lines, cx)) != 0)
+        goto fail;
     res->seconds[4] = td_now() - t0;
     res->despurred = g;
     free(bits);

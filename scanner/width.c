@@ -189,3 +189,84 @@ int td_line_widths_packed(const uint8_t *bits, int w, int h, td_lines *ls,
     wmask m = {w, h, ((size_t)w + 7) / 8, NULL, bits};
     return widths(&m, ls, cx);
 }
+
+/* The darkness (paper minus the channel) at (x, y), nearest pixel. */
+static int dark_at(const td_image *im, int c, int paper, double x, double y)
+{
+    long xi = lround(x - 0.5), yi = lround(y - 0.5);
+    int v;
+    if (xi < 0 || yi < 0 || xi >= im->w || yi >= im->h)
+        return 0;
+    v = im->data[(size_t)yi * im->stride + (size_t)xi * im->channels + c];
+    return paper > v ? paper - v : 0;
+}
+
+/* The median darkness of one line's middle, 0 when too few samples. */
+static double line_dark(const td_image *im, int c, int paper,
+                        const td_line *l, double *v, size_t maxv)
+{
+    size_t n = l->n, k, nv = 0, lo, hi, step;
+    lo = l->closed ? 0 : W_END;
+    hi = l->closed ? n : (n > W_END ? n - W_END : 0);
+    step = hi > lo ? (hi - lo) / maxv + 1 : 1;
+    step = step < W_STEP ? W_STEP : step;
+    for (k = lo; k < hi && nv < maxv; k += step) {
+        double x = l->xy[2 * k], y = l->xy[2 * k + 1], nx, ny, t;
+        int best = 0;
+        if (!td_line_normal(l, k, W_CHORD, &nx, &ny))
+            continue;
+        for (t = -TD_DARK_REACH; t <= TD_DARK_REACH + 1e-9; t += W_RES) {
+            int d = dark_at(im, c, paper, x + t * nx, y + t * ny);
+            best = d > best ? d : best;
+        }
+        v[nv++] = best;
+    }
+    if (nv < W_MIN_RUNS)
+        return 0.0;
+    qsort(v, nv, sizeof *v, cmp_d);
+    return (nv % 2 ? v[nv / 2] : 0.5 * (v[nv / 2 - 1] + v[nv / 2])) / paper;
+}
+
+/* Contract in width.h. */
+int td_line_darkness(const td_image *im, td_lines *ls, td_ctx *cx)
+{
+    long hist[256] = {0}, n = 0, acc = 0, i;
+    int c, paper, step, x, y, fail = 0;
+    if (!im || !im->data || (im->channels != 1 && im->channels != 3))
+        return td_seterr(cx, TD_EINVAL, "darkness: not a grey or RGB image");
+    c = im->channels == 3 ? 1 : 0;
+    step = (int)fmax(1.0, floor(sqrt((double)im->w * im->h / 250000.0)));
+    for (y = step / 2; y < im->h; y += step)
+        for (x = step / 2; x < im->w; x += step, n++)
+            hist[im->data[(size_t)y * im->stride + (size_t)x * im->channels +
+                          c]]++;
+    for (paper = 0; paper < 256 && (acc += hist[paper]) * 2 < n; paper++)
+        ;
+    if (paper < 1)
+        paper = 1;
+    n = (long)ls->n;
+#pragma omp parallel reduction(| : fail)
+    {
+        size_t maxv = 512;
+        double *v = malloc(maxv * sizeof *v);
+        fail |= !v;
+#pragma omp for schedule(dynamic, 16)
+        for (i = 0; i < n; i++) {
+            td_line *l = &ls->v[i];
+            if (v)
+                l->ink = l->n < 2 ? 0.0 : line_dark(im, c, paper, l, v, maxv);
+        }
+        free(v);
+    }
+    return fail ? td_seterr(cx, TD_ENOMEM, "darkness: out of memory") : 0;
+}
+
+/* Contract in width.h. */
+int td_lines_inked(const td_lines *ls)
+{
+    size_t i, n = 0, dark = 0;
+    for (i = 0; i < ls->n; i++)
+        if (ls->v[i].width > 0)
+            n++, dark += ls->v[i].ink > 0;
+    return n > 0 && dark >= 0.9 * (double)n;
+}

@@ -69,6 +69,30 @@ double td_width_step_below(double t);
 int td_line_widths_packed(const uint8_t *bits, int w, int h, td_lines *ls,
                           td_ctx *cx);
 
+/* Each line's ink darkness (ours): at samples along it (as the widths),
+ * the darkest point within TD_DARK_REACH px across it, as paper minus it
+ * (the green channel of a colour scan: the contour inks' darkest), the
+ * median over its samples over the paper's level into l->ink (0 with
+ * fewer than W_MIN_RUNS samples).  The paper: the median of a sparse
+ * sample of im.  Blur spreads a thin line's ink, so its middle is lighter
+ * than a thick one's of the same ink: on the printed maps the index
+ * contours' middles are 1.4-1.5 times as dark (docs/scanner.md, "Line
+ * widths").  Lines on threads.  0, or TD_EINVAL, TD_ENOMEM. */
+#define TD_DARK_REACH 1.5
+int td_line_darkness(const td_image *im, td_lines *ls, td_ctx *cx);
+
+/* Whether the index contours are told by ink weight (width times
+ * darkness): nine in ten of the lines with a width have a darkness (lines
+ * read from a file without one are told by their widths). */
+int td_lines_inked(const td_lines *ls);
+
+/* Line l's ink weight when inked (above; 0, unknown, without a
+ * darkness), else its width. */
+static inline double td_line_weight(const td_line *l, int inked)
+{
+    return inked ? l->width * l->ink : l->width;
+}
+
 /* The sheet's pen: the median width of the measured lines 30 px and
  * longer, 0 if none, -1 on TD_ENOMEM. */
 double td_pen_width(const td_lines *ls, td_ctx *cx);

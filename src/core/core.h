@@ -203,6 +203,9 @@ typedef struct td_line {
     long parent;      /* id of the enclosing line, -1 when none/unknown */
     double width;     /* ink width in px measured from the mask (the scanner,
                          scanner/width.h), 0 when not measured */
+    double ink;       /* how dark the ink is along its middle, 0..1 of the
+                         paper's level (scanner/width.h), 0 when not
+                         measured */
     unsigned char junc; /* the tracer (cut): bit 0 the first point, bit 1
                            the last ends next to a skeleton junction */
     int hsource;       /* td_hsource */

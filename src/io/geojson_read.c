@@ -40,7 +40,7 @@ typedef struct jkey {
 typedef struct fprops {
     int has_id, has_height, closed, edge, bridged; /* closed -1: unknown */
     long id, parent;
-    double height, width, confidence;
+    double height, width, ink, confidence;
     int depression;
     int hsource; /* td_hsource of "height_source" */
 } fprops;
@@ -415,7 +415,8 @@ static int read_prop(jp *p, const jkey *k, fprops *P, size_t fi)
     }
     if (!is(k, "id") && !is(k, "height") && !is(k, "closed") &&
         !is(k, "edge") && !is(k, "parent") && !is(k, "bridged") &&
-        !is(k, "width") && !is(k, "confidence") && !is(k, "depression"))
+        !is(k, "width") && !is(k, "ink") && !is(k, "confidence") &&
+        !is(k, "depression"))
         return jskip(p, 1);
     if ((rc = jscalar(p, &kind, &v)) != 0)
         return rc;
@@ -430,6 +431,10 @@ static int read_prop(jp *p, const jkey *k, fprops *P, size_t fi)
         if (kind != V_NUM && kind != V_NULL)
             return type_err(p, fi, k->s, "a number or null");
         P->width = kind == V_NUM && isfinite(v) && v > 0 ? v : 0.0;
+    } else if (is(k, "ink")) {
+        if (kind != V_NUM && kind != V_NULL)
+            return type_err(p, fi, k->s, "a number or null");
+        P->ink = kind == V_NUM && isfinite(v) && v > 0 && v <= 1 ? v : 0.0;
     } else if (is(k, "confidence")) {
         if (kind != V_NUM && kind != V_NULL)
             return type_err(p, fi, k->s, "a number or null");
@@ -590,6 +595,7 @@ static int emit(rd *R, size_t a, size_t b, const fprops *P, long id,
     l->height = P->has_height ? P->height : 0.0;
     l->parent = P->parent;
     l->width = P->width;
+    l->ink = P->ink;
     l->confidence = P->confidence;
     l->hsource = P->has_height ? P->hsource : TD_HS_NONE;
     return 0;
@@ -626,7 +632,7 @@ static int emit_feature(jp *p, rd *R, const jkey *t, const fprops *P,
 /* One feature object (cursor at '{'). */
 static int feature(jp *p, rd *R, size_t fi)
 {
-    fprops P = {0, 0, -1, 0, 0, 0, -1, 0.0, 0.0, 0.0, 0, 0};
+    fprops P = {0, 0, -1, 0, 0, 0, -1, 0.0, 0.0, 0.0, 0.0, 0, 0};
     jkey k, t = {"", 0}, ft = {"Feature", 7};
     int first = 1, r;
     R->n = R->np = 0;

@@ -112,7 +112,10 @@ static void put_properties(jbuf *j, const td_line *l)
         snprintf(par, sizeof par, "%ld", l->parent);
     else
         snprintf(par, sizeof par, "null");
-    if (l->width > 0 && isfinite(l->width))
+    if (l->width > 0 && isfinite(l->width) && l->ink > 0 && isfinite(l->ink))
+        snprintf(wd, sizeof wd, ",\"width\":%.2f,\"ink\":%.3f", l->width,
+                 l->ink);
+    else if (l->width > 0 && isfinite(l->width))
         snprintf(wd, sizeof wd, ",\"width\":%.2f", l->width);
     if (l->hsource > TD_HS_NONE && l->hsource <= TD_HS_ASSUMED)
         snprintf(hs, sizeof hs, ",\"height_source\":\"%s\",\"confidence\""

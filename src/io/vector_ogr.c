@@ -109,6 +109,7 @@ static const field fields[] = {
     {"bridged", OFTInteger, OFSTNone},
     {"width", OFTReal, OFSTNone},
     {"depression", OFTInteger, OFSTBoolean},
+    {"ink", OFTReal, OFSTNone},
 };
 enum { NFIELDS = sizeof fields / sizeof fields[0] };
 
@@ -164,6 +165,8 @@ static void set_fields(OGRFeatureH f, OGRFeatureDefnH d, const td_line *l)
         OGR_F_SetFieldDouble(f, k[9], l->width);
     if (k[10] >= 0)
         OGR_F_SetFieldInteger(f, k[10], !!l->depression);
+    if (k[11] >= 0 && l->ink > 0 && isfinite(l->ink))
+        OGR_F_SetFieldDouble(f, k[11], l->ink);
 }
 
 /* l's geometry in map coordinates (closed lines repeat their first point;
@@ -594,6 +597,10 @@ static int add_part(td_lines *ls, OGRGeometryH part, OGRFeatureH f,
         l->bridged = OGR_F_GetFieldAsInteger(f, k);
     if ((k = field_index(d, "width")) >= 0 && OGR_F_IsFieldSetAndNotNull(f, k))
         l->width = OGR_F_GetFieldAsDouble(f, k);
+    if ((k = field_index(d, "ink")) >= 0 && OGR_F_IsFieldSetAndNotNull(f, k)) {
+        double v = OGR_F_GetFieldAsDouble(f, k);
+        l->ink = isfinite(v) && v > 0 && v <= 1 ? v : 0.0;
+    }
     if ((k = field_index(d, "depression")) >= 0)
         l->depression = l->closed && OGR_F_GetFieldAsInteger(f, k) != 0;
     return 0;

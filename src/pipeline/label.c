@@ -60,8 +60,9 @@ int td_pipeline_scan_widths(const char *scan, td_lines *ls, td_ctx *cx)
     rc = TD_ENOMEM;
     if (!(m = td_grid_u8_new(im->w, im->h, cx)))
         goto fail;
-    if ((rc = td_binarise(im, &bp, m, cx)) == 0)
-        rc = td_line_widths(m, ls, cx);
+    if ((rc = td_binarise(im, &bp, m, cx)) == 0 &&
+        (rc = td_line_widths(m, ls, cx)) == 0)
+        rc = td_line_darkness(im, ls, cx);
 fail:
     td_image_free(im);
     td_grid_u8_free(m);

@@ -47,9 +47,10 @@ int td_pipeline_heights_debug(const char *dir, const td_image *scan, int w,
 int td_pipeline_sheet_labels(const char *scan, const td_lines *ls,
                              td_ocr_read **reads, size_t *n, td_vee **vees,
                              size_t *nvees, td_ctx *cx);
-/* Ink widths of lines that carry none (a file not written by topodig
- * scan), measured on the scan binarised with the scanner's defaults.
- * Nothing happens when any line has a width.  0 or an error. */
+/* Ink widths and darkness (width.h) of lines that carry none (a file not
+ * written by topodig scan), measured on the scan binarised with the
+ * scanner's defaults.  Nothing happens when any line has a width.  0 or
+ * an error. */
 int td_pipeline_scan_widths(const char *scan, td_lines *ls, td_ctx *cx);
 /* The operator's heights (rows of id,height; a NaN height: none given)
  * onto the lines with those ids; a height off base + k * interval is a
