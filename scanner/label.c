@@ -12,9 +12,9 @@
  * border-closed lines) negates its lines' d. */
 #include "scanner/label.h"
 
-#include "src/core/core.h"
 #include "scanner/heights_int.h"
 #include "scanner/width.h"
+#include "src/core/core.h"
 
 #include <math.h>
 #include <stdarg.h>

@@ -64,8 +64,8 @@ static int is_index(long k, long j, int every)
 }
 
 /* How many checked lines agree with index levels shifted by j. */
-static size_t agree(const td_lines *ls, const td_label_params *p,
-                    double cut, long j, int inked)
+static size_t agree(const td_lines *ls, const td_label_params *p, double cut,
+                    long j, int inked)
 {
     size_t i, n = 0;
     for (i = 0; i < ls->n; i++) {
@@ -82,9 +82,9 @@ static size_t agree(const td_lines *ls, const td_label_params *p,
 }
 
 /* One warning per line whose width and height disagree. */
-static void mismatches(const td_lines *ls, const td_label_params *p,
-                       double cut, double thin, double thick,
-                       td_label_report *rep, int inked)
+static void mismatches(const td_lines *ls, const td_label_params *p, double cut,
+                       double thin, double thick, td_label_report *rep,
+                       int inked)
 {
     size_t i;
     double every = p->index_every * p->interval;
@@ -98,10 +98,11 @@ static void mismatches(const td_lines *ls, const td_label_params *p,
         if (idx == (wt >= cut))
             continue;
         td_label_where(l, &x, &y);
-        td_label_warn(rep, "line %ld (near %.0f,%.0f) is drawn %s (%s %.2f; "
+        td_label_warn(rep,
+                      "line %ld (near %.0f,%.0f) is drawn %s (%s %.2f; "
                       "%s lines %.2f) but its height %g is %san index "
-                      "height (base %g + a multiple of %g)", l->id, x, y,
-                      idx ? "thin" : "thick",
+                      "height (base %g + a multiple of %g)",
+                      l->id, x, y, idx ? "thin" : "thick",
                       inked ? "ink weight, px x darkness" : "px", wt,
                       idx ? "index" : "other", idx ? thick : thin, l->height,
                       idx ? "" : "not ", p->base, every);
@@ -122,8 +123,8 @@ static double split_clarity(const double *v, size_t n, int every)
         *(i < k ? &m0 : &m1) += v[i];
     m0 /= (double)k, m1 /= (double)(n - k);
     for (i = 0; i < n; i++)
-        *(i < k ? &s0 : &s1) += (v[i] - (i < k ? m0 : m1)) *
-                                (v[i] - (i < k ? m0 : m1));
+        *(i < k ? &s0 : &s1) +=
+            (v[i] - (i < k ? m0 : m1)) * (v[i] - (i < k ? m0 : m1));
     s0 /= (double)k, s1 /= (double)(n - k);
     return (m1 - m0) * (m1 - m0) / (s0 + s1 + 1e-12);
 }

@@ -202,8 +202,8 @@ static int dark_at(const td_image *im, int c, int paper, double x, double y)
 }
 
 /* The median darkness of one line's middle, 0 when too few samples. */
-static double line_dark(const td_image *im, int c, int paper,
-                        const td_line *l, double *v, size_t maxv)
+static double line_dark(const td_image *im, int c, int paper, const td_line *l,
+                        double *v, size_t maxv)
 {
     size_t n = l->n, k, nv = 0, lo, hi, step;
     lo = l->closed ? 0 : W_END;
