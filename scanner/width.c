@@ -84,6 +84,29 @@ static int cmp_d(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* The vertices a line is sampled at: lo, lo + step, ... below hi (every
+ * W_STEP-th or sparser, at most max; W_END skipped at an open line's
+ * ends). */
+static void sample_span(const td_line *l, size_t max, size_t *lo, size_t *hi,
+                        size_t *step)
+{
+    size_t n = l->n;
+    *lo = l->closed ? 0 : W_END;
+    *hi = l->closed ? n : (n > W_END ? n - W_END : 0);
+    *step = *hi > *lo ? (*hi - *lo) / max + 1 : 1;
+    *step = *step < W_STEP ? W_STEP : *step;
+}
+
+/* The median of v[0..n-1] (sorted in place), 0 with fewer than
+ * W_MIN_RUNS. */
+static double median_of(double *v, size_t n)
+{
+    if (n < W_MIN_RUNS)
+        return 0.0;
+    qsort(v, n, sizeof *v, cmp_d);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
 /* The median run of one line, 0 when fewer than W_MIN_RUNS.  Traced lines
  * have a vertex per pixel step (1 to 1.41 px), so samples are taken at
  * every W_STEP-th vertex and the chord spans W_CHORD vertices each way
@@ -91,11 +114,8 @@ static int cmp_d(const void *a, const void *b)
 static double line_width(const wmask *m, const td_line *l, double *runs,
                          size_t maxruns)
 {
-    size_t n = l->n, k, nr = 0, lo, hi, step;
-    lo = l->closed ? 0 : W_END;
-    hi = l->closed ? n : (n > W_END ? n - W_END : 0);
-    step = hi > lo ? (hi - lo) / maxruns + 1 : 1;
-    step = step < W_STEP ? W_STEP : step;
+    size_t k, nr = 0, lo, hi, step;
+    sample_span(l, maxruns, &lo, &hi, &step);
     for (k = lo; k < hi && nr < maxruns; k += step) {
         double x = l->xy[2 * k], y = l->xy[2 * k + 1], nx, ny, r;
         if (!td_line_normal(l, k, W_CHORD, &nx, &ny) || !ink_at(m, x, y))
@@ -104,10 +124,7 @@ static double line_width(const wmask *m, const td_line *l, double *runs,
         if (r <= W_MAX)
             runs[nr++] = r;
     }
-    if (nr < W_MIN_RUNS)
-        return 0.0;
-    qsort(runs, nr, sizeof *runs, cmp_d);
-    return nr % 2 ? runs[nr / 2] : 0.5 * (runs[nr / 2 - 1] + runs[nr / 2]);
+    return median_of(runs, nr);
 }
 
 /* Every line's width; lines on threads (each alone). */
@@ -205,11 +222,8 @@ static int dark_at(const td_image *im, int c, int paper, double x, double y)
 static double line_dark(const td_image *im, int c, int paper, const td_line *l,
                         double *v, size_t maxv)
 {
-    size_t n = l->n, k, nv = 0, lo, hi, step;
-    lo = l->closed ? 0 : W_END;
-    hi = l->closed ? n : (n > W_END ? n - W_END : 0);
-    step = hi > lo ? (hi - lo) / maxv + 1 : 1;
-    step = step < W_STEP ? W_STEP : step;
+    size_t k, nv = 0, lo, hi, step;
+    sample_span(l, maxv, &lo, &hi, &step);
     for (k = lo; k < hi && nv < maxv; k += step) {
         double x = l->xy[2 * k], y = l->xy[2 * k + 1], nx, ny, t;
         int best = 0;
@@ -221,10 +235,7 @@ static double line_dark(const td_image *im, int c, int paper, const td_line *l,
         }
         v[nv++] = best;
     }
-    if (nv < W_MIN_RUNS)
-        return 0.0;
-    qsort(v, nv, sizeof *v, cmp_d);
-    return (nv % 2 ? v[nv / 2] : 0.5 * (v[nv / 2 - 1] + v[nv / 2])) / paper;
+    return median_of(v, nv) / paper;
 }
 
 /* Contract in width.h. */

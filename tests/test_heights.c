@@ -3,6 +3,7 @@
  * the share of traced line length with the right height. */
 #include "tests/tt.h"
 #include "tests/util/hsheet.h"
+#include "tests/util/match.h"
 
 #include "interp/interp.h"
 #include "scanner/faces.h"
@@ -559,37 +560,6 @@ static void test_new_print_roads(void)
     }
 }
 
-/* The true height of traced line l: the truth's line nearest its
- * vertices (within 2 px) at most of them; NAN without one. */
-static double majority_height(const td_lines *truth, const td_line *l)
-{
-    double hs[32], best = NAN;
-    int cnt[32], nh = 0, k, bc = 0;
-    size_t v, i, j;
-    for (v = 0; v < l->n; v += 4) {
-        double x = l->xy[2 * v], y = l->xy[2 * v + 1], bd = 4.0, h = NAN;
-        for (i = 0; i < truth->n; i++)
-            for (j = 0; j < truth->v[i].n; j++) {
-                double dx = truth->v[i].xy[2 * j] - x,
-                       dy = truth->v[i].xy[2 * j + 1] - y;
-                if (dx * dx + dy * dy < bd)
-                    bd = dx * dx + dy * dy, h = truth->v[i].height;
-            }
-        if (h != h)
-            continue;
-        for (k = 0; k < nh && hs[k] != h; k++)
-            ;
-        if (k == nh && nh < 32)
-            hs[nh] = h, cnt[nh++] = 0;
-        if (k < nh)
-            cnt[k]++;
-    }
-    for (k = 0; k < nh; k++)
-        if (cnt[k] > bc)
-            bc = cnt[k], best = hs[k];
-    return best;
-}
-
 /* Index contours told by ink weight (width times the darkness of the
  * line's middle, width.h) on the Orkhon map printed new (--unfaded): the
  * mask's widths come in 1/4 px and blur makes the 1.8 and 3.2 px pens
@@ -611,7 +581,7 @@ static void test_index_by_ink(void)
         td_scan_result res;
         td_label_params lp = td_label_defaults();
         td_grid_f32 *src;
-        double cut = 0;
+        double cut = 0, *th;
         size_t i, n = 0, wrong = 0;
         int inked;
         td_ctx_init(&cx);
@@ -624,26 +594,27 @@ static void test_index_by_ink(void)
         TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
         lp.index_every = 5;
         inked = td_label_use_ink(res.lines, 5, &cx);
+        th = malloc((res.lines->n + 1) * sizeof *th);
+        TT_CHECK(th && td_match_majority(truth, res.lines, im->w, im->h, 2.0,
+                                         th) == 0);
         TT_CHECK(td_label_thick_cut(res.lines, &lp, &cut, &cx) == 1);
         for (i = 0; i < res.lines->n; i++) {
             const td_line *l = &res.lines->v[i];
             double h, w = td_line_weight(l, inked);
             if (!(w > 0) || td_line_length(l) < 30)
                 continue;
-            h = majority_height(truth, l);
+            h = th ? th[i] : NAN;
             if (h != h)
                 continue;
             n++;
             wrong += (fmod(h, 125.0) == 0) != (w >= cut);
         }
-        fprintf(stderr, "  Orkhon %s: %s, %zu of %zu lines on the wrong side\n",
-                kind == 4 ? "new" : "printed", inked ? "ink weights" : "widths",
-                wrong, n);
         TT_CHECKF(inked == (kind == 4) && n > 150 && wrong <= 0.07 * n,
                   "Orkhon %s: %s, %zu of %zu lines on the wrong side of "
                   "the index cut",
                   kind == 4 ? "new" : "printed",
                   inked ? "ink weights" : "widths", wrong, n);
+        free(th);
         td_scan_result_free(&res);
         td_image_free(im);
         td_lines_free(truth);

@@ -673,6 +673,60 @@ static void record_near(void *u, double x, double y)
     nw->who[nw->nwho++] = best;
 }
 
+/* The height most of a walked line's samples lie near (the last walk's
+ * record_near), *nmaj of its *near samples with a truth line near; NAN
+ * with none. */
+static double majority(const near_walk *nw, const td_lines *truth, size_t *nmaj,
+                       size_t *near)
+{
+    size_t k, cnt[64], nc = 0, c;
+    double cnt_h[64], major = NAN;
+    *nmaj = *near = 0;
+    for (k = 0; k < nw->nwho; k++) {
+        double th;
+        if (nw->who[k] == SIZE_MAX)
+            continue;
+        th = truth->v[nw->who[k]].height;
+        (*near)++;
+        for (c = 0; c < nc && cnt_h[c] != th; c++)
+            ;
+        if (c == nc && nc < 64)
+            cnt_h[nc] = th, cnt[nc++] = 0;
+        if (c < nc)
+            cnt[c]++;
+    }
+    for (c = 0; c < nc; c++)
+        if (cnt[c] > *nmaj)
+            *nmaj = cnt[c], major = cnt_h[c];
+    return major;
+}
+
+/* Contract in match.h. */
+int td_match_majority(const td_lines *truth, const td_lines *traced, int w,
+                      int h, double tol, double *out)
+{
+    segidx tix;
+    near_walk nw;
+    size_t i, nmaj, near;
+    memset(&nw, 0, sizeof nw);
+    if (idx_build(&tix, truth, w, h) != 0) {
+        idx_free(&tix);
+        return TD_ENOMEM;
+    }
+    nw.tol = tol;
+    nw.ix = &tix;
+    for (i = 0; i < traced->n && !nw.fail; i++) {
+        nw.nwho = 0;
+        walk(&traced->v[i], record_near, &nw);
+        out[i] = majority(&nw, truth, &nmaj, &near);
+    }
+    free(nw.who);
+    free(nw.wx);
+    free(nw.wy);
+    idx_free(&tix);
+    return nw.fail ? TD_ENOMEM : 0;
+}
+
 /* Contract in match.h. */
 int td_match_scan(const td_lines *truth, const td_lines *traced, int w, int h,
                   double tol, double jump_len, td_scanscore *r, FILE *log)
@@ -702,27 +756,12 @@ int td_match_scan(const td_lines *truth, const td_lines *traced, int w, int h,
     r->n_traced = (long)traced->n;
     r->n_truth = (long)truth->n;
     for (i = 0; i < traced->n && !nw.fail; i++) {
-        size_t k, nmaj = 0, run = 0, near = 0, cnt[64], nc = 0, c;
-        double cnt_h[64], major = 0, rh = 0, rx = 0, ry = 0;
+        size_t k, nmaj, run = 0, near;
+        double major, rh = 0, rx = 0, ry = 0;
         int jumped = 0;
         nw.nwho = 0;
         walk(&traced->v[i], record_near, &nw);
-        for (k = 0; k < nw.nwho; k++) {
-            double th;
-            if (nw.who[k] == SIZE_MAX)
-                continue;
-            th = truth->v[nw.who[k]].height;
-            near++;
-            for (c = 0; c < nc && cnt_h[c] != th; c++)
-                ;
-            if (c == nc && nc < 64)
-                cnt_h[nc] = th, cnt[nc++] = 0;
-            if (c < nc)
-                cnt[c]++;
-        }
-        for (c = 0; c < nc; c++)
-            if (cnt[c] > nmaj)
-                nmaj = cnt[c], major = cnt_h[c];
+        major = majority(&nw, truth, &nmaj, &near);
         tot_near += near;
         tot_own += nmaj;
         /* contiguous runs at another height (samples with no truth line

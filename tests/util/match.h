@@ -124,6 +124,13 @@ typedef struct td_scanscore {
     long n_traced, n_truth, n_jump;
 } td_scanscore;
 
+/* Each traced line's true height: the height of the truth lines within
+ * tol of most of its samples (every 0.5 px, as td_match_scan's own
+ * contour), NAN when none is near, into out[traced->n].  0 or
+ * TD_ENOMEM. */
+int td_match_majority(const td_lines *truth, const td_lines *traced, int w,
+                      int h, double tol, double *out);
+
 /* Fills *r; log (may be NULL) gets one line per jumping traced line (its
  * id, where the run starts, the two truth heights).  Returns 0 or
  * TD_ENOMEM. */
