@@ -4,8 +4,9 @@
  * onto another contour for more than 20 px, for clean, scanned, colour,
  * printed and printed-new (tdgen --print --unfaded) sheets: the paper's
  * junctions, ours without the seam split, and the
- * default (ours with it).  Numbers for
- * docs/scanner.md.
+ * default (ours with it); then the same on the generator's 800 px cone,
+ * whose rings both roads of the printed kinds cross.  Numbers for
+ * docs/scanner.md and docs/binarise.md.
  *
  *   bench_scanreal [--dems DIR] [--only NAME] [--log] [--out DIR] */
 #include "samples/gen/gen.h"
@@ -19,7 +20,87 @@
 #include <string.h>
 #include <time.h>
 
-
+/* One sheet's defect kind (td_hsheet_defects) over gp: every variant's
+ * row; with out, the default's sheet, truth and lines written there. */
+static void one_kind(const char *name, td_gen_params gp, int kind, int logit,
+                     const char *out, td_ctx *cx)
+{
+    td_image *im = NULL;
+    td_lines *truth = NULL;
+    char path[512];
+    int v;
+    td_hsheet_defects(&gp, kind);
+    if (td_gen_sheet(&gp, &im, &truth, NULL, cx) != 0) {
+        printf("%-12s %-7s generate failed: %s\n", name, td_defect_names[kind],
+               td_errmsg(cx));
+        td_ctx_clear(cx);
+        return;
+    }
+    for (v = 0; v < 7; v++) {
+        /* paper junctions, cut without seams, the default; colour:
+           --ink brown, and the first brown selection (hue window);
+           the default without the grid-line removal; the default
+           pairing every junction zone's ends (no ambiguity rule) */
+        static const char *const vname[7] = {
+            "paper",     "cut,noseam", "default", "ink brown",
+            "brown-hue", "nogrid",     "junc any"};
+        int paper = v == 0;
+        td_scan_params sp = td_scan_defaults();
+        td_scan_result res;
+        td_scanscore sc;
+        struct timespec t0, t1;
+        if (v >= 3 && v <= 4 && kind < 2)
+            continue;
+        if (v == 5)
+            sp.straight.on = 0;
+        if (v == 6)
+            sp.join.junc_ratio = 0; /* every zone paired */
+        if (v == 3)
+            sp.bin.ink = TD_INK_BROWN;
+        if (v == 4)
+            sp.bin.ink = TD_INK_BROWN_HUE;
+        sp.trace.cut = !paper;
+        if (v == 1)
+            sp.bin.split = 0;
+        clock_gettime(CLOCK_MONOTONIC, &t0);
+        if (td_scan(im, &sp, &res, cx) != 0) {
+            printf("%-12s %-7s scan failed: %s\n", name, td_defect_names[kind],
+                   td_errmsg(cx));
+            td_ctx_clear(cx);
+            continue;
+        }
+        clock_gettime(CLOCK_MONOTONIC, &t1);
+        if (logit)
+            printf("-- %s %s %s\n", name, td_defect_names[kind], vname[v]);
+        td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
+                      logit ? stdout : NULL);
+        printf("%-12s %-7s %-10s %6ld %6ld %6.3f %6.3f %6.3f %6.3f "
+               "%6.2f\n",
+               name, td_defect_names[kind], vname[v], sc.n_truth, sc.n_traced,
+               sc.recall, sc.precision, sc.own,
+               (double)sc.n_jump / (double)(sc.n_traced + !sc.n_traced),
+               (double)(t1.tv_sec - t0.tv_sec) +
+                   1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
+        fflush(stdout);
+        if (out && v == 2) {
+            snprintf(path, sizeof path, "%s/%s_%s.png", out, name,
+                     td_defect_names[kind]);
+            if (td_png_write(path, im, cx) != 0)
+                td_ctx_clear(cx);
+            snprintf(path, sizeof path, "%s/%s_%s_truth.geojson", out, name,
+                     td_defect_names[kind]);
+            if (td_geojson_write_lines(path, truth, NULL, cx) != 0)
+                td_ctx_clear(cx);
+            snprintf(path, sizeof path, "%s/%s_%s_lines.geojson", out, name,
+                     td_defect_names[kind]);
+            if (td_geojson_write_lines(path, res.lines, NULL, cx) != 0)
+                td_ctx_clear(cx);
+        }
+        td_scan_result_free(&res);
+    }
+    td_image_free(im);
+    td_lines_free(truth);
+}
 
 int main(int argc, char **argv)
 {
@@ -45,7 +126,7 @@ int main(int argc, char **argv)
         const td_real_sheet *k = &td_real_sheets[c];
         td_grid_f32 *src = NULL;
         td_ctx cx;
-        int kind, v;
+        int kind;
         char path[512];
         if (only && strcmp(only, k->name))
             continue;
@@ -57,87 +138,27 @@ int main(int argc, char **argv)
         }
         for (kind = 0; kind < 5; kind++) {
             td_gen_params gp = td_gen_defaults();
-            td_image *im = NULL;
-            td_lines *truth = NULL;
             gp.terrain = TD_GEN_DEM;
             gp.dem_in = src;
             gp.interval = k->interval;
             gp.w = (int)(src->w * k->scale);
             gp.h = (int)(src->h * k->scale);
-            td_hsheet_defects(&gp, kind);
-            if (td_gen_sheet(&gp, &im, &truth, NULL, &cx) != 0) {
-                printf("%-12s %-7s generate failed: %s\n", k->name,
-                       td_defect_names[kind], td_errmsg(&cx));
-                td_ctx_clear(&cx);
-                continue;
-            }
-            for (v = 0; v < 7; v++) {
-                /* paper junctions, cut without seams, the default; colour:
-                   --ink brown, and the first brown selection (hue window);
-                   the default without the grid-line removal; the default
-                   pairing every junction zone's ends (no ambiguity rule) */
-                static const char *const vname[7] = {
-                    "paper", "cut,noseam", "default", "ink brown",
-                    "brown-hue", "nogrid", "junc any"};
-                int paper = v == 0;
-                td_scan_params sp = td_scan_defaults();
-                td_scan_result res;
-                td_scanscore sc;
-                struct timespec t0, t1;
-                if (v >= 3 && v <= 4 && kind < 2)
-                    continue;
-                if (v == 5)
-                    sp.straight.on = 0;
-                if (v == 6)
-                    sp.join.junc_ratio = 0; /* every zone paired */
-                if (v == 3)
-                    sp.bin.ink = TD_INK_BROWN;
-                if (v == 4)
-                    sp.bin.ink = TD_INK_BROWN_HUE;
-                sp.trace.cut = !paper;
-                if (v == 1)
-                    sp.bin.split = 0;
-                clock_gettime(CLOCK_MONOTONIC, &t0);
-                if (td_scan(im, &sp, &res, &cx) != 0) {
-                    printf("%-12s %-7s scan failed: %s\n", k->name,
-                           td_defect_names[kind], td_errmsg(&cx));
-                    td_ctx_clear(&cx);
-                    continue;
-                }
-                clock_gettime(CLOCK_MONOTONIC, &t1);
-                if (logit)
-                    printf("-- %s %s %s\n", k->name, td_defect_names[kind],
-                           vname[v]);
-                td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
-                              logit ? stdout : NULL);
-                printf("%-12s %-7s %-10s %6ld %6ld %6.3f %6.3f %6.3f %6.3f "
-                       "%6.2f\n",
-                          k->name, td_defect_names[kind], vname[v],
-                       sc.n_truth, sc.n_traced, sc.recall, sc.precision,
-                       sc.own, (double)sc.n_jump / (double)(sc.n_traced + !sc.n_traced),
-                       (double)(t1.tv_sec - t0.tv_sec) +
-                           1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
-                fflush(stdout);
-                if (out && v == 2) {
-                    snprintf(path, sizeof path, "%s/%s_%s.png", out, k->name,
-                             td_defect_names[kind]);
-                    if (td_png_write(path, im, &cx) != 0)
-                        td_ctx_clear(&cx);
-                    snprintf(path, sizeof path, "%s/%s_%s_truth.geojson", out,
-                             k->name, td_defect_names[kind]);
-                    if (td_geojson_write_lines(path, truth, NULL, &cx) != 0)
-                        td_ctx_clear(&cx);
-                    snprintf(path, sizeof path, "%s/%s_%s_lines.geojson", out,
-                             k->name, td_defect_names[kind]);
-                    if (td_geojson_write_lines(path, res.lines, NULL, &cx) != 0)
-                        td_ctx_clear(&cx);
-                }
-                td_scan_result_free(&res);
-            }
-            td_image_free(im);
-            td_lines_free(truth);
+            one_kind(k->name, gp, kind, logit, out, &cx);
         }
         td_grid_f32_free(src);
+    }
+    if (!only || !strcmp(only, "cone")) {
+        /* the generator's cone, 800 px: every ring crossed by both roads
+           (the printed kinds), contours 7 px apart */
+        td_ctx cx;
+        int kind;
+        td_ctx_init(&cx);
+        for (kind = 0; kind < 5; kind++) {
+            td_gen_params gp = td_gen_defaults();
+            gp.terrain = TD_GEN_CONE;
+            gp.w = gp.h = 800;
+            one_kind("cone", gp, kind, logit, out, &cx);
+        }
     }
     return 0;
 }
