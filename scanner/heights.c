@@ -768,7 +768,7 @@ static int setup_index(hs *s, td_ctx *cx)
     int rc, inked;
     if (s->p->index_every <= 0 || s->p->index_off)
         return 0;
-    if ((rc = td_label_thick_cut(s->ls, s->p, &cut, cx)) < 0)
+    if ((rc = td_label_thick_cut(s->ls, s->p, &cut, &inked, cx)) < 0)
         return rc;
     if (rc == 0) {
         if (!s->p->index_auto)
@@ -776,8 +776,6 @@ static int setup_index(hs *s, td_ctx *cx)
                                   "thicker index contours; not used");
         return 0;
     }
-    if ((inked = td_label_use_ink(s->ls, s->p->index_every, cx)) < 0)
-        return inked;
     for (i = 0; i < s->N; i++) {
         const td_line *l = &s->ls->v[i];
         double len = td_line_length(l), wt = td_line_weight(l, inked);
@@ -2820,7 +2818,7 @@ int td_heights_solve_index(td_lines *ls, const td_label_params *p,
     td_label_params q = *p;
     double cut, best = HUGE_VAL;
     int rc, k, N = 0;
-    if ((rc = td_label_thick_cut(ls, p, &cut, cx)) < 0)
+    if ((rc = td_label_thick_cut(ls, p, &cut, NULL, cx)) < 0)
         return rc;
     if (rc == 0) /* no thicker lines: nothing to try */
         return td_heights_solve(ls, p, rep, cx);

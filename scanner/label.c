@@ -756,14 +756,10 @@ static int index_directions(solver *s, td_ctx *cx)
     size_t i, k, best, m;
     int rc, pass, inked;
     if (s->p->index_every <= 0 || s->nc == 0 ||
-        (rc = td_label_thick_cut(s->ls, s->p, &cut, cx)) <= 0)
+        (rc = td_label_thick_cut(s->ls, s->p, &cut, &inked, cx)) <= 0)
         return s->p->index_every <= 0 || s->nc == 0 ? 0 : rc;
     if (!(thick = td_calloc(s->n + 1, 1, cx)))
         return TD_ENOMEM;
-    if ((inked = td_label_use_ink(s->ls, s->p->index_every, cx)) < 0) {
-        free(thick);
-        return inked;
-    }
     for (i = 0; i < s->n; i++) {
         double wt = td_line_weight(&s->ls->v[i], inked);
         thick[i] = s->ct.parent[i] != -2 && wt > 0 &&

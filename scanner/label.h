@@ -240,9 +240,10 @@ int td_label_use_ink(const td_lines *ls, int every, td_ctx *cx);
 
 /* The width that splits ls's lines into thin and thick (as the index check
  * does): 1 and *cut when the widths have that contrast, 0 when not (no
- * widths, or no thicker lines), TD_ENOMEM. */
+ * widths, or no thicker lines), TD_ENOMEM.  *inked (may be NULL): whether
+ * the cut is in ink weights (td_label_use_ink), for td_line_weight. */
 int td_label_thick_cut(const td_lines *ls, const td_label_params *p,
-                       double *cut, td_ctx *cx);
+                       double *cut, int *inked, td_ctx *cx);
 
 #ifdef __cplusplus
 }

@@ -157,13 +157,15 @@ int td_label_use_ink(const td_lines *ls, int every, td_ctx *cx)
 
 /* Contract in label.h. */
 int td_label_thick_cut(const td_lines *ls, const td_label_params *p,
-                       double *cut, td_ctx *cx)
+                       double *cut, int *inked_out, td_ctx *cx)
 {
     double *v, thin = 0, thick = 0;
     size_t i, n = 0, k = 1;
     int inked = td_label_use_ink(ls, p->index_every, cx);
     if (inked < 0)
         return inked;
+    if (inked_out)
+        *inked_out = inked;
     if (!(v = td_calloc(ls->n + 1, sizeof *v, cx)))
         return TD_ENOMEM;
     for (i = 0; i < ls->n; i++)

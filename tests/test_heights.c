@@ -597,7 +597,7 @@ static void test_index_by_ink(void)
         th = malloc((res.lines->n + 1) * sizeof *th);
         TT_CHECK(th && td_match_majority(truth, res.lines, im->w, im->h, 2.0,
                                          th) == 0);
-        TT_CHECK(td_label_thick_cut(res.lines, &lp, &cut, &cx) == 1);
+        TT_CHECK(td_label_thick_cut(res.lines, &lp, &cut, NULL, &cx) == 1);
         for (i = 0; i < res.lines->n; i++) {
             const td_line *l = &res.lines->v[i];
             double h, w = td_line_weight(l, inked);
