@@ -11,7 +11,7 @@
  *                  nothing inside: inside higher, W_SUMMIT), --depressions
  *                  (the side facing the point lower, W_DEPR);
  *   face edge:     probes say sides u and v border one face: b(u) = b(v),
- *                  else WFACE per probe;
+ *                  else dp_face(probes) (13 (ln w + 0.5), at least 6);
  *   spot height:   on the sides its 16 rays meet, the band holding it,
  *                  WKNOWN split over the rays;
  *   gap pair:      (--gap-pairs, off by default) two free ends that face
@@ -48,10 +48,18 @@
 #define PLINE 1000.0
 #define WKNOWN 1000.0
 #define WFACE 2.0
-#define MIN_BREAK                                                              \
-    60.0           /* the least a face edge costs to break: more than          \
-                      one label read wrong (40), so a misread cannot           \
-                      tear a small line out of the topology */
+/* What the dynamic programme charges for breaking a face edge of w
+ * probes: DP_FACE_S (ln w + DP_FACE_C), at least DP_FACE_MIN.  Measured
+ * (2026-12-04, bench_heights --oracle, every traced sheet): the true
+ * heights break 52 % of the face edges of 1-2 probes, 18 % at 8-16, 8 % at
+ * 32-64, 1 % over 256, so the evidence grows with ln w (log-odds about
+ * 0.83 ln w - 0.4); a label read for sure (W_LABEL 40) is worth about one
+ * of 8 probes.  Until then a break cost 2 per probe and at least 60, more
+ * than a label: one probe across a gap outweighed a printed label
+ * (docs/label.md, "Face edges priced by their probes"). */
+#define DP_FACE_S 13.0
+#define DP_FACE_C 0.5
+#define DP_FACE_MIN 6.0
 #define WCONT 24.0 /* a chunk continues its line: same state */
 #define CHUNK 48.0 /* px of arc per chunk */
 #define W_INDEX 3.0
@@ -102,8 +110,11 @@
            not used: on the two printed Orkhon sheets 13 of                    \
            the 15 wrong pairs fit worse, 24 of the 190 right */
 #define W_SAME                                                                 \
-    100.0 /* the pieces of a line the scanner cut at a blob                    \
-             of ink differ (the priors pass only) */
+    20.0 /* the pieces of a line the scanner cut at a blob                     \
+            of ink differ (the priors pass only).  The true                    \
+            heights break 2-16 % of these ties on the crowded                  \
+            Front Range sheet (7 of 59 clean, 22 of 141 new                    \
+            print); at 100 they overruled the faces there */
 #define GAP_EPS 1e-3
 #define CONF_SCALE                                                             \
     20.0 /* confidence 1 - exp(-gap / this): one label read                    \
@@ -1081,6 +1092,12 @@ static double fold_w(const hs *s, uint32_t c)
  * their probes (26 % of single probes, 10 % at 8, 2 % above 32 on the
  * Elkhorn sheets), about as -log of it; FACE_A, FACE_B four times that
  * (measured best, docs/label.md "The search"). */
+static double dp_face(double w)
+{
+    return fmax(DP_FACE_S * (log(w > 1e-3 ? w : 1e-3) + DP_FACE_C),
+                DP_FACE_MIN);
+}
+
 static double face_cost(double w)
 {
     return FACE_A + FACE_B * log(w > 1 ? w : 1);
@@ -1106,8 +1123,7 @@ static void pass_edge(const hs *s, uint32_t c, const double *in, double *out,
         for (x = 0; x < K2; x++)
             out[x] = in[x] < m ? in[x] : m;
     } else {
-        double m[2] = {INFINITY, INFINITY},
-               wf = fmax(WFACE * s->fe[s->pid[c]].w, MIN_BREAK),
+        double m[2] = {INFINITY, INFINITY}, wf = dp_face(s->fe[s->pid[c]].w),
                fo = fold_w(s, c);
         for (x = 0; x < K2; x++)
             m[x & 1] = in[x] < m[x & 1] ? in[x] : m[x & 1];
@@ -1198,9 +1214,8 @@ static void decode_joint(hs *s, long *nb, uint32_t *st)
             by = v >= 0 ? (size_t)v : 0;
         } else {
             size_t x = st[u];
-            double wf = IS_CONT(s->pkind[c])
-                            ? cont_w(s, s->pkind[c])
-                            : fmax(WFACE * s->fe[s->pid[c]].w, MIN_BREAK),
+            double wf = IS_CONT(s->pkind[c]) ? cont_w(s, s->pkind[c])
+                                             : dp_face(s->fe[s->pid[c]].w),
                    fo = IS_CONT(s->pkind[c]) ? 0.0 : fold_w(s, c);
             for (y = 0; y < K2; y++) {
                 double v = in[y];
