@@ -279,6 +279,7 @@ static void hist_row(const uint8_t *s, int w, uint64_t (*h)[256])
 /* Fill s band by band; hist (may be NULL) gets its 256-bin histogram.
  * Progress "binarise" runs from 0 to frac_end. */
 #define VETO_R 1
+#define VETO_R_TINT 2 /* where td_detint divided a tint out */
 
 /* Pixel (x, y) is another ink by the veto table (its nearest node);
  * outside the image it is not. */
@@ -309,20 +310,31 @@ static int veto_core(const td_image *im, const uint8_t *veto, int x, int y)
 
 /* Where another ink is printed (veto_core), the contour ink's strength is
  * cleared within VETO_R px: a red road's edges over a green tint look like
- * brown over it, and would join the contours it crosses. */
-static void veto_row(const td_image *im, const uint8_t *veto, td_grid_u8 *s,
-                     int y, int ylo)
+ * brown over it, and would join the contours it crosses.  With the veto
+ * read on the scan with its tints divided out (orig: the scan as it is;
+ * p->veto_im), within VETO_R_TINT px where the division changed the
+ * pixel: the road's blurred edges over the tint stay brown-looking wider
+ * (on the printed Front Range sheet they joined two contours across a
+ * road at 1 px). */
+static void veto_row(const td_image *im, const td_image *orig,
+                     const uint8_t *veto, td_grid_u8 *s, int y, int ylo)
 {
     int x, yy, xx;
     for (x = 0; x < im->w; x++) {
+        int r = VETO_R;
         if (!veto_core(im, veto, x, y))
             continue;
-        for (yy = y - VETO_R; yy <= y + VETO_R; yy++) {
+        if (orig &&
+            memcmp(im->data + (size_t)y * im->stride + 3 * (size_t)x,
+                   orig->data + (size_t)y * orig->stride + 3 * (size_t)x,
+                   3) != 0)
+            r = VETO_R_TINT;
+        for (yy = y - r; yy <= y + r; yy++) {
             uint8_t *row;
             if (yy < ylo || yy >= im->h)
                 continue;
             row = s->data + (size_t)yy * s->stride;
-            for (xx = x - VETO_R; xx <= x + VETO_R; xx++)
+            for (xx = x - r; xx <= x + r; xx++)
                 if (xx >= 0 && xx < im->w)
                     row[xx] = 0;
         }
@@ -337,6 +349,7 @@ static int strength_pass(const td_image *im, const td_binarise_params *p,
     strength_ctx sc = {p, im, NULL};
     uint8_t *veto = NULL;
     int y0, y, i, rc = 0, done = 0; /* rows [0, done) are in the histogram */
+    int vr = p->veto_im ? VETO_R_TINT : VETO_R;
     memset(h4, 0, sizeof h4);
     if (im->channels == 3 &&
         (p->ink == TD_INK_BROWN_HUE || p->ink == TD_INK_BROWN ||
@@ -347,9 +360,13 @@ static int strength_pass(const td_image *im, const td_binarise_params *p,
         if (p->ink == TD_INK_BROWN_HUE) {
             brown_lut_build(sc.lut);
         } else {
-            if ((rc = td_palette_find(im, pal, cx)) != 0)
+            if (p->palette)
+                *pal = *p->palette;
+            else if ((rc = td_palette_find(im, pal, cx)) != 0)
                 goto fail;
-            if (td_palette_choose(pal, p->ink == TD_INK_BROWN) < 0) {
+            if (p->palette
+                    ? pal->chosen < 0
+                    : td_palette_choose(pal, p->ink == TD_INK_BROWN) < 0) {
                 rc = td_seterr(cx, TD_EFORMAT,
                                "no ink found: the colour scan is paper "
                                "and tints only (try --ink dark)");
@@ -369,10 +386,11 @@ static int strength_pass(const td_image *im, const td_binarise_params *p,
             goto fail;
         /* the veto of row y reaches rows y-VETO_R..y+VETO_R: a row goes
            into the histogram once the rows below it are computed */
-        for (y = y0 - VETO_R > 0 ? y0 - VETO_R : 0; veto && y < y0 + n; y++)
-            veto_row(im, veto, s, y, done);
+        for (y = y0 - vr > 0 ? y0 - vr : 0; veto && y < y0 + n; y++)
+            veto_row(p->veto_im ? p->veto_im : im, p->veto_im ? im : NULL, veto,
+                     s, y, done);
         {
-            int upto = y0 + n - (veto && y0 + n < im->h ? VETO_R : 0);
+            int upto = y0 + n - (veto && y0 + n < im->h ? vr : 0);
             for (y = done; hist && y < upto; y++)
                 hist_row(s->data + (size_t)y * s->stride, im->w, h4);
             done = upto;
@@ -403,6 +421,12 @@ static int check_image(const td_image *im, const td_binarise_params *p,
         out->stride < (size_t)out->w)
         return td_seterr(cx, TD_EINVAL, "binarise: mask must be a %d x %d grid",
                          im->w, im->h);
+    if (p->veto_im && (p->veto_im->w != im->w || p->veto_im->h != im->h ||
+                       p->veto_im->channels != 3 || im->channels != 3 ||
+                       p->veto_im->stride < 3 * (size_t)im->w))
+        return td_seterr(cx, TD_EINVAL,
+                         "binarise: the veto image must be RGB, %d x %d", im->w,
+                         im->h);
     if (im->channels == 1 &&
         (p->ink == TD_INK_BROWN || p->ink == TD_INK_BROWN_HUE))
         return td_seterr(cx, TD_EINVAL, "--ink brown needs a colour scan");

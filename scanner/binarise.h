@@ -58,6 +58,13 @@ typedef struct td_binarise_params {
     int local_level;    /* Otsu: where the ink is paler than the sheet's,
                            threshold lower (the local ink level, ours;
                            docs/binarise.md); default 1, 0 = off */
+    const td_palette *palette; /* TD_INK_AUTO / TD_INK_BROWN on a colour
+                                  scan: this palette (found and chosen,
+                                  e.g. on the scan before td_detint)
+                                  instead of finding one; default NULL */
+    const td_image *veto_im;   /* the same: the veto table reads this
+                                  image (im's size; e.g. td_detint's)
+                                  instead of im; default NULL */
 } td_binarise_params;
 
 /* Otsu splits whose class means differ by fewer levels than this are

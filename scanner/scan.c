@@ -3,6 +3,7 @@
 #include "scanner/scan.h"
 
 #include "scanner/blobring.h"
+#include "scanner/detint.h"
 #include "scanner/flank.h"
 #include "scanner/streams.h"
 #include "scanner/ticks.h"
@@ -30,6 +31,7 @@ td_scan_params td_scan_defaults(void)
     p.straight = td_straight_defaults();
     p.defringe = 0;
     p.fringe = td_defringe_defaults();
+    p.detint = 0;
     return p;
 }
 
@@ -59,6 +61,9 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     const td_image *src = im;
     uint8_t *bits = NULL, *seams = NULL, *other = NULL, *water = NULL;
     td_join_params jp = p->join;
+    td_binarise_params bin = p->bin;
+    td_palette pal;
+    td_image *vsrc = NULL; /* the scan with its tints divided out */
     double t0, halftone = -1;
     int rc;
     memset(res, 0, sizeof *res);
@@ -83,8 +88,28 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             goto fail;
         src = clean;
     }
-    if ((rc = td_binarise_seams(src, &p->bin, g, &res->palette, seams,
-                                &halftone, cx)) != 0 ||
+    if (p->detint && src->channels == 3 &&
+        (p->bin.ink == TD_INK_AUTO || p->bin.ink == TD_INK_BROWN)) {
+        /* inks over a tint divided by it, for the veto only: the palette
+           is found on the scan as it is and kept, and the contour ink's
+           strength read there too (JPEG's colour blur leaves thin lines
+           over a tint the tint's hue, which the division overshoots) */
+        if ((rc = td_palette_find(src, &pal, cx)) != 0)
+            goto fail;
+        if (td_palette_choose(&pal, p->bin.ink == TD_INK_BROWN) >= 0 &&
+            td_detint_any(&pal)) {
+            if (!(vsrc = td_image_new(im->w, im->h, 3, cx))) {
+                rc = TD_ENOMEM;
+                goto fail;
+            }
+            if ((rc = td_detint(src, &pal, TD_DETINT_RADIUS, vsrc, cx)) != 0)
+                goto fail;
+            bin.veto_im = vsrc;
+        }
+        bin.palette = &pal;
+    }
+    if ((rc = td_binarise_seams(src, &bin, g, &res->palette, seams, &halftone,
+                                cx)) != 0 ||
         (rc = td_straight_remove(g, &p->straight, &res->straight_lines, cx)) !=
             0)
         goto fail;
@@ -114,7 +139,8 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     jp.h = im->h;
     jp.record = jp.record || p->keep_debug; /* the overlay draws the joins */
     if (p->do_join && p->join_other &&
-        (rc = td_binarise_other_ink(src, &res->palette, &other, cx)) != 0)
+        (rc = td_binarise_other_ink(vsrc ? vsrc : src, &res->palette, &other,
+                                    cx)) != 0)
         goto fail;
     jp.other = other;
     if (p->do_join && p->join_other && p->join.cross_gap > 0 &&
@@ -130,7 +156,8 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         res->flank_cuts = (size_t)nf;
     }
     td_image_free(clean);
-    clean = NULL;
+    td_image_free(vsrc);
+    clean = vsrc = NULL;
     rc = p->do_join ? td_join(&res->lines, &jp, &res->join, cx) : 0;
     free(water);
     water = NULL;
@@ -202,6 +229,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     return 0;
 fail:
     td_image_free(clean);
+    td_image_free(vsrc);
     free(other);
     free(water);
     free(bits);

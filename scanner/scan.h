@@ -53,6 +53,14 @@ typedef struct td_scan_params {
                                     the palette on others (docs/binarise.md,
                                     "Print variants") */
     td_defringe_params fringe;
+    int detint;           /* colour scans read through the palette: inks
+                             over a tint divided by it (detint.h, ours; a
+                             copy of the scan, +3 bytes per pixel while
+                             binarising); default 0: it saves roads over
+                             woodland (the printed hills sheet's heights
+                             0.59 -> 1.00) but moves the heights of other
+                             sheets both ways (docs/binarise.md, "Inks over
+                             a tint") */
     int measure_width;    /* set each line's width (width.h), default 1 */
     int blob_rings;       /* tiny rings that printed as dots of ink get
                              back their circle (blobring.h; ours; needs

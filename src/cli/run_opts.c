@@ -61,6 +61,9 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
         {"ink", 0, TD_OPT_FUNC, &r->p.scan.bin, .fn = ink, .meta = "KIND",
          .help = "auto | dark | brown | brown-hue | R,G,B[:tol]\n(default "
          "auto; see topodig scan --help)"},
+        {"detint", 0, TD_OPT_FLAG, &r->p.scan.detint, .help =
+         "colour scans: inks over a tint divided by\nit (ours; see topodig "
+         "scan --help)"},
         {"defringe", 0, TD_OPT_FLAG, &r->p.scan.defringe, .help =
          "colour scans: colour fringes out before the\ninks are found "
          "(ours; see topodig scan --help)"},

@@ -66,6 +66,10 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          "lighter than the ink on both\nsides across the lines is the seam "
          "between\ntwo lines and becomes paper (0: off; otsu\nand fixed "
          "thresholds)"},
+        {"detint", 0, TD_OPT_FLAG, &p->detint, .help =
+         "colour scans (ours): inks printed over a\ntint (woodland green) "
+         "divided by it, so\na red road over the tint reads red, not\n"
+         "brown (see docs/binarise.md, 'Inks over\na tint')"},
         {"defringe", 0, TD_OPT_FLAG, &p->defringe, .help =
          "colour scans (ours): each ink pixel first\ntakes the colour of the "
          "ink around it,\ncolour fringes and JPEG's bled colour out\n(for "

@@ -9,7 +9,10 @@
  *   bench_heights [--dems DIR] [--only NAME] [--tree] [--search N] [--log]
  *                 [--all-hints] [--png DIR] [--streams] [--no-vees]
  *                 [--no-stream-joins] [--gap-pairs PX] [--oracle]
+ *                 [--detint]
  *
+ * --detint: the scanner divides the colour sheets' tints out (scan
+ * --detint, scanner/detint.h);
  * --streams: the colour sheets' water drawn from the terrain (tdgen
  * --streams) instead of the random river; --no-vees: the streams' Vs not
  * read (scanner/streams.h); --no-stream-joins: the joiner's stage 3 (across
@@ -53,7 +56,7 @@ int main(int argc, char **argv)
 {
     const char *dir = "tests/data/dems", *only = NULL, *png = NULL;
     int tree = 0, logit = 0, paperj = 0, all = 0, search = 0, hach = 0, a;
-    int streams = 0, novees = 0, nojoins = 0;
+    int streams = 0, novees = 0, nojoins = 0, detint = 0;
     double gap_pairs = 0;
     int oracle = 0;
     size_t c;
@@ -70,6 +73,8 @@ int main(int argc, char **argv)
             streams = 1;
         else if (!strcmp(argv[a], "--oracle"))
             oracle = 1;
+        else if (!strcmp(argv[a], "--detint"))
+            detint = 1;
         else if (!strcmp(argv[a], "--gap-pairs") && a + 1 < argc)
             gap_pairs = atof(argv[++a]);
         else if (!strcmp(argv[a], "--no-vees"))
@@ -142,6 +147,7 @@ int main(int argc, char **argv)
                 hs.method = tree ? TD_LABEL_TREE : TD_LABEL_FACES;
                 hs.paper_junctions = paperj;
                 hs.search = search;
+                hs.detint = detint;
                 hs.gap_pairs = gap_pairs;
                 hs.oracle = oracle;
                 if (png) {

@@ -264,6 +264,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
         if (hs->gp.colour)
             sp.bin.ink = TD_INK_BROWN;
         sp.trace.cut = !hs->paper_junctions;
+        sp.detint = hs->detint;
         if (hs->no_stream_joins)
             sp.join.cross_gap = 0;
         sp.join.record = hs->read_labels;

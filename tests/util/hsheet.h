@@ -16,6 +16,8 @@ typedef struct td_hsheet {
                                    picked by the solve) */
     int use_truth_lines;        /* label the truth lines, not the traced ones */
     int paper_junctions;        /* trace through junctions as the paper does */
+    int detint;                 /* colour: the scan's tints divided out
+                                   (td_scan_params.detint) */
     int search;                 /* td_label_params.search: 0 its default,
                                    -1 off */
     double gap_pairs;           /* td_label_params.gap_pairs (0: off) */
