@@ -37,8 +37,8 @@ typedef struct band {
     float *t;      /* (BAND + 2 r) rows: f summed across */
 } band;
 
-/* Per-channel max of row y (held) across x - rbg .. x + rbg. */
-static void row_max(const td_image *im, int y, int rbg, uint8_t *out)
+/* Contract in defringe.h. */
+void td_rgb_row_max(const td_image *im, int y, int r, uint8_t *out)
 {
     const uint8_t *row =
         im->data + (size_t)clampi(y, 0, im->h - 1) * im->stride;
@@ -46,7 +46,7 @@ static void row_max(const td_image *im, int y, int rbg, uint8_t *out)
     for (x = 0; x < im->w; x++)
         for (c = 0; c < 3; c++) {
             uint8_t m = 0;
-            for (k = -rbg; k <= rbg; k++) {
+            for (k = -r; k <= r; k++) {
                 uint8_t v = row[3 * clampi(x + k, 0, im->w - 1) + c];
                 m = v > m ? v : m;
             }
@@ -130,7 +130,8 @@ static void do_band(const td_image *im, td_image *out,
     y1 = y1 > im->h ? im->h : y1;
     nf = y1 - y0 + 2 * r;
     for (j = 0; j < nf + 2 * rbg; j++)
-        row_max(im, y0 - r - rbg + j, rbg, b->hmax + (size_t)j * 3 * im->w);
+        td_rgb_row_max(im, y0 - r - rbg + j, rbg,
+                       b->hmax + (size_t)j * 3 * im->w);
     for (j = 0; j < nf; j++) {
         row_f(im, y0 - r + j, rbg, b, j);
         row_sum(im->w, r, b, j);

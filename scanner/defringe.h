@@ -44,6 +44,11 @@ typedef struct td_defringe_params {
 
 td_defringe_params td_defringe_defaults(void);
 
+/* The per-channel maximum of RGB row y of im (clamped to the image)
+ * across x - r .. x + r (held at the edges) into out (3 w bytes): the
+ * background under thin ink (defringe.c, detint.c). */
+void td_rgb_row_max(const td_image *im, int y, int r, uint8_t *out);
+
 /* out = im defringed (above).  im and out RGB, the same size, distinct;
  * out caller-allocated.  Deterministic; row bands on threads, about
  * 30 bytes per pixel of a band's width of working memory per thread.

@@ -8,6 +8,8 @@
  * (td_palette_node). */
 #include "scanner/detint.h"
 
+#include "scanner/defringe.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -85,23 +87,6 @@ static void tint_table(const td_palette *pal, uint8_t *tab)
             }
 }
 
-/* Per-channel max of row y (held) across x - r .. x + r. */
-static void row_max(const td_image *im, int y, int r, uint8_t *out)
-{
-    const uint8_t *row =
-        im->data + (size_t)clampi(y, 0, im->h - 1) * im->stride;
-    int x, k, c;
-    for (x = 0; x < im->w; x++)
-        for (c = 0; c < 3; c++) {
-            uint8_t m = 0;
-            for (k = -r; k <= r; k++) {
-                uint8_t v = row[3 * clampi(x + k, 0, im->w - 1) + c];
-                m = v > m ? v : m;
-            }
-            out[3 * x + c] = m;
-        }
-}
-
 /* Row y's (held) tint classes (tab) spread across x - R .. x + R (the
  * largest index there; 0 none). */
 static void row_tint(const td_image *im, const uint8_t *tab, int y, int R,
@@ -127,7 +112,7 @@ static void do_band(const td_image *im, const td_palette *pal,
     int R = r + 1, y1 = y0 + BAND > im->h ? im->h : y0 + BAND, j, k, x, c;
     const uint8_t *P = pal->ink[pal->paper].rgb;
     for (j = 0; j < y1 - y0 + 2 * r; j++)
-        row_max(im, y0 - r + j, r, bd->hmax + (size_t)j * n);
+        td_rgb_row_max(im, y0 - r + j, r, bd->hmax + (size_t)j * n);
     for (j = 0; j < y1 - y0 + 2 * R; j++)
         row_tint(im, tab, y0 - R + j, R, bd->cls, bd->tint + (size_t)j * w);
     for (j = 0; j < y1 - y0; j++) {

@@ -718,10 +718,7 @@ static void test_labels_on_curves(void)
         td_hsheet hs;
         td_ctx cx;
         td_ctx_init(&cx);
-        memset(&hs, 0, sizeof hs);
-        hs.gp = td_gen_defaults();
-        hs.gp.terrain = TD_GEN_HILLS;
-        hs.gp.w = hs.gp.h = 1500;
+        gen_sheet(&hs, TD_GEN_HILLS, 1500);
         td_hsheet_defects(&hs.gp, 1 + colour);
         hs.read_labels = 1;
         hs.no_interval = 1;
@@ -748,10 +745,7 @@ static void test_printed_road_over_woodland(void)
     td_hsheet hs;
     td_ctx cx;
     td_ctx_init(&cx);
-    memset(&hs, 0, sizeof hs);
-    hs.gp = td_gen_defaults();
-    hs.gp.terrain = TD_GEN_HILLS;
-    hs.gp.w = hs.gp.h = 1500;
+    gen_sheet(&hs, TD_GEN_HILLS, 1500);
     td_hsheet_defects(&hs.gp, 3);
     hs.nknown = 3;
     hs.index_every = 5;
