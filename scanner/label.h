@@ -217,7 +217,9 @@ void td_label_where(const td_line *l, double *x, double *y);
 
 /* The index-contour check (p->index_every > 0): lines with a measured
  * width (td_line.width > 0, scanner/width.h) and at least 30 px long are
- * split into thin and thick by Otsu's rule on their log widths; when the
+ * split into thin and thick by Otsu's rule on their log widths (the thick
+ * class 0.4/N to 2.5/N of the lines and at most 1.6/N of their length,
+ * N = index_every); when the
  * thick class's mean is at least p->thick_ratio times the thin one's, a
  * thick line whose height is not base + a multiple of index_every *
  * interval, or a thin one whose height is, is a mismatch: one warning each

@@ -622,6 +622,62 @@ static void test_index_by_ink(void)
     }
 }
 
+/* The crowded Front Range sheet (interval 20, every 5th line thick) as a
+ * printed map: where thin contours touch their runs of ink measure 3-3.7
+ * px against the index lines' 3.7-4.5, and a cut chosen by the count of
+ * lines alone put 0.35 of the traced length in the thick class (the index
+ * contours hold 0.20 of it): 0.152 of the length on the wrong side.  The
+ * cut is held to at most 1.6 / N of the length thick.  Checked: the share
+ * of the traced length (lines 30 px and longer) on the wrong side of
+ * td_label_thick_cut's cut (0.060 measured). */
+static void test_index_cut_by_length(void)
+{
+    td_gen_params gp;
+    td_ctx cx;
+    td_image *im = NULL;
+    td_lines *truth = NULL;
+    td_scan_params sp = td_scan_defaults();
+    td_scan_result res;
+    td_label_params lp = td_label_defaults();
+    td_grid_f32 *src;
+    double cut = 0, *th, all = 0, wrong = 0;
+    size_t i;
+    int inked;
+    td_ctx_init(&cx);
+    src = td_hsheet_dem_sheet("frontrange_srtm3.tif", 10, &gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    if (!src)
+        return;
+    gp.interval = 20;
+    td_hsheet_defects(&gp, 3);
+    TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
+    TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
+    lp.index_every = 5;
+    inked = td_label_use_ink(res.lines, 5, &cx);
+    th = malloc((res.lines->n + 1) * sizeof *th);
+    TT_CHECK(th &&
+             td_match_majority(truth, res.lines, im->w, im->h, 2.0, th) == 0);
+    TT_CHECK(td_label_thick_cut(res.lines, &lp, &cut, NULL, &cx) == 1);
+    for (i = 0; th && i < res.lines->n; i++) {
+        const td_line *l = &res.lines->v[i];
+        double w = td_line_weight(l, inked), len = td_line_length(l);
+        if (!(w > 0) || len < 30 || th[i] != th[i])
+            continue;
+        all += len;
+        if ((fmod(th[i], 100.0) == 0) != (w >= cut))
+            wrong += len;
+    }
+    TT_CHECKF(all > 1e5 && wrong <= 0.09 * all,
+              "crowded Front Range printed: %.3f of %.0f px of traced line "
+              "on the wrong side of the index cut %.2f",
+              all > 0 ? wrong / all : 1.0, all, cut);
+    free(th);
+    td_scan_result_free(&res);
+    td_image_free(im);
+    td_lines_free(truth);
+    td_grid_f32_free(src);
+}
+
 /* Orkhon printed (faded brown labels, blur, JPEG), no hint.  Tesseract
  * read this draw's upside-down "1875" as "1675" and "1500" as "1900";
  * the strip cut another "1875" to "187" and "875" (40 px beyond the
@@ -1080,6 +1136,7 @@ int main(void)
     TT_RUN(test_crowded_walls);
     TT_RUN(test_crowded_crisp);
     TT_RUN(test_index_by_ink);
+    TT_RUN(test_index_cut_by_length);
     TT_RUN(test_ocr_threads);
     TT_RUN(test_ambiguous);
     TT_RUN(test_ticked_pit);
