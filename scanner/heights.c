@@ -83,6 +83,10 @@
                          interval is inferred */
 #define SPOT_CONF 0.7 /* spot heights read with less are not used */
 #define MIN_INFER_LABELS 3 /* fewer labels read: no interval inferred */
+#define SPAN_CONF                                                              \
+    0.7 /* a label step needs two values read at least this sure that          \
+           differ by it: on Elkhorn at interval 20 every label read for        \
+           sure said 200, and a "29" read at 0.5 made 0.5 m the interval */
 #define INFER_MARGIN 20.0  /* the runner-up interval costs at least this
                               (and 10 %) more, or none is inferred: half a
                               label read for sure */
@@ -2565,13 +2569,13 @@ static int cmp_desc(const void *pa, const void *pb)
  * each level between the lowest and the highest needs a line of its own
  * (misreads such as "2" and "16" beside "1875" fit an interval of 0.2
  * over 9000 levels on a sheet of 400 lines). */
-static double levels_spanned(const td_label_params *p, double I)
+static double levels_spanned(const td_label_params *p, double I, double least)
 {
     double lo = HUGE_VAL, hi = -HUGE_VAL;
     size_t i;
     for (i = 0; i < p->nlabels; i++) {
         const td_ocr_read *r = &p->labels[i];
-        if (r->spot || !on_multiple(r->value, p->base, I))
+        if (r->spot || r->conf < least || !on_multiple(r->value, p->base, I))
             continue;
         lo = fmin(lo, r->value), hi = fmax(hi, r->value);
     }
@@ -2607,12 +2611,14 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
             for (j = 0; j < 4; j++) {
                 double c = nice[k] * dec * index_every[j];
                 int m, fits = 0;
-                if (share_on(p, c) < 0.5 || levels_spanned(p, c) < 1.0)
-                    continue; /* a step no two values read differ by
-                                 cannot be told from its multiples */
+                if (share_on(p, c) < 0.5 ||
+                    levels_spanned(p, c, SPAN_CONF) < 1.0)
+                    continue; /* a step no two values read for sure
+                                 differ by cannot be told from its
+                                 multiples */
                 for (m = 0; m < 4; m++)
-                    fits |=
-                        levels_spanned(p, c / index_every[m]) <= (double)ls->n;
+                    fits |= levels_spanned(p, c / index_every[m], 0.0) <=
+                            (double)ls->n;
                 for (m = 0; m < na && fits; m++)
                     fits = fabs(all[m] - c) > 1e-9 * c;
                 if (fits && na < (int)(sizeof all / sizeof all[0]))
@@ -2633,7 +2639,7 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
             td_label_params q = *p;
             td_label_report r;
             if ((p->index_every > 0 && k > 0) || !is_nice(I) ||
-                levels_spanned(p, I) > (double)ls->n)
+                levels_spanned(p, I, 0.0) > (double)ls->n)
                 continue;
             for (i = 0; i < p->nlabels; i++) /* reads off it: not
                                                    used, or less sure */
@@ -2672,14 +2678,31 @@ done:
     return rc;
 }
 
+/* How many labels were read at least SPAN_CONF sure (spot heights
+ * aside) when they all give one value (into *v); 0 when they differ or
+ * none is that sure. */
+static size_t one_value(const td_label_params *p, double *v)
+{
+    size_t i, n = 0;
+    for (i = 0; i < p->nlabels; i++) {
+        const td_ocr_read *r = &p->labels[i];
+        if (r->spot || r->conf < SPAN_CONF)
+            continue;
+        if (n++ && r->value != *v)
+            return 0;
+        *v = r->value;
+    }
+    return n;
+}
+
 /* Contract in heights_int.h. */
 int td_heights_infer(td_lines *ls, const td_label_params *p,
                      td_label_report *rep, td_ctx *cx)
 {
     td_label_params q = *p;
-    double I, I2, c1, c2, conf_all = 0, conf_agree = 0;
+    double I, I2, c1, c2, conf_all = 0, conf_agree = 0, v1 = 0;
     int rc, N = 0;
-    size_t i, nl = 0, agree;
+    size_t i, nl = 0, agree, nsure;
     for (i = 0; i < p->nlabels; i++)
         nl += !p->labels[i].spot;
     if (nl == 0)
@@ -2700,6 +2723,12 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
                          "intervals %g and %g about equally well; give "
                          "--interval I",
                          nl, I, I2);
+    if (!(I > 0) && (nsure = one_value(p, &v1)) > 0)
+        return td_seterr(cx, TD_EINVAL,
+                         "no interval: the %zu labels read for sure all say "
+                         "%g, so no step between two of them tells it; give "
+                         "--interval I",
+                         nsure, v1);
     if (!(I > 0))
         return td_seterr(cx, TD_EINVAL,
                          "no interval: the %zu labels read "

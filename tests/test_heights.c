@@ -760,6 +760,33 @@ static void test_crowded_misreads_refused(void)
     td_grid_f32_free(src);
 }
 
+/* Elkhorn at interval 20 (scale 6), scanned, no hint: the relief holds
+ * one index height, and every label read for sure says 200; a "29" read
+ * at confidence 0.5 spanned a step with it, and 0.5 m was inferred as the
+ * interval (heights 0.287 right).  No two sure values differ: the
+ * interval cannot come from the labels, so an error asking for it. */
+static void test_one_label_value_refused(void)
+{
+    td_hsheet hs;
+    td_grid_f32 *src = dem_sheet(&hs, "elkhorn_srtm3.tif", 6, 0, 0);
+    td_ctx cx;
+    int rc;
+    td_ctx_init(&cx);
+    if (!src)
+        return;
+    hs.gp.interval = 20;
+    td_hsheet_defects(&hs.gp, 1);
+    hs.read_labels = hs.no_interval = 1;
+    rc = td_hsheet_run(&hs, NULL, &cx);
+    TT_CHECKF(rc != 0 && strstr(td_errmsg(&cx), "all say 200") &&
+                  strstr(td_errmsg(&cx), "--interval"),
+              "Elkhorn interval 20, labels only: rc %d (%s), interval %g, "
+              "accuracy %.3f",
+              rc, rc ? td_errmsg(&cx) : "", hs.interval, hs.score.accuracy);
+    td_label_report_free(&hs.rep);
+    td_grid_f32_free(src);
+}
+
 /* Straight labels printed on curves: the generator's hills, scanned and
  * in colour, with no hint.  A label on a small ring (radius 48 px) sits on
  * the chord of the ring's label gap, 6-8 px from the ring at its middle,
@@ -1132,6 +1159,7 @@ int main(void)
     TT_RUN(test_printed_interval);
     TT_RUN(test_new_print_labels);
     TT_RUN(test_crowded_misreads_refused);
+    TT_RUN(test_one_label_value_refused);
     TT_RUN(test_crowded_labels_only);
     TT_RUN(test_crowded_walls);
     TT_RUN(test_crowded_crisp);
