@@ -42,6 +42,11 @@ static const sheet_case cases[] = {
     {"frontrange", "frontrange_srtm3.tif", TD_GEN_DEM, 10, 0, 0},
     {"orkhon", "orkhon_92m.tif", TD_GEN_DEM, 10, 0, 0},
     {"frontrange20", "frontrange_srtm3.tif", TD_GEN_DEM, 10, 20, 0},
+    /* held out (2026-12-04, session 15): drawn at other scales and
+       intervals, not tuned on */
+    {"elkhorn20", "elkhorn_srtm3.tif", TD_GEN_DEM, 6, 20, 0},
+    {"orkhon50", "orkhon_92m.tif", TD_GEN_DEM, 10, 50, 0},
+    {"frontrange25", "frontrange_srtm3.tif", TD_GEN_DEM, 8, 25, 0},
     {"cone", NULL, TD_GEN_CONE, 0, 0, 800},
     {"hills", NULL, TD_GEN_HILLS, 0, 0, 1500},
     {"ridges", NULL, TD_GEN_RIDGES, 0, 0, 2000},

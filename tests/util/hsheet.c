@@ -381,11 +381,16 @@ done:
 }
 
 /* Contract in hsheet.h. */
-const td_real_sheet td_real_sheets[4] = {
+const td_real_sheet td_real_sheets[TD_REAL_SHEETS] = {
     {"elkhorn", "elkhorn_srtm3.tif", 6, 0},
     {"frontrange", "frontrange_srtm3.tif", 10, 0},
     {"orkhon", "orkhon_92m.tif", 10, 0},
     {"frontrange20", "frontrange_srtm3.tif", 10, 20},
+    /* held out (2026-12-04, session 15): other scales and intervals,
+       not tuned on */
+    {"elkhorn20", "elkhorn_srtm3.tif", 6, 20},
+    {"orkhon50", "orkhon_92m.tif", 10, 50},
+    {"frontrange25", "frontrange_srtm3.tif", 8, 25},
 };
 const char *const td_defect_names[5] = {"clean", "scanned", "colour", "printed",
                                         "new"};

@@ -63,7 +63,8 @@ typedef struct td_real_sheet {
     const char *name, *dem;
     double scale, interval;
 } td_real_sheet;
-extern const td_real_sheet td_real_sheets[4];
+#define TD_REAL_SHEETS 7
+extern const td_real_sheet td_real_sheets[TD_REAL_SHEETS];
 extern const char *const td_defect_names[5];
 
 /* The benchmarks' sheet defects: kind 0 clean (lines 1.8 px, index
