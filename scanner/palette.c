@@ -4,6 +4,7 @@
 #include "src/io/io.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -392,10 +393,82 @@ static void label_crop(const td_palette *pal, const td_image *im, int x0,
     }
 }
 
+/* Speckle closed (ours): a paper pixel with FILL_NEAR or more of its 8
+ * neighbours of one colour takes that colour, FILL_PASSES times.  A flat
+ * tint whose pixels straddle the coverage cut (0.4) labels as speckle,
+ * which measures as 1-2 px strokes (an ink); a thin line's paper
+ * neighbours have at most 3 of its pixels around them and stay paper.
+ * tmp: cw x ch bytes of scratch. */
+#define FILL_NEAR 5
+#define FILL_PASSES 2
+static void fill_speckle(const td_palette *pal, uint8_t *lbl, int cw, int ch,
+                         uint8_t *tmp)
+{
+    int pass, x, y;
+    for (pass = 0; pass < FILL_PASSES; pass++) {
+        memcpy(tmp, lbl, (size_t)cw * ch);
+        for (y = 1; y + 1 < ch; y++)
+            for (x = 1; x + 1 < cw; x++) {
+                size_t at = (size_t)y * cw + x;
+                const uint8_t *up = tmp + at - cw, *dn = tmp + at + cw;
+                int cnt[TD_PALETTE_MAX], dx, dy, best = pal->paper, P;
+                P = pal->paper;
+                if (tmp[at] != P || (up[-1] != P) + (up[0] != P) +
+                                            (up[1] != P) + (tmp[at - 1] != P) +
+                                            (tmp[at + 1] != P) + (dn[-1] != P) +
+                                            (dn[0] != P) + (dn[1] != P) <
+                                        FILL_NEAR)
+                    continue; /* (most paper pixels: nothing near) */
+                memset(cnt, 0, sizeof cnt);
+                for (dy = -1; dy <= 1; dy++)
+                    for (dx = -1; dx <= 1; dx++) {
+                        int v = tmp[at + (ptrdiff_t)dy * cw + dx];
+                        if ((dx || dy) && v != pal->paper &&
+                            ++cnt[v] >= FILL_NEAR)
+                            best = v;
+                    }
+                lbl[at] = (uint8_t)best;
+            }
+    }
+}
+
+/* Per colour, the per-channel median of the crop's pixels labelled with
+ * it into med (the cluster's colour where none are); h: TD_PALETTE_MAX
+ * histograms of scratch. */
+static void label_medians(const td_palette *pal, const td_image *im, int x0,
+                          int y0, int cw, int ch, const uint8_t *lbl,
+                          double (*med)[3], long (*h)[3][256])
+{
+    long n[TD_PALETTE_MAX] = {0};
+    int t, x, y, c, v;
+    memset(h, 0, sizeof *h * TD_PALETTE_MAX);
+    for (y = 0; y < ch; y++) {
+        const uint8_t *px =
+            im->data + (size_t)(y0 + y) * im->stride + 3 * (size_t)x0;
+        for (x = 0; x < cw; x++, px += 3) {
+            t = lbl[(size_t)y * cw + x];
+            for (c = 0; c < 3; c++)
+                h[t][c][px[c]]++;
+            n[t]++;
+        }
+    }
+    for (t = 0; t < pal->n; t++)
+        for (c = 0; c < 3; c++) {
+            long acc = 0;
+            if (!n[t]) {
+                med[t][c] = pal->ink[t].rgb[c];
+                continue;
+            }
+            for (v = 0; v < 256 && (acc += h[t][c][v]) * 2 < n[t]; v++)
+                ;
+            med[t][c] = v;
+        }
+}
+
 /* Area, perimeter and long-stroke area of every colour on the crop:
  * 8-connected components by flood fill (stack in *stk). */
 static void stroke_stats(td_palette *pal, const uint8_t *lbl, int cw, int ch,
-                         uint8_t *seen, int *stk)
+                         uint8_t *seen, int *stk, double (*med)[3])
 {
     double area[TD_PALETTE_MAX] = {0}, per[TD_PALETTE_MAX] = {0},
            longa[TD_PALETTE_MAX] = {0};
@@ -445,10 +518,15 @@ static void stroke_stats(td_palette *pal, const uint8_t *lbl, int cw, int ch,
                 : 0;
         {
             double v[3], p[3];
-            rgb_of(&pal->ink[i], v);
             rgb_of(&pal->ink[pal->paper], p);
+            memcpy(v, med[i], sizeof v);
             /* wide, or light and in patches (a tint cut into strips by
-               crowded contours is narrow but stays light) */
+               crowded contours is narrow but stays light); light as its
+               pixels are (their median), not as its cluster's colour,
+               which comes from its darkest pixels (ours, 2026-12-04: the
+               green tint of Elkhorn drawn at interval 20 has pixels
+               (188, 201, 131), 84 from the paper, and a cluster colour
+               #84863a, 180 from it: it was taken for the contour ink) */
             pal->ink[i].role =
                 pal->ink[i].width > TD_PALETTE_TINT_WIDTH ||
                         (dist3(v, p) < TINT_LIGHT && pal->ink[i].width > 2.5)
@@ -580,6 +658,8 @@ int td_palette_find(const td_image *im, td_palette *pal, td_ctx *cx)
     int ncl, cw, ch, x0, y0, i, rc;
     uint8_t *lbl = NULL, *seen = NULL;
     int *stk = NULL;
+    double med[TD_PALETTE_MAX][3];
+    long(*hist)[3][256] = NULL;
     memset(pal, 0, sizeof *pal);
     pal->chosen = -1;
     if (!im || im->channels != 3)
@@ -592,15 +672,20 @@ int td_palette_find(const td_image *im, td_palette *pal, td_ctx *cx)
     ch = im->h < CROP ? im->h : CROP;
     x0 = (im->w - cw) / 2, y0 = (im->h - ch) / 2;
     rc = TD_ENOMEM;
-    if (!(lbl = td_malloc((size_t)cw * ch, cx)) ||
+    if (!(hist = td_malloc(sizeof *hist * TD_PALETTE_MAX, cx)) ||
+        !(lbl = td_malloc((size_t)cw * ch, cx)) ||
         !(seen = td_malloc((size_t)cw * ch, cx)) ||
         !(stk = td_malloc((size_t)cw * ch * 2 * sizeof *stk + 8, cx)))
         goto done;
     label_crop(pal, im, x0, y0, cw, ch, lbl);
-    stroke_stats(pal, lbl, cw, ch, seen, stk);
+    fill_speckle(pal, lbl, cw, ch, seen);
+    label_medians(pal, im, x0, y0, cw, ch, lbl, med, hist);
+    stroke_stats(pal, lbl, cw, ch, seen, stk, med);
     if (drop_noise(pal)) { /* measured again without them */
         label_crop(pal, im, x0, y0, cw, ch, lbl);
-        stroke_stats(pal, lbl, cw, ch, seen, stk);
+        fill_speckle(pal, lbl, cw, ch, seen);
+        label_medians(pal, im, x0, y0, cw, ch, lbl, med, hist);
+        stroke_stats(pal, lbl, cw, ch, seen, stk, med);
     }
     tint_colours(pal, im, x0, y0, cw, ch, lbl);
     {
@@ -620,6 +705,7 @@ int td_palette_find(const td_image *im, td_palette *pal, td_ctx *cx)
     }
     rc = 0;
 done:
+    free(hist);
     free(lbl);
     free(seen);
     free(stk);

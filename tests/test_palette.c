@@ -288,6 +288,39 @@ static void test_new_print_roads(void)
     td_grid_f32_free(src);
 }
 
+/* Elkhorn (x6) drawn at interval 20 and printed: fewer contours than at
+ * 10 leave the sheet's median near the real paper, and the green tint,
+ * (188, 201, 131), straddles the light/strong split of the samples; its
+ * strong cluster (#84863a, from its darkest pixels) labelled the tint as
+ * speckle 1.6 px "wide", an ink, and with the contours over the tint the
+ * longest strokes: taken for the contour ink (recall 0.135, precision
+ * 0.705).  With the speckle closed and the lightness read on the pixels
+ * (palette.c) it is a tint and the brown is taken (0.941, 0.983). */
+static void test_tint_straddling_split(void)
+{
+    td_gen_params gp;
+    td_grid_f32 *src;
+    td_palette pal;
+    td_scanscore sc;
+    td_ctx cx;
+    int i, tint = 0;
+    td_ctx_init(&cx);
+    src = td_hsheet_dem_sheet("elkhorn_srtm3.tif", 6, &gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    if (!src)
+        return;
+    gp.interval = 20;
+    td_hsheet_defects(&gp, 3);
+    scan_scored(&gp, &pal, &sc);
+    check_brown(&pal);
+    for (i = 0; i < pal.n; i++)
+        tint += pal.ink[i].role == TD_INKROLE_TINT;
+    TT_CHECKF(tint >= 1 && sc.recall >= 0.9 && sc.precision >= 0.97,
+              "Elkhorn at 20, printed: %d tints, recall %.3f, precision %.3f",
+              tint, sc.recall, sc.precision);
+    td_grid_f32_free(src);
+}
+
 /* A scanner that misregisters the red channel by 1.2 px and the blue one
  * by -1.2 (Elkhorn printed, the benchmark's printed defects): the fringes
  * make colours of their own and the palette takes an olive for the
@@ -418,6 +451,7 @@ int main(void)
     TT_RUN(test_print_variants);
     TT_RUN(test_new_print_roads);
     TT_RUN(test_defringe_scan);
+    TT_RUN(test_tint_straddling_split);
     TT_RUN(test_grey_as_rgb);
     TT_RUN(test_paper_only);
     return tt_summary();
