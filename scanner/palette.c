@@ -556,33 +556,14 @@ static int drop_noise(td_palette *pal)
 }
 
 /* A tint's colour: the per-channel median over the crop's pixels labelled
- * with it (its cluster came from its darkest pixels). */
-static void tint_colours(td_palette *pal, const td_image *im, int x0, int y0,
-                         int cw, int ch, const uint8_t *lbl)
+ * with it (med, label_medians'; its cluster came from its darkest
+ * pixels). */
+static void tint_colours(td_palette *pal, const double (*med)[3])
 {
-    int t, x, y, c, v;
-    for (t = 1; t < pal->n; t++) {
-        long h[3][256], n = 0;
-        if (pal->ink[t].role != TD_INKROLE_TINT)
-            continue;
-        memset(h, 0, sizeof h);
-        for (y = 0; y < ch; y++) {
-            const uint8_t *px = im->data + (size_t)(y0 + y) * im->stride +
-                                3 * (size_t)x0;
-            for (x = 0; x < cw; x++, px += 3)
-                if (lbl[(size_t)y * cw + x] == t) {
-                    for (c = 0; c < 3; c++)
-                        h[c][px[c]]++;
-                    n++;
-                }
-        }
-        for (c = 0; c < 3 && n > 0; c++) {
-            long acc = 0;
-            for (v = 0; v < 256 && (acc += h[c][v]) * 2 < n; v++)
-                ;
-            pal->ink[t].rgb[c] = (uint8_t)v;
-        }
-    }
+    int t, c;
+    for (t = 1; t < pal->n; t++)
+        for (c = 0; c < 3 && pal->ink[t].role == TD_INKROLE_TINT; c++)
+            pal->ink[t].rgb[c] = (uint8_t)med[t][c];
 }
 
 /* Per colour, the share of its crop pixels with a tint 2 px away along a
@@ -687,7 +668,7 @@ int td_palette_find(const td_image *im, td_palette *pal, td_ctx *cx)
         label_medians(pal, im, x0, y0, cw, ch, lbl, med, hist);
         stroke_stats(pal, lbl, cw, ch, seen, stk, med);
     }
-    tint_colours(pal, im, x0, y0, cw, ch, lbl);
+    tint_colours(pal, (const double(*)[3])med);
     {
         double in_tint[TD_PALETTE_MAX];
         tint_contact(pal, lbl, cw, ch, in_tint);

@@ -569,56 +569,80 @@ static void test_new_print_roads(void)
  * are kept there.  Checked: which measure td_label_use_ink takes, and the
  * share of the traced lines (30 px and longer) on the wrong side of
  * td_label_thick_cut's cut by it. */
+/* Index cut measured against the truth: the sheet drawn from dem at
+ * scale and interval (0: the generator's) with print kind `kind`, every
+ * 5th line thick (index heights multiples of 5 x step); scanned, and its
+ * traced lines 30 px and longer that have a true height counted (*n, and
+ * their length *all) and those on the wrong side of td_label_thick_cut's
+ * cut (*wrong, their length *wlen).  Returns td_label_use_ink's answer,
+ * -1 when the DEM did not load. */
+typedef struct cut_score {
+    size_t n, wrong;
+    double all, wlen, cut;
+} cut_score;
+
+static int index_cut_score(const char *dem, double scale, double interval,
+                           int kind, double step, cut_score *cs)
+{
+    td_gen_params gp;
+    td_ctx cx;
+    td_image *im = NULL;
+    td_lines *truth = NULL;
+    td_scan_params sp = td_scan_defaults();
+    td_scan_result res;
+    td_label_params lp = td_label_defaults();
+    td_grid_f32 *src;
+    double *th;
+    size_t i;
+    int inked;
+    memset(cs, 0, sizeof *cs);
+    td_ctx_init(&cx);
+    src = td_hsheet_dem_sheet(dem, scale, &gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    if (!src)
+        return -1;
+    if (interval > 0)
+        gp.interval = interval;
+    td_hsheet_defects(&gp, kind);
+    TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
+    TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
+    lp.index_every = 5;
+    inked = td_label_use_ink(res.lines, 5, &cx);
+    th = malloc((res.lines->n + 1) * sizeof *th);
+    TT_CHECK(th &&
+             td_match_majority(truth, res.lines, im->w, im->h, 2.0, th) == 0);
+    TT_CHECK(td_label_thick_cut(res.lines, &lp, &cs->cut, NULL, &cx) == 1);
+    for (i = 0; th && i < res.lines->n; i++) {
+        const td_line *l = &res.lines->v[i];
+        double w = td_line_weight(l, inked), len = td_line_length(l);
+        int bad;
+        if (!(w > 0) || len < 30 || th[i] != th[i])
+            continue;
+        bad = (fmod(th[i], step) == 0) != (w >= cs->cut);
+        cs->n++, cs->all += len;
+        cs->wrong += (size_t)bad, cs->wlen += bad ? len : 0.0;
+    }
+    free(th);
+    td_scan_result_free(&res);
+    td_image_free(im);
+    td_lines_free(truth);
+    td_grid_f32_free(src);
+    return inked;
+}
+
 static void test_index_by_ink(void)
 {
     int kind;
     for (kind = 3; kind <= 4; kind++) {
-        td_gen_params gp;
-        td_ctx cx;
-        td_image *im = NULL;
-        td_lines *truth = NULL;
-        td_scan_params sp = td_scan_defaults();
-        td_scan_result res;
-        td_label_params lp = td_label_defaults();
-        td_grid_f32 *src;
-        double cut = 0, *th;
-        size_t i, n = 0, wrong = 0;
-        int inked;
-        td_ctx_init(&cx);
-        src = td_hsheet_dem_sheet("orkhon_92m.tif", 10, &gp, &cx);
-        TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
-        if (!src)
+        cut_score cs;
+        int inked = index_cut_score("orkhon_92m.tif", 10, 0, kind, 125.0, &cs);
+        if (inked < 0)
             return;
-        td_hsheet_defects(&gp, kind);
-        TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
-        TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
-        lp.index_every = 5;
-        inked = td_label_use_ink(res.lines, 5, &cx);
-        th = malloc((res.lines->n + 1) * sizeof *th);
-        TT_CHECK(th && td_match_majority(truth, res.lines, im->w, im->h, 2.0,
-                                         th) == 0);
-        TT_CHECK(td_label_thick_cut(res.lines, &lp, &cut, NULL, &cx) == 1);
-        for (i = 0; i < res.lines->n; i++) {
-            const td_line *l = &res.lines->v[i];
-            double h, w = td_line_weight(l, inked);
-            if (!(w > 0) || td_line_length(l) < 30)
-                continue;
-            h = th ? th[i] : NAN;
-            if (h != h)
-                continue;
-            n++;
-            wrong += (fmod(h, 125.0) == 0) != (w >= cut);
-        }
-        TT_CHECKF(inked == (kind == 4) && n > 150 && wrong <= 0.07 * n,
+        TT_CHECKF(inked == (kind == 4) && cs.n > 150 && cs.wrong <= 0.07 * cs.n,
                   "Orkhon %s: %s, %zu of %zu lines on the wrong side of "
                   "the index cut",
                   kind == 4 ? "new" : "printed",
-                  inked ? "ink weights" : "widths", wrong, n);
-        free(th);
-        td_scan_result_free(&res);
-        td_image_free(im);
-        td_lines_free(truth);
-        td_grid_f32_free(src);
+                  inked ? "ink weights" : "widths", cs.wrong, cs.n);
     }
 }
 
@@ -632,50 +656,13 @@ static void test_index_by_ink(void)
  * td_label_thick_cut's cut (0.060 measured). */
 static void test_index_cut_by_length(void)
 {
-    td_gen_params gp;
-    td_ctx cx;
-    td_image *im = NULL;
-    td_lines *truth = NULL;
-    td_scan_params sp = td_scan_defaults();
-    td_scan_result res;
-    td_label_params lp = td_label_defaults();
-    td_grid_f32 *src;
-    double cut = 0, *th, all = 0, wrong = 0;
-    size_t i;
-    int inked;
-    td_ctx_init(&cx);
-    src = td_hsheet_dem_sheet("frontrange_srtm3.tif", 10, &gp, &cx);
-    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
-    if (!src)
+    cut_score cs;
+    if (index_cut_score("frontrange_srtm3.tif", 10, 20, 3, 100.0, &cs) < 0)
         return;
-    gp.interval = 20;
-    td_hsheet_defects(&gp, 3);
-    TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
-    TT_CHECK(td_scan(im, &sp, &res, &cx) == 0);
-    lp.index_every = 5;
-    inked = td_label_use_ink(res.lines, 5, &cx);
-    th = malloc((res.lines->n + 1) * sizeof *th);
-    TT_CHECK(th &&
-             td_match_majority(truth, res.lines, im->w, im->h, 2.0, th) == 0);
-    TT_CHECK(td_label_thick_cut(res.lines, &lp, &cut, NULL, &cx) == 1);
-    for (i = 0; th && i < res.lines->n; i++) {
-        const td_line *l = &res.lines->v[i];
-        double w = td_line_weight(l, inked), len = td_line_length(l);
-        if (!(w > 0) || len < 30 || th[i] != th[i])
-            continue;
-        all += len;
-        if ((fmod(th[i], 100.0) == 0) != (w >= cut))
-            wrong += len;
-    }
-    TT_CHECKF(all > 1e5 && wrong <= 0.09 * all,
+    TT_CHECKF(cs.all > 1e5 && cs.wlen <= 0.09 * cs.all,
               "crowded Front Range printed: %.3f of %.0f px of traced line "
               "on the wrong side of the index cut %.2f",
-              all > 0 ? wrong / all : 1.0, all, cut);
-    free(th);
-    td_scan_result_free(&res);
-    td_image_free(im);
-    td_lines_free(truth);
-    td_grid_f32_free(src);
+              cs.all > 0 ? cs.wlen / cs.all : 1.0, cs.all, cs.cut);
 }
 
 /* Orkhon printed (faded brown labels, blur, JPEG), no hint.  Tesseract
@@ -738,26 +725,37 @@ static void test_new_print_labels(void)
  * reader gets, this sheet must not be labelled wrong: an error asking for
  * --interval, or the right interval (test_spots' unsure reads test for
  * the rule that weighs the agreeing reads by how sure they are). */
+/* td_hsheet_run on the sheet drawn from dem at scale and interval with
+ * print kind `kind` and no hint (labels read, interval inferred); its
+ * return code, with hs and cx for the caller's checks (hs->rep to free). */
+static int labels_only(td_hsheet *hs, const char *dem, double scale,
+                       double interval, int kind, td_ctx *cx)
+{
+    td_grid_f32 *src = dem_sheet(hs, dem, scale, 0, 0);
+    int rc;
+    if (!src)
+        return td_seterr(cx, TD_EINVAL, "%s did not load", dem);
+    hs->gp.interval = interval;
+    td_hsheet_defects(&hs->gp, kind);
+    hs->read_labels = hs->no_interval = 1;
+    rc = td_hsheet_run(hs, NULL, cx);
+    td_grid_f32_free(src);
+    return rc;
+}
+
 static void test_crowded_misreads_refused(void)
 {
     td_hsheet hs;
-    td_grid_f32 *src = dem_sheet(&hs, "frontrange_srtm3.tif", 10, 0, 0);
     td_ctx cx;
     int rc;
     td_ctx_init(&cx);
-    if (!src)
-        return;
-    hs.gp.interval = 20;
-    td_hsheet_defects(&hs.gp, 4);
-    hs.read_labels = hs.no_interval = 1;
-    rc = td_hsheet_run(&hs, NULL, &cx);
+    rc = labels_only(&hs, "frontrange_srtm3.tif", 10, 20, 4, &cx);
     TT_CHECKF((rc != 0 && strstr(td_errmsg(&cx), "--interval")) ||
                   (rc == 0 && hs.interval == 20 && hs.score.accuracy >= 0.9),
               "crowded new print, labels only: rc %d (%s), interval %g, "
               "accuracy %.3f",
               rc, rc ? td_errmsg(&cx) : "", hs.interval, hs.score.accuracy);
     td_label_report_free(&hs.rep);
-    td_grid_f32_free(src);
 }
 
 /* Elkhorn at interval 20 (scale 6), scanned, no hint: the relief holds
@@ -768,23 +766,16 @@ static void test_crowded_misreads_refused(void)
 static void test_one_label_value_refused(void)
 {
     td_hsheet hs;
-    td_grid_f32 *src = dem_sheet(&hs, "elkhorn_srtm3.tif", 6, 0, 0);
     td_ctx cx;
     int rc;
     td_ctx_init(&cx);
-    if (!src)
-        return;
-    hs.gp.interval = 20;
-    td_hsheet_defects(&hs.gp, 1);
-    hs.read_labels = hs.no_interval = 1;
-    rc = td_hsheet_run(&hs, NULL, &cx);
+    rc = labels_only(&hs, "elkhorn_srtm3.tif", 6, 20, 1, &cx);
     TT_CHECKF(rc != 0 && strstr(td_errmsg(&cx), "all say 200") &&
                   strstr(td_errmsg(&cx), "--interval"),
               "Elkhorn interval 20, labels only: rc %d (%s), interval %g, "
               "accuracy %.3f",
               rc, rc ? td_errmsg(&cx) : "", hs.interval, hs.score.accuracy);
     td_label_report_free(&hs.rep);
-    td_grid_f32_free(src);
 }
 
 /* Straight labels printed on curves: the generator's hills, scanned and

@@ -299,18 +299,13 @@ static void test_new_print_roads(void)
 static void test_tint_straddling_split(void)
 {
     td_gen_params gp;
-    td_grid_f32 *src;
+    td_grid_f32 *src = elkhorn_print(&gp, 3);
     td_palette pal;
     td_scanscore sc;
-    td_ctx cx;
     int i, tint = 0;
-    td_ctx_init(&cx);
-    src = td_hsheet_dem_sheet("elkhorn_srtm3.tif", 6, &gp, &cx);
-    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
     if (!src)
         return;
     gp.interval = 20;
-    td_hsheet_defects(&gp, 3);
     scan_scored(&gp, &pal, &sc);
     check_brown(&pal);
     for (i = 0; i < pal.n; i++)
