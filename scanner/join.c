@@ -38,6 +38,8 @@
 #define JUNC_SELF_TURN 135.0 /* a line's two ends closing it at a junction */
 #define JUNC_MAX 8      /* ends in one junction zone searched exhaustively */
 #define JUNC_NEAR 3.0 /* px: two junction ends this near meet at one junction */
+#define NET_LONG                                                               \
+    3.0 /* min_lengths: junction pieces this long together are a contour's */
 
 typedef struct jend {
     double x, y, tx, ty;
@@ -278,14 +280,15 @@ static double pair_cost(const td_lines *ls, const jend *a, const jend *b,
         /* a small ring cut open where it touches a line: its two ends
            both head into the contact */
         int self = a->line == b->line;
-        if (turn > (self ? JUNC_SELF_TURN : JUNC_TURN) || (!self && d > 3.0 && (!faces(a->tx, a->ty, gx, gy,
-                                                    angle_to(a->tx, a->ty,
-                                                             gx, gy),
-                                                    p->max_angle) ||
-                                             !faces(b->tx, b->ty, -gx, -gy,
-                                                    angle_to(b->tx, b->ty,
-                                                             -gx, -gy),
-                                                    p->max_angle))))
+        /* two ends next to one junction pixel: a hairpin, kept to zones
+           of two ends (junction_zones) */
+        int hair = d <= JUNC_NEAR;
+        if (turn > (self || hair ? JUNC_SELF_TURN : JUNC_TURN) ||
+            (!self && d > 3.0 &&
+             (!faces(a->tx, a->ty, gx, gy, angle_to(a->tx, a->ty, gx, gy),
+                     p->max_angle) ||
+              !faces(b->tx, b->ty, -gx, -gy, angle_to(b->tx, b->ty, -gx, -gy),
+                     p->max_angle))))
             return -1.0;
         if (stage == 2)
             return -1.0; /* stage 1 pairs junction ends */
@@ -1051,7 +1054,12 @@ static int keep_cross(td_join_stats *st, const double *pts, size_t np,
  *
  *      a \   / b        a-d and b-c would cross (an X): never;
  *         ) (           a-b and c-d turn back (U): only when nothing
- *      c /   \ d        better; a-c and b-d: the two contours touching. */
+ *      c /   \ d        better; a-c and b-d: the two contours touching.
+ *
+ * Two ends of a zone of two, next to one junction pixel (a contour's
+ * hairpin whose apex touched a speck the fragments stage removed), are
+ * joined however sharply the line turns there (up to JUNC_SELF_TURN); in
+ * a larger zone, a pair turning more than JUNC_TURN is no candidate. */
 
 static int segs_cross(const jend *a, const jend *b, const jend *c,
                       const jend *d)
@@ -1182,6 +1190,13 @@ static int junction_zones(const jend *e, size_t ne, const td_join_params *p,
                 for (b = 0; b < z.n; b++)
                     if (pairs[j].a == ends[a] && pairs[j].b == ends[b])
                         cost[a * z.n + b] = cost[b * z.n + a] = pairs[j].cost;
+        for (a = 0; z.n > 2 && a < z.n; a++) /* hairpins: two ends alone */
+            for (b = 0; b < z.n; b++) {
+                const jend *ea = &e[ends[a]], *eb = &e[ends[b]];
+                if (ea->line != eb->line &&
+                    angle_to(ea->tx, ea->ty, -eb->tx, -eb->ty) > JUNC_TURN)
+                    cost[a * z.n + b] = -1.0;
+            }
         z.e = e, z.ends = ends, z.cost = cost, z.best = HUGE_VAL;
         for (a = 0; a < JUNC_MAX; a++)
             z.mate[a] = -2, z.best_mate[a] = -1;
@@ -1427,7 +1442,11 @@ static int cmp_xkey(const void *a, const void *b)
  * a contour network (a narrow finger of a contour pinched where its sides
  * touch: the pieces between the pinch and the junctions), not a label's
  * glyphs, which stand apart from the contours in their gap: each of their
- * junction ends counts as continuing.  (Ours: bench_scanreal, Elkhorn.) */
+ * junction ends counts as continuing.  (Ours: bench_scanreal, Elkhorn.)
+ * So are they when the candidates of their network, with both ends at
+ * junctions, are NET_LONG * min_length long together: a small ring that
+ * touches itself (SRTM's square artefacts), cut at every contact since the
+ * tracer stops at each junction, more ink than one digit's strokes. */
 static int junction_attached(const td_lines *ls, const jend *e, size_t ne,
                              const uint8_t *cand, double min_length,
                              uint8_t *cont, td_ctx *cx)
@@ -1435,8 +1454,9 @@ static int junction_attached(const td_lines *ls, const jend *e, size_t ne,
     size_t *uf = td_malloc((ls->n + 1) * sizeof *uf, cx), i, j, n = 0;
     xkey *k = td_malloc((ne + 1) * sizeof *k, cx);
     uint8_t *lng = td_calloc(ls->n + 1, 1, cx);
-    if (!uf || !k || !lng) {
-        free(uf), free(k), free(lng);
+    double *net = td_calloc(ls->n + 1, sizeof *net, cx);
+    if (!uf || !k || !lng || !net) {
+        free(uf), free(k), free(lng), free(net);
         return TD_ENOMEM;
     }
     for (i = 0; i < ls->n; i++)
@@ -1453,13 +1473,19 @@ static int junction_attached(const td_lines *ls, const jend *e, size_t ne,
     for (i = 0; i < n; i++)
         if (!cand[e[k[i].i].line])
             lng[zfind(uf, e[k[i].i].line)] = 1;
+    for (i = 0; i < ls->n; i++)
+        if (cand[i] && ls->v[i].junc == 3)
+            net[zfind(uf, i)] += td_line_length(&ls->v[i]);
+    for (i = 0; i < ls->n; i++)
+        if (net[i] >= NET_LONG * min_length)
+            lng[i] = 1;
     for (i = 0; i < n; i++) {
         size_t li = e[k[i].i].line;
         if (cand[li] && ls->v[li].junc == 3 &&
             td_line_length(&ls->v[li]) >= min_length && lng[zfind(uf, li)])
             cont[k[i].i] = 1;
     }
-    free(uf), free(k), free(lng);
+    free(uf), free(k), free(lng), free(net);
     return 0;
 }
 

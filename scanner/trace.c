@@ -33,7 +33,8 @@
  *    ours (cut 1, the default): junction pixels are left out, every branch
  *    ends next to the junction (no 5x5 bridge from there: it is no break)
  *    and td_join pairs the branches by direction, so a line does not turn
- *    onto a touching contour;
+ *    onto a touching contour; nor does a diagonal step round the corner of
+ *    a junction pixel carry it from one branch onto the next (corner_cut);
  *  - open lines ending within edge_dist px of the border are extended to it
  *    (along their direction) and flagged edge;
  *  - a line fitting in a 3x3 window off the border is a ring smaller than
@@ -67,6 +68,26 @@ static int unvisited(const td_grid_u8 *g, int x, int y)
     return x >= 0 && y >= 0 && x < g->w && y < g->h && TD_AT(g, x, y) == 1;
 }
 
+/* Does the diagonal step k from (x,y) cut the corner of a junction pixel
+ * (cut) onto another of its branches?  The step's two corner pixels are
+ * both 4-neighbours of (x,y) and of the pixel stepped to: when one is a
+ * junction and the other is paper, the two pixels sit on two branches of
+ * that junction (its crossing number counts them apart), and the step
+ * would pass the junction by:
+ *
+ *      . J .        J: junction, traced by no line; a and b are on two
+ *      a . .        of its branches; the step a -> b would carry the line
+ *      . b .        from one branch onto the next without a cut there. */
+static int corner_cut(const td_grid_u8 *g, int x, int y, int k)
+{
+    int c1, c2;
+    if (!(k & 1))
+        return 0;
+    c1 = TD_AT(g, x + TD_DX[k], y);
+    c2 = TD_AT(g, x, y + TD_DY[k]);
+    return ((c1 & JUNCTION) && c2 == 0) || ((c2 & JUNCTION) && c1 == 0);
+}
+
 /* The next pixel from (x,y): 3x3 first, then (if bridge) the 5x5 ring.
  * Returns 0 none, 1 found in 3x3, 2 found in the 5x5 ring. */
 static int search_next(const td_grid_u8 *g, int x, int y, int bridge, int *nx,
@@ -78,7 +99,7 @@ static int search_next(const td_grid_u8 *g, int x, int y, int bridge, int *nx,
         const ptrdiff_t s = (ptrdiff_t)g->stride;
         const ptrdiff_t off[8] = {1, 1 - s, -s, -1 - s, -1, s - 1, s, s + 1};
         for (k = 0; k < 8; k++)
-            if (p[off[k]] == 1) {
+            if (p[off[k]] == 1 && !corner_cut(g, x, y, k)) {
                 *nx = x + TD_DX[k];
                 *ny = y + TD_DY[k];
                 return 1;
@@ -88,7 +109,8 @@ static int search_next(const td_grid_u8 *g, int x, int y, int bridge, int *nx,
         goto ring;
     }
     for (k = 0; k < 8; k++)
-        if (unvisited(g, x + TD_DX[k], y + TD_DY[k])) {
+        if (unvisited(g, x + TD_DX[k], y + TD_DY[k]) &&
+            !corner_cut(g, x, y, k)) {
             *nx = x + TD_DX[k];
             *ny = y + TD_DY[k];
             return 1;

@@ -321,7 +321,8 @@ static void test_ticks_real_dem(void)
  * the share of traced length on its own contour 0.942 and 9.4 % of the
  * lines jumping (more than 20 px on another level) without the cut,
  * 0.999 and 0.1 % with it; recall 0.984 and 0.927 (the blobs are no
- * longer traced). */
+ * longer traced).  Since the tracer stops at every junction (no step
+ * round a junction's corner, trace.c), 0.983 and 2.6 % without the cut. */
 static void test_crowded_blobs_cut(void)
 {
     td_gen_params gp;
@@ -358,8 +359,8 @@ static void test_crowded_blobs_cut(void)
         }
         td_scan_result_free(&res);
     }
-    TT_CHECKF(cuts > 20 && own[0] < 0.97 && own[1] >= 0.99 &&
-                  jumps[1] <= 0.01 && jumps[0] >= 0.05,
+    TT_CHECKF(cuts > 20 && own[0] < 0.99 && own[1] >= 0.99 &&
+                  jumps[1] <= 0.01 && jumps[0] >= 0.02,
               "own %.3f -> %.3f, jumps %.3f -> %.3f, %zu lines cut", own[0],
               own[1], jumps[0], jumps[1], cuts);
     td_image_free(im);

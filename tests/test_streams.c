@@ -16,8 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define VEES_ACC 0.90  /* test_vees_heights: measured 0.950 */
-#define VEES_GAIN 0.10 /* measured +0.182 */
+#define VEES_ACC 0.90  /* test_vees_heights: measured 0.979 */
+#define VEES_GAIN 0.10 /* measured +0.146 */
 #define PAIRS_ACC 0.88 /* test_gap_pairs: measured 0.915 */
 #define PAIRS_GAIN 0.06 /* measured +0.099 */
 
@@ -128,14 +128,15 @@ static void test_no_vee_on_straight(void)
 }
 
 /* The labeller with the Vs and the joins across the water, against
- * neither: the Front Range map printed (faded) with its streams, three
- * known points and the index widths: 0.768 without either, 0.950 with
- * both (2026-12-04, session 12).  This test used the crowded Front Range
- * map (interval 20) printed new: 0.157 / 0.291 measured first, but since
- * its index contours are told by ink weight (width.h) 0.167 / 0.121 (and
- * 0.516 with the joins but not the Vs: right evidence moves that sheet
- * both ways, the forest's fragility, docs/label.md); over all the
- * streams sheets the Vs and joins gain 17 rows and lose 4. */
+ * neither: the crowded Front Range map (interval 20) in colour with its
+ * streams, three known points and the index widths: 0.833 without
+ * either, 0.979 with both (7 Vs read; 2026-12-04, session 16).  This test used
+ * the Front Range map at its own interval printed (0.768 / 0.950, session 12)
+ * until the tracer stopped stepping round junctions (scanner.md, "Corners of
+ * junctions"): that sheet no longer needs them (0.965 / 0.953).  Right evidence
+ * moves the heights both ways (the forest's fragility, docs/label.md); over all
+ * the streams sheets the Vs and joins gain 18 rows and lose 8 (bench_heights
+ * --streams). */
 static void test_vees_heights(void)
 {
     td_hsheet hs[2];
@@ -149,7 +150,8 @@ static void test_vees_heights(void)
         TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
         if (!src)
             return;
-        td_hsheet_defects(&hs[k].gp, 3);
+        hs[k].gp.interval = 20;
+        td_hsheet_defects(&hs[k].gp, 2);
         hs[k].gp.streams = 1;
         hs[k].nknown = 3;
         hs[k].index_every = 5;
@@ -157,12 +159,13 @@ static void test_vees_heights(void)
         TT_CHECKF(td_hsheet_run(&hs[k], NULL, &cx) == 0, "%s", td_errmsg(&cx));
         td_grid_f32_free(src);
     }
-    TT_CHECKF(hs[0].rep.vees >= 20 && hs[1].rep.vees == 0 &&
-                  hs[0].score.accuracy >= VEES_ACC &&
-                  hs[0].score.accuracy >= hs[1].score.accuracy + VEES_GAIN,
-              "Front Range printed with streams, 3 known + widths: %zu Vs, "
-              "accuracy %.3f, without the Vs and joins %.3f",
-              hs[0].rep.vees, hs[0].score.accuracy, hs[1].score.accuracy);
+    TT_CHECKF(
+        hs[0].rep.vees >= 5 && hs[1].rep.vees == 0 &&
+            hs[0].score.accuracy >= VEES_ACC &&
+            hs[0].score.accuracy >= hs[1].score.accuracy + VEES_GAIN,
+        "crowded Front Range colour with streams, 3 known + widths: %zu Vs, "
+        "accuracy %.3f, without the Vs and joins %.3f",
+        hs[0].rep.vees, hs[0].score.accuracy, hs[1].score.accuracy);
     td_label_report_free(&hs[0].rep);
     td_label_report_free(&hs[1].rep);
 }

@@ -324,6 +324,171 @@ static void test_merge_left_open(void)
     }
 }
 
+/* Two contours that kiss (traced from a real sheet drawn from the Front
+ * Range DEM at interval 25): the skeleton is two T junctions joined by a
+ * 2-px rung, and the pixels next to a junction touch diagonally, so a
+ * tracer stepping to any unvisited neighbour passed the junction by and
+ * ran from one contour down the rung onto the other.  No traced line may
+ * hold both the upper contour's left end (y 28) and the lower one's right
+ * end (y 23), or the lower's left (y 31) and the upper's right (y 20). */
+static void test_kiss_corner(void)
+{
+    static const int px[][2] = {/* upper: W branch to J1 (25,24), on NE */
+                                {16, 28},
+                                {17, 27},
+                                {18, 27},
+                                {19, 26},
+                                {20, 26},
+                                {21, 26},
+                                {22, 25},
+                                {23, 25},
+                                {24, 24},
+                                {25, 24},
+                                {26, 23},
+                                {27, 22},
+                                {28, 22},
+                                {29, 21},
+                                {30, 21},
+                                {31, 20},
+                                {32, 20},
+                                {33, 20},
+                                /* the rung down to J2 (26,27) */
+                                {25, 25},
+                                {26, 26},
+                                {26, 27},
+                                /* lower: SW branch to J2, on E */
+                                {18, 31},
+                                {19, 31},
+                                {20, 31},
+                                {21, 30},
+                                {22, 30},
+                                {23, 29},
+                                {24, 29},
+                                {25, 28},
+                                {27, 27},
+                                {28, 26},
+                                {29, 26},
+                                {30, 25},
+                                {31, 25},
+                                {32, 24},
+                                {33, 24},
+                                {34, 24},
+                                {35, 23}};
+    td_grid_u8 *g = td_grid_u8_new(80, 40, NULL);
+    td_trace_params p = td_trace_defaults();
+    td_join_params jp = td_join_defaults(80, 40);
+    td_lines *ls = NULL;
+    size_t i, k, wrong = 0;
+    int x;
+    for (i = 0; i < sizeof px / sizeof px[0]; i++)
+        TD_AT(g, px[i][0], px[i][1]) = 1;
+    for (x = 1; x < 16; x++)
+        TD_AT(g, x, 28) = 1;
+    for (x = 1; x < 18; x++)
+        TD_AT(g, x, 31) = 1;
+    for (x = 34; x < 79; x++)
+        TD_AT(g, x, 20) = 1;
+    for (x = 36; x < 79; x++)
+        TD_AT(g, x, 23) = 1;
+    p.edge_dist = 0;
+    TT_CHECK(td_trace(g, &p, &ls, NULL, NULL) == 0);
+    TT_CHECK(ls && td_join(&ls, &jp, NULL, NULL) == 0);
+    for (i = 0; ls && i < ls->n; i++) {
+        int ul = 0, ur = 0, ll = 0, lr = 0;
+        for (k = 0; k < ls->v[i].n; k++) {
+            double u = ls->v[i].xy[2 * k], v = ls->v[i].xy[2 * k + 1];
+            ul |= u < 10 && fabs(v - 28.5) < 1;
+            ll |= u < 10 && fabs(v - 31.5) < 1;
+            ur |= u > 70 && fabs(v - 20.5) < 1;
+            lr |= u > 70 && fabs(v - 23.5) < 1;
+        }
+        wrong += (ul && lr) || (ll && ur);
+    }
+    TT_CHECKF(ls && wrong == 0, "%zu lines, %zu change contour", ls ? ls->n : 0,
+              wrong);
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+}
+
+/* A small ring that touches itself (the skeleton of one of the square
+ * artefacts of the Elkhorn SRTM DEM, 26 x 22 px: two lobes sharing a
+ * wall).  The tracer stops at both contacts, so it comes out as three
+ * short pieces, each of them small enough for a digit; together they are
+ * more ink than a digit's strokes, and the joiner keeps them
+ * (NET_LONG): at least 70 px of line survive. */
+static void test_self_touching_ring(void)
+{
+    static const char *rows[] = {
+        "..........##..............", ".........#..#.............",
+        "........#....#............", "........#....#............",
+        ".......#.....#............", ".....##.....##.....##.....",
+        "....#......#..#####..#....", "...#......#...........#...",
+        "...#......#............#..", "...#......#...........#...",
+        "....#.....#...........#...", "....#......#..........#...",
+        "....#......####.......#...", "....#.....#....#......#...",
+        "....#.....#....#......#...", "....#.....#....#......#...",
+        "....#.....#....#......#...", "....#.....#.....#....#....",
+        "....#....#.......####.....", "....#....#................",
+        ".....#..#.................", "......##.................."};
+    td_grid_u8 *g = td_grid_u8_new(50, 45, NULL);
+    td_trace_params p = td_trace_defaults();
+    td_join_params jp = td_join_defaults(50, 45);
+    td_lines *ls = NULL;
+    double len = 0;
+    size_t i, x, y;
+    for (y = 0; y < sizeof rows / sizeof rows[0]; y++)
+        for (x = 0; rows[y][x]; x++)
+            TD_AT(g, x + 10, y + 10) = rows[y][x] == '#';
+    TT_CHECK(td_trace(g, &p, &ls, NULL, NULL) == 0);
+    TT_CHECK(ls && td_join(&ls, &jp, NULL, NULL) == 0);
+    for (i = 0; ls && i < ls->n; i++)
+        len += td_line_length(&ls->v[i]);
+    TT_CHECKF(len >= 70.0, "%zu lines, %.1f px", ls ? ls->n : 0, len);
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+}
+
+/* A contour's hairpin whose apex touches a speck of ink (Elkhorn at
+ * interval 20, scanned, at 2066,1732): the apex is a junction, the speck
+ * a fragment the joiner removes, and the hairpin's two arms end next to
+ * the junction pixel, turning back 120 degrees.  Two ends alone at one
+ * junction were one line through it: the joiner joins them (a hairpin)
+ * instead of leaving two open ends, which let the faces on either side
+ * run into one. */
+static void test_hairpin_at_junction(void)
+{
+    static const int speck[][2] = {{41, 20}, {42, 20}, {43, 19},
+                                   {44, 18}, {45, 17}, {45, 16},
+                                   {44, 15}, {43, 14}, {42, 14}};
+    td_grid_u8 *g = td_grid_u8_new(60, 41, NULL);
+    td_trace_params p = td_trace_defaults();
+    td_join_params jp = td_join_defaults(60, 41);
+    td_lines *ls = NULL;
+    size_t i, k, through = 0;
+    int t;
+    for (t = 0; t <= 35; t++) { /* the arms, apex (40,20) */
+        TD_AT(g, 40 - t, 20 - (int)lround(t * 20.0 / 35.0)) = 1;
+        TD_AT(g, 40 - t, 20 + (int)lround(t * 20.0 / 35.0)) = 1;
+    }
+    for (t = 0; t < 9; t++) /* the speck, a hook touching the apex */
+        TD_AT(g, speck[t][0], speck[t][1]) = 1;
+    p.edge_dist = 0;
+    TT_CHECK(td_trace(g, &p, &ls, NULL, NULL) == 0);
+    TT_CHECK(ls && td_join(&ls, &jp, NULL, NULL) == 0);
+    for (i = 0; ls && i < ls->n; i++) {
+        int top = 0, bottom = 0;
+        for (k = 0; k < ls->v[i].n; k++) {
+            top |= ls->v[i].xy[2 * k + 1] < 3;
+            bottom |= ls->v[i].xy[2 * k + 1] > 38;
+        }
+        through += top && bottom;
+    }
+    TT_CHECKF(ls && through == 1, "%zu lines, %zu through the apex",
+              ls ? ls->n : 0, through);
+    td_lines_free(ls);
+    td_grid_u8_free(g);
+}
+
 /* scanner/widecut.c on a hand-made mask: a blob of ink 12 px high from
  * x = 40 to 80 with two lines through it (y = 30 and 36) and a small
  * closed ring (radius 4) in it; lines 2 px wide elsewhere.  Both long
@@ -537,6 +702,9 @@ int main(void)
     TT_RUN(test_small_ring_touching);
     TT_RUN(test_merge_left_open);
     TT_RUN(test_bridge_ahead);
+    TT_RUN(test_kiss_corner);
+    TT_RUN(test_self_touching_ring);
+    TT_RUN(test_hairpin_at_junction);
     TT_RUN(test_wide_cut);
     TT_RUN(test_wide_own);
     TT_RUN(test_walls_restore);
