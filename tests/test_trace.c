@@ -324,6 +324,22 @@ static void test_merge_left_open(void)
     }
 }
 
+/* The default tracer (junctions cut, no border extension) and joiner on
+ * g; NULL when either fails. */
+static td_lines *cut_join(td_grid_u8 *g)
+{
+    td_trace_params p = td_trace_defaults();
+    td_join_params jp = td_join_defaults(g->w, g->h);
+    td_lines *ls = NULL;
+    p.edge_dist = 0;
+    if (td_trace(g, &p, &ls, NULL, NULL) != 0 ||
+        td_join(&ls, &jp, NULL, NULL) != 0) {
+        td_lines_free(ls);
+        return NULL;
+    }
+    return ls;
+}
+
 /* Two contours that kiss (traced from a real sheet drawn from the Front
  * Range DEM at interval 25): the skeleton is two T junctions joined by a
  * 2-px rung, and the pixels next to a junction touch diagonally, so a
@@ -333,55 +349,21 @@ static void test_merge_left_open(void)
  * end (y 23), or the lower's left (y 31) and the upper's right (y 20). */
 static void test_kiss_corner(void)
 {
-    static const int px[][2] = {/* upper: W branch to J1 (25,24), on NE */
-                                {16, 28},
-                                {17, 27},
-                                {18, 27},
-                                {19, 26},
-                                {20, 26},
-                                {21, 26},
-                                {22, 25},
-                                {23, 25},
-                                {24, 24},
-                                {25, 24},
-                                {26, 23},
-                                {27, 22},
-                                {28, 22},
-                                {29, 21},
-                                {30, 21},
-                                {31, 20},
-                                {32, 20},
-                                {33, 20},
-                                /* the rung down to J2 (26,27) */
-                                {25, 25},
-                                {26, 26},
-                                {26, 27},
-                                /* lower: SW branch to J2, on E */
-                                {18, 31},
-                                {19, 31},
-                                {20, 31},
-                                {21, 30},
-                                {22, 30},
-                                {23, 29},
-                                {24, 29},
-                                {25, 28},
-                                {27, 27},
-                                {28, 26},
-                                {29, 26},
-                                {30, 25},
-                                {31, 25},
-                                {32, 24},
-                                {33, 24},
-                                {34, 24},
-                                {35, 23}};
+    /* x 16-35, y 20-31: the upper contour from (16,28) up to J1 (25,24)
+       and on north-east; the rung (25,25)-(26,26) down to J2 (26,27);
+       the lower contour from (18,31) up to J2 and on east */
+    static const char *rows[] = {
+        "...............###..", ".............##.....", "...........##.......",
+        "..........#........#", "........##......###.", "......##.#....##....",
+        "...###....#.##......", ".##.......##........", "#........#..........",
+        ".......##...........", ".....##.............", "..###..............."};
     td_grid_u8 *g = td_grid_u8_new(80, 40, NULL);
-    td_trace_params p = td_trace_defaults();
-    td_join_params jp = td_join_defaults(80, 40);
-    td_lines *ls = NULL;
+    td_lines *ls;
     size_t i, k, wrong = 0;
     int x;
-    for (i = 0; i < sizeof px / sizeof px[0]; i++)
-        TD_AT(g, px[i][0], px[i][1]) = 1;
+    for (i = 0; i < sizeof rows / sizeof rows[0]; i++)
+        for (k = 0; rows[i][k]; k++)
+            TD_AT(g, k + 16, i + 20) = rows[i][k] == '#';
     for (x = 1; x < 16; x++)
         TD_AT(g, x, 28) = 1;
     for (x = 1; x < 18; x++)
@@ -390,9 +372,8 @@ static void test_kiss_corner(void)
         TD_AT(g, x, 20) = 1;
     for (x = 36; x < 79; x++)
         TD_AT(g, x, 23) = 1;
-    p.edge_dist = 0;
-    TT_CHECK(td_trace(g, &p, &ls, NULL, NULL) == 0);
-    TT_CHECK(ls && td_join(&ls, &jp, NULL, NULL) == 0);
+    ls = cut_join(g);
+    TT_CHECK(ls != NULL);
     for (i = 0; ls && i < ls->n; i++) {
         int ul = 0, ur = 0, ll = 0, lr = 0;
         for (k = 0; k < ls->v[i].n; k++) {
@@ -431,16 +412,14 @@ static void test_self_touching_ring(void)
         "....#....#.......####.....", "....#....#................",
         ".....#..#.................", "......##.................."};
     td_grid_u8 *g = td_grid_u8_new(50, 45, NULL);
-    td_trace_params p = td_trace_defaults();
-    td_join_params jp = td_join_defaults(50, 45);
-    td_lines *ls = NULL;
+    td_lines *ls;
     double len = 0;
     size_t i, x, y;
     for (y = 0; y < sizeof rows / sizeof rows[0]; y++)
         for (x = 0; rows[y][x]; x++)
             TD_AT(g, x + 10, y + 10) = rows[y][x] == '#';
-    TT_CHECK(td_trace(g, &p, &ls, NULL, NULL) == 0);
-    TT_CHECK(ls && td_join(&ls, &jp, NULL, NULL) == 0);
+    ls = cut_join(g);
+    TT_CHECK(ls != NULL);
     for (i = 0; ls && i < ls->n; i++)
         len += td_line_length(&ls->v[i]);
     TT_CHECKF(len >= 70.0, "%zu lines, %.1f px", ls ? ls->n : 0, len);
@@ -461,9 +440,7 @@ static void test_hairpin_at_junction(void)
                                    {44, 18}, {45, 17}, {45, 16},
                                    {44, 15}, {43, 14}, {42, 14}};
     td_grid_u8 *g = td_grid_u8_new(60, 41, NULL);
-    td_trace_params p = td_trace_defaults();
-    td_join_params jp = td_join_defaults(60, 41);
-    td_lines *ls = NULL;
+    td_lines *ls;
     size_t i, k, through = 0;
     int t;
     for (t = 0; t <= 35; t++) { /* the arms, apex (40,20) */
@@ -472,9 +449,8 @@ static void test_hairpin_at_junction(void)
     }
     for (t = 0; t < 9; t++) /* the speck, a hook touching the apex */
         TD_AT(g, speck[t][0], speck[t][1]) = 1;
-    p.edge_dist = 0;
-    TT_CHECK(td_trace(g, &p, &ls, NULL, NULL) == 0);
-    TT_CHECK(ls && td_join(&ls, &jp, NULL, NULL) == 0);
+    ls = cut_join(g);
+    TT_CHECK(ls != NULL);
     for (i = 0; ls && i < ls->n; i++) {
         int top = 0, bottom = 0;
         for (k = 0; k < ls->v[i].n; k++) {
