@@ -284,7 +284,7 @@ static double pair_cost(const td_lines *ls, const jend *a, const jend *b,
            of two ends (junction_zones) */
         int hair = d <= JUNC_NEAR;
         if (turn > (self || hair ? JUNC_SELF_TURN : JUNC_TURN) ||
-            (!self && d > 3.0 &&
+            (!self && d > JUNC_NEAR &&
              (!faces(a->tx, a->ty, gx, gy, angle_to(a->tx, a->ty, gx, gy),
                      p->max_angle) ||
               !faces(b->tx, b->ty, -gx, -gy, angle_to(b->tx, b->ty, -gx, -gy),
