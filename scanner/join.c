@@ -74,6 +74,7 @@ td_join_params td_join_defaults(int w, int h)
     p.long_gap = 70.0;
     p.long_tangent = 20.0;
     p.cross_gap = 16.0;
+    p.water_turns = 1;
     p.curves = 1;
     p.record = 0;
     p.w = w;
@@ -1223,6 +1224,35 @@ static int junction_zones(const jend *e, size_t ne, const td_join_params *p,
     return 0;
 }
 
+/* Where lines were cut at the water (cut_water_turns, below) in
+ * st->water_at. */
+static int keep_water_cut(td_join_stats *st, double x, double y, td_ctx *cx)
+{
+    size_t n = st->water_turns;
+    double *v = realloc(st->water_at, 2 * (n + 1) * sizeof *v);
+    if (!v)
+        return td_seterr(cx, TD_ENOMEM, "join: out of memory");
+    st->water_at = v;
+    v[2 * n] = x, v[2 * n + 1] = y;
+    st->water_turns++;
+    return 0;
+}
+
+/* Whether a and b are the two ends of a cut at the water: stages 1 and 2
+ * must not join them again. */
+#define WATER_CUT_NEAR 8.0
+static int water_cut_pair(const td_join_stats *st, const jend *a, const jend *b)
+{
+    size_t j;
+    for (j = 0; j < st->water_turns; j++) {
+        double x = st->water_at[2 * j], y = st->water_at[2 * j + 1];
+        if (hypot(a->x - x, a->y - y) <= WATER_CUT_NEAR &&
+            hypot(b->x - x, b->y - y) <= WATER_CUT_NEAR)
+            return 1;
+    }
+    return 0;
+}
+
 static int accept_pairs(const td_lines *ls, const td_join_params *p,
                         int stage, jend *e, jpair *pairs, size_t np,
                         double **acc, size_t *nacc, td_lines *paths,
@@ -1240,7 +1270,8 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
         jend *a = &e[pairs[i].a], *b = &e[pairs[i].b];
         double pts[2 * ARC_MAXPTS];
         size_t n;
-        if (a->partner >= 0 || b->partner >= 0)
+        if (a->partner >= 0 || b->partner >= 0 ||
+            (stage < 3 && water_cut_pair(st, a, b)))
             continue;
         if (stage == 2) {
             n = join_path(a, b, pts);
@@ -1684,6 +1715,189 @@ void td_join_stats_free(td_join_stats *st)
     st->text = NULL;
     free(st->cross_at);
     st->cross_at = NULL;
+    free(st->water_at);
+    st->water_at = NULL;
+}
+
+/* ---- before stage 0: lines turned back at the water ----------------
+ *
+ *      |   |          Where a stream crosses two neighbouring contours,
+ *      |   |          the colour fringe of its bank can leave a few ink
+ *      \___/          pixels that link the two cut ends on one bank: the
+ *   ~~~~~~~~~~~~~     skeleton runs down one contour and back up the next
+ *                     (a line carrying two heights).  A contour meets a
+ * stream only to cross it, so a line that turns back by more than
+ * WATER_TURN within WATER_ARM px either side of a vertex next to the
+ * water, with the water not between its two arms (a V crossing the
+ * stream has the stream between its arms), is cut at its sharpest such
+ * vertex; stage 3 then joins each end across the water (ours). */
+#define WATER_ARM 8.0   /* px of line either side of the turn */
+#define WATER_TURN -0.5 /* cos of the turn: more than 120 degrees */
+#define WATER_NEAR 4    /* px: the turn's vertex this near the water */
+
+/* The vertex at arc length t along l (cum: arc length at each vertex,
+ * closed lines wrapping), or -1 past an open line's end. */
+static long vertex_at(const td_line *l, const double *cum, double t)
+{
+    double tot = cum[l->n];
+    size_t lo = 0, hi = l->n;
+    if (l->closed)
+        t = fmod(fmod(t, tot) + tot, tot);
+    else if (t < 0 || t > cum[l->n - 1])
+        return -1;
+    while (lo + 1 < hi) {
+        size_t mid = (lo + hi) / 2;
+        if (cum[mid] <= t)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return (long)lo;
+}
+
+/* Whether the chord from (ax, ay) to (bx, by) passes over the water. */
+static int chord_wet(const td_join_params *p, double ax, double ay, double bx,
+                     double by)
+{
+    int m = (int)ceil(hypot(bx - ax, by - ay)), j;
+    for (j = 1; j < m; j++) {
+        double t = (double)j / m;
+        if (water_at(p, ax + t * (bx - ax), ay + t * (by - ay)))
+            return 1;
+    }
+    return 0;
+}
+
+/* The cosine of l's turn at vertex k over WATER_ARM px either side (2
+ * when the arms do not fit or the water lies between them). */
+static double water_turn(const td_join_params *p, const td_line *l,
+                         const double *cum, size_t k)
+{
+    long a = vertex_at(l, cum, cum[k] - WATER_ARM),
+         b = vertex_at(l, cum, cum[k] + WATER_ARM);
+    double x = l->xy[2 * k], y = l->xy[2 * k + 1], ux, uy, vx, vy, uu, vv;
+    if (a < 0 || b < 0 || (size_t)a == k || (size_t)b == k)
+        return 2.0;
+    ux = x - l->xy[2 * a], uy = y - l->xy[2 * a + 1];
+    vx = l->xy[2 * b] - x, vy = l->xy[2 * b + 1] - y;
+    uu = hypot(ux, uy), vv = hypot(vx, vy);
+    if (uu <= 0 || vv <= 0 ||
+        chord_wet(p, l->xy[2 * a], l->xy[2 * a + 1], l->xy[2 * b],
+                  l->xy[2 * b + 1]))
+        return 2.0;
+    return (ux * vx + uy * vy) / (uu * vv);
+}
+
+/* Line l cut at the vertices flagged in f (each dropped), the pieces of 2
+ * vertices or more appended to out. */
+static int cut_at(const td_join_params *p, const td_line *l,
+                  const unsigned char *f, long *next_id, td_lines *out,
+                  td_ctx *cx)
+{
+    size_t n = l->n, start = 0, s, e, k;
+    int first = 1;
+    if (l->closed) /* start just after a cut */
+        for (k = 0; k < n; k++)
+            if (f[k]) {
+                start = (k + 1) % n;
+                break;
+            }
+    for (s = 0; s < n; s = e + 1) {
+        for (e = s; e < n && !f[(start + e) % n]; e++)
+            ;
+        if (e - s >= 2) {
+            td_line *c = td_lines_add(out, cx);
+            if (!c)
+                return TD_ENOMEM;
+            {
+                td_line keep = *c;
+                *c = *l;
+                c->xy = keep.xy, c->n = keep.n, c->cap = keep.cap;
+            }
+            c->id = first ? l->id : (*next_id)++;
+            c->closed = 0;
+            c->junc = (unsigned char)((s > 0 || l->closed ? 0 : l->junc & 1) |
+                                      (e < n || l->closed ? 0 : l->junc & 2));
+            first = 0;
+            for (k = s; k < e; k++)
+                if (td_line_push(c, l->xy[2 * ((start + k) % n)],
+                                 l->xy[2 * ((start + k) % n) + 1], cx) != 0)
+                    return TD_ENOMEM;
+            c->edge = td_line_on_border(c, p->w, p->h);
+        }
+    }
+    return 0;
+}
+
+/* Flag in f the turns of l back at the water: the sharpest vertex of
+ * each run of vertices next to it that turn back.  Returns the count. */
+static size_t flag_water_turns(const td_join_params *p, const td_line *l,
+                               double *cum, unsigned char *f)
+{
+    size_t k, n = l->n, cuts = 0, best = 0;
+    double bc = 2.0;
+    cum[0] = 0;
+    for (k = 1; k <= n; k++) /* cum[n]: the closing segment too */
+        cum[k] =
+            cum[k - 1] + hypot(l->xy[2 * (k % n)] - l->xy[2 * (k - 1)],
+                               l->xy[2 * (k % n) + 1] - l->xy[2 * (k - 1) + 1]);
+    if (!l->closed)
+        cum[n] = cum[n - 1];
+    for (k = 0; k <= n; k++) {
+        double c =
+            k < n && water_near(p, l->xy[2 * k], l->xy[2 * k + 1], WATER_NEAR)
+                ? water_turn(p, l, cum, k)
+                : 2.0;
+        if (c < WATER_TURN && c < bc)
+            bc = c, best = k;
+        else if (c >= WATER_TURN && bc < WATER_TURN) { /* a run ends */
+            f[best] = 1, cuts++;
+            bc = 2.0;
+        }
+    }
+    return cuts;
+}
+
+static int cut_water_turns(td_lines **lsp, const td_join_params *p,
+                           td_join_stats *st, td_ctx *cx)
+{
+    td_lines *ls = *lsp, *out = NULL;
+    size_t i, maxn = 0;
+    long next_id = 0;
+    double *cum = NULL;
+    unsigned char *f = NULL;
+    int rc = TD_ENOMEM;
+    for (i = 0; i < ls->n; i++) {
+        maxn = ls->v[i].n > maxn ? ls->v[i].n : maxn;
+        next_id = ls->v[i].id >= next_id ? ls->v[i].id + 1 : next_id;
+    }
+    if (!(cum = td_malloc((maxn + 1) * sizeof *cum, cx)) ||
+        !(f = td_malloc(maxn + 1, cx)) || !(out = td_lines_new(cx)))
+        goto fail;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        size_t c = 0, k;
+        if (l->n >= 5) {
+            memset(f, 0, l->n + 1);
+            c = flag_water_turns(p, l, cum, f);
+        }
+        for (k = 0; c && k < l->n; k++)
+            if (f[k] && (rc = keep_water_cut(st, l->xy[2 * k], l->xy[2 * k + 1],
+                                             cx)) != 0)
+                goto fail;
+        if ((rc = c ? cut_at(p, l, f, &next_id, out, cx)
+                    : td_lines_append_copy(out, l, cx)) != 0)
+            goto fail;
+    }
+    td_lines_free(ls);
+    *lsp = out;
+    out = NULL;
+    rc = 0;
+fail:
+    td_lines_free(out);
+    free(cum);
+    free(f);
+    return rc;
 }
 
 int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
@@ -1696,6 +1910,9 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
     if (!st)
         st = &local;
     memset(st, 0, sizeof *st);
+    if (p->water && p->cross_gap > 0 && p->water_turns &&
+        (rc = cut_water_turns(lsp, p, st, cx)) != 0)
+        goto fail;
     if (p->bridge_max > 0)
         remove_bridges(*lsp, p, st);
     if (p->min_length > 0 && (rc = remove_fragments(*lsp, p, st, cx)) != 0)

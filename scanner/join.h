@@ -61,6 +61,13 @@ typedef struct td_join_params {
                              stream), or face each other across it, are
                              joined through that point (default 16; 0:
                              off) */
+    int water_turns;      /* before stage 0 (ours; with water and
+                             cross_gap): a line that turns back by more
+                             than 120 degrees next to the water, the water
+                             not between its arms, is cut there and its
+                             two ends are not joined again but across the
+                             water: a stream's bank linking two contours
+                             (default 1; 0: off) */
     double junc_ratio; /* junction zones: a pair whose end has another
                           partner (on another line) costing under this
                           many times as much is left open: two contours
@@ -78,6 +85,10 @@ typedef struct td_join_stats {
     double *cross_at;   /* x, y of each stage-3 join's middle (its bend
                            P, or its chord's middle): cross_joins pairs;
                            free with td_join_stats_free */
+    size_t water_turns; /* lines cut where they turned back at the water
+                           (two contours linked by a stream's bank) */
+    double *water_at;   /* x, y of each such cut; free with
+                           td_join_stats_free */
     size_t bridges;    /* short pieces between two junctions removed */
     size_t glyphs;     /* small closed rings (digits such as 0, 6, 8, 9)
                           removed because a stage-2 join passes through,

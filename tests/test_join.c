@@ -9,6 +9,7 @@
 #include "src/core/core.h"
 #include "scanner/scan.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #define W 300
@@ -50,6 +51,68 @@ static size_t count_closed(const td_lines *ls)
     for (i = 0; i < ls->n; i++)
         n += ls->v[i].closed != 0;
     return n;
+}
+
+/* A stream (rows 100-103) crosses two contours 6 px apart (x 100 and
+ * 106); on its upper bank the traced line runs down one, turns on a
+ * 6-px cap (what the bank's colour fringe leaves) and back up the other:
+ * one line carrying two heights.  It is cut at the turn and each arm is
+ * joined across the water to its own continuation below (two straight
+ * lines); with water_turns off the hairpin stays. */
+static void test_water_turn(void)
+{
+    size_t stride = (W + 7) / 8, x, y, i;
+    uint8_t *water = calloc(stride * H, 1);
+    int k;
+    for (y = 100; y <= 103; y++)
+        for (x = 0; x < W; x++)
+            water[y * stride + x / 8] |= (uint8_t)(1u << (x % 8));
+    for (k = 0; k < 2; k++) {
+        td_join_params p = td_join_defaults(W, H);
+        td_join_stats st;
+        td_lines *ls = td_lines_new(NULL);
+        td_line *l = td_lines_add(ls, NULL);
+        const double cap[] = {101, 97, 102, 98, 103, 98, 104, 98, 105, 97};
+        size_t hair = 0, whole = 0;
+        double v;
+        for (v = 20; v <= 96; v++)
+            td_line_push(l, 100, v, NULL);
+        for (i = 0; i < 5; i++)
+            td_line_push(l, cap[2 * i], cap[2 * i + 1], NULL);
+        for (v = 96; v >= 20; v--)
+            td_line_push(l, 106, v, NULL);
+        for (i = 0; i < 2; i++) { /* below the stream */
+            l = td_lines_add(ls, NULL);
+            for (v = 106; v <= 180; v++)
+                td_line_push(l, i ? 106 : 100, v, NULL);
+        }
+        p.water = water;
+        p.water_turns = k == 0;
+        TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+        for (i = 0; i < ls->n; i++) {
+            const td_line *m = &ls->v[i];
+            double x0 = HUGE_VAL, x1 = -HUGE_VAL, y0 = HUGE_VAL, y1 = -HUGE_VAL;
+            size_t q;
+            for (q = 0; q < m->n; q++) {
+                x0 = fmin(x0, m->xy[2 * q]), x1 = fmax(x1, m->xy[2 * q]);
+                y0 = fmin(y0, m->xy[2 * q + 1]);
+                y1 = fmax(y1, m->xy[2 * q + 1]);
+            }
+            hair += x1 - x0 > 5 && y1 < 100;
+            whole += x1 - x0 <= 4 && y0 <= 20 && y1 >= 180;
+        }
+        if (k == 0)
+            TT_CHECKF(st.water_turns == 1 && hair == 0 && whole == 2 &&
+                          ls->n == 2,
+                      "%zu turns cut, %zu lines: %zu hairpins, %zu whole",
+                      st.water_turns, ls->n, hair, whole);
+        else
+            TT_CHECKF(st.water_turns == 0 && hair == 1,
+                      "without the cut: %zu hairpins", hair);
+        td_join_stats_free(&st);
+        td_lines_free(ls);
+    }
+    free(water);
 }
 
 /* A 40-px gap along a line is joined; with a line crossing the gap it is
@@ -487,6 +550,7 @@ int main(void)
     TT_RUN(test_crossing_rejected);
     TT_RUN(test_shift_and_bend);
     TT_RUN(test_curved_gap);
+    TT_RUN(test_water_turn);
     TT_RUN(test_label_gap);
     TT_RUN(test_gap_under_other_ink);
     TT_RUN(test_short_piece_kept);

@@ -196,6 +196,11 @@ static void summary(const td_scan_result *r, double secs)
         fprintf(stderr, "scan: %zu gap%s where streams hide a contour "
                 "joined across the water\n", r->join.cross_joins,
                 r->join.cross_joins == 1 ? "" : "s");
+    if (r->join.water_turns > 0)
+        fprintf(stderr, "scan: %zu line%s cut where %s turned back at a "
+                "stream (two contours linked by its bank)\n",
+                r->join.water_turns, r->join.water_turns == 1 ? "" : "s",
+                r->join.water_turns == 1 ? "it" : "they");
     if (r->depressions > 0)
         fprintf(stderr, "scan: %zu ring%s read as depression%s (ticks "
                 "inside)\n", r->depressions, r->depressions == 1 ? "" : "s",
