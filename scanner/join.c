@@ -74,7 +74,7 @@ td_join_params td_join_defaults(int w, int h)
     p.long_gap = 70.0;
     p.long_tangent = 20.0;
     p.cross_gap = 16.0;
-    p.water_turns = 1;
+    p.water_turns = !getenv("TD_NOWT");
     p.curves = 1;
     p.record = 0;
     p.w = w;
@@ -1734,6 +1734,8 @@ void td_join_stats_free(td_join_stats *st)
 #define WATER_ARM 8.0   /* px of line either side of the turn */
 #define WATER_TURN -0.5 /* cos of the turn: more than 120 degrees */
 #define WATER_NEAR 4    /* px: the turn's vertex this near the water */
+#define WATER_SIDE 0.8  /* cos: the arms beyond leave within 37 degrees */
+#define WATER_APART 12.0 /* px: and stay this near each other */
 
 /* The vertex at arc length t along l (cum: arc length at each vertex,
  * closed lines wrapping), or -1 past an open line's end. */
@@ -1785,6 +1787,23 @@ static double water_turn(const td_join_params *p, const td_line *l,
         chord_wet(p, l->xy[2 * a], l->xy[2 * a + 1], l->xy[2 * b],
                   l->xy[2 * b + 1]))
         return 2.0;
+    { /* two arms side by side: beyond, they leave the same way, near */
+        long a2 = vertex_at(l, cum, cum[k] - 2 * WATER_ARM),
+             b2 = vertex_at(l, cum, cum[k] + 2 * WATER_ARM);
+        double px, py, qx, qy, pp, qq;
+        if (a2 < 0 || b2 < 0)
+            return 2.0;
+        px = l->xy[2 * a2] - l->xy[2 * a],
+        py = l->xy[2 * a2 + 1] - l->xy[2 * a + 1];
+        qx = l->xy[2 * b2] - l->xy[2 * b],
+        qy = l->xy[2 * b2 + 1] - l->xy[2 * b + 1];
+        pp = hypot(px, py), qq = hypot(qx, qy);
+        if (pp <= 0 || qq <= 0 ||
+            (px * qx + py * qy) / (pp * qq) < WATER_SIDE ||
+            hypot(l->xy[2 * a2] - l->xy[2 * b2],
+                  l->xy[2 * a2 + 1] - l->xy[2 * b2 + 1]) > WATER_APART)
+            return 2.0;
+    }
     return (ux * vx + uy * vy) / (uu * vv);
 }
 
@@ -1900,6 +1919,61 @@ fail:
     return rc;
 }
 
+/* After stage 3: a cut at the water whose two ends are both still free
+ * (no continuation across the water for either: a loop of one contour
+ * whose tip touches the water, as SRTM noise draws them) is joined again.
+ * Counts the cuts kept in st->water_turns. */
+#define WATER_END_NEAR 4.0 /* px: an end of the cut from its dropped vertex */
+static int undo_water_cuts(td_lines *ls, const td_join_params *p,
+                           td_join_stats *st, td_ctx *cx)
+{
+    size_t j, i, kept = 0;
+    (void)p;
+    for (j = 0; j < st->water_turns; j++) {
+        double x = st->water_at[2 * j], y = st->water_at[2 * j + 1];
+        size_t li[3], nf = 0;
+        int last[3];
+        for (i = 0; i < ls->n && nf < 3; i++) {
+            const td_line *l = &ls->v[i];
+            int e;
+            if (l->closed || l->n < 2)
+                continue;
+            for (e = 0; e < 2 && nf < 3; e++) {
+                size_t k = e ? l->n - 1 : 0;
+                if (hypot(l->xy[2 * k] - x, l->xy[2 * k + 1] - y) <=
+                    WATER_END_NEAR)
+                    li[nf] = i, last[nf++] = e;
+            }
+        }
+        if (nf != 2) { /* one end (or none) went on across the water */
+            kept++;
+            continue;
+        }
+        if (li[0] == li[1]) { /* both ends of one line: a ring again */
+            ls->v[li[0]].closed = 1;
+            ls->v[li[0]].junc = 0;
+            continue;
+        }
+        {
+            td_line *a = &ls->v[li[0]], *b = &ls->v[li[1]];
+            unsigned char ja = a->junc, jb = b->junc;
+            /* a runs up to the cut, b on from it */
+            unsigned char a0 = last[0] ? (ja & 1) : (ja >> 1 & 1);
+            unsigned char b1 = last[1] ? (jb & 1) : (jb >> 1 & 1);
+            if (!last[0])
+                td_line_reverse(a);
+            if (td_line_append(a, b, last[1], cx) != 0)
+                return TD_ENOMEM;
+            a->junc = (unsigned char)(a0 | b1 << 1);
+            a->edge = a->edge || b->edge;
+            a->bridged += b->bridged;
+            td_lines_remove(ls, li[1]);
+        }
+    }
+    st->water_turns = kept;
+    return 0;
+}
+
 int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
             td_ctx *cx)
 {
@@ -1910,12 +1984,12 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
     if (!st)
         st = &local;
     memset(st, 0, sizeof *st);
-    if (p->water && p->cross_gap > 0 && p->water_turns &&
-        (rc = cut_water_turns(lsp, p, st, cx)) != 0)
-        goto fail;
     if (p->bridge_max > 0)
         remove_bridges(*lsp, p, st);
     if (p->min_length > 0 && (rc = remove_fragments(*lsp, p, st, cx)) != 0)
+        goto fail;
+    if (p->water && p->cross_gap > 0 && p->water_turns &&
+        (rc = cut_water_turns(lsp, p, st, cx)) != 0)
         goto fail;
     if ((rc = junc_points(*lsp, &jpts, &njpts, cx)) != 0 ||
         (rc = join_pass(lsp, p, 1, st, cx)) != 0)
@@ -1925,6 +1999,8 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
         goto fail;
     if (p->water && p->cross_gap > 0 &&
         (rc = join_pass(lsp, p, 3, st, cx)) != 0)
+        goto fail;
+    if (st->water_turns > 0 && (rc = undo_water_cuts(*lsp, p, st, cx)) != 0)
         goto fail;
     st->ends_open = count_open_ends(*lsp, p);
 fail:
