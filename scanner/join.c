@@ -74,7 +74,7 @@ td_join_params td_join_defaults(int w, int h)
     p.long_gap = 70.0;
     p.long_tangent = 20.0;
     p.cross_gap = 16.0;
-    p.water_turns = !getenv("TD_NOWT");
+    p.water_turns = 1;
     p.curves = 1;
     p.record = 0;
     p.w = w;
