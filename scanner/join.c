@@ -75,6 +75,7 @@ td_join_params td_join_defaults(int w, int h)
     p.long_tangent = 20.0;
     p.cross_gap = 16.0;
     p.water_turns = 1;
+    p.gap_room = 0.5;
     p.curves = 1;
     p.record = 0;
     p.w = w;
@@ -1253,6 +1254,46 @@ static int water_cut_pair(const td_join_stats *st, const jend *a, const jend *b)
     return 0;
 }
 
+/* Whether another open line than a's and b's ends within room x the gap
+ * of a or b (not on the border): the gap is one of several side by side,
+ * a faded patch of crowded contours where each end could be joined to
+ * any neighbour's. */
+static int ends_beside(const sgrid *g, const td_lines *ls,
+                       const td_join_params *p, const jend *a, const jend *b,
+                       double room)
+{
+    double r = room * hypot(b->x - a->x, b->y - a->y);
+    const jend *s[2] = {a, b};
+    int q;
+    for (q = 0; q < 2; q++) {
+        int x0 = cell_of(g, s[q]->x - r, g->cw),
+            x1 = cell_of(g, s[q]->x + r, g->cw);
+        int y0 = cell_of(g, s[q]->y - r, g->ch),
+            y1 = cell_of(g, s[q]->y + r, g->ch);
+        int x, y;
+        size_t j;
+        for (y = y0; y <= y1; y++)
+            for (x = x0; x <= x1; x++)
+                for (j = g->head[(size_t)y * g->cw + x]; j < g->n;
+                     j = g->next[j]) {
+                    const td_line *l = &ls->v[g->line[j]];
+                    size_t k = g->seg[j], nseg = l->n - 1, v;
+                    if (g->line[j] == a->line || g->line[j] == b->line ||
+                        l->closed || (k != 0 && k + 1 != nseg))
+                        continue;
+                    for (v = 0; v < 2; v++) {
+                        size_t i = v ? l->n - 1 : 0;
+                        double ex = l->xy[2 * i], ey = l->xy[2 * i + 1];
+                        if ((v ? k + 1 == nseg : k == 0) && ex > 2 && ey > 2 &&
+                            ex < p->w - 3 && ey < p->h - 3 &&
+                            hypot(ex - s[q]->x, ey - s[q]->y) < r)
+                            return 1;
+                    }
+                }
+    }
+    return 0;
+}
+
 static int accept_pairs(const td_lines *ls, const td_join_params *p,
                         int stage, jend *e, jpair *pairs, size_t np,
                         double **acc, size_t *nacc, td_lines *paths,
@@ -1272,6 +1313,9 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
         size_t n;
         if (a->partner >= 0 || b->partner >= 0 ||
             (stage < 3 && water_cut_pair(st, a, b)))
+            continue;
+        if (stage == 2 && p->gap_room > 0 &&
+            ends_beside(&g, ls, p, a, b, p->gap_room))
             continue;
         if (stage == 2) {
             n = join_path(a, b, pts);

@@ -61,13 +61,22 @@ typedef struct td_join_params {
                              stream), or face each other across it, are
                              joined through that point (default 16; 0:
                              off) */
-    int water_turns;      /* before stage 0 (ours; with water and
+    double gap_room;      /* stage 2 (ours): a gap is not joined when
+                             another open line ends within this many
+                             times its length of either end (not on the
+                             border): gaps side by side, a faded patch
+                             of crowded contours where each end could be
+                             any neighbour's (default 0.5; 0: off) */
+    int water_turns;      /* after stage 0 (ours; with water and
                              cross_gap): a line that turns back by more
-                             than 120 degrees next to the water, the water
-                             not between its arms, is cut there and its
-                             two ends are not joined again but across the
-                             water: a stream's bank linking two contours
-                             (default 1; 0: off) */
+                             than 120 degrees next to the water, its arms
+                             side by side beyond the turn and the water
+                             not between them, is cut there; its two ends
+                             are not joined again but across the water
+                             (two contours a stream's bank links), and
+                             when neither end finds its continuation
+                             there the cut is undone (default 1; 0:
+                             off) */
     double junc_ratio; /* junction zones: a pair whose end has another
                           partner (on another line) costing under this
                           many times as much is left open: two contours

@@ -282,6 +282,39 @@ static void test_label_gap(void)
     td_lines_free(ls);
 }
 
+/* Two contours 6 px apart, both broken across the same 40 px (a faded
+ * patch of a printed sheet: there each end could be any neighbour's, and
+ * most such joins measured on the crowded printed sheets were wrong):
+ * left open (4 lines); with gap_room off, joined (2 lines).  One contour
+ * broken beside a whole neighbour is joined either way. */
+static void test_gaps_side_by_side(void)
+{
+    int k, both;
+    for (both = 0; both < 2; both++)
+        for (k = 0; k < 2; k++) {
+            td_join_params p = td_join_defaults(W, H);
+            td_join_stats st;
+            td_lines *ls = td_lines_new(NULL);
+            size_t want;
+            add_hline(ls, 20, 110, 100);
+            add_hline(ls, 150, 260, 100);
+            if (both) {
+                add_hline(ls, 20, 110, 106);
+                add_hline(ls, 150, 260, 106);
+            } else
+                add_hline(ls, 20, 260, 106);
+            if (k == 1)
+                p.gap_room = 0;
+            TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+            want = both && k == 0 ? 4 : 2;
+            TT_CHECKF(ls->n == want, "%s, gap_room %g: %zu lines (want %zu)",
+                      both ? "both broken" : "one broken", p.gap_room, ls->n,
+                      want);
+            td_join_stats_free(&st);
+            td_lines_free(ls);
+        }
+}
+
 /* A 30-px gap between two pieces of one line is a label gap on paper
  * (joined); the same gap under a road (another ink, td_join_params.other,
  * along the gap) is a contour hidden under it, and stays open: its ends
@@ -556,6 +589,7 @@ int main(void)
     TT_RUN(test_curved_gap);
     TT_RUN(test_water_turn);
     TT_RUN(test_label_gap);
+    TT_RUN(test_gaps_side_by_side);
     TT_RUN(test_gap_under_other_ink);
     TT_RUN(test_short_piece_kept);
     TT_RUN(test_faded_pieces);
