@@ -37,10 +37,6 @@ td_ocr_params td_ocr_defaults(void)
  * 40 px) */
 #define STRIP_LONG 60.0
 #define BIN_LEVEL 0.35 /* the digits binarised: see binarise_digits */
-/* The digits' own axis (digit_axis) this far off the chord, radians (4
- * to 40 degrees): read again along it (read_gap) */
-#define SKEW_MIN 0.07
-#define SKEW_MAX 0.7
 
 enum { DOT_REACH = 14, DOT_MAX = 7, DOT_MIN_AREA = 5, DOT_MAX_AREA = 40 };
 
@@ -105,8 +101,6 @@ typedef struct strip {
     unsigned char *keep;
     double ink, paper;
     int ch[64]; /* kept components' heights */
-    double skew;   /* the kept digits' main axis off the chord, radians */
-    double dx, dy; /* and their middle, scan px */
 } strip;
 
 static void strip_free(strip *s)
@@ -648,30 +642,6 @@ static int extends(const char *a, const char *b)
 
 #define EXTEND_CONF 0.5
 
-/* The kept digits' main axis (their pixels' scatter) against the chord,
- * in s->skew, and their middle in s->dx, s->dy: a text set at another
- * angle than the line's chord through its gap (a gap at a bend). */
-static void digit_axis(strip *s)
-{
-    double n = 0, mx = 0, my = 0, xx = 0, yy = 0, xy = 0;
-    int i, j;
-    for (j = 0; j < s->h; j++)
-        for (i = 0; i < s->w; i++) {
-            int l = s->lab[j * s->w + i];
-            if (l <= 0 || !s->keep[l])
-                continue;
-            n++, mx += i, my += j;
-            xx += (double)i * i, yy += (double)j * j, xy += (double)i * j;
-        }
-    s->skew = 0;
-    if (n < 12)
-        return;
-    mx /= n, my /= n;
-    xx = xx / n - mx * mx, yy = yy / n - my * my, xy = xy / n - mx * my;
-    s->skew = 0.5 * atan2(2 * xy, xx - yy);
-    strip_xy(s, mx, my, &s->dx, &s->dy);
-}
-
 /* Read the digits kept at threshold t (both ways round, as sampled and
  * binarised) into *r: the most confident number read is the read, the
  * others its alternatives (turned from the strip's direction: *turn0 is
@@ -695,7 +665,6 @@ static int read_at(TessBaseAPI *api, strip *s, double t,
     if (k == 0 || !text_like(s, k, b))
         return 1;
     glyphs = tall_glyphs(s, k, b);
-    digit_axis(s);
     if (digits_image(s, b, p->digit_px, &img, &w, &h) != 0)
         return 1;
     for (var = 0; var < 2; var++)
@@ -756,13 +725,10 @@ static int read_at(TessBaseAPI *api, strip *s, double t,
  * towards the paper by the few ink pixels, merges blurred digits into one
  * blob, and the lighter label ink of a colour sheet falls apart at it;
  * halfway between ink and paper and a third of the way from paper, on the
- * strip smoothed against the noise.  The most confident read wins.
- * With tilt, a candidate along the digits' own axis when the digits kept
- * at Otsu's threshold lie SKEW_MIN to SKEW_MAX off the chord (the chord
- * of a gap at a bend is not the text's line). */
+ * strip smoothed against the noise.  The most confident read wins. */
 static int read_strip(TessBaseAPI *api, const td_image *im, const uint8_t *lut,
                       double extra, const cand *gap, const td_ocr_params *p,
-                      td_ocr_read *r, double *best, int *turn0, cand *tilt)
+                      td_ocr_read *r, double *best, int *turn0)
 {
     strip s;
     int rc, k, any;
@@ -780,16 +746,8 @@ static int read_strip(TessBaseAPI *api, const td_image *im, const uint8_t *lut,
     if (s.paper - s.ink < 40)
         goto done;
     t[0] = otsu(s.g, n);
-    s.skew = 0;
-    any = read_at(api, &s, t[0], p, r, best, turn0);
-    if (tilt && fabs(s.skew) > SKEW_MIN && fabs(s.skew) < SKEW_MAX) {
-        double c = cos(s.skew), sn = sin(s.skew);
-        *tilt = *gap;
-        tilt->ux = gap->ux * c - gap->uy * sn;
-        tilt->uy = gap->uy * c + gap->ux * sn;
-        tilt->cx = s.dx, tilt->cy = s.dy;
-    }
-    if (any < 0 || *best >= SURE_READ) {
+    if ((any = read_at(api, &s, t[0], p, r, best, turn0)) < 0 ||
+        *best >= SURE_READ) {
         rc = any;
         goto done;
     }
@@ -819,34 +777,25 @@ done:
  * luminance the tint joined the end digits of a label on its edge, and
  * "1875" came out "875"), then, when that read nothing sure, in the
  * luminance; with digits read but none sure, both once more in a strip
- * STRIP_LONG beyond the label's pieces, then (nothing sure yet) along
- * the digits' own axis when they lie skewed in the strip, and then in one
- * centred on the digits read (the pieces were the label's last digit,
- * and the rest lay beyond the strip).  1: nothing read, -1: no memory. */
+ * STRIP_LONG beyond the label's pieces, and then in one centred on the
+ * digits read (the pieces were the label's last digit, and the rest lay
+ * beyond the strip).  1: nothing read, -1: no memory. */
 static int read_gap(TessBaseAPI *api, const td_image *im, const uint8_t *lut,
                     const cand *gap, const td_ocr_params *p, td_ocr_read *r)
 {
     const uint8_t *way[2] = {lut, NULL}; /* the ink's strength, luminance */
     int rc, k, pass, turn0 = 0, nway = lut ? 2 : 1;
     double best = -1;
-    cand c2, tilt;
+    cand c2;
     memset(r, 0, sizeof *r);
-    tilt.along = 0;
-    rc = read_strip(api, im, way[0], STRIP_EXTRA, gap, p, r, &best, &turn0,
-                    &tilt);
+    rc = read_strip(api, im, way[0], STRIP_EXTRA, gap, p, r, &best, &turn0);
     for (pass = 1; pass < 4 && rc >= 0 && best < SURE_READ; pass++) {
         int q;
         if (pass % 2 >= nway || (pass >= 2 && best < 0))
             continue;
         q = read_strip(api, im, way[pass % 2],
                        pass < 2 ? STRIP_EXTRA : STRIP_LONG, gap, p, r, &best,
-                       &turn0, tilt.along > 0 ? NULL : &tilt);
-        rc = q < 0 ? q : rc & q;
-    }
-    for (pass = 0; pass < nway && rc >= 0 && best < SURE_READ && tilt.along > 0;
-         pass++) { /* along the digits' own axis */
-        int q = read_strip(api, im, way[pass], STRIP_EXTRA, &tilt, p, r, &best,
-                           &turn0, NULL);
+                       &turn0);
         rc = q < 0 ? q : rc & q;
     }
     c2 = *gap; /* centred on the digits read */
@@ -854,7 +803,7 @@ static int read_gap(TessBaseAPI *api, const td_image *im, const uint8_t *lut,
     for (pass = 0; pass < nway && rc >= 0 && best >= 0 && best < SURE_READ;
          pass++) {
         int q = read_strip(api, im, way[pass], STRIP_LONG, &c2, p, r, &best,
-                           &turn0, NULL);
+                           &turn0);
         rc = q < 0 ? q : rc & q;
     }
     for (k = 0; k < TD_OCR_ALTS; k++) /* turned from the read's way */
