@@ -1763,7 +1763,7 @@ void td_join_stats_free(td_join_stats *st)
     st->water_at = NULL;
 }
 
-/* ---- before stage 0: lines turned back at the water ----------------
+/* ---- after stage 0: lines turned back at the water -----------------
  *
  *      |   |          Where a stream crosses two neighbouring contours,
  *      |   |          the colour fringe of its bank can leave a few ink
@@ -1892,10 +1892,39 @@ static int cut_at(const td_join_params *p, const td_line *l,
     return 0;
 }
 
-/* Flag in f the turns of l back at the water: the sharpest vertex of
- * each run of vertices next to it that turn back.  Returns the count. */
+/* Water tiles: one byte per WT_TILE px square, set where the water
+ * covers a pixel of the tile or of one beside it (so a vertex WATER_NEAR
+ * + 1 px from the water lies in a set tile): most vertices are far from
+ * any stream and need no look at the pixels.  NULL when out of memory. */
+#define WT_TILE 8
+static unsigned char *water_tiles(const td_join_params *p, int *tw, td_ctx *cx)
+{
+    size_t stride = ((size_t)p->w + 7) / 8;
+    int th = p->h / WT_TILE + 1, x, y;
+    unsigned char *t;
+    *tw = p->w / WT_TILE + 1;
+    if (!(t = td_calloc((size_t)*tw * (size_t)th, 1, cx)))
+        return NULL;
+    for (y = 0; y < p->h; y++)
+        for (x = 0; x < (int)stride; x++) {
+            int ty = y / WT_TILE, tx = x * 8 / WT_TILE, dx, dy;
+            if (!p->water[(size_t)y * stride + (size_t)x])
+                continue;
+            for (dy = -1; dy <= 1; dy++)
+                for (dx = -1; dx <= 1; dx++)
+                    if (ty + dy >= 0 && ty + dy < th && tx + dx >= 0 &&
+                        tx + dx < *tw)
+                        t[(size_t)(ty + dy) * *tw + (size_t)(tx + dx)] = 1;
+        }
+    return t;
+}
+
+/* Flag in f the turns of l back at the water (tiles: water_tiles, tw
+ * wide): the sharpest vertex of each run of vertices next to it that
+ * turn back.  Returns the count. */
 static size_t flag_water_turns(const td_join_params *p, const td_line *l,
-                               double *cum, unsigned char *f)
+                               const unsigned char *tiles, int tw, double *cum,
+                               unsigned char *f)
 {
     size_t k, n = l->n, cuts = 0, best = 0;
     double bc = 2.0;
@@ -1907,10 +1936,15 @@ static size_t flag_water_turns(const td_join_params *p, const td_line *l,
     if (!l->closed)
         cum[n] = cum[n - 1];
     for (k = 0; k <= n; k++) {
-        double c =
-            k < n && water_near(p, l->xy[2 * k], l->xy[2 * k + 1], WATER_NEAR)
-                ? water_turn(p, l, cum, k)
-                : 2.0;
+        double c = 2.0;
+        if (k < n) {
+            double x = l->xy[2 * k], y = l->xy[2 * k + 1];
+            int tx = (int)(x / WT_TILE), ty = (int)(y / WT_TILE);
+            if (x >= 0 && y >= 0 && x < p->w && y < p->h &&
+                tiles[(size_t)ty * tw + (size_t)tx] &&
+                water_near(p, x, y, WATER_NEAR))
+                c = water_turn(p, l, cum, k);
+        }
         if (c < WATER_TURN && c < bc)
             bc = c, best = k;
         else if (c >= WATER_TURN && bc < WATER_TURN) { /* a run ends */
@@ -1928,21 +1962,22 @@ static int cut_water_turns(td_lines **lsp, const td_join_params *p,
     size_t i, maxn = 0;
     long next_id = 0;
     double *cum = NULL;
-    unsigned char *f = NULL;
-    int rc = TD_ENOMEM;
+    unsigned char *f = NULL, *tiles = NULL;
+    int rc = TD_ENOMEM, tw;
     for (i = 0; i < ls->n; i++) {
         maxn = ls->v[i].n > maxn ? ls->v[i].n : maxn;
         next_id = ls->v[i].id >= next_id ? ls->v[i].id + 1 : next_id;
     }
     if (!(cum = td_malloc((maxn + 1) * sizeof *cum, cx)) ||
-        !(f = td_malloc(maxn + 1, cx)) || !(out = td_lines_new(cx)))
+        !(f = td_malloc(maxn + 1, cx)) || !(out = td_lines_new(cx)) ||
+        !(tiles = water_tiles(p, &tw, cx)))
         goto fail;
     for (i = 0; i < ls->n; i++) {
         const td_line *l = &ls->v[i];
         size_t c = 0, k;
         if (l->n >= 5) {
             memset(f, 0, l->n + 1);
-            c = flag_water_turns(p, l, cum, f);
+            c = flag_water_turns(p, l, tiles, tw, cum, f);
         }
         for (k = 0; c && k < l->n; k++)
             if (f[k] && (rc = keep_water_cut(st, l->xy[2 * k], l->xy[2 * k + 1],
@@ -1960,6 +1995,7 @@ fail:
     td_lines_free(out);
     free(cum);
     free(f);
+    free(tiles);
     return rc;
 }
 
@@ -1968,11 +2004,9 @@ fail:
  * whose tip touches the water, as SRTM noise draws them) is joined again.
  * Counts the cuts kept in st->water_turns. */
 #define WATER_END_NEAR 4.0 /* px: an end of the cut from its dropped vertex */
-static int undo_water_cuts(td_lines *ls, const td_join_params *p,
-                           td_join_stats *st, td_ctx *cx)
+static int undo_water_cuts(td_lines *ls, td_join_stats *st, td_ctx *cx)
 {
     size_t j, i, kept = 0;
-    (void)p;
     for (j = 0; j < st->water_turns; j++) {
         double x = st->water_at[2 * j], y = st->water_at[2 * j + 1];
         size_t li[3], nf = 0;
@@ -2044,7 +2078,7 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
     if (p->water && p->cross_gap > 0 &&
         (rc = join_pass(lsp, p, 3, st, cx)) != 0)
         goto fail;
-    if (st->water_turns > 0 && (rc = undo_water_cuts(*lsp, p, st, cx)) != 0)
+    if (st->water_turns > 0 && (rc = undo_water_cuts(*lsp, st, cx)) != 0)
         goto fail;
     st->ends_open = count_open_ends(*lsp, p);
 fail:
