@@ -1239,8 +1239,9 @@ static int keep_water_cut(td_join_stats *st, double x, double y, td_ctx *cx)
     return 0;
 }
 
-/* Whether a and b are the two ends of a cut at the water: stages 1 and 2
- * must not join them again. */
+/* Whether a and b are the two ends of a cut at the water: no stage joins
+ * them to each other again (stage 3's U cap did, and undid the cut:
+ * docs/scanner.md); undo_water_cuts does when neither found another. */
 #define WATER_CUT_NEAR 8.0
 static int water_cut_pair(const td_join_stats *st, const jend *a, const jend *b)
 {
@@ -1311,8 +1312,7 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
         jend *a = &e[pairs[i].a], *b = &e[pairs[i].b];
         double pts[2 * ARC_MAXPTS];
         size_t n;
-        if (a->partner >= 0 || b->partner >= 0 ||
-            (stage < 3 && water_cut_pair(st, a, b)))
+        if (a->partner >= 0 || b->partner >= 0 || water_cut_pair(st, a, b))
             continue;
         if (stage == 2 && p->gap_room > 0 &&
             ends_beside(&g, ls, p, a, b, p->gap_room))

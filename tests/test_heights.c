@@ -778,6 +778,31 @@ static void test_one_label_value_refused(void)
     td_label_report_free(&hs.rep);
 }
 
+/* Front Range at interval 25 (scale 8), the colour scan with its river,
+ * no hint.  At 338,600 the river runs along the bank where two contours
+ * (3025 and 3000 m) meet it side by side; the skeleton turned from one
+ * onto the other there, the turn was cut (test_water_turn), and the
+ * joiner's stream stage joined the two cut ends again by a U's cap:
+ * the hill beyond came out as a pit, 10 intervals low (accuracy 0.921;
+ * 0.978 now).
+ * The ends of a cut at the water are joined to their continuations
+ * across it, never to each other. */
+static void test_river_bank_pair(void)
+{
+    td_hsheet hs;
+    td_ctx cx;
+    int rc;
+    td_ctx_init(&cx);
+    rc = labels_only(&hs, "frontrange_srtm3.tif", 8, 25, 2, &cx);
+    TT_CHECKF(rc == 0 && hs.interval == 25 && hs.score.accuracy >= 0.97 &&
+                  hs.score.n_wrong_sure == 0,
+              "Front Range 25 colour, labels only: rc %d (%s), interval %g, "
+              "accuracy %.3f, %ld wrong and sure",
+              rc, rc ? td_errmsg(&cx) : "", hs.interval, hs.score.accuracy,
+              hs.score.n_wrong_sure);
+    td_label_report_free(&hs.rep);
+}
+
 /* Straight labels printed on curves: the generator's hills, scanned and
  * in colour, with no hint.  A label on a small ring (radius 48 px) sits on
  * the chord of the ring's label gap, 6-8 px from the ring at its middle,
@@ -1151,6 +1176,7 @@ int main(void)
     TT_RUN(test_new_print_labels);
     TT_RUN(test_crowded_misreads_refused);
     TT_RUN(test_one_label_value_refused);
+    TT_RUN(test_river_bank_pair);
     TT_RUN(test_crowded_labels_only);
     TT_RUN(test_crowded_walls);
     TT_RUN(test_crowded_crisp);
