@@ -1225,31 +1225,44 @@ static int junction_zones(const jend *e, size_t ne, const td_join_params *p,
     return 0;
 }
 
-/* Where lines were cut at the water (cut_water_turns, below) in
- * st->water_at. */
-static int keep_water_cut(td_join_stats *st, double x, double y, td_ctx *cx)
+/* Where line l was cut at the water (cut_water_turns, below), at its
+ * vertex k, into st->water_at: that vertex and the two ends it leaves
+ * (its neighbours; cut_at drops the vertex). */
+static int keep_water_cut(td_join_stats *st, const td_line *l, size_t k,
+                          td_ctx *cx)
 {
-    size_t n = st->water_turns;
-    double *v = realloc(st->water_at, 2 * (n + 1) * sizeof *v);
+    size_t n = st->water_turns, j;
+    size_t at[3] = {k, (k + l->n - 1) % l->n, (k + 1) % l->n};
+    double *v = realloc(st->water_at, 6 * (n + 1) * sizeof *v);
     if (!v)
         return td_seterr(cx, TD_ENOMEM, "join: out of memory");
     st->water_at = v;
-    v[2 * n] = x, v[2 * n + 1] = y;
+    for (j = 0; j < 3; j++)
+        v[6 * n + 2 * j] = l->xy[2 * at[j]],
+                      v[6 * n + 2 * j + 1] = l->xy[2 * at[j] + 1];
     st->water_turns++;
     return 0;
 }
 
-/* Whether a and b are the two ends of a cut at the water: no stage joins
- * them to each other again (stage 3's U cap did, and undid the cut:
- * docs/scanner.md); undo_water_cuts does when neither found another. */
-#define WATER_CUT_NEAR 8.0
+/* Whether (x, y) is the point q (an end of a cut: the same vertex). */
+static int same_point(const double *q, double x, double y)
+{
+    return fabs(q[0] - x) < 1e-9 && fabs(q[1] - y) < 1e-9;
+}
+
+/* Whether a and b are the two ends of one cut at the water: no stage
+ * joins them to each other again (stage 3's U cap did, and undid the
+ * cut: docs/scanner.md); undo_water_cuts does when neither found
+ * another.  Other ends near the cut may be joined to them (until
+ * 2026-12-05 every pair within 8 px of the cut was refused, and with it
+ * a contour's own continuation 2 px across the water). */
 static int water_cut_pair(const td_join_stats *st, const jend *a, const jend *b)
 {
     size_t j;
     for (j = 0; j < st->water_turns; j++) {
-        double x = st->water_at[2 * j], y = st->water_at[2 * j + 1];
-        if (hypot(a->x - x, a->y - y) <= WATER_CUT_NEAR &&
-            hypot(b->x - x, b->y - y) <= WATER_CUT_NEAR)
+        const double *q = st->water_at + 6 * j;
+        if ((same_point(q + 2, a->x, a->y) && same_point(q + 4, b->x, b->y)) ||
+            (same_point(q + 2, b->x, b->y) && same_point(q + 4, a->x, a->y)))
             return 1;
     }
     return 0;
@@ -1980,8 +1993,7 @@ static int cut_water_turns(td_lines **lsp, const td_join_params *p,
             c = flag_water_turns(p, l, tiles, tw, cum, f);
         }
         for (k = 0; c && k < l->n; k++)
-            if (f[k] && (rc = keep_water_cut(st, l->xy[2 * k], l->xy[2 * k + 1],
-                                             cx)) != 0)
+            if (f[k] && (rc = keep_water_cut(st, l, k, cx)) != 0)
                 goto fail;
         if ((rc = c ? cut_at(p, l, f, &next_id, out, cx)
                     : td_lines_append_copy(out, l, cx)) != 0)
@@ -2003,23 +2015,22 @@ fail:
  * (no continuation across the water for either: a loop of one contour
  * whose tip touches the water, as SRTM noise draws them) is joined again.
  * Counts the cuts kept in st->water_turns. */
-#define WATER_END_NEAR 4.0 /* px: an end of the cut from its dropped vertex */
 static int undo_water_cuts(td_lines *ls, td_join_stats *st, td_ctx *cx)
 {
     size_t j, i, kept = 0;
     for (j = 0; j < st->water_turns; j++) {
-        double x = st->water_at[2 * j], y = st->water_at[2 * j + 1];
-        size_t li[3], nf = 0;
-        int last[3];
-        for (i = 0; i < ls->n && nf < 3; i++) {
+        const double *q = st->water_at + 6 * j;
+        size_t li[2], nf = 0;
+        int last[2];
+        for (i = 0; i < ls->n && nf < 2; i++) {
             const td_line *l = &ls->v[i];
             int e;
             if (l->closed || l->n < 2)
                 continue;
-            for (e = 0; e < 2 && nf < 3; e++) {
+            for (e = 0; e < 2 && nf < 2; e++) {
                 size_t k = e ? l->n - 1 : 0;
-                if (hypot(l->xy[2 * k] - x, l->xy[2 * k + 1] - y) <=
-                    WATER_END_NEAR)
+                double x = l->xy[2 * k], y = l->xy[2 * k + 1];
+                if (same_point(q + 2, x, y) || same_point(q + 4, x, y))
                     li[nf] = i, last[nf++] = e;
             }
         }

@@ -96,7 +96,8 @@ typedef struct td_join_stats {
                            free with td_join_stats_free */
     size_t water_turns; /* lines cut where they turned back at the water
                            (two contours linked by a stream's bank) */
-    double *water_at;   /* x, y of each such cut; free with
+    double *water_at;   /* per cut 6 values: x, y of the vertex dropped
+                           and of the two ends it left; free with
                            td_join_stats_free */
     size_t bridges;    /* short pieces between two junctions removed */
     size_t glyphs;     /* small closed rings (digits such as 0, 6, 8, 9)
