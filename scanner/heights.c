@@ -1937,10 +1937,12 @@ static int gap_pairs(hs *s, td_ctx *cx)
 {
     td_end_pair *v;
     size_t i, n;
-    if (!(s->p->gap_pairs > 0))
+    double px = s->p->gap_pairs < 0 ? (s->p->colour ? TD_GAP_PAIRS_COLOUR : 0)
+                                    : s->p->gap_pairs;
+    if (!(px > 0))
         return 0;
-    if (td_end_pairs(s->ls, end_used, s->fx, s->p->w, s->p->h, s->p->gap_pairs,
-                     &v, &n, cx) != 0)
+    if (td_end_pairs(s->ls, end_used, s->fx, s->p->w, s->p->h, px, &v, &n,
+                     cx) != 0)
         return TD_ENOMEM;
     if (!(s->gaps = td_malloc((2 * n + 1) * sizeof *s->gaps, cx))) {
         free(v);

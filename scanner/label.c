@@ -55,6 +55,7 @@ td_label_params td_label_defaults(void)
     p.thick_ratio = 1.3;
     p.missing = 1;
     p.label_up = 1;
+    p.gap_pairs = -1; /* by the scan: TD_GAP_PAIRS_COLOUR on colour */
     return p;
 }
 

@@ -52,6 +52,10 @@ typedef enum td_labeller {
     TD_LABEL_TREE       /* the containment tree (label.c; the old default) */
 } td_labeller;
 
+/* Free-end pairs on colour scans by default (td_label_params.gap_pairs;
+ * measured in docs/label.md). */
+#define TD_GAP_PAIRS_COLOUR 24.0
+
 typedef struct td_label_params {
     td_labeller method;    /* default TD_LABEL_FACES */
     double base, interval; /* heights are base + k * interval; interval > 0 */
@@ -95,7 +99,12 @@ typedef struct td_label_params {
                               direction says nothing) */
     double gap_pairs;      /* faces: free ends at most this many px apart
                               that face each other are taken as one
-                              contour (endpair.h; ours; 0: off) */
+                              contour (endpair.h; ours; 0: off; < 0,
+                              the default: TD_GAP_PAIRS_COLOUR on a colour
+                              scan, where roads and streams cut the
+                              contours, off on grey; docs/label.md) */
+    int colour;            /* the lines come from a colour scan (for
+                              gap_pairs < 0) */
     const double *oracle_h; /* benchmarks (faces): per line of ls, its true
                                height (NAN: unknown), and ... */
     const signed char *oracle_up; /* ... 1 when its side 0 (left of its

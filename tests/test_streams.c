@@ -236,7 +236,8 @@ static int covered(const uint8_t *bits, int w, int h, double x, double y)
 /* The true lines of the Orkhon map with streams, cut wherever another
  * ink (the road, the streams, the black text) covers them as the
  * scanner's palette sees it (CUT_R), and labelled with 3 known points and
- * the index widths, with the free-end pairs (24 px) and without.
+ * the index widths, with the free-end pairs (24 px: the labeller's default
+ * on a colour scan) and without (its default on a grey one).
  * Measured 2026-12-04 (docs/label.md, "Free ends that continue each
  * other"): 0.915 of the length right with them, 0.816 without (723
  * pieces of 191 lines; cut within 1 or 2 px both gave 0.95: the probes
@@ -300,7 +301,7 @@ static void test_gap_pairs(void)
         lp.w = im->w, lp.h = im->h;
         lp.nknown = (size_t)td_hsheet_pick_known(tl, I, 3, kp);
         lp.known = kp;
-        lp.gap_pairs = r == 0 ? 24.0 : 0.0;
+        lp.colour = r == 0; /* the default: pairs on a colour scan only */
         ok = td_label_auto(cut[r], &lp, &rep, &cx) == 0;
         for (i = 0; ok && i < cut[r]->n; i++) {
             double L = td_line_length(&cut[r]->v[i]);
@@ -318,7 +319,7 @@ static void test_gap_pairs(void)
         TT_CHECKF(cut[0]->n > tl->n + 100 && acc[0] >= PAIRS_ACC &&
                       acc[0] >= acc[1] + PAIRS_GAIN,
                   "true lines cut into %zu pieces (of %zu): %.3f right with "
-                  "the free-end pairs, %.3f without",
+                  "the free-end pairs (colour default), %.3f without (grey)",
                   cut[0]->n, tl->n, acc[0], acc[1]);
     td_lines_free(cut[0]);
     td_lines_free(cut[1]);

@@ -86,7 +86,8 @@ static int parse_args(int argc, char **argv, label_opts *o)
          "folds the\nwrong way; 8 measured best; 0: off)"},
         {"gap-pairs", 0, TD_OPT_DOUBLE, &p->gap_pairs, 0, 200, .meta = "PX",
          .help = "faces: two free line ends at most PX apart\nthat face each "
-         "other are one contour (ours;\nmeasured: see docs/label.md; 0: off)"},
+         "other are one contour (ours;\nmeasured: see docs/label.md; 0: off;"
+         "\ndefault 24 with --sheet in colour, else 0)", .no_default = 1},
         {"debug-dir", 0, TD_OPT_STRING, &o->debug_dir, .meta = "DIR", .help =
          "write heights.png: the lines coloured by height\n(over --like SCAN "
          "when given; thick: known,\ndashed: assumed, grey dots: no height)"},
@@ -160,7 +161,7 @@ static int label(label_opts *o, td_lines *ls, const td_georef *frame,
     if (o->scan && o->p.method != TD_LABEL_TREE)
         rc = td_pipeline_sheet_labels(o->scan, ls, &reads, &nreads,
                                       o->no_streams ? NULL : &vees, &nvees,
-                                      cx);
+                                      &o->p.colour, cx);
     o->p.labels = reads, o->p.nlabels = nreads;
     o->p.vees = vees, o->p.nvees = nvees;
     o->p.w = o->w, o->p.h = o->h;

@@ -57,7 +57,8 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
          "folds the\nwrong way; 8 measured best; 0: off)"},
         {"gap-pairs", 0, TD_OPT_DOUBLE, &lp->gap_pairs, 0, 200, .meta = "PX",
          .help = "faces: two free line ends at most PX apart\nthat face each "
-         "other are one contour (ours;\nmeasured: see docs/label.md; 0: off)"},
+         "other are one contour (ours;\nmeasured: see docs/label.md; 0: off;"
+         "\ndefault 24 on a colour scan, else 0)", .no_default = 1},
         {"ink", 0, TD_OPT_FUNC, &r->p.scan.bin, .fn = ink, .meta = "KIND",
          .help = "auto | dark | brown | brown-hue | R,G,B[:tol]\n(default "
          "auto; see topodig scan --help)"},

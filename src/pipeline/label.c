@@ -15,7 +15,7 @@
 /* See pipeline.h. */
 int td_pipeline_sheet_labels(const char *scan, const td_lines *ls,
                              td_ocr_read **reads, size_t *n, td_vee **vees,
-                             size_t *nvees, td_ctx *cx)
+                             size_t *nvees, int *colour, td_ctx *cx)
 {
     td_image *im = NULL;
     td_scan_params sp = td_scan_defaults();
@@ -31,6 +31,8 @@ int td_pipeline_sheet_labels(const char *scan, const td_lines *ls,
         op.ink = &res.palette; /* labels on a tint read in the ink */
         rc =
             td_ocr_scan_labels(im, res.lines, &res.join, ls, &op, reads, n, cx);
+        if (colour)
+            *colour = res.palette.n > 0;
     }
     if (rc == 0 && vees &&
         (rc = td_streams_vees(im, &res.palette, ls, res.join.cross_at,

@@ -43,10 +43,11 @@ int td_pipeline_heights_debug(const char *dir, const td_image *scan, int w,
  * the scan traced again for where the labels are, read (Tesseract) and
  * tied to ls's lines.  *reads (free()), *n; and on a colour scan the Vs
  * where streams cross ls's lines (scanner/streams.h): *vees (free()),
- * *nvees (vees NULL: not read).  0 or an error. */
+ * *nvees (vees NULL: not read); *colour (may be NULL): whether the scan is
+ * in colour (inks found).  0 or an error. */
 int td_pipeline_sheet_labels(const char *scan, const td_lines *ls,
                              td_ocr_read **reads, size_t *n, td_vee **vees,
-                             size_t *nvees, td_ctx *cx);
+                             size_t *nvees, int *colour, td_ctx *cx);
 /* Ink widths and darkness (width.h) of lines that carry none (a file not
  * written by topodig scan), measured on the scan binarised with the
  * scanner's defaults.  Nothing happens when any line has a width.  0 or

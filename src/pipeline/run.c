@@ -107,6 +107,7 @@ static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
     lp.vees = r->vees;
     lp.nvees = tree ? 0 : r->nvees;
     lp.walls = r->walls;
+    lp.colour = r->pal.n > 0; /* gap_pairs < 0: on for colour scans */
     lp.w = r->w;
     lp.h = r->h;
     if (lp.nknown == 0 && lp.nlabels == 0)

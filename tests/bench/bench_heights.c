@@ -16,8 +16,9 @@
  * --streams: the colour sheets' water drawn from the terrain (tdgen
  * --streams) instead of the random river; --no-vees: the streams' Vs not
  * read (scanner/streams.h); --no-stream-joins: the joiner's stage 3 (across
- * the water) off; --gap-pairs: the labeller's free-end pairs
- * (td_label_params.gap_pairs, endpair.h); --oracle: each traced row
+ * the water) off; --gap-pairs PX: the labeller's free-end pairs at PX
+ * (td_label_params.gap_pairs, endpair.h; default: the labeller's, 24 on
+ * colour scans, off on grey; -1: off everywhere); --oracle: each traced row
  * also prices the true heights under the labeller's whole model (each
  * traced line's majority contour, its up side from the true surface):
  * an answer dearer than the truth is the optimiser's error, a cheaper

@@ -304,7 +304,10 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
     hs->traced = ls->n;
     lp.method = hs->method;
     lp.search = hs->search < 0 ? 0 : hs->search ? hs->search : lp.search;
-    lp.gap_pairs = hs->gap_pairs;
+    lp.gap_pairs = hs->gap_pairs > 0   ? hs->gap_pairs
+                   : hs->gap_pairs < 0 ? 0
+                                       : lp.gap_pairs; /* by the scan */
+    lp.colour = res.palette.n > 0;
     lp.interval = hs->no_interval ? 0 : hs->interval;
     lp.labels = reads;
     lp.nlabels = hs->nreads;

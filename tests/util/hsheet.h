@@ -20,7 +20,9 @@ typedef struct td_hsheet {
                                    (td_scan_params.detint) */
     int search;                 /* td_label_params.search: 0 its default,
                                    -1 off */
-    double gap_pairs;           /* td_label_params.gap_pairs (0: off) */
+    double gap_pairs;           /* td_label_params.gap_pairs (0: the
+                                   labeller's default, on for colour
+                                   scans; < 0: off) */
     int oracle;                 /* price the true heights under the whole
                                    model too (rep.oracle_cost; faces) */
     int read_labels;            /* read the printed labels (scanner/ocr.h) and
