@@ -48,13 +48,4 @@ typedef struct td_nan_runs {
 int td_nan_runs_find(const td_grid_f32 *g, td_nan_runs *nr, td_ctx *cx);
 void td_nan_runs_free(td_nan_runs *nr);
 
-/* td_interp_walk_gaps over a grid whose NaN runs nr are (g unchanged since
- * they were found, so fn must not write g): the same spans, without
- * scanning the determined cells, on threads: fn is called at once from
- * several threads, never on two spans sharing a cell.  Returns 0,
- * TD_ENOMEM or TD_ECANCEL. */
-int td_interp_walk_runs(const td_grid_f32 *g, const td_nan_runs *nr,
-                        int dir, td_span_fn fn, void *user,
-                        const char *stage, td_ctx *cx);
-
 #endif

@@ -309,86 +309,33 @@ static size_t cross_base(const td_grid_f32 *g, const td_span *s, int r)
     return s->dc == 0 ? 0 : s->dc > 0 ? (size_t)(g->h - 1 - r) : (size_t)r;
 }
 
-/* Both walkers: every row, from its NaN runs when nr is given, else by
- * scanning it.  With nr, only the lines [lo, hi) (rows for x; for the
- * directions crossing rows, line = c + cross_base) and the caller's open
- * array (one per line); progress only when stage is set. */
-static int walk_gaps(const td_grid_f32 *g, const td_nan_runs *nr, int dir,
-                     td_span_fn fn, void *user, const char *stage,
-                     td_ctx *cx, long lo, long hi, int *open_in)
+/* Gaps along dir, row by row: x runs from the row's scan, the other
+ * directions from the undetermined cells and the rows above and below. */
+int td_interp_walk_gaps(const td_grid_f32 *g, int dir, td_span_fn fn,
+                        void *user, const char *stage, td_ctx *cx)
 {
     int h = g->h, r, c, e, rc = 0;
-    int *open = open_in;
-    size_t i;
+    int *open = NULL;
     td_span s;
     memset(&s, 0, sizeof s);
     span_geometry(dir, (int)g->stride, &s);
-    if (dir != TD_DIR_X && !open &&
+    if (dir != TD_DIR_X &&
         !(open = td_malloc(((size_t)g->w + h - 1) * sizeof *open, cx)))
         return TD_ENOMEM;
     for (r = 0; r < h && rc == 0; r++) {
         const float *row = g->data + (size_t)r * g->stride;
         size_t base = cross_base(g, &s, r);
-        if (!nr && dir == TD_DIR_X)
+        if (dir == TD_DIR_X)
             gaps_x(g, r, &s, fn, user);
-        else if (!nr)
+        else
             for (c = td_row_find(row, 0, g->w, 1); c < g->w;
                  c = td_row_find(row, e, g->w, 1))
                 for (e = td_row_find(row, c + 1, g->w, 0); c < e; c++)
                     gap_cross(g, r, c, open, base, &s, fn, user);
-        else if (dir == TD_DIR_X) {
-            if (r >= lo && r < hi)
-                for (i = nr->off[r]; i < nr->off[r + 1]; i++)
-                    gap_x(g, r, nr->run[i][0], nr->run[i][1], &s, fn, user);
-        } else {
-            long c0 = lo - (long)base, c1 = hi - (long)base;
-            for (i = nr->off[r]; i < nr->off[r + 1]; i++) {
-                long a = nr->run[i][0] > c0 ? nr->run[i][0] : c0;
-                long b = nr->run[i][1] < c1 ? nr->run[i][1] : c1;
-                for (c = (int)a; c < b; c++)
-                    gap_cross(g, r, c, open, base, &s, fn, user);
-            }
-        }
         if (stage && (r & 1023) == 1023)
             rc = td_progress(cx, stage, (double)r / h);
     }
-    if (open != open_in)
-        free(open);
-    return rc;
-}
-
-int td_interp_walk_gaps(const td_grid_f32 *g, int dir, td_span_fn fn,
-                        void *user, const char *stage, td_ctx *cx)
-{
-    return walk_gaps(g, NULL, dir, fn, user, stage, cx, 0, 0, NULL);
-}
-
-/* The lines of a direction cut into WALK_CHUNKS ranges walked on threads:
- * a cell lies on one line of each direction, so two ranges never touch one
- * cell, and every cell still gets its directions in order. */
-#define WALK_CHUNKS 16
-
-int td_interp_walk_runs(const td_grid_f32 *g, const td_nan_runs *nr,
-                        int dir, td_span_fn fn, void *user,
-                        const char *stage, td_ctx *cx)
-{
-    long nl = dir == TD_DIR_X ? g->h
-              : dir == TD_DIR_Y ? g->w
-                                : (long)g->w + g->h - 1;
-    int *open = NULL, k, rc = 0, cancel = 0;
-    if (dir != TD_DIR_X &&
-        !(open = td_malloc(((size_t)g->w + g->h - 1) * sizeof *open, cx)))
-        return TD_ENOMEM;
-#pragma omp parallel for schedule(dynamic, 1) reduction(| : cancel)
-    for (k = 0; k < WALK_CHUNKS; k++) {
-        long lo = nl * k / WALK_CHUNKS, hi = nl * (k + 1) / WALK_CHUNKS;
-        /* progress from the first range only: it walks every row */
-        cancel |= walk_gaps(g, nr, dir, fn, user, k == 0 ? stage : NULL,
-                            k == 0 ? cx : NULL, lo, hi, open) != 0;
-    }
     free(open);
-    if (cancel)
-        rc = cx && cx->code ? cx->code : TD_ECANCEL;
     return rc;
 }
 

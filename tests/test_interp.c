@@ -698,6 +698,133 @@ static void test_multidir_brute(void)
     td_grid_f32_free(a);
 }
 
+/* Brute force for phase 2 (the summit phase) at the undetermined cell
+ * (x, y) of a: per direction, the run of undetermined cells through it,
+ * its anchors A and B n steps apart; unequal: the linear estimate, with
+ * the span weight; equal: the paper's tent with the slopes read outwards
+ * from A and B (the farthest determined cell within kmax with none
+ * undetermined before it), weighted by the cell's own distances. */
+static double slope_out(const td_grid_f32 *a, int x, int y, int dx, int dy,
+                        int kmax, double sl, int *ok)
+{
+    int k, best = 0;
+    float zb = 0;
+    for (k = 1; k <= kmax; k++) {
+        int u = x + k * dx, v = y + k * dy;
+        if (u < 0 || v < 0 || u >= a->w || v >= a->h || isnan(TD_AT(a, u, v)))
+            break;
+        best = k, zb = TD_AT(a, u, v);
+    }
+    *ok = best > 0;
+    return best ? ((double)TD_AT(a, x, y) - zb) / (best * sl) : 0;
+}
+
+static int brute_summit(const td_grid_f32 *a, int x, int y,
+                        const td_multidir_params *p, double *z)
+{
+    static const int dx[4] = {1, 0, 1, -1}, dy[4] = {0, 1, 1, 1};
+    double sw = 0, swz = 0;
+    int d;
+    for (d = 0; d < p->ndir; d++) {
+        double sl = d < 2 ? 1.0 : sqrt(2.0), s1 = 0, s2 = 0, w, v;
+        int k1 = 1, k2 = 1, ax, ay, bx, by, o1, o2;
+        float za, zb;
+        while (x - k1 * dx[d] >= 0 && x - k1 * dx[d] < a->w &&
+               y - k1 * dy[d] >= 0 &&
+               isnan(TD_AT(a, x - k1 * dx[d], y - k1 * dy[d])))
+            k1++;
+        while (x + k2 * dx[d] >= 0 && x + k2 * dx[d] < a->w &&
+               y + k2 * dy[d] < a->h &&
+               isnan(TD_AT(a, x + k2 * dx[d], y + k2 * dy[d])))
+            k2++;
+        ax = x - k1 * dx[d], ay = y - k1 * dy[d];
+        bx = x + k2 * dx[d], by = y + k2 * dy[d];
+        if (ax < 0 || ax >= a->w || ay < 0 || bx < 0 || bx >= a->w ||
+            by >= a->h)
+            continue;
+        za = TD_AT(a, ax, ay), zb = TD_AT(a, bx, by);
+        w = brute_weight(p->weight, k1 * sl, k2 * sl);
+        if (za != zb) {
+            v = za + (zb - za) * k1 / (double)(k1 + k2);
+        } else {
+            if (p->summit) {
+                s1 = slope_out(a, ax, ay, -dx[d], -dy[d], p->slope_cells, sl,
+                               &o1);
+                s2 =
+                    slope_out(a, bx, by, dx[d], dy[d], p->slope_cells, sl, &o2);
+                if (!o1 || !o2)
+                    s1 = s2 = 0;
+            }
+            v = za;
+            if (s1 > 0 && s2 > 0)
+                v = za +
+                    fmin(fmin(s1 * k1 * sl, s2 * k2 * sl), 0.99 * p->interval);
+            else if (s1 < 0 && s2 < 0)
+                v = za - fmin(fmin(-s1 * k1 * sl, -s2 * k2 * sl),
+                              0.99 * p->interval);
+        }
+        sw += w;
+        swz += w * v;
+    }
+    if (sw <= 0)
+        return 0;
+    *z = swz / sw;
+    return 1;
+}
+
+/* Phase 2 (interp/multidir_summit.c, one pass down the rows) against the
+ * brute force, on random anchors in 3 levels (many runs between equal
+ * heights: tents) and a tall grid (runs longer than the delay of the
+ * rows written back): every weight, 2 and 4 directions, summit on and
+ * off; the determined cells untouched. */
+static void test_multidir_summit(void)
+{
+    int w = 71, h = 230, x, y, m, nd, su;
+    td_grid_f32 *a = td_grid_f32_new(w, h, NULL), *g;
+    unsigned s = 4242;
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++) {
+            s = s * 1103515245u + 12345u;
+            TD_AT(a, x, y) =
+                (s >> 16) % 100 < 12 ? (float)(10 * ((s >> 8) % 3)) : NAN;
+        }
+    for (m = 0; m < 3; m++)
+        for (nd = 2; nd <= 4; nd += 2)
+            for (su = 0; su < 2; su++) {
+                td_multidir_params p = td_multidir_defaults();
+                td_ctx cx;
+                double worst = 0, z;
+                long cells = 0, tents = 0;
+                td_ctx_init(&cx);
+                p.interval = 10;
+                p.weight = (td_multidir_weight)m;
+                p.ndir = nd;
+                p.summit = su;
+                g = td_grid_f32_new(w, h, NULL);
+                memcpy(g->data, a->data,
+                       (size_t)h * a->stride * sizeof *g->data);
+                TT_CHECK(td_multidir_summit(g, &p, NULL, &cx) == 0);
+                for (y = 0; y < h; y++)
+                    for (x = 0; x < w; x++) {
+                        if (!isnan(TD_AT(a, x, y)))
+                            TT_CHECK(TD_AT(g, x, y) == TD_AT(a, x, y));
+                        else if (brute_summit(a, x, y, &p, &z)) {
+                            cells++;
+                            worst = fmax(worst, fabs(TD_AT(g, x, y) - z));
+                            tents += fmod(z, 10.0) != 0;
+                        } else
+                            TT_CHECK(isnan(TD_AT(g, x, y)));
+                    }
+                TT_CHECKF(worst < 1e-3 && cells > w * h / 2 &&
+                              (!su || tents > 100),
+                          "weight %d, %d dirs, summit %d: max |d| %g over "
+                          "%ld cells (%ld off the levels)",
+                          m, nd, su, worst, cells, tents);
+                td_grid_f32_free(g);
+            }
+    td_grid_f32_free(a);
+}
+
 /* A grid tall enough for the sweep's row bands (multidir_sweep.c: 16 bands
  * from 1024 rows), anchors sparse enough that spans cross the bands'
  * edges: every cell as the brute force has it, and the same bytes on one
@@ -832,6 +959,7 @@ int main(void)
     TT_RUN(test_summit_capped);
     TT_RUN(test_multidir_threads);
     TT_RUN(test_multidir_bands);
+    TT_RUN(test_multidir_summit);
     TT_RUN(test_take);
     TT_RUN(test_step);
     TT_RUN(test_single_ring);
