@@ -774,13 +774,13 @@ static int brute_summit(const td_grid_f32 *a, int x, int y,
 
 /* Phase 2 (interp/multidir_summit.c, one pass down the rows) against the
  * brute force, on random anchors in 3 levels (many runs between equal
- * heights: tents) and a tall grid (runs longer than the delay of the
- * rows written back): every weight, 2 and 4 directions, summit on and
- * off; the determined cells untouched. */
+ * heights: tents) on a tall grid (runs far longer than the rows it
+ * holds back): every weight, 2 and 4 directions, summit on and off; the
+ * determined cells untouched; the same bytes on one thread and two. */
 static void test_multidir_summit(void)
 {
-    int w = 71, h = 230, x, y, m, nd, su;
-    td_grid_f32 *a = td_grid_f32_new(w, h, NULL), *g;
+    int w = 71, h = 1100, x, y, m, nd, su, t;
+    td_grid_f32 *a = td_grid_f32_new(w, h, NULL), *g, *g1;
     unsigned s = 4242;
     for (y = 0; y < h; y++)
         for (x = 0; x < w; x++) {
@@ -801,9 +801,18 @@ static void test_multidir_summit(void)
                 p.ndir = nd;
                 p.summit = su;
                 g = td_grid_f32_new(w, h, NULL);
-                memcpy(g->data, a->data,
-                       (size_t)h * a->stride * sizeof *g->data);
-                TT_CHECK(td_multidir_summit(g, &p, NULL, &cx) == 0);
+                g1 = td_grid_f32_new(w, h, NULL);
+                for (t = 0; t < 2; t++) {
+                    td_grid_f32 *o = t ? g : g1;
+                    omp_set_num_threads(t + 1);
+                    memcpy(o->data, a->data,
+                           (size_t)h * a->stride * sizeof *o->data);
+                    TT_CHECK(td_multidir_summit(o, &p, NULL, &cx) == 0);
+                }
+                omp_set_num_threads(omp_get_num_procs());
+                TT_CHECK(memcmp(g->data, g1->data,
+                                (size_t)h * a->stride * sizeof *g->data) == 0);
+                td_grid_f32_free(g1);
                 for (y = 0; y < h; y++)
                     for (x = 0; x < w; x++) {
                         if (!isnan(TD_AT(a, x, y)))
