@@ -30,8 +30,10 @@ int td_multidir_sweep(td_grid_f32 *g, const td_multidir_params *p,
  * (multidir_summit.c): every NaN cell of g between two determined cells
  * along a direction gets the blend of the linear or tent estimates, bit
  * for bit what walking each direction over the NaN runs would give.
- * Extra memory: 4 bytes per run start along each crossing direction, about
- * 120 (w + h) bytes and 4 (slope_cells + 4) w bytes besides.
+ * On two threads (x and y, the diagonals), the same bytes on any thread
+ * count.  Extra memory: 4 bytes per run start along each crossing
+ * direction, about 200 (w + h) bytes and 4 (slope_cells + 8) w bytes
+ * besides.
  * Returns 0, TD_ENOMEM or TD_ECANCEL (g then partly filled). */
 int td_multidir_summit(td_grid_f32 *g, const td_multidir_params *p,
                        const char *stage, td_ctx *cx);
