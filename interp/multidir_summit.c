@@ -28,9 +28,9 @@
  *
  * The slopes at A read up to slope_cells rows above the row being swept,
  * so the blended rows go into g slope_cells + 2 rows behind (a ring of
- * rows): every read sees the phase-1 grid.  The float operations are
- * multidir.c's summit_span / linear_span / add, in the same order per
- * cell: the same bytes as the walk. */
+ * rows): every read sees the phase-1 grid.  The float operations are the
+ * walk's (multidir.c's linear_span and add, rasterise.c's tent), in the
+ * same order per cell: the same bytes. */
 #include "interp/multidir_int.h"
 
 #include "interp/interp_int.h"
