@@ -618,27 +618,40 @@ static double brute_weight(td_multidir_weight m, double d1, double d2)
                                     : 1.0 / (d1 * d2);
 }
 
+static const int bdx[4] = {1, 0, 1, -1}, bdy[4] = {0, 1, 1, 1};
+
+/* The run of undetermined cells through (x, y) along direction d: the
+ * steps k1 back and k2 on to the determined cells A and B; 0 when the run
+ * leaves the grid first. */
+static int brute_run(const td_grid_f32 *a, int x, int y, int d, int *k1,
+                     int *k2)
+{
+    const int *dx = bdx, *dy = bdy;
+    *k1 = *k2 = 1;
+    while (x - *k1 * dx[d] >= 0 && x - *k1 * dx[d] < a->w &&
+           y - *k1 * dy[d] >= 0 &&
+           isnan(TD_AT(a, x - *k1 * dx[d], y - *k1 * dy[d])))
+        (*k1)++;
+    while (x + *k2 * dx[d] >= 0 && x + *k2 * dx[d] < a->w &&
+           y + *k2 * dy[d] < a->h &&
+           isnan(TD_AT(a, x + *k2 * dx[d], y + *k2 * dy[d])))
+        (*k2)++;
+    return !(x - *k1 * dx[d] < 0 || x - *k1 * dx[d] >= a->w ||
+             y - *k1 * dy[d] < 0 || x + *k2 * dx[d] < 0 ||
+             x + *k2 * dx[d] >= a->w || y + *k2 * dy[d] >= a->h);
+}
+
 static int brute_cell(const td_grid_f32 *a, int x, int y, int ndir,
                       td_multidir_weight m, double *z)
 {
-    static const int dx[4] = {1, 0, 1, -1}, dy[4] = {0, 1, 1, 1};
+    const int *dx = bdx, *dy = bdy;
     double sw = 0, swz = 0;
     int d;
     for (d = 0; d < ndir; d++) {
         double sl = d < 2 ? 1.0 : sqrt(2.0), w;
-        int k1 = 1, k2 = 1;
+        int k1, k2;
         float za, zb;
-        while (x - k1 * dx[d] >= 0 && x - k1 * dx[d] < a->w &&
-               y - k1 * dy[d] >= 0 &&
-               isnan(TD_AT(a, x - k1 * dx[d], y - k1 * dy[d])))
-            k1++;
-        while (x + k2 * dx[d] >= 0 && x + k2 * dx[d] < a->w &&
-               y + k2 * dy[d] < a->h &&
-               isnan(TD_AT(a, x + k2 * dx[d], y + k2 * dy[d])))
-            k2++;
-        if (x - k1 * dx[d] < 0 || x - k1 * dx[d] >= a->w ||
-            y - k1 * dy[d] < 0 || x + k2 * dx[d] < 0 ||
-            x + k2 * dx[d] >= a->w || y + k2 * dy[d] >= a->h)
+        if (!brute_run(a, x, y, d, &k1, &k2))
             continue;
         za = TD_AT(a, x - k1 * dx[d], y - k1 * dy[d]);
         zb = TD_AT(a, x + k2 * dx[d], y + k2 * dy[d]);
@@ -722,26 +735,17 @@ static double slope_out(const td_grid_f32 *a, int x, int y, int dx, int dy,
 static int brute_summit(const td_grid_f32 *a, int x, int y,
                         const td_multidir_params *p, double *z)
 {
-    static const int dx[4] = {1, 0, 1, -1}, dy[4] = {0, 1, 1, 1};
+    const int *dx = bdx, *dy = bdy;
     double sw = 0, swz = 0;
     int d;
     for (d = 0; d < p->ndir; d++) {
         double sl = d < 2 ? 1.0 : sqrt(2.0), s1 = 0, s2 = 0, w, v;
-        int k1 = 1, k2 = 1, ax, ay, bx, by, o1, o2;
+        int k1, k2, ax, ay, bx, by, o1, o2;
         float za, zb;
-        while (x - k1 * dx[d] >= 0 && x - k1 * dx[d] < a->w &&
-               y - k1 * dy[d] >= 0 &&
-               isnan(TD_AT(a, x - k1 * dx[d], y - k1 * dy[d])))
-            k1++;
-        while (x + k2 * dx[d] >= 0 && x + k2 * dx[d] < a->w &&
-               y + k2 * dy[d] < a->h &&
-               isnan(TD_AT(a, x + k2 * dx[d], y + k2 * dy[d])))
-            k2++;
+        if (!brute_run(a, x, y, d, &k1, &k2))
+            continue;
         ax = x - k1 * dx[d], ay = y - k1 * dy[d];
         bx = x + k2 * dx[d], by = y + k2 * dy[d];
-        if (ax < 0 || ax >= a->w || ay < 0 || bx < 0 || bx >= a->w ||
-            by >= a->h)
-            continue;
         za = TD_AT(a, ax, ay), zb = TD_AT(a, bx, by);
         w = brute_weight(p->weight, k1 * sl, k2 * sl);
         if (za != zb) {
