@@ -35,6 +35,13 @@
 /* --ink brown: the inks this near brown's best match compete on their long
  * thin strokes */
 #define BROWN_NEAR 30.0
+#define BROWN_STROKES                                                          \
+    0.1 /* ... and the inks with fewer long thin strokes than this share of   \
+           the most stroky ink's do not set the bar: on the printed cone    \
+           (contours 5 px apart) the contours' orange colour fringe came    \
+           out as its own ink, 7 % as stroky as the contours, nearer to     \
+           brown than their scanned #903d36, and the tracing of the fringe  \
+           had recall 0.58 against 0.93 */
 #define ALSO_HUE 10.0 /* an ink this near the contour ink's hue (CIELAB,
                          degrees) is a darker or lighter print of it; the
                          red roads of the printed sheets came out 14.8
@@ -696,17 +703,23 @@ done:
 int td_palette_choose(td_palette *pal, int brown)
 {
     static const double ref[3] = {160, 90, 40};
-    double p[3], r[TD_PALETTE_MAX], best = HUGE_VAL, most = -1;
+    double p[3], r[TD_PALETTE_MAX], best = HUGE_VAL, most = -1, top = 0;
     int i;
     rgb_of(&pal->ink[pal->paper], p);
     pal->chosen = -1;
+    for (i = 0; i < pal->n; i++)
+        if (pal->ink[i].role == TD_INKROLE_INK && pal->ink[i].line_len > top)
+            top = pal->ink[i].line_len;
     for (i = 0; i < pal->n; i++) {
         /* brown: the distance from brown to the ink's line of mixtures
-           with the paper (a faded or thin brown still matches) */
+           with the paper (a faded or thin brown still matches); the
+           nearest among the inks that draw strokes at all (BROWN_STROKES)
+           sets the bar */
         double iv[3], a;
         rgb_of(&pal->ink[i], iv);
         r[i] = sqrt(fit(ref, p, iv, p, &a)) + 0.25 * dist3(iv, ref);
-        if (pal->ink[i].role == TD_INKROLE_INK && r[i] < best)
+        if (pal->ink[i].role == TD_INKROLE_INK && r[i] < best &&
+            pal->ink[i].line_len >= BROWN_STROKES * top)
             best = r[i];
     }
     for (i = 0; i < pal->n; i++) {

@@ -252,6 +252,30 @@ static void test_print_variants(void)
     }
 }
 
+/* The generator's printed cone (800 px, contours 5-7 px apart): the
+ * contours' orange colour fringe comes out as an ink of its own (1.6 % of
+ * the sheet), nearer to contour brown than the scanned contours
+ * (#903d36, 22.7 %); --ink brown took the fringe (659 lines for 116
+ * contours, recall 0.578).  Only inks with a tenth of the most stroky
+ * ink's long strokes set brown's bar (palette.c, BROWN_STROKES): brown
+ * takes the ink auto takes, recall 0.931. */
+static void test_brown_not_fringe(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_palette pa, pb;
+    td_scanscore sa, sb;
+    gp.terrain = TD_GEN_CONE;
+    gp.w = gp.h = 800;
+    td_hsheet_defects(&gp, 3);
+    scan_scored_ink(&gp, TD_INK_AUTO, 0, &pa, &sa);
+    scan_scored_ink(&gp, TD_INK_BROWN, 0, &pb, &sb);
+    fprintf(stderr,
+            "  printed cone: auto recall %.3f, %ld lines; brown %.3f, %ld\n",
+            sa.recall, sa.n_traced, sb.recall, sb.n_traced);
+    TT_CHECK(pa.chosen >= 0 && pb.chosen == pa.chosen);
+    TT_CHECK(sb.recall >= 0.9 && sb.n_traced <= 3 * sb.n_truth);
+}
+
 /* Elkhorn as a new print: the red roads and the contours' orange colour
  * fringe came out as one ink near the brown's hue and were taken as
  * contour ink too, so the roads were traced across the contours (own
@@ -444,6 +468,7 @@ int main(void)
     TT_RUN(test_split_brown);
     TT_RUN(test_crowded_print);
     TT_RUN(test_print_variants);
+    TT_RUN(test_brown_not_fringe);
     TT_RUN(test_new_print_roads);
     TT_RUN(test_defringe_scan);
     TT_RUN(test_tint_straddling_split);

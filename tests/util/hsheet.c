@@ -107,6 +107,14 @@ static int draw_verdicts(const td_hsheet *hs, const td_image *im,
     }
     rc = td_png_write(hs->png, out, cx);
     td_image_free(out);
+    if (rc == 0) { /* the sheet and the labelled lines beside it */
+        char path[600];
+        snprintf(path, sizeof path, "%s.sheet.png", hs->png);
+        rc = td_png_write(path, im, cx);
+        snprintf(path, sizeof path, "%s.lines.geojson", hs->png);
+        if (rc == 0)
+            rc = td_geojson_write_lines(path, ls, NULL, cx);
+    }
     return rc;
 }
 
@@ -260,9 +268,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
             ls->v[i].depression &= hs->gp.hachures;
         }
     } else {
-        td_scan_params sp = td_scan_defaults();
-        if (hs->gp.colour)
-            sp.bin.ink = TD_INK_BROWN;
+        td_scan_params sp = td_scan_defaults(); /* ink auto, as run */
         sp.trace.cut = !hs->paper_junctions;
         sp.detint = hs->detint;
         if (hs->no_stream_joins)
