@@ -108,10 +108,15 @@ static int interp_core(const td_lines *ls, td_lines **take, int w, int h,
     free(fixed);
     fixed = NULL;
     n = (size_t)g->w * g->h;
-#pragma omp parallel for schedule(static)
-    for (i = 0; i < n; i++)
-        if (g->data[i] != g->data[i])
-            g->data[i] = p->nodata;
+    {
+        size_t none = 0;
+#pragma omp parallel for schedule(static) reduction(+ : none)
+        for (i = 0; i < n; i++)
+            if (g->data[i] != g->data[i])
+                g->data[i] = p->nodata, none++;
+        if (p->undetermined)
+            *p->undetermined = none;
+    }
     g->nodata = p->nodata;
     g->has_nodata = 1;
     *out = g;
@@ -229,6 +234,12 @@ int td_interp_lines_beside(const td_lines *ls, const td_lines *beside,
                &big->data[(size_t)(y + mc) * big->stride + mc],
                (size_t)gw * sizeof *g->data);
     g->nodata = big->nodata, g->has_nodata = big->has_nodata;
+    if (p->undetermined) { /* of the sheet, not of its margin */
+        size_t none = 0, c;
+        for (c = 0; c < (size_t)gw * gh; c++)
+            none += g->data[c] == g->nodata;
+        *p->undetermined = none;
+    }
     *out = g;
 done:
     td_grid_f32_free(big);

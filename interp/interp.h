@@ -44,6 +44,8 @@ typedef struct td_interp_params {
     td_multidir_params multidir;
     td_homotopy_params homotopy;
     struct td_homotopy_stats *hstats; /* homotopy: out, may be NULL */
+    size_t *undetermined;             /* out, may be NULL: cells of the DEM left
+                                         nodata (counted in the pass that writes it) */
 } td_interp_params;
 
 td_interp_params td_interp_defaults(void);

@@ -62,12 +62,12 @@ static int is_junction(const td_grid_u8 *g, int x, int y)
     return td_skel_crossings(td_skel_nbits(g, x, y)) >= 3;
 }
 
-/* End points and junctions of the skeleton, in raster order. */
-static int classify(const td_grid_u8 *g, td_szvec *ends, td_szvec *juncs,
-                    td_ctx *cx)
+/* End points and junctions of rows [y0, y1), in raster order. */
+static int classify_rows(const td_grid_u8 *g, int y0, int y1, td_szvec *ends,
+                         td_szvec *juncs, td_ctx *cx)
 {
     int x, y;
-    for (y = 0; y < g->h; y++) {
+    for (y = y0; y < y1; y++) {
         const uint8_t *r = g->data + (size_t)y * g->stride;
         for (x = td_skel_next_ink(r, 0, g->w); x < g->w;
              x = td_skel_next_ink(r, x + 1, g->w)) {
@@ -79,6 +79,38 @@ static int classify(const td_grid_u8 *g, td_szvec *ends, td_szvec *juncs,
         }
     }
     return 0;
+}
+
+/* End points and junctions of the skeleton, in raster order: bands of
+ * CLASSIFY_ROWS rows on threads, joined in order. */
+#define CLASSIFY_ROWS 512
+static int classify(const td_grid_u8 *g, td_szvec *ends, td_szvec *juncs,
+                    td_ctx *cx)
+{
+    int nb = (g->h + CLASSIFY_ROWS - 1) / CLASSIFY_ROWS, b, rc = 0;
+    td_szvec *be = td_calloc(2 * (size_t)nb + 1, sizeof *be, cx);
+    size_t k;
+    if (!be)
+        return TD_ENOMEM;
+#pragma omp parallel for schedule(dynamic)
+    for (b = 0; b < nb; b++) {
+        int y0 = b * CLASSIFY_ROWS,
+            y1 = g->h - y0 < CLASSIFY_ROWS ? g->h : y0 + CLASSIFY_ROWS;
+        if (classify_rows(g, y0, y1, &be[2 * b], &be[2 * b + 1], NULL) != 0) {
+#pragma omp atomic write
+            rc = TD_ENOMEM;
+        }
+    }
+    for (b = 0; b < nb && rc == 0; b++)
+        for (k = 0; k < be[2 * b].n + be[2 * b + 1].n && rc == 0; k++)
+            rc = k < be[2 * b].n
+                     ? td_szvec_push(ends, be[2 * b].v[k], cx)
+                     : td_szvec_push(juncs, be[2 * b + 1].v[k - be[2 * b].n],
+                                     cx);
+    for (b = 0; b < 2 * nb; b++)
+        td_szvec_free(&be[b]);
+    free(be);
+    return rc == 0 ? 0 : td_seterr(cx, TD_ENOMEM, "out of memory");
 }
 
 /* The next pixel of a walk: an unwalked ink neighbour, orthogonal ones

@@ -30,34 +30,37 @@ td_straight_params td_straight_defaults(void)
  * at x - 1, x or x + 1 (mask values 0 or 1). */
 static void count_vertical(const td_grid_u8 *g, int S, int *c)
 {
-    int x, y, w = g->w;
-    for (y = 0; y < g->h; y++) {
-        const uint8_t *r = g->data + (size_t)y * g->stride;
-        int *row = c + (size_t)(y / S) * w;
-        row[0] += (r[0] | (w > 1 ? r[1] : 0)) != 0;
-        for (x = 1; x + 1 < w; x++)
-            row[x] += (r[x - 1] | r[x] | r[x + 1]) != 0;
-        if (w > 1)
-            row[w - 1] += (r[w - 2] | r[w - 1]) != 0;
+    int w = g->w, ns = (g->h + S - 1) / S, s;
+#pragma omp parallel for schedule(dynamic)
+    for (s = 0; s < ns; s++) { /* each strip its own row of counts */
+        int *row = c + (size_t)s * w, x, y,
+            y1 = (s + 1) * S < g->h ? (s + 1) * S : g->h;
+        for (y = s * S; y < y1; y++) {
+            const uint8_t *r = g->data + (size_t)y * g->stride;
+            row[0] += (r[0] | (w > 1 ? r[1] : 0)) != 0;
+            for (x = 1; x + 1 < w; x++)
+                row[x] += (r[x - 1] | r[x] | r[x + 1]) != 0;
+            if (w > 1)
+                row[w - 1] += (r[w - 2] | r[w - 1]) != 0;
+        }
     }
 }
 
 /* Band counts for horizontal lines: c[s * h + y] = columns of strip s
- * (S columns) with ink at y - 1, y or y + 1; tmp holds a row. */
-static void count_horizontal(const td_grid_u8 *g, int S, int *c,
-                             uint8_t *tmp)
+ * (S columns) with ink at y - 1, y or y + 1. */
+static void count_horizontal(const td_grid_u8 *g, int S, int *c)
 {
-    int x, y, s;
+    int y;
+#pragma omp parallel for schedule(static)
     for (y = 0; y < g->h; y++) {
         const uint8_t *r = g->data + (size_t)y * g->stride;
         const uint8_t *a = y > 0 ? r - g->stride : r;
         const uint8_t *b = y + 1 < g->h ? r + g->stride : r;
-        for (x = 0; x < g->w; x++)
-            tmp[x] = (a[x] | r[x] | b[x]) != 0;
+        int x, s;
         for (s = 0; s * S < g->w; s++) {
             int sum = 0, x1 = (s + 1) * S < g->w ? (s + 1) * S : g->w;
             for (x = s * S; x < x1; x++)
-                sum += tmp[x];
+                sum += (a[x] | r[x] | b[x]) != 0;
             c[(size_t)s * g->h + y] = sum;
         }
     }
@@ -281,7 +284,6 @@ static int one_direction(td_grid_u8 *g, int vertical,
     int *c = NULL, *acc = NULL, *last = NULL;
     peak *pk = NULL;
     char *keep = NULL;
-    uint8_t *tmp = NULL;
     size_t n = 0, i;
     if (ns < 6)
         return 0; /* too short a sheet to tell a line */
@@ -289,13 +291,12 @@ static int one_direction(td_grid_u8 *g, int vertical,
         need = MIN_PEAKS;
     if (!(c = td_calloc((size_t)ns * nu, sizeof *c, cx)) ||
         !(acc = td_malloc((size_t)NSLOPE * nb * sizeof *acc, cx)) ||
-        !(last = td_malloc((size_t)NSLOPE * nb * sizeof *last, cx)) ||
-        (!vertical && !(tmp = td_malloc((size_t)g->w, cx))))
+        !(last = td_malloc((size_t)NSLOPE * nb * sizeof *last, cx)))
         goto done;
     if (vertical)
         count_vertical(g, S, c);
     else
-        count_horizontal(g, S, c, tmp);
+        count_horizontal(g, S, c);
     if ((rc = find_peaks(c, nu, ns, S, nv, p, &pk, &n, cx)) != 0)
         goto done;
     rc = TD_ENOMEM;
@@ -328,7 +329,6 @@ done:
     free(last);
     free(pk);
     free(keep);
-    free(tmp);
     return rc;
 }
 

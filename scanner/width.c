@@ -177,14 +177,16 @@ int td_line_widths(const td_grid_u8 *mask, td_lines *ls, td_ctx *cx)
 /* Contract in width.h. */
 uint8_t *td_width_pack(const td_grid_u8 *mask, td_ctx *cx)
 {
-    size_t bs = ((size_t)mask->w + 7) / 8, r, c;
+    size_t bs = ((size_t)mask->w + 7) / 8;
     uint8_t *bits = td_calloc((size_t)mask->h * bs + 1, 1, cx);
+    long r;
     if (!bits)
         return NULL;
-    for (r = 0; r < (size_t)mask->h; r++) {
-        const uint8_t *src = mask->data + r * mask->stride;
-        uint8_t *dst = bits + r * bs;
-        size_t w8 = (size_t)mask->w / 8 * 8;
+#pragma omp parallel for schedule(static)
+    for (r = 0; r < (long)mask->h; r++) {
+        const uint8_t *src = mask->data + (size_t)r * mask->stride;
+        uint8_t *dst = bits + (size_t)r * bs;
+        size_t w8 = (size_t)mask->w / 8 * 8, c;
         for (c = 0; c < w8; c += 8) /* eight pixels a byte, no branch */
             dst[c >> 3] = (uint8_t)((src[c] != 0) | (src[c + 1] != 0) << 1 |
                                     (src[c + 2] != 0) << 2 |

@@ -114,6 +114,7 @@ typedef struct td_run_result {
     td_lines *walls;       /* the scan's blobs (td_scan_result.walls);
                               NULL once labelled */
     td_grid_f32 *dem;
+    size_t undetermined; /* cells of dem left nodata */
     size_t traced, dropped, ncross;
     size_t walls_back;     /* cut stretches put back (walls_back) */
     size_t breaks_closed;  /* breaks bridged (bridge) */

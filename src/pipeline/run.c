@@ -167,6 +167,7 @@ static int do_interp(const td_run_params *p, td_run_result *r, td_ctx *cx)
     int rc;
     ip.interval = r->rep.interval > 0 ? r->rep.interval : p->label.interval;
     ip.hstats = &r->hs;
+    ip.undetermined = &r->undetermined;
     /* the lines go once they are rasterised: the run's peak is here */
     if ((rc = td_interp_lines_take(&r->lines, r->w, r->h, &ip, &r->dem,
                                    cx)) != 0)
