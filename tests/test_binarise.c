@@ -1361,6 +1361,61 @@ static void test_local_level_faded(void)
     sheet_free(&s);
 }
 
+/* The strength pass (the palette's strength, the veto of other inks
+ * about their strokes, the histogram) runs in bands of 256 rows on
+ * threads, the veto's clearing reaching across band edges: on a printed
+ * colour map of 700 rows (red roads, a tint, a fringe) the strength of
+ * the sheet with its first 128 rows cut off (the band edges half a band
+ * away) is the sheet's own below those rows, with one palette; and one
+ * thread gives the mask two give. */
+static void test_strength_bands(void)
+{
+    td_gen_params gp = td_gen_defaults();
+    td_binarise_params p = td_binarise_defaults();
+    td_image *a = NULL, cut;
+    td_grid_u8 *m[2], *sa, *sb;
+    td_palette pal;
+    int rc[2], t, y, bad = 0;
+    long ink = 0;
+    size_t i;
+    gp.w = 520, gp.h = 700;
+    gp.terrain = TD_GEN_HILLS;
+    gp.colour = gp.print = 1;
+    gp.seed = 5;
+    TT_CHECK(td_gen_sheet(&gp, &a, NULL, NULL, NULL) == 0 && a);
+    if (!a)
+        return;
+    for (t = 0; t < 2; t++) {
+        omp_set_num_threads(t + 1);
+        m[t] = run(a, &p, &rc[t]);
+    }
+    omp_set_num_threads(omp_get_num_procs());
+    TT_CHECK(rc[0] == 0 && rc[1] == 0);
+    for (i = 0; i < (size_t)a->h * m[0]->stride; i++)
+        ink += m[0]->data[i] != 0;
+    TT_CHECKF(ink > 5000, "%ld ink pixels", ink);
+    TT_CHECK(memcmp(m[0]->data, m[1]->data, (size_t)a->h * m[0]->stride) == 0);
+    TT_CHECK(td_palette_find(a, &pal, NULL) == 0 &&
+             td_palette_choose(&pal, 0) >= 0);
+    p.palette = &pal;
+    cut = *a;
+    cut.h = a->h - 128;
+    cut.data = a->data + 128 * a->stride;
+    sa = td_grid_u8_new(a->w, a->h, NULL);
+    sb = td_grid_u8_new(cut.w, cut.h, NULL);
+    TT_CHECK(td_binarise_strength(a, &p, sa, NULL) == 0 &&
+             td_binarise_strength(&cut, &p, sb, NULL) == 0);
+    for (y = 2; y < cut.h; y++) /* (the cut's top rows lack a veto above) */
+        bad += memcmp(sa->data + (size_t)(y + 128) * sa->stride,
+                      sb->data + (size_t)y * sb->stride, (size_t)a->w) != 0;
+    TT_CHECKF(bad == 0, "%d rows differ", bad);
+    td_grid_u8_free(m[0]);
+    td_grid_u8_free(m[1]);
+    td_grid_u8_free(sa);
+    td_grid_u8_free(sb);
+    td_image_free(a);
+}
+
 /* The seam split runs in bands of rows on threads from 1024 rows: a
  * crowded sheet of 550 rows (one band) and the same sheet twice with 8
  * rows of paper between (1108 rows, 16 bands) give the same mask for each
@@ -1455,5 +1510,6 @@ int main(void)
     TT_RUN(test_light_corner_contacts);
     TT_RUN(test_local_level_faded);
     TT_RUN(test_seam_split_bands);
+    TT_RUN(test_strength_bands);
     return tt_summary();
 }
