@@ -97,9 +97,14 @@ static int lookahead(sw_state *s, td_ctx *cx)
     const td_grid_f32 *g = s->g;
     int r, i, j, na;
     size_t all = 0;
-    for (r = 0; r < g->h; r++) /* the anchors counted first: one block */
-        all += (size_t)row_anchors(g->data + (size_t)r * g->stride, g->w,
-                                   s->ac);
+#pragma omp parallel for schedule(static) reduction(+ : all)
+    for (r = 0; r < g->h; r++) { /* the anchors counted first: one block */
+        const float *row = g->data + (size_t)r * g->stride;
+        int c;
+        for (c = td_row_find(row, 0, g->w, 0); c < g->w;
+             c = td_row_find(row, c + 1, g->w, 0))
+            all++;
+    }
     if (reserve(s, (int)(all < INT_MAX ? all : INT_MAX), cx) != 0)
         return TD_ENOMEM;
     for (j = 0; j < s->nv; j++)

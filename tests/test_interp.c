@@ -432,6 +432,56 @@ done:
     td_grid_f32_free(dem);
 }
 
+/* The lines are drawn in bands of rows on threads, one band per thread:
+ * 300 random lines of 2-40 vertices, each its own height, crossing and
+ * overlapping all over a 157 x 211 grid (open, closed, single points, some
+ * reaching past the edges), give the same grid on 1, 2 and 3 threads (one
+ * thread is one pass in line order: the last line over a cell wins), and
+ * a cell where two lines cross gets the later one. */
+static void test_rasterise_bands(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_grid_f32 *g[3];
+    unsigned seed = 11;
+    int i, k, t;
+    for (i = 0; i < 300; i++) {
+        td_line *l = td_lines_add(ls, NULL);
+        int n = i % 7 == 0 ? 1 : 2 + rand_r(&seed) % 39;
+        double x = rand_r(&seed) % 1560 / 10.0,
+               y = rand_r(&seed) % 2100 / 10.0; /* starts inside */
+        l->has_height = 1;
+        l->height = i;
+        l->closed = n > 2 && i % 3 == 0;
+        for (k = 0; k < n; k++) {
+            td_line_push(l, x, y, NULL);
+            x += rand_r(&seed) % 61 / 10.0 - 3,
+                y += rand_r(&seed) % 81 / 10.0 - 4;
+        }
+    }
+    { /* two crossing lines last: the later one wins where they cross */
+        td_line *a = td_lines_add(ls, NULL), *b = td_lines_add(ls, NULL);
+        a->has_height = b->has_height = 1;
+        a->height = 1000, b->height = 1001;
+        td_line_push(a, 10.5, 105.5, NULL), td_line_push(a, 150.5, 105.5, NULL);
+        td_line_push(b, 80.5, 2.5, NULL), td_line_push(b, 80.5, 200.5, NULL);
+    }
+    for (t = 0; t < 3; t++) {
+        g[t] = td_grid_f32_new(157, 211, NULL);
+        omp_set_num_threads(t + 1);
+        TT_CHECK(td_rasterise_lines(ls, 1, g[t], NULL) == 0);
+    }
+    omp_set_num_threads(omp_get_num_procs());
+    for (t = 1; t < 3; t++)
+        TT_CHECKF(memcmp(g[0]->data, g[t]->data,
+                         (size_t)g[0]->h * g[0]->stride * sizeof *g[0]->data) ==
+                      0,
+                  "%d threads", t + 1);
+    TT_CHECK(TD_AT(g[0], 80, 105) == 1001 && TD_AT(g[0], 20, 105) == 1000);
+    for (t = 0; t < 3; t++)
+        td_grid_f32_free(g[t]);
+    td_lines_free(ls);
+}
+
 /* Rasterised lines are 4-connected: a diagonal line leaves no gap that a
  * diagonal scan could slip through. */
 static void test_rasterise_4connected(void)
@@ -971,6 +1021,7 @@ int main(void)
     TT_RUN(test_summit_beats_flat);
     TT_RUN(test_summit_capped);
     TT_RUN(test_multidir_threads);
+    TT_RUN(test_rasterise_bands);
     TT_RUN(test_multidir_bands);
     TT_RUN(test_multidir_summit);
     TT_RUN(test_take);
