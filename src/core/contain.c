@@ -18,6 +18,7 @@
 #include "src/core/core.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -324,7 +325,8 @@ static void xvisit(const xgrid *g, const td_lines *ls, xseg s, size_t *cnt,
     }
 }
 
-/* The lines in XG_PARTS runs of about equal vertex counts, each counted
+/* The lines in P runs of about equal vertex counts (a run per thread, at
+ * most XG_PARTS: 8 bytes per cell each), each counted
  * and placed on its own thread into its own share of every cell, the
  * runs in line order: a cell's pieces come in line order as from one
  * pass over the lines (10000^2 benchmark sheet: 0.45 -> 0.25 s). */
@@ -334,7 +336,8 @@ static int xgrid_build(const td_lines *ls, xgrid *g, td_ctx *cx)
 {
     double x1 = -INFINITY, y1 = -INFINITY;
     size_t i, k, n = 0, *cnt = NULL, cap, nc, cut[XG_PARTS + 1], done = 0;
-    int t;
+    int t, P = omp_get_max_threads();
+    P = P < 1 ? 1 : P > XG_PARTS ? XG_PARTS : P;
     memset(g, 0, sizeof *g);
     g->x0 = g->y0 = INFINITY;
     for (i = 0; i < ls->n; i++) { /* (comparisons: fmin is a call) */
@@ -361,16 +364,16 @@ static int xgrid_build(const td_lines *ls, xgrid *g, td_ctx *cx)
     nc = (size_t)g->cw * g->ch;
     for (i = 0, t = 0, cut[0] = 0; i < ls->n; i++) { /* the runs */
         done += ls->v[i].n;
-        while (t + 1 < XG_PARTS && done * XG_PARTS >= (size_t)(t + 1) * n)
+        while (t + 1 < P && done * P >= (size_t)(t + 1) * n)
             cut[++t] = i + 1;
     }
-    while (t < XG_PARTS)
+    while (t < P)
         cut[++t] = ls->n;
     if (!(g->start = calloc(nc + 1, sizeof *g->start)) ||
-        !(cnt = calloc((size_t)XG_PARTS * nc + 1, sizeof *cnt)))
+        !(cnt = calloc((size_t)P * nc + 1, sizeof *cnt)))
         goto nomem;
 #pragma omp parallel for schedule(dynamic)
-    for (t = 0; t < XG_PARTS; t++) { /* count */
+    for (t = 0; t < P; t++) { /* count */
         size_t q, j;
         for (q = cut[t]; q < cut[t + 1]; q++) {
             const td_line *l = &ls->v[q];
@@ -383,7 +386,7 @@ static int xgrid_build(const td_lines *ls, xgrid *g, td_ctx *cx)
     }
     for (i = 0, k = 0; i < nc; i++) { /* each run's first slot per cell */
         g->start[i] = k;
-        for (t = 0; t < XG_PARTS; t++) {
+        for (t = 0; t < P; t++) {
             size_t c = cnt[(size_t)t * nc + i];
             cnt[(size_t)t * nc + i] = k;
             k += c;
@@ -393,7 +396,7 @@ static int xgrid_build(const td_lines *ls, xgrid *g, td_ctx *cx)
     if (!(g->segs = malloc((k + 1) * sizeof *g->segs)))
         goto nomem;
 #pragma omp parallel for schedule(dynamic)
-    for (t = 0; t < XG_PARTS; t++) { /* place */
+    for (t = 0; t < P; t++) { /* place */
         size_t q, j;
         for (q = cut[t]; q < cut[t + 1]; q++) {
             const td_line *l = &ls->v[q];
