@@ -124,24 +124,38 @@ static void dp_keep(const td_line *l, unsigned char *keep, size_t *stack)
     }
 }
 
-/* The simplified lines and their vertices' places in the lines. */
+/* The simplified lines and their vertices' places in the lines: the
+ * keep flags of every used line on threads (a stack per thread), the lines
+ * made from them in order. */
 static int simplify_all(td_faces *f, td_ctx *cx)
 {
-    size_t i, k, nmax = 2, tot = 0;
+    size_t i, k, nmax = 2, tot = 0, nv = f->voff[f->ls->n];
     unsigned char *keep;
-    size_t *stack;
+    long li;
+    int oom = 0;
     for (i = 0; i < f->ls->n; i++)
         nmax = f->ls->v[i].n > nmax ? f->ls->v[i].n : nmax;
     if (!(f->sl = td_lines_new(cx)) ||
         !(f->soff = td_calloc(f->ls->n + 1, sizeof *f->soff, cx)) ||
-        !(f->sorig = td_malloc((f->voff[f->ls->n] + 1) * sizeof *f->sorig, cx)))
+        !(f->sorig = td_malloc((nv + 1) * sizeof *f->sorig, cx)) ||
+        !(keep = td_calloc(nv + 1, 1, cx)))
         return TD_ENOMEM;
-    keep = td_malloc(nmax, cx);
-    stack = td_malloc(2 * nmax * sizeof *stack, cx);
-    if (!keep || !stack) {
-        free(keep);
+#pragma omp parallel
+    {
+        size_t *stack = malloc(2 * nmax * sizeof *stack);
+        if (!stack) {
+#pragma omp atomic write
+            oom = 1;
+        }
+#pragma omp for schedule(dynamic, 16)
+        for (li = 0; li < (long)f->ls->n; li++)
+            if (stack && f->used[li])
+                dp_keep(&f->ls->v[li], keep + f->voff[li], stack);
         free(stack);
-        return TD_ENOMEM;
+    }
+    if (oom) {
+        free(keep);
+        return td_seterr(cx, TD_ENOMEM, "faces: out of memory");
     }
     for (i = 0; i < f->ls->n; i++) {
         const td_line *l = &f->ls->v[i];
@@ -152,10 +166,8 @@ static int simplify_all(td_faces *f, td_ctx *cx)
         o->closed = l->closed;
         if (!f->used[i])
             continue;
-        memset(keep, 0, l->n);
-        dp_keep(l, keep, stack);
         for (k = 0; k < l->n; k++)
-            if (keep[k]) {
+            if (keep[f->voff[i] + k]) {
                 if (td_line_push(o, l->xy[2 * k], l->xy[2 * k + 1], cx) != 0)
                     break;
                 f->sorig[tot++] = (uint32_t)k;
@@ -163,7 +175,6 @@ static int simplify_all(td_faces *f, td_ctx *cx)
     }
     f->soff[f->ls->n] = tot;
     free(keep);
-    free(stack);
     return i < f->ls->n ? TD_ENOMEM : 0;
 }
 
@@ -290,6 +301,7 @@ td_faces *td_faces_new_walls(const td_lines *ls, const td_lines *walls, int w,
         !(f->voff = td_calloc(ls->n + 1, sizeof *f->voff, cx)) ||
         !(f->start = td_calloc(nc + 1, sizeof *f->start, cx)))
         goto fail;
+#pragma omp parallel for schedule(dynamic, 64)
     for (i = 0; i < ls->n; i++) {
         f->len[i] = td_line_length(&ls->v[i]);
         f->used[i] = ls->v[i].n >= 2 && f->len[i] >= f->p.min_len;

@@ -394,6 +394,65 @@ static td_grid_f32 *dem_sheet(td_hsheet *hs, const char *dem, double scale,
     return src;
 }
 
+/* The scan and the labeller on threads (the mask's strength and veto,
+ * specks, grid lines, despur, faces, crossings in bands or runs): the
+ * Front Range sheet (x4) printed in colour, scanned and labelled with
+ * three known points and the index widths on one thread and on two,
+ * gives the same lines, vertex for vertex, with the same heights. */
+static void test_threads_same_lines(void)
+{
+    td_hsheet hs;
+    td_grid_f32 *src = dem_sheet(&hs, "frontrange_srtm3.tif", 4, 0, 0);
+    td_image *im = NULL;
+    td_lines *truth = NULL, *ls[2] = {NULL, NULL};
+    td_label_point kp[3];
+    int t, save = omp_get_max_threads(), bad = 0;
+    size_t i;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    if (!src)
+        return;
+    td_hsheet_defects(&hs.gp, 3);
+    TT_CHECK(td_gen_sheet(&hs.gp, &im, &truth, NULL, &cx) == 0);
+    td_grid_f32_free(src);
+    if (!im)
+        return;
+    for (t = 0; t < 2; t++) {
+        td_scan_params sp = td_scan_defaults();
+        td_scan_result res;
+        td_label_params lp = td_label_defaults();
+        td_label_report rep;
+        omp_set_num_threads(t + 1);
+        TT_CHECKF(td_scan(im, &sp, &res, &cx) == 0, "%s", td_errmsg(&cx));
+        lp.interval = 50;
+        lp.index_every = 5;
+        lp.w = im->w, lp.h = im->h;
+        lp.colour = 1;
+        lp.walls = res.walls;
+        lp.nknown = (size_t)td_hsheet_pick_known(truth, 50, 3, kp);
+        lp.known = kp;
+        ls[t] = res.lines;
+        res.lines = NULL;
+        TT_CHECKF(td_label_auto(ls[t], &lp, &rep, &cx) == 0, "%s",
+                  td_errmsg(&cx));
+        td_label_report_free(&rep);
+        td_scan_result_free(&res);
+    }
+    omp_set_num_threads(save);
+    TT_CHECK(ls[0] && ls[1] && ls[0]->n > 100 && ls[0]->n == ls[1]->n);
+    for (i = 0; ls[0] && ls[1] && i < ls[0]->n && i < ls[1]->n; i++) {
+        const td_line *a = &ls[0]->v[i], *b = &ls[1]->v[i];
+        bad += a->n != b->n || a->has_height != b->has_height ||
+               (a->has_height && a->height != b->height) ||
+               memcmp(a->xy, b->xy, 2 * a->n * sizeof *a->xy) != 0;
+    }
+    TT_CHECKF(bad == 0, "%d lines differ", bad);
+    td_lines_free(ls[0]);
+    td_lines_free(ls[1]);
+    td_lines_free(truth);
+    td_image_free(im);
+}
+
 /* A sheet drawn from a real DEM, scanned and labelled with three known
  * points on index contours (and the index widths when asked: index 1
  * --index-every 5, -1 none given, the solve picks the spacing). */
@@ -1193,5 +1252,6 @@ int main(void)
     TT_RUN(test_ring_beside_line);
     TT_RUN(test_close_label_gap);
     TT_RUN(test_close_breaks);
+    TT_RUN(test_threads_same_lines);
     return tt_summary();
 }
