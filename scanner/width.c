@@ -150,6 +150,20 @@ static int widths(const wmask *mask, td_lines *ls, td_ctx *cx)
 }
 
 /* Contract in width.h. */
+/* Whether l is at least len px long (open: its arc; closed: with the
+ * closing segment), walking only as far as it needs to. */
+static int long_enough(const td_line *l, double len)
+{
+    double s = 0;
+    size_t i;
+    for (i = 1; i < l->n && s < len; i++) {
+        double dx = l->xy[2 * i] - l->xy[2 * i - 2];
+        double dy = l->xy[2 * i + 1] - l->xy[2 * i - 1];
+        s += sqrt(dx * dx + dy * dy);
+    }
+    return s >= len || td_line_length(l) >= len;
+}
+
 double td_pen_width(const td_lines *ls, td_ctx *cx)
 {
     double *v = td_malloc((ls->n + 1) * sizeof *v, cx), med = 0;
@@ -157,7 +171,7 @@ double td_pen_width(const td_lines *ls, td_ctx *cx)
     if (!v)
         return -1;
     for (i = 0; i < ls->n; i++)
-        if (ls->v[i].width > 0 && td_line_length(&ls->v[i]) >= 30)
+        if (ls->v[i].width > 0 && long_enough(&ls->v[i], 30))
             v[n++] = ls->v[i].width;
     if (n) {
         qsort(v, n, sizeof *v, cmp_d);
