@@ -1148,7 +1148,8 @@ int td_binarise_other_ink(const td_image *im, const td_palette *pal,
         free(veto);
         return TD_ENOMEM;
     }
-    for (y = 0; y < im->h; y++) {
+#pragma omp parallel for schedule(static) private(x)
+    for (y = 0; y < im->h; y++) { /* each row its own bytes */
         uint8_t *row = b + (size_t)y * stride;
         for (x = 0; x < im->w; x++)
             if (veto_core(im, veto, x, y))

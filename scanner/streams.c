@@ -240,7 +240,8 @@ int td_streams_water_bits(const td_image *im, const td_palette *pal,
         free(tab);
         return TD_ENOMEM;
     }
-    for (y = 0; y < im->h; y++) {
+#pragma omp parallel for schedule(static) private(x)
+    for (y = 0; y < im->h; y++) { /* each row its own bytes */
         const uint8_t *px = im->data + (size_t)y * im->stride;
         uint8_t *row = b + (size_t)y * stride;
         for (x = 0; x < im->w; x++, px += 3)
