@@ -325,6 +325,21 @@ static void xvisit(const xgrid *g, const td_lines *ls, xseg s, size_t *cnt,
     }
 }
 
+/* xvisit every segment of lines [q0, q1), in order. */
+static void xvisit_run(const xgrid *g, const td_lines *ls, size_t q0, size_t q1,
+                       size_t *cnt, xseg *segs, int pass)
+{
+    size_t q, j;
+    for (q = q0; q < q1; q++) {
+        const td_line *l = &ls->v[q];
+        size_t ns = l->n < 2 ? 0 : l->closed ? l->n : l->n - 1;
+        for (j = 0; j < ns; j++) {
+            xseg s = {(uint32_t)q, (uint32_t)j};
+            xvisit(g, ls, s, cnt, segs, pass);
+        }
+    }
+}
+
 /* The lines in P runs of about equal vertex counts (a run per thread, at
  * most XG_PARTS: 8 bytes per cell each), each counted
  * and placed on its own thread into its own share of every cell, the
@@ -373,17 +388,8 @@ static int xgrid_build(const td_lines *ls, xgrid *g, td_ctx *cx)
         !(cnt = calloc((size_t)P * nc + 1, sizeof *cnt)))
         goto nomem;
 #pragma omp parallel for schedule(dynamic)
-    for (t = 0; t < P; t++) { /* count */
-        size_t q, j;
-        for (q = cut[t]; q < cut[t + 1]; q++) {
-            const td_line *l = &ls->v[q];
-            size_t ns = l->n < 2 ? 0 : l->closed ? l->n : l->n - 1;
-            for (j = 0; j < ns; j++) {
-                xseg s = {(uint32_t)q, (uint32_t)j};
-                xvisit(g, ls, s, cnt + (size_t)t * nc, NULL, 0);
-            }
-        }
-    }
+    for (t = 0; t < P; t++) /* count */
+        xvisit_run(g, ls, cut[t], cut[t + 1], cnt + (size_t)t * nc, NULL, 0);
     for (i = 0, k = 0; i < nc; i++) { /* each run's first slot per cell */
         g->start[i] = k;
         for (t = 0; t < P; t++) {
@@ -396,17 +402,8 @@ static int xgrid_build(const td_lines *ls, xgrid *g, td_ctx *cx)
     if (!(g->segs = malloc((k + 1) * sizeof *g->segs)))
         goto nomem;
 #pragma omp parallel for schedule(dynamic)
-    for (t = 0; t < P; t++) { /* place */
-        size_t q, j;
-        for (q = cut[t]; q < cut[t + 1]; q++) {
-            const td_line *l = &ls->v[q];
-            size_t ns = l->n < 2 ? 0 : l->closed ? l->n : l->n - 1;
-            for (j = 0; j < ns; j++) {
-                xseg s = {(uint32_t)q, (uint32_t)j};
-                xvisit(g, ls, s, cnt + (size_t)t * nc, g->segs, 1);
-            }
-        }
-    }
+    for (t = 0; t < P; t++) /* place */
+        xvisit_run(g, ls, cut[t], cut[t + 1], cnt + (size_t)t * nc, g->segs, 1);
     free(cnt);
     return 0;
 nomem:

@@ -355,14 +355,14 @@ const int SPECK_BAND = 256;
 
 // Bounded 4-connected fill of the paper component of (x0,y0) within rows
 // [b0, b1): returns 1 and makes it ink when it has fewer than min_area
-// cells and touches neither the sheet border nor rows outside the band
-// (then *edge is set), else leaves it paper.  Cells are marked 2 while
+// cells and touches neither the sheet border nor rows outside the band,
+// else leaves it paper.  Cells are marked 2 while
 // visited.
 //   4-neighbourhood:     N
 //                      W * E
 //                        S
 int fill_hole(td_grid_u8 *m, int x0, int y0, int min_area, int b0, int b1,
-              std::vector<std::pair<int, int>> &list, bool *edge)
+              std::vector<std::pair<int, int>> &list)
 {
     static const int dx[4] = {1, 0, -1, 0}, dy[4] = {0, -1, 0, 1};
     bool small = true;
@@ -372,10 +372,8 @@ int fill_hole(td_grid_u8 *m, int x0, int y0, int min_area, int b0, int b1,
     for (size_t i = 0; i < list.size() && small; i++)
         for (int k = 0; k < 4 && small; k++) {
             int x = list[i].first + dx[k], y = list[i].second + dy[k];
-            if (x < 0 || y < 0 || x >= m->w || y >= m->h)
-                small = false; // touches the border: outside, not a hole
-            else if (y < b0 || y >= b1)
-                small = false, *edge = true; // goes on into another band
+            if (x < 0 || y < b0 || x >= m->w || y >= b1)
+                small = false; // the border (not a hole) or another band
             else if (TD_AT(m, x, y) == 0) {
                 if ((int)list.size() + 1 >= min_area)
                     small = false;
@@ -395,7 +393,6 @@ size_t holes_rows(td_grid_u8 *m, int min_area, int y0, int y1, int b0, int b1,
                   std::vector<std::pair<int, int>> &list)
 {
     size_t n = 0;
-    bool edge = false;
     for (int y = std::max(y0, std::max(b0 + 1, 1)); y < y1; y++) {
         uint8_t *row = m->data + (size_t)y * m->stride;
         const uint8_t *up = row - m->stride;
@@ -409,23 +406,23 @@ size_t holes_rows(td_grid_u8 *m, int min_area, int y0, int y1, int b0, int b1,
                 }
             }
             if (row[x] == 0 && row[x - 1] && up[x])
-                n += (size_t)fill_hole(m, x, y, min_area, b0, b1, list, &edge);
+                n += (size_t)fill_hole(m, x, y, min_area, b0, b1, list);
         }
     }
     return n;
 }
 
-int fill_holes(td_grid_u8 *m, int min_area, size_t *filled, td_ctx *cx)
+// fn(b0, b1) for the bands of SPECK_BAND rows of h on threads: the sum of
+// what it returns (an exception inside a band is rethrown as bad_alloc).
+template <class F> size_t on_bands(int h, F fn)
 {
-    int nb = (m->h + SPECK_BAND - 1) / SPECK_BAND;
+    int nb = (h + SPECK_BAND - 1) / SPECK_BAND;
     size_t n = 0;
     bool oom = false;
 #pragma omp parallel for schedule(dynamic) reduction(+ : n)
     for (int b = 0; b < nb; b++) {
         try {
-            std::vector<std::pair<int, int>> list;
-            int b0 = b * SPECK_BAND, b1 = std::min(m->h, b0 + SPECK_BAND);
-            n += holes_rows(m, min_area, b0, b1, b0, b1, list);
+            n += fn(b * SPECK_BAND, std::min(h, (b + 1) * SPECK_BAND));
         } catch (...) {
 #pragma omp atomic write
             oom = true;
@@ -433,6 +430,16 @@ int fill_holes(td_grid_u8 *m, int min_area, size_t *filled, td_ctx *cx)
     }
     if (oom)
         throw std::bad_alloc();
+    return n;
+}
+
+int fill_holes(td_grid_u8 *m, int min_area, size_t *filled, td_ctx *cx)
+{
+    int nb = (m->h + SPECK_BAND - 1) / SPECK_BAND;
+    size_t n = on_bands(m->h, [&](int b0, int b1) {
+        std::vector<std::pair<int, int>> band;
+        return holes_rows(m, min_area, b0, b1, b0, b1, band);
+    });
     std::vector<std::pair<int, int>> list;
     for (int b = 1; b < nb; b++) // about each boundary, the whole sheet
         n += holes_rows(m, min_area, std::max(0, b * SPECK_BAND - min_area),
@@ -538,21 +545,10 @@ size_t specks_rows(td_grid_u8 *m, int min_area, int b0, int b1,
 int remove_specks(td_grid_u8 *m, int min_area, size_t *removed, td_ctx *cx)
 {
     int nb = (m->h + SPECK_BAND - 1) / SPECK_BAND;
-    size_t n = 0;
-    bool oom = false;
-#pragma omp parallel for schedule(dynamic) reduction(+ : n)
-    for (int b = 0; b < nb; b++) {
-        try {
-            std::vector<xy> list;
-            n += specks_rows(m, min_area, b * SPECK_BAND,
-                             std::min(m->h, (b + 1) * SPECK_BAND), list);
-        } catch (...) {
-#pragma omp atomic write
-            oom = true;
-        }
-    }
-    if (oom)
-        throw std::bad_alloc();
+    size_t n = on_bands(m->h, [&](int b0, int b1) {
+        std::vector<xy> band;
+        return specks_rows(m, min_area, b0, b1, band);
+    });
     std::vector<xy> list;
     for (int b = 1; b < nb; b++) { // about each boundary, the whole sheet
         int y0 = std::max(0, b * SPECK_BAND - min_area),

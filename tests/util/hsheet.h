@@ -39,7 +39,9 @@ typedef struct td_hsheet {
     td_labeller method;
     const char *png; /* when set: the verdicts drawn over the sheet
                         (green right, red wrong, blue assumed and
-                        right, orange assumed and wrong, grey none) */
+                        right, orange assumed and wrong, grey none);
+                        the sheet itself beside it (png.sheet.png) and
+                        the labelled lines (png.lines.geojson) */
     /* results */
     td_hscore score;
     td_label_report rep; /* the labeller's report (free it) */
