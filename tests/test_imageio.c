@@ -714,6 +714,109 @@ static void test_png_read_kinds(void)
     check_png("grey1_interlaced.png", PNG_COLOR_TYPE_GRAY, 1, 1, 0, 1);
 }
 
+/* An 8-bit grey or RGB PNG of w x h noisy pixels (pixel value from a fixed
+ * generator into v) with every row filtered by `filter` (a PNG_FILTER_*
+ * flag), in IDAT chunks of 999 bytes, a tEXt chunk after them. */
+static void write_png_filtered(const char *path, int w, int h, int ch,
+                               int filter, uint8_t *v)
+{
+    FILE *f = fopen(path, "wb");
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, 0, 0, 0);
+    png_infop info = png_create_info_struct(png);
+    png_text t;
+    uint32_t s = 12345;
+    int y;
+    size_t i;
+    for (i = 0; i < (size_t)w * h * ch; i++) { /* smooth plus noise */
+        s = s * 1103515245u + 12345u;
+        v[i] = (uint8_t)((i / (size_t)ch) % 200 + ((s >> 16) & 31));
+    }
+    png_init_io(png, f);
+    png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8,
+                 ch == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_GRAY,
+                 PNG_INTERLACE_NONE, 0, 0);
+    png_set_filter(png, 0, filter);
+    png_set_compression_buffer_size(png, 999);
+    png_write_info(png, info);
+    for (y = 0; y < h; y++)
+        png_write_row(png, v + (size_t)y * (size_t)w * (size_t)ch);
+    t.compression = PNG_TEXT_COMPRESSION_NONE;
+    t.key = (png_charp) "Comment";
+    t.text = (png_charp) "after the image data";
+    png_set_text(png, info, &t, 1);
+    png_write_end(png, info);
+    png_destroy_write_struct(&png, &info);
+    fclose(f);
+}
+
+/* The reader of 8-bit grey and RGB PNGs (libdeflate, the filters undone
+ * in place; pngio.c) gives the pixels written, every row filter on its
+ * own and libpng's mix, one pixel wide or wider; a PNG with a byte of
+ * its image data changed (the chunk's CRC wrong, or put right so that
+ * only the zlib check can tell) or cut short is refused naming the file,
+ * never read. */
+static void test_png_fast(void)
+{
+    static const int filters[6] = {PNG_FILTER_NONE,  PNG_FILTER_SUB,
+                                   PNG_FILTER_UP,    PNG_FILTER_AVG,
+                                   PNG_FILTER_PAETH, PNG_ALL_FILTERS};
+    static const int sizes[3][2] = {{1, 7}, {2, 3}, {97, 61}};
+    char *path = tmpfile_path("fast.png");
+    uint8_t *v = malloc(97 * 61 * 3);
+    int fi, si, ch, k;
+    for (ch = 1; ch <= 3; ch += 2)
+        for (fi = 0; fi < 6; fi++)
+            for (si = 0; si < 3; si++) {
+                int w = sizes[si][0], h = sizes[si][1];
+                td_image *im = NULL;
+                td_ctx cx;
+                td_ctx_init(&cx);
+                write_png_filtered(path, w, h, ch, filters[fi], v);
+                TT_CHECKF(td_image_read(path, &im, NULL, &cx) == 0, "%s",
+                          td_errmsg(&cx));
+                if (!im)
+                    continue;
+                TT_CHECKF(im->w == w && im->h == h && im->channels == ch &&
+                              memcmp(im->data, v, (size_t)w * h * ch) == 0,
+                          "%d channels, filter %d, %d x %d: pixels differ", ch,
+                          fi, w, h);
+                td_image_free(im);
+            }
+    for (k = 0; k < 3; k++) { /* CRC wrong, CRC right, cut short */
+        td_image *im = NULL;
+        td_ctx cx;
+        FILE *f;
+        long n;
+        unsigned char *b;
+        size_t p = 8;
+        td_ctx_init(&cx);
+        write_png_filtered(path, 97, 61, 3, PNG_ALL_FILTERS, v);
+        f = fopen(path, "rb");
+        fseek(f, 0, SEEK_END);
+        n = ftell(f);
+        fseek(f, 0, SEEK_SET);
+        b = malloc((size_t)n);
+        TT_CHECK(fread(b, 1, (size_t)n, f) == (size_t)n);
+        fclose(f);
+        while (memcmp(b + p + 4, "IDAT", 4) != 0) /* the first IDAT */
+            p += 12 + ((size_t)b[p] << 24 | (size_t)b[p + 1] << 16 |
+                       (size_t)b[p + 2] << 8 | b[p + 3]);
+        if (k < 2)
+            b[p + 8 + 500] ^= 0x10;
+        if (k == 1)
+            put32(b + p + 8 + 999, crc32(0, b + p + 4, 4 + 999));
+        f = fopen(path, "wb");
+        fwrite(b, 1, k == 2 ? (size_t)n / 2 : (size_t)n, f);
+        fclose(f);
+        TT_CHECKF(td_image_read(path, &im, NULL, &cx) == TD_EFORMAT &&
+                      strstr(td_errmsg(&cx), "fast.png") && !im,
+                  "case %d: %s", k, td_errmsg(&cx));
+        td_image_free(im);
+        free(b);
+    }
+    free(v);
+}
+
 static void test_png_write_roundtrip(void)
 {
     td_ctx cx;
@@ -1362,6 +1465,7 @@ int main(void)
     TT_RUN(test_jpeg_forged_size);
     TT_RUN(test_png_read_kinds);
     TT_RUN(test_png_forged_size);
+    TT_RUN(test_png_fast);
     TT_RUN(test_png_write_roundtrip);
     TT_RUN(test_png_write_u16);
     TT_RUN(test_geotiff_georef_read);
