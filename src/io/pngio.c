@@ -282,10 +282,13 @@ static uint32_t be32(const uint8_t *p)
            p[3];
 }
 
+/* Paeth's predictor without branches (the filter is on nearly every row of
+ * a scan, and its choices are as unpredictable as the paper's grain). */
 static inline uint8_t paeth(int a, int b, int c)
 {
     int pa = abs(b - c), pb = abs(a - c), pc = abs(a + b - 2 * c);
-    return (uint8_t)(pa <= pb && pa <= pc ? a : pb <= pc ? b : c);
+    int bc = pb <= pc ? b : c, ta = (pa <= pb) & (pa <= pc);
+    return (uint8_t)(ta ? a : bc);
 }
 
 /* Undo filter f of one row of n bytes (bpp bytes a pixel) from s into o,
