@@ -60,8 +60,9 @@ $(BUILD)/%.o: %.cpp
 	$(CXX) $(CPPFLAGS) $(CV_CFLAGS) $(CXXFLAGS) -c $< -o $@
 
 # sun/horizon.c: row kernels with square roots and guarded divisions vectorise
-# only without errno and FP traps (neither is used).
-$(BUILD)/src/sun/horizon.o: CFLAGS += -fno-math-errno -fno-trapping-math -fvect-cost-model=dynamic
+# only without errno and FP traps (neither is used).  The cost model is GCC's
+# option (clang, for `make fuzz`, refuses it).
+$(BUILD)/src/sun/horizon.o: CFLAGS += -fno-math-errno -fno-trapping-math $(if $(findstring clang,$(CC)),,-fvect-cost-model=dynamic)
 
 $(BUILD)/libtopodig.a: $(LIB_O)
 	@rm -f $@
