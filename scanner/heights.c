@@ -120,6 +120,14 @@
             Front Range sheet (7 of 59 clean, 22 of 141 new                    \
             print); at 100 they overruled the faces there */
 #define GAP_EPS 1e-3
+#define SHORT_SURE                                                             \
+    32.0 /* px: a line this short solved through the faces alone is at         \
+            most SHORT_CONF sure: its height rests on a few probes, and        \
+            such pieces are where the scanner cut a line that ran onto its     \
+            neighbour (on the printed Orkhon map a 23-px piece left when a     \
+            join that crossed another was refused came out 2 intervals off     \
+            at 0.95) */
+#define SHORT_CONF 0.85
 #define CONF_SCALE                                                             \
     20.0 /* confidence 1 - exp(-gap / this): one label read                    \
             for sure alone 0.85, two 0.98 */
@@ -1305,6 +1313,10 @@ static int chunk_verdict(const hs *s, size_t c, int *src, double *conf)
                : s->wlab[c] > 0 && lab_conf(s, c, h) > 0 ? TD_HS_LABEL
                                                          : TD_HS_SOLVED;
         *conf = *src == TD_HS_KNOWN ? 1.0 : 1.0 - exp(-gB / CONF_SCALE);
+        if (*src == TD_HS_SOLVED &&
+            td_line_length(&s->ls->v[td_faces_chunk_line(s->fx, c)]) <
+                SHORT_SURE)
+            *conf = fmin(*conf, SHORT_CONF);
         return 1;
     }
     if (gA > GAP_EPS) {

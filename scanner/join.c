@@ -603,6 +603,12 @@ static int sgrid_put(sgrid *g, size_t cell, size_t line, size_t seg)
     return 0;
 }
 
+static int cell_of_xy(double cs, double v, int lim)
+{
+    int c = (int)floor(v / cs);
+    return c < 0 ? 0 : c >= lim ? lim - 1 : c;
+}
+
 static int cell_of(const sgrid *g, double v, int lim)
 {
     int c = (int)floor(v / g->cs);
@@ -1308,17 +1314,91 @@ static int ends_beside(const sgrid *g, const td_lines *ls,
     return 0;
 }
 
+/* Stage 1's joins accepted so far, binned by their midpoints in cells at
+ * least as wide as the longest candidate: two joins that cross have
+ * their midpoints within one such length, so a join is checked against
+ * the 3 x 3 cells about its own.  Two small-gap joins never cross
+ * (contours do not; ours): at a road across two nested hairpins the
+ * cheapest pairs of the four ends took one contour onto the other. */
+typedef struct chords {
+    double cs;
+    int cw, ch;
+    size_t *head, *next, n, cap;
+    double *xy; /* 4 per join */
+} chords;
+
+static void chords_free(chords *c)
+{
+    free(c->head), free(c->next), free(c->xy);
+}
+
+static int chords_init(chords *c, const td_join_params *p, const jend *e,
+                       const jpair *pairs, size_t np)
+{
+    size_t i, nc;
+    double L = 8;
+    for (i = 0; i < np; i++)
+        L = fmax(L, hypot(e[pairs[i].a].x - e[pairs[i].b].x,
+                          e[pairs[i].a].y - e[pairs[i].b].y));
+    c->cs = L;
+    c->cw = (int)(p->w / L) + 1, c->ch = (int)(p->h / L) + 1;
+    nc = (size_t)c->cw * (size_t)c->ch;
+    if (!(c->head = malloc(nc * sizeof *c->head)))
+        return -1;
+    for (i = 0; i < nc; i++)
+        c->head[i] = SIZE_MAX;
+    return 0;
+}
+
+/* 1 when the join a-b crosses one accepted before (else it is added), 0,
+ * or -1 when out of memory. */
+static int chords_cross(chords *c, const jend *a, const jend *b)
+{
+    double pa[2] = {a->x, a->y}, pb[2] = {b->x, b->y};
+    int cx = cell_of_xy(c->cs, 0.5 * (a->x + b->x), c->cw);
+    int cy = cell_of_xy(c->cs, 0.5 * (a->y + b->y), c->ch), x, y;
+    size_t j;
+    for (y = cy - 1; y <= cy + 1; y++)
+        for (x = cx - 1; x <= cx + 1; x++) {
+            if (x < 0 || y < 0 || x >= c->cw || y >= c->ch)
+                continue;
+            for (j = c->head[(size_t)y * c->cw + x]; j != SIZE_MAX;
+                 j = c->next[j])
+                if (seg_cross(pa, pb, c->xy + 4 * j, c->xy + 4 * j + 2))
+                    return 1;
+        }
+    if (c->n == c->cap) {
+        size_t cap = c->cap ? 2 * c->cap : 256, *nx;
+        double *xy;
+        if (!(nx = realloc(c->next, cap * sizeof *nx)))
+            return -1;
+        c->next = nx;
+        if (!(xy = realloc(c->xy, 4 * cap * sizeof *xy)))
+            return -1;
+        c->xy = xy, c->cap = cap;
+    }
+    c->xy[4 * c->n] = a->x, c->xy[4 * c->n + 1] = a->y;
+    c->xy[4 * c->n + 2] = b->x, c->xy[4 * c->n + 3] = b->y;
+    c->next[c->n] = c->head[(size_t)cy * c->cw + cx];
+    c->head[(size_t)cy * c->cw + cx] = c->n++;
+    return 0;
+}
+
 static int accept_pairs(const td_lines *ls, const td_join_params *p,
                         int stage, jend *e, jpair *pairs, size_t np,
                         double **acc, size_t *nacc, td_lines *paths,
                         td_join_stats *st, td_ctx *cx)
 {
     sgrid g;
+    chords cg;
     size_t i, cap = 0;
     int rc = 0;
     memset(&g, 0, sizeof g);
+    memset(&cg, 0, sizeof cg);
     if (np > 0)
         qsort(pairs, np, sizeof *pairs, cmp_pair);
+    if (stage == 1 && np > 0 && chords_init(&cg, p, e, pairs, np) != 0)
+        return td_seterr(cx, TD_ENOMEM, "join: out of memory");
     if (stage >= 2 && np > 0 && sgrid_build(&g, ls, p, e, pairs, np, cx) != 0)
         return TD_ENOMEM;
     for (i = 0; i < np && rc == 0; i++) {
@@ -1351,11 +1431,21 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
                 break;
             st->cross_joins++;
         }
+        if (stage == 1) {
+            int cr = chords_cross(&cg, a, b);
+            if (cr < 0) {
+                rc = td_seterr(cx, TD_ENOMEM, "join: out of memory");
+                break;
+            }
+            if (cr)
+                continue;
+        }
         a->partner = (long)pairs[i].b;
         b->partner = (long)pairs[i].a;
         st->joins++;
         st->closures += a->line == b->line;
     }
+    chords_free(&cg);
     if (stage >= 2 && np > 0)
         sgrid_free(&g);
     return rc;

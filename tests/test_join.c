@@ -434,6 +434,34 @@ static int crossings(const td_line *s, const td_lines *ls)
     return n;
 }
 
+/* Two contours 8 px apart cut by a 10-px road, each end bent towards the
+ * other contour's end across it (the ink's blur at the cut): the two
+ * cheapest small-gap joins would cross, an X of two lines each carrying
+ * two heights.  Contours never cross, and neither do joins: the second
+ * is refused, and no two lines cross. */
+static void test_joins_never_cross(void)
+{
+    td_join_params p = td_join_defaults(W, H);
+    td_join_stats st;
+    td_lines *ls = td_lines_new(NULL);
+    const double a[] = {40, 90, 84, 90, 92, 96, 100, 102};
+    const double b[] = {40, 118, 84, 118, 92, 112, 100, 106};
+    const double c[] = {110, 102, 118, 96, 126, 90, 170, 90};
+    const double d[] = {110, 106, 118, 112, 126, 118, 170, 118};
+    size_t i;
+    int n = 0;
+    add_line(ls, a, 4, 0);
+    add_line(ls, b, 4, 0);
+    add_line(ls, c, 4, 0);
+    add_line(ls, d, 4, 0);
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    for (i = 0; i < ls->n; i++)
+        n += crossings(&ls->v[i], ls);
+    TT_CHECKF(n == 0 && st.joins >= 1, "%d crossings, %zu joins, %zu lines", n,
+              st.joins, ls->n);
+    td_lines_free(ls);
+}
+
 /* Scan a labelled sheet with and without the label-gap stage. */
 static void labelled_sheet(unsigned seed, int w, int h, double lw,
                            double noise, int breaks)
@@ -593,6 +621,7 @@ int main(void)
     TT_RUN(test_gap_under_other_ink);
     TT_RUN(test_short_piece_kept);
     TT_RUN(test_faded_pieces);
+    TT_RUN(test_joins_never_cross);
     TT_RUN(test_labels_off);
     TT_RUN(test_labelled_sheets);
     TT_RUN(test_labelled_noisy);
