@@ -603,6 +603,7 @@ static int sgrid_put(sgrid *g, size_t cell, size_t line, size_t seg)
     return 0;
 }
 
+/* The cell of coordinate v in cells of side cs, clamped to 0 .. lim - 1. */
 static int cell_of_xy(double cs, double v, int lim)
 {
     int c = (int)floor(v / cs);
@@ -611,8 +612,7 @@ static int cell_of_xy(double cs, double v, int lim)
 
 static int cell_of(const sgrid *g, double v, int lim)
 {
-    int c = (int)floor(v / g->cs);
-    return c < 0 ? 0 : c >= lim ? lim - 1 : c;
+    return cell_of_xy(g->cs, v, lim);
 }
 
 /* Every segment of every line except small rings, in each cell its

@@ -386,8 +386,7 @@ static int png_fast(const char *path, td_image **out, td_ctx *cx)
         }
         p += 12 + (size_t)L;
     }
-    if (!ended || !nz || w < 1 || h < 1 || w > TD_MAX_DIM || h > TD_MAX_DIM ||
-        td_check_dims((long)w, (long)h, path, NULL) != 0)
+    if (!ended || !nz || td_check_dims((long)w, (long)h, path, NULL) != 0)
         goto done;
     rb = (size_t)w * (size_t)ch;
     if (td_mul2(rb + 1, (size_t)h, &tot) != 0 ||
@@ -431,14 +430,12 @@ done:
 /* See io_int.h. */
 int td_png_read(const char *path, td_image **out, td_ctx *cx)
 {
-    pio_job *j = td_calloc(1, sizeof *j, cx);
+    pio_job *j;
     int rc;
-    if (!j)
-        return TD_ENOMEM;
-    if ((rc = png_fast(path, out, cx)) != 1) {
-        free(j);
+    if ((rc = png_fast(path, out, cx)) != 1)
         return rc;
-    }
+    if (!(j = td_calloc(1, sizeof *j, cx)))
+        return TD_ENOMEM;
     j->path = path;
     if ((rc = pio_run(j, cx)) != 0)
         goto fail;
