@@ -36,6 +36,7 @@ td_binarise_params td_binarise_defaults(void)
     p.min_hole = 8;
     p.split = 24;
     p.local_level = 1;
+    p.cores = 0;
     return p;
 }
 
@@ -1024,13 +1025,139 @@ static double halftone_share(const uint64_t *hist, int t)
     return mid / ni;
 }
 
+/* ---- faded line cores (ours; colour scans, with the local level) -------
+ * Where the print faded, a contour's core is a thin ridge of strength
+ * (30-70 over a paper of 0) that the level passes only in broken threads.
+ * A pixel is a core when along one of four directions it is at least as
+ * strong as both neighbours and CORE_MARGIN stronger than both pixels 2 px
+ * off (a ridge up to 3 px wide; a line's flank, the gap between two
+ * touching lines and the paper's noise are not), and at least CORE_LOW t.
+ * Cores 8-connected to the thresholded ink, directly or through other
+ * cores, are ink (hysteresis along the line into the faded patch); the
+ * seams the split cut stay open. */
+#define CORE_LOW 0.4
+#define CORE_MARGIN 10
+#define CORE_DROP 0.4
+
+static int core_at(const uint8_t *const *r, int w, int x, int lo)
+{
+    static const int d[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+    int s = r[2][x], k, m;
+    if (s < lo || x < 2 || x >= w - 2)
+        return 0;
+    m = (int)(CORE_DROP * s) > CORE_MARGIN ? (int)(CORE_DROP * s) : CORE_MARGIN;
+    for (k = 0; k < 4; k++) {
+        int dx = d[k][0], dy = d[k][1];
+        int a1 = r[2 - dy][x - dx], b1 = r[2 + dy][x + dx];
+        int a2 = r[2 - 2 * dy][x - 2 * dx], b2 = r[2 + 2 * dy][x + 2 * dx];
+        if (s >= a1 && s >= b1 && s >= a2 + m && s >= b2 + m)
+            return 1;
+    }
+    return 0;
+}
+
+/* The cores of strength image m at level t, in the tiles the level map
+ * lowers (lm; none when it lowers none), as packed bits (rows of (w + 7)
+ * / 8 bytes), or NULL when out of memory. */
+static uint8_t *cores_find(const td_grid_u8 *m, int t, const level_map *lm,
+                           td_ctx *cx)
+{
+    size_t stride = ((size_t)m->w + 7) / 8;
+    uint8_t *bits = td_calloc(stride * (size_t)m->h + 1, 1, cx);
+    int y, lo = (int)(CORE_LOW * t + 0.5);
+    if (!bits)
+        return NULL;
+#pragma omp parallel for schedule(static)
+    for (y = 2; y < m->h - 2; y++) {
+        const uint8_t *r[5];
+        uint8_t *b = bits + (size_t)y * stride;
+        int k, x;
+        for (k = 0; k < 5; k++)
+            r[k] = m->data + (size_t)(y - 2 + k) * m->stride;
+        const float *fr = lm->f + (size_t)(y / LOCAL_TILE) * lm->tw;
+        for (x = 2; x < m->w - 2; x++)
+            if (fr[x / LOCAL_TILE] < 1.0f && core_at(r, m->w, x, lo))
+                b[x >> 3] |= (uint8_t)(1u << (x & 7));
+    }
+    return bits;
+}
+
+#define BIT(b, st, x, y) (((b)[(size_t)(y) * (st) + ((x) >> 3)] >> ((x)&7)) & 1)
+
+/* Mask m (0/1) grown into the cores 8-connected to it (not into seams). */
+static int cores_grow(td_grid_u8 *m, const uint8_t *cores, const uint8_t *seams,
+                      td_ctx *cx)
+{
+    size_t stride = ((size_t)m->w + 7) / 8, n = 0, cap = 4096;
+    size_t *stack = td_malloc(cap * sizeof *stack, cx);
+    int x, y;
+    if (!stack)
+        return TD_ENOMEM;
+    for (y = 0; y < m->h; y++)
+        for (x = 0; x < m->w; x++) {
+            if (!m->data[(size_t)y * m->stride + x])
+                continue;
+            if (n == cap) {
+                size_t *q = realloc(stack, (cap *= 2) * sizeof *q);
+                if (!q) {
+                    free(stack);
+                    return td_seterr(cx, TD_ENOMEM, "binarise: out of memory");
+                }
+                stack = q;
+            }
+            /* an ink pixel with a core beside it that is not ink */
+            {
+                int u, v, any = 0;
+                for (v = y - 1; v <= y + 1 && !any; v++)
+                    for (u = x - 1; u <= x + 1 && !any; u++)
+                        any = u >= 0 && v >= 0 && u < m->w && v < m->h &&
+                              BIT(cores, stride, u, v) &&
+                              !m->data[(size_t)v * m->stride + u] &&
+                              !(seams && BIT(seams, stride, u, v));
+                if (any)
+                    stack[n++] = (size_t)y * (size_t)m->w + (size_t)x;
+            }
+        }
+    while (n > 0) {
+        size_t at = stack[--n];
+        int cx0 = (int)(at % (size_t)m->w), cy0 = (int)(at / (size_t)m->w), u,
+            v;
+        for (v = cy0 - 1; v <= cy0 + 1; v++)
+            for (u = cx0 - 1; u <= cx0 + 1; u++) {
+                uint8_t *px;
+                if (u < 0 || v < 0 || u >= m->w || v >= m->h ||
+                    !BIT(cores, stride, u, v) ||
+                    (seams && BIT(seams, stride, u, v)))
+                    continue;
+                px = m->data + (size_t)v * m->stride + u;
+                if (*px)
+                    continue;
+                *px = 1;
+                if (n == cap) {
+                    size_t *q = realloc(stack, (cap *= 2) * sizeof *q);
+                    if (!q) {
+                        free(stack);
+                        return td_seterr(cx, TD_ENOMEM,
+                                         "binarise: out of memory");
+                    }
+                    stack = q;
+                }
+                stack[n++] = (size_t)v * (size_t)m->w + (size_t)u;
+            }
+    }
+    free(stack);
+    return 0;
+}
+#undef BIT
+
 /* Threshold the strength image held in m, in place. */
 static int threshold(td_grid_u8 *m, const td_binarise_params *p,
                      const uint64_t *hist, int local, uint8_t *seams,
-                     double *halftone, td_ctx *cx)
+                     double *halftone, uint8_t **cores_out, td_ctx *cx)
 {
     remap r;
     level_map lm = {0, 0, NULL};
+    uint8_t *cores = NULL;
     int t, rc;
     if (p->thr == TD_THR_SAUVOLA) {
         remap_begin(cx, &r, 0.4, 0.8);
@@ -1046,6 +1173,10 @@ static int threshold(td_grid_u8 *m, const td_binarise_params *p,
     if (p->thr == TD_THR_OTSU && local &&
         (rc = level_map_make(m, t, &lm, cx)) != 0)
         return rc;
+    if (lm.f && p->cores && !(cores = cores_find(m, t, &lm, cx))) {
+        free(lm.f);
+        return TD_ENOMEM;
+    }
     if (p->split > 0) {
         /* the ink's core level: its mean */
         double n = 0, sum = 0;
@@ -1054,11 +1185,13 @@ static int threshold(td_grid_u8 *m, const td_binarise_params *p,
             n += (double)hist[i], sum += (double)hist[i] * i;
         rc = apply_level_split(m, t, n > 0 ? (int)(sum / n) : 256,
                                split_margin(m, t, p->split), &lm, seams, cx);
-        free(lm.f);
-        return rc;
-    }
-    rc = apply_level(m, t, &lm, cx);
+    } else
+        rc = apply_level(m, t, &lm, cx);
     free(lm.f);
+    if (rc == 0)
+        *cores_out = cores;
+    else
+        free(cores);
     return rc;
 }
 
@@ -1080,6 +1213,7 @@ int td_binarise_seams(const td_image *im, const td_binarise_params *p,
 {
     uint64_t hist[256];
     td_palette pal;
+    uint8_t *cores = NULL;
     remap r;
     int rc;
     memset(&pal, 0, sizeof pal);
@@ -1100,7 +1234,7 @@ int td_binarise_seams(const td_image *im, const td_binarise_params *p,
         (rc = threshold(mask, p, hist,
                         p->local_level && im->channels == 3 &&
                             (p->ink == TD_INK_AUTO || p->ink == TD_INK_BROWN),
-                        seams, halftone, cx)) != 0)
+                        seams, halftone, &cores, cx)) != 0)
         goto fail;
     if (p->min_speck > 1) {
         remap_begin(cx, &r, 0.8, 0.9);
@@ -1109,6 +1243,10 @@ int td_binarise_seams(const td_image *im, const td_binarise_params *p,
         if (rc != 0)
             goto fail;
     }
+    /* the faded cores grow from the ink the specks' removal left (a speck
+       of a black glyph's rim would grow round the glyph) */
+    if (cores && (rc = cores_grow(mask, cores, seams, cx)) != 0)
+        goto fail;
     if (p->min_hole > 1) {
         remap_begin(cx, &r, 0.9, 1.0);
         rc = td_cv_fill_holes(mask, p->min_hole, NULL, cx);
@@ -1122,6 +1260,7 @@ int td_binarise_seams(const td_image *im, const td_binarise_params *p,
     }
     rc = td_progress(cx, "binarise", 1.0);
 fail:
+    free(cores);
     return rc;
 }
 

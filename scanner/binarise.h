@@ -58,6 +58,12 @@ typedef struct td_binarise_params {
     int local_level;    /* Otsu: where the ink is paler than the sheet's,
                            threshold lower (the local ink level, ours;
                            docs/binarise.md); default 1, 0 = off */
+    int cores;          /* with the local level, in the tiles it lowers:
+                           faded line cores (ridges of strength over 0.4
+                           t) 8-connected to the ink are ink (ours;
+                           docs/binarise.md, "Faded line cores"); default
+                           0 (off: more lines, but the labeller's heights
+                           worse on the bench sheets), 1 = on */
     const td_palette *palette; /* TD_INK_AUTO / TD_INK_BROWN on a colour
                                   scan: this palette (found and chosen,
                                   e.g. on the scan before td_detint)

@@ -1361,6 +1361,62 @@ static void test_local_level_faded(void)
     sheet_free(&s);
 }
 
+/* Faded line cores (binarise.c, p.cores): brown contours 10 px apart
+ * whose ink alternates along them, 16 px at 70 % and 16 px at 25 %, over
+ * a sheet whose other half is dark.  The local level lowers the faded
+ * half's tiles to about 0.7 t, under which the 25 % stretches fall: the
+ * lines break there.  Their cores (ridges of strength over 0.4 t) joined
+ * to the ink keep them whole, and no ink is added off the lines. */
+static void test_faded_cores(void)
+{
+    static const uint8_t white[3] = {236, 224, 192}, ink[3] = {120, 70, 40};
+    sheet s = sheet_new(512, 256, 3, white);
+    td_binarise_params p = td_binarise_defaults();
+    double share[2];
+    long off[2];
+    int k, c, on;
+    for (k = 0; k < 24; k++) {
+        double y = 8 + 10.0 * k, x;
+        shape dk = {4, y, 252, y + 2, 1.8, 0};
+        paint(&s, &dk, ink, 1);
+        for (x = 260; x < 508; x += 16) {
+            double a = ((int)(x - 260) / 16) % 2 ? 0.25 : 0.70;
+            uint8_t col[3];
+            shape fd = {x, y + 1, x + 16, y + 1, 1.8, 0};
+            for (c = 0; c < 3; c++)
+                col[c] = clamp8(white[c] - a * (white[c] - ink[c]));
+            paint(&s, &fd, col, 2);
+        }
+    }
+    for (on = 0; on < 2; on++) {
+        td_grid_u8 *m;
+        long hit = 0, n = 0;
+        int rc, x, y;
+        p.cores = on;
+        m = run(s.im, &p, &rc);
+        TT_CHECK(rc == 0 && m);
+        off[on] = 0;
+        for (k = 0; k < 24 && m; k++)
+            for (x = 276; x < 492; x++, n++)
+                hit += TD_AT(m, x, 8 + 10 * k + 1) != 0;
+        for (y = 0; y < 256 && m; y++) /* ink 3 px or more off every line */
+            for (x = 260; x < 508; x++) {
+                int d = (y - 9 + 100) % 10;
+                off[on] += TD_AT(m, x, y) != 0 && d >= 3 && d <= 7;
+            }
+        share[on] = n ? (double)hit / (double)n : 0;
+        td_grid_u8_free(m);
+    }
+    fprintf(stderr,
+            "  faded half, line centres inked: %.3f without cores, %.3f "
+            "with; ink off the lines %ld / %ld px\n",
+            share[0], share[1], off[0], off[1]);
+    TT_CHECK(share[0] < 0.8); /* the test bites */
+    TT_CHECK(share[1] >= 0.97);
+    TT_CHECK(off[1] <= off[0] + 8);
+    sheet_free(&s);
+}
+
 /* The strength pass (the palette's strength, the veto of other inks
  * about their strokes, the histogram) runs in bands of 256 rows on
  * threads, the veto's clearing reaching across band edges: on a printed
@@ -1509,6 +1565,7 @@ int main(void)
     TT_RUN(test_seam_keeps_crowded_lines);
     TT_RUN(test_light_corner_contacts);
     TT_RUN(test_local_level_faded);
+    TT_RUN(test_faded_cores);
     TT_RUN(test_seam_split_bands);
     TT_RUN(test_strength_bands);
     return tt_summary();

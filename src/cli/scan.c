@@ -78,6 +78,11 @@ static int parse_args(int argc, char **argv, scan_opts *o)
         {"no-local-level", 0, TD_OPT_OFF, &p->bin.local_level, .help =
          "one Otsu level everywhere (by default, ours,\ntiles where the ink "
          "came out paler than\nthe sheet's threshold lower)"},
+        {"cores", 0, TD_OPT_FLAG, &p->bin.cores, .help =
+         "colour scans, faded print (ours): thin\nridges of the contour "
+         "ink's strength\njoined to the ink are ink (more of a faded\n"
+         "sheet's lines; the heights may come out\nworse: see "
+         "docs/binarise.md)"},
         {"spur", 0, TD_OPT_FUNC, &p->spur, .fn = spur, .meta = "MODE",
          .help = "length | paper | none (default length)"},
         {"spur-max", 0, TD_OPT_DOUBLE, &p->spur.max_len, 0, 10000,
