@@ -657,7 +657,7 @@ static int read_at(TessBaseAPI *api, strip *s, double t,
                    const td_ocr_params *p, td_ocr_read *r, double *best,
                    int *turn0)
 {
-    int b[4], w, h, turn, var, k, rc = 1, cur = 0, bin = 0, glyphs;
+    int b[4], w, h, turn, var, k, rc = 1, cur = 0, bin = 0, glyphs, read0 = 0;
     uint8_t *img = NULL;
     memset(s->keep, 0, (size_t)s->w * s->h + 1);
     if ((k = components(s, t, b)) < 0)
@@ -672,8 +672,9 @@ static int read_at(TessBaseAPI *api, strip *s, double t,
             char text[24], sec[24];
             double conf, secf[24];
             size_t q;
-            if (var == 1 && *best >= 0 && turn != *turn0)
-                continue; /* the cores: only the way the text reads */
+            if (var == 1 && read0 && turn != *turn0)
+                continue;    /* the cores: only the way the text reads (when
+                                the grey digits told it) */
             if (turn != cur) /* half round: reverse the pixels */
                 turn_round(img, (size_t)w * h), cur = turn;
             if (var == 1 && !bin)
@@ -681,6 +682,7 @@ static int read_at(TessBaseAPI *api, strip *s, double t,
             if (read_number(api, img, w, h, text, sizeof text, &conf, sec,
                             secf) != 0)
                 continue;
+            read0 |= var == 0;
             if ((int)strlen(text) < glyphs) /* glyphs left out */
                 conf *= (double)strlen(text) / glyphs;
             for (q = 0; text[q]; q++) /* one digit read otherwise */

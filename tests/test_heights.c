@@ -817,6 +817,30 @@ static void test_crowded_misreads_refused(void)
     td_label_report_free(&hs.rep);
 }
 
+/* Front Range at interval 25 (scale 8) printed new, no hint: its labels
+ * sit among crowded contours and two of three were read.  The third,
+ * 2625 printed upside down in pale ink near 144,119, read "4297" in its
+ * binarised digits, and the other way round was not tried: the reader
+ * turned the binarised digits only the way a read so far had gone, and
+ * the grey digits had read nothing here either way.  Now both ways are
+ * tried when the grey digits read nothing: 2625 at 0.90, the interval 25
+ * inferred from three labels (before: "only 2 of the 3 printed labels
+ * read agree"). */
+static void test_upside_down_pale_label(void)
+{
+    td_hsheet hs;
+    td_ctx cx;
+    int rc;
+    td_ctx_init(&cx);
+    rc = labels_only(&hs, "frontrange_srtm3.tif", 8, 25, 4, &cx);
+    TT_CHECKF(rc == 0 && hs.interval == 25 && hs.reads_right >= 3,
+              "Front Range 25 new print, labels only: rc %d (%s), interval "
+              "%g, %zu of %zu labels right",
+              rc, rc ? td_errmsg(&cx) : "", hs.interval, hs.reads_right,
+              hs.nreads);
+    td_label_report_free(&hs.rep);
+}
+
 /* Elkhorn at interval 20 (scale 6), scanned, no hint: the relief holds
  * one index height, and every label read for sure says 200; a "29" read
  * at confidence 0.5 spanned a step with it, and 0.5 m was inferred as the
@@ -1234,6 +1258,7 @@ int main(void)
     TT_RUN(test_printed_interval);
     TT_RUN(test_new_print_labels);
     TT_RUN(test_crowded_misreads_refused);
+    TT_RUN(test_upside_down_pale_label);
     TT_RUN(test_one_label_value_refused);
     TT_RUN(test_river_bank_pair);
     TT_RUN(test_crowded_labels_only);
