@@ -734,7 +734,7 @@ static int read_strip(TessBaseAPI *api, const td_image *im, const uint8_t *lut,
 {
     strip s;
     int rc, k, any;
-    double t[3];
+    double t[4];
     size_t i, n;
     if ((rc = sample_strip(im, lut, gap, extra, &s)) != 0)
         goto done;
@@ -759,7 +759,8 @@ static int read_strip(TessBaseAPI *api, const td_image *im, const uint8_t *lut,
     }
     t[1] = 0.5 * (s.ink + s.paper);
     t[2] = s.paper - 0.3 * (s.paper - s.ink);
-    for (k = 1; k < 3; k++) {
+    t[3] = s.paper - 0.15 * (s.paper - s.ink); /* the ink's strength only */
+    for (k = 1; k < (lut ? 4 : 3); k++) {
         int q = read_at(api, &s, t[k], p, r, best, turn0);
         if (q < 0) {
             any = -1;
