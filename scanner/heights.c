@@ -128,6 +128,7 @@
             join that crossed another was refused came out 2 intervals off     \
             at 0.95) */
 #define SHORT_CONF 0.85
+#define DOUBT_SHARE 0.25 /* of a line's face edges' weight broken: doubt */
 #define CONF_SCALE                                                             \
     20.0 /* confidence 1 - exp(-gap / this): one label read                    \
             for sure alone 0.85, two 0.98 */
@@ -187,6 +188,8 @@ typedef struct hs {
                     to it whose level it takes (ring_next), else -1 */
     unsigned char *contra; /* per chunk: an assumed height the lines
                               around contradict (sandwich_check) */
+    unsigned char *doubt;  /* per chunk: the face edges the answer breaks
+                              outweigh those it keeps (report_conflicts) */
     /* per node */
     uint32_t *uf, *comp, *par, *order, *pkind, *pid, *adj_start;
     tedge *adj;
@@ -1317,6 +1320,8 @@ static int chunk_verdict(const hs *s, size_t c, int *src, double *conf)
             td_line_length(&s->ls->v[td_faces_chunk_line(s->fx, c)]) <
                 SHORT_SURE)
             *conf = fmin(*conf, SHORT_CONF);
+        if (s->doubt && s->doubt[c]) /* its own faces say otherwise */
+            *conf = fmin(*conf, SHORT_CONF);
         return 1;
     }
     if (gA > GAP_EPS) {
@@ -1334,6 +1339,7 @@ typedef struct run {
     int decided;
     size_t nsrc[5]; /* chunks per source */
     double conf;    /* mean over its chunks (undecided: 0) */
+    int doubt;      /* a chunk of it is in doubt (hs.doubt) */
 } run;
 
 /* Runs of line l's chunks; undecided chunks join the run before them (or
@@ -1355,6 +1361,7 @@ static size_t line_runs(const hs *s, size_t c0, size_t m, int closed, run *r)
             }
             r[n - 1].nsrc[src]++;
             r[n - 1].conf += conf;
+            r[n - 1].doubt |= s->doubt && s->doubt[c0 + k];
         }
         if (n > 0)
             r[n - 1].m = c0 + k + 1 - r[n - 1].c0;
@@ -1372,6 +1379,7 @@ static size_t line_runs(const hs *s, size_t c0, size_t m, int closed, run *r)
         for (k = 0; k < 5; k++)
             r[0].nsrc[k] += r[n - 1].nsrc[k];
         r[0].conf += r[n - 1].conf;
+        r[0].doubt |= r[n - 1].doubt;
         n--;
     } else if (closed && n > 1) {
         r[n - 1].m += first; /* wraps round to the first run */
@@ -1405,7 +1413,10 @@ static void apply_run(const hs *s, td_line *l, const run *r)
                  : r->nsrc[TD_HS_LABEL]               ? TD_HS_LABEL
                  : 2 * (r->nsrc[TD_HS_SOLVED]) >= tot ? TD_HS_SOLVED
                                                       : TD_HS_ASSUMED;
-    l->confidence = l->hsource == TD_HS_KNOWN ? 1.0 : r->conf;
+    /* a known line whose own faces say otherwise (it ran onto another
+       contour away from the known point) is not sure all along */
+    l->confidence =
+        l->hsource == TD_HS_KNOWN ? (r->doubt ? SHORT_CONF : 1.0) : r->conf;
     l->has_height = 1;
     l->height = s->p->base + (double)(r->h + s->kofs) * s->p->interval;
     l->why = NULL;
@@ -1541,14 +1552,27 @@ static int report_conflicts(hs *s, const long *node_band, td_ctx *cx)
     double *v = td_malloc((s->nce + 1) * 2 * sizeof *v, cx);
     if (!v)
         return TD_ENOMEM;
+    double *kb = td_calloc(2 * s->C + 1, sizeof *kb, cx);
+    if (!kb || (!s->doubt && !(s->doubt = td_calloc(s->C + 1, 1, cx)))) {
+        free(v), free(kb);
+        return TD_ENOMEM;
+    }
     for (i = 0; i < s->nce; i++) {
         const cedge *e = &s->ce[i];
-        if (e->kind == E_FACE && !s->intree[i] &&
-            node_band[e->a] != node_band[e->b]) {
+        int broken = node_band[e->a] != node_band[e->b];
+        if (e->kind == E_FACE) { /* kept and broken weight per chunk */
+            kb[2 * (e->a / 2) + broken] += e->w;
+            kb[2 * (e->b / 2) + broken] += e->w;
+        }
+        if (e->kind == E_FACE && !s->intree[i] && broken) {
             v[2 * n] = e->w;
             v[2 * n++ + 1] = (double)e->id;
         }
     }
+    for (i = 0; i < s->C; i++)
+        s->doubt[i] =
+            kb[2 * i + 1] >= DOUBT_SHARE * (kb[2 * i] + kb[2 * i + 1]);
+    free(kb);
     qsort(v, n, 2 * sizeof *v, cmp_w_desc);
     s->rep->conflicts = n;
     for (k = 0; k < n && k < 5 && v[2 * k] >= 8.0; k++) { /* 16 px and up */
@@ -1651,7 +1675,8 @@ static void free_all(hs *s)
     free(s->llab), free(s->wlab), free(s->clab);
     free(s->up_cost), free(s->up_prior), free(s->hole), free(s->ring);
     free(s->uf);
-    free(s->rnear), free(s->contra), free(s->same), free(s->gaps);
+    free(s->rnear), free(s->contra), free(s->doubt), free(s->same),
+        free(s->gaps);
     free(s->comp);
     free(s->par), free(s->order), free(s->pkind), free(s->pid);
     free(s->adj_start), free(s->adj), free(s->intree), free(s->compdepth);
