@@ -1070,11 +1070,11 @@ static uint8_t *cores_find(const td_grid_u8 *m, int t, const level_map *lm,
 #pragma omp parallel for schedule(static)
     for (y = 2; y < m->h - 2; y++) {
         const uint8_t *r[5];
+        const float *fr = lm->f + (size_t)(y / LOCAL_TILE) * lm->tw;
         uint8_t *b = bits + (size_t)y * stride;
         int k, x;
         for (k = 0; k < 5; k++)
             r[k] = m->data + (size_t)(y - 2 + k) * m->stride;
-        const float *fr = lm->f + (size_t)(y / LOCAL_TILE) * lm->tw;
         for (x = 2; x < m->w - 2; x++)
             if (fr[x / LOCAL_TILE] < 1.0f && core_at(r, m->w, x, lo))
                 b[x >> 3] |= (uint8_t)(1u << (x & 7));
@@ -1084,46 +1084,52 @@ static uint8_t *cores_find(const td_grid_u8 *m, int t, const level_map *lm,
 
 #define BIT(b, st, x, y) (((b)[(size_t)(y) * (st) + ((x) >> 3)] >> ((x)&7)) & 1)
 
-/* Mask m (0/1) grown into the cores 8-connected to it (not into seams). */
+/* Push pixel index at onto the stack (*st, *n of *cap); 0 or TD_ENOMEM. */
+static int push_px(size_t **st, size_t *n, size_t *cap, size_t at)
+{
+    if (*n == *cap) {
+        size_t *q = realloc(*st, 2 * *cap * sizeof *q);
+        if (!q)
+            return TD_ENOMEM;
+        *st = q, *cap *= 2;
+    }
+    (*st)[(*n)++] = at;
+    return 0;
+}
+
+/* Mask m (0/1) grown into the cores 8-connected to it (not into seams):
+ * every core beside the ink becomes ink, then the cores beside those. */
 static int cores_grow(td_grid_u8 *m, const uint8_t *cores, const uint8_t *seams,
                       td_ctx *cx)
 {
-    size_t stride = ((size_t)m->w + 7) / 8, n = 0, cap = 4096;
+    size_t stride = ((size_t)m->w + 7) / 8, n = 0, cap = 4096, w = (size_t)m->w;
     size_t *stack = td_malloc(cap * sizeof *stack, cx);
-    int x, y;
+    int x, y, rc = 0;
     if (!stack)
         return TD_ENOMEM;
-    for (y = 0; y < m->h; y++)
-        for (x = 0; x < m->w; x++) {
-            if (!m->data[(size_t)y * m->stride + x])
+    for (y = 0; y < m->h && rc == 0; y++) /* seeds: cores beside the ink */
+        for (x = 0; x < m->w && rc == 0; x++) {
+            int u, v, any = 0;
+            if (!BIT(cores, stride, x, y) ||
+                m->data[(size_t)y * m->stride + x] ||
+                (seams && BIT(seams, stride, x, y)))
                 continue;
-            if (n == cap) {
-                size_t *q = realloc(stack, (cap *= 2) * sizeof *q);
-                if (!q) {
-                    free(stack);
-                    return td_seterr(cx, TD_ENOMEM, "binarise: out of memory");
-                }
-                stack = q;
-            }
-            /* an ink pixel with a core beside it that is not ink */
-            {
-                int u, v, any = 0;
-                for (v = y - 1; v <= y + 1 && !any; v++)
-                    for (u = x - 1; u <= x + 1 && !any; u++)
-                        any = u >= 0 && v >= 0 && u < m->w && v < m->h &&
-                              BIT(cores, stride, u, v) &&
-                              !m->data[(size_t)v * m->stride + u] &&
-                              !(seams && BIT(seams, stride, u, v));
-                if (any)
-                    stack[n++] = (size_t)y * (size_t)m->w + (size_t)x;
+            for (v = y - 1; v <= y + 1 && !any; v++)
+                for (u = x - 1; u <= x + 1 && !any; u++)
+                    any = u >= 0 && v >= 0 && u < m->w && v < m->h &&
+                          m->data[(size_t)v * m->stride + u] == 1;
+            if (any) {
+                m->data[(size_t)y * m->stride + x] = 2; /* ink after the scan */
+                rc = push_px(&stack, &n, &cap, (size_t)y * w + (size_t)x);
             }
         }
-    while (n > 0) {
+    for (x = 0; x < (int)n; x++) /* the seeds became ink */
+        m->data[(stack[x] / w) * m->stride + stack[x] % w] = 1;
+    while (n > 0 && rc == 0) {
         size_t at = stack[--n];
-        int cx0 = (int)(at % (size_t)m->w), cy0 = (int)(at / (size_t)m->w), u,
-            v;
-        for (v = cy0 - 1; v <= cy0 + 1; v++)
-            for (u = cx0 - 1; u <= cx0 + 1; u++) {
+        int x0 = (int)(at % w), y0 = (int)(at / w), u, v;
+        for (v = y0 - 1; v <= y0 + 1 && rc == 0; v++)
+            for (u = x0 - 1; u <= x0 + 1 && rc == 0; u++) {
                 uint8_t *px;
                 if (u < 0 || v < 0 || u >= m->w || v >= m->h ||
                     !BIT(cores, stride, u, v) ||
@@ -1133,20 +1139,11 @@ static int cores_grow(td_grid_u8 *m, const uint8_t *cores, const uint8_t *seams,
                 if (*px)
                     continue;
                 *px = 1;
-                if (n == cap) {
-                    size_t *q = realloc(stack, (cap *= 2) * sizeof *q);
-                    if (!q) {
-                        free(stack);
-                        return td_seterr(cx, TD_ENOMEM,
-                                         "binarise: out of memory");
-                    }
-                    stack = q;
-                }
-                stack[n++] = (size_t)v * (size_t)m->w + (size_t)u;
+                rc = push_px(&stack, &n, &cap, (size_t)v * w + (size_t)u);
             }
     }
     free(stack);
-    return 0;
+    return rc ? td_seterr(cx, TD_ENOMEM, "binarise: out of memory") : 0;
 }
 #undef BIT
 

@@ -1550,10 +1550,8 @@ static int report_conflicts(hs *s, const long *node_band, td_ctx *cx)
 {
     size_t i, n = 0, k;
     double *v = td_malloc((s->nce + 1) * 2 * sizeof *v, cx);
-    if (!v)
-        return TD_ENOMEM;
     double *kb = td_calloc(2 * s->C + 1, sizeof *kb, cx);
-    if (!kb || (!s->doubt && !(s->doubt = td_calloc(s->C + 1, 1, cx)))) {
+    if (!v || !kb || (!s->doubt && !(s->doubt = td_calloc(s->C + 1, 1, cx)))) {
         free(v), free(kb);
         return TD_ENOMEM;
     }

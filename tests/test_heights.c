@@ -855,25 +855,37 @@ static void test_crowded_misreads_refused(void)
  * is in doubt (heights.c, DOUBT_SHARE): at most 0.85 sure, known or not
  * (this line: 1897 of 5457 broken; the other known lines 0-2).  No line
  * wrong and sure, the heights as right as before. */
+/* td_hsheet_run on the Front Range sheet at scale and interval with
+ * print kind `kind`, three known points on index contours and the widths
+ * (bench_heights' "3 known+index"); its return code, with hs and cx for
+ * the caller's checks (hs->rep to free). */
+static int known_widths(td_hsheet *hs, double scale, double interval, int kind,
+                        td_ctx *cx)
+{
+    td_grid_f32 *src = dem_sheet(hs, "frontrange_srtm3.tif", scale, 0, 0);
+    int rc;
+    if (!src)
+        return td_seterr(cx, TD_EINVAL, "frontrange_srtm3.tif did not load");
+    hs->gp.interval = interval;
+    td_hsheet_defects(&hs->gp, kind);
+    hs->nknown = 3;
+    hs->index_every = 5;
+    rc = td_hsheet_run(hs, NULL, cx);
+    td_grid_f32_free(src);
+    return rc;
+}
+
 static void test_known_line_in_doubt(void)
 {
     td_hsheet hs;
     td_ctx cx;
-    td_grid_f32 *src = dem_sheet(&hs, "frontrange_srtm3.tif", 8, 0, 0);
     td_ctx_init(&cx);
-    if (!src)
-        return;
-    hs.gp.interval = 25;
-    td_hsheet_defects(&hs.gp, 0);
-    hs.nknown = 3;
-    hs.index_every = 5;
-    TT_CHECKF(td_hsheet_run(&hs, NULL, &cx) == 0, "%s", td_errmsg(&cx));
+    TT_CHECKF(known_widths(&hs, 8, 25, 0, &cx) == 0, "%s", td_errmsg(&cx));
     TT_CHECKF(hs.score.n_wrong_sure == 0 && hs.score.accuracy >= 0.95,
               "Front Range 25 clean, 3 known + widths: %ld wrong and sure, "
               "accuracy %.3f",
               hs.score.n_wrong_sure, hs.score.accuracy);
     td_label_report_free(&hs.rep);
-    td_grid_f32_free(src);
 }
 
 /* The crowded Front Range sheet (interval 20, scale 10) printed, three
@@ -886,21 +898,13 @@ static void test_short_piece_in_doubt(void)
 {
     td_hsheet hs;
     td_ctx cx;
-    td_grid_f32 *src = dem_sheet(&hs, "frontrange_srtm3.tif", 10, 0, 0);
     td_ctx_init(&cx);
-    if (!src)
-        return;
-    hs.gp.interval = 20;
-    td_hsheet_defects(&hs.gp, 3);
-    hs.nknown = 3;
-    hs.index_every = 5;
-    TT_CHECKF(td_hsheet_run(&hs, NULL, &cx) == 0, "%s", td_errmsg(&cx));
+    TT_CHECKF(known_widths(&hs, 10, 20, 3, &cx) == 0, "%s", td_errmsg(&cx));
     TT_CHECKF(hs.score.n_wrong_sure == 0,
               "crowded printed, 3 known + widths: %ld wrong and sure "
               "(accuracy %.3f)",
               hs.score.n_wrong_sure, hs.score.accuracy);
     td_label_report_free(&hs.rep);
-    td_grid_f32_free(src);
 }
 
 /* Front Range at interval 25 (scale 8) printed new, no hint: its labels
