@@ -71,6 +71,7 @@ td_join_params td_join_defaults(int w, int h)
     p.straight_keep = 0.8;
     p.bridge_max = 12.0;
     p.junc_ratio = 1.5;
+    p.gap_ratio = 1.5;
     p.long_gap = 70.0;
     p.long_tangent = 20.0;
     p.cross_gap = 16.0;
@@ -1384,11 +1385,145 @@ static int chords_cross(chords *c, const jend *a, const jend *b)
     return 0;
 }
 
-static int accept_pairs(const td_lines *ls, const td_join_params *p,
-                        int stage, jend *e, jpair *pairs, size_t np,
+#define GAP_SIDESTEP 1.5 /* px off the other end's course */
+
+/* Whether a is one of the two ends a cut at the water left. */
+static int water_cut_end(const td_join_stats *st, const jend *a)
+{
+    size_t j;
+    for (j = 0; j < st->water_turns; j++)
+        if (same_point(st->water_at + 6 * j + 2, a->x, a->y) ||
+            same_point(st->water_at + 6 * j + 4, a->x, a->y))
+            return 1;
+    return 0;
+}
+
+/* Whether the chord from a to b passes over the water (p->water). */
+static int chord_over_water(const td_join_params *p, const jend *a,
+                            const jend *b)
+{
+    int k;
+    for (k = 0; p->water && k <= 8; k++)
+        if (water_at(p, a->x + (b->x - a->x) * k / 8.0,
+                     a->y + (b->y - a->y) * k / 8.0))
+            return 1;
+    return 0;
+}
+
+/* Stage 1 (ours, docs/scanner.md "Small gaps that step sideways"): a gap
+ * pair (not a junction zone's: cost >= 0) that steps sideways (either end
+ * GAP_SIDESTEP px or more off the other's course) and one of whose ends
+ * has another candidate on a third line costing under p->gap_ratio times
+ * as much is dropped from pairs (*npp updated) and its ends marked in
+ * amb: breaks side by side where contours crowd, an end that could as
+ * well be its neighbour's; the ends stay open rather than join two
+ * contours. */
+static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
+                            const jend *e, jpair *pairs, size_t *npp,
+                            unsigned char *amb, td_ctx *cx)
+{
+    size_t i, j, ne = 0, *first, *next, np = *npp;
+    unsigned char *drop;
+    for (i = 0; i < np; i++)
+        ne = pairs[i].a + 1 > ne ? pairs[i].a + 1 : ne,
+        ne = pairs[i].b + 1 > ne ? pairs[i].b + 1 : ne;
+    first = td_malloc((ne + 1) * sizeof *first, cx);
+    next = td_malloc((2 * np + 1) * sizeof *next, cx);
+    drop = td_calloc(np + 1, 1, cx);
+    if (!first || !next || !drop) {
+        free(first), free(next), free(drop);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < ne; i++)
+        first[i] = SIZE_MAX;
+    for (i = np; i-- > 0;) { /* slot 2i: end a's list, 2i + 1: end b's */
+        next[2 * i] = first[pairs[i].a], first[pairs[i].a] = 2 * i;
+        next[2 * i + 1] = first[pairs[i].b], first[pairs[i].b] = 2 * i + 1;
+    }
+    for (i = 0; i < np; i++) {
+        const jend *ea = &e[pairs[i].a], *eb = &e[pairs[i].b];
+        double gx = eb->x - ea->x, gy = eb->y - ea->y;
+        int side;
+        if (pairs[i].cost < 0 || ea->line == eb->line ||
+            fmax(fabs(gx * ea->ty - gy * ea->tx),
+                 fabs(gx * eb->ty - gy * eb->tx)) < GAP_SIDESTEP ||
+            water_cut_end(st, ea) || water_cut_end(st, eb) ||
+            chord_over_water(p, ea, eb))
+            continue; /* a closure, ends on one straight course, a line
+                         cut where it turned back at the water (its arms'
+                         ends are the cap's, askew), or a contour across
+                         a stream (its V: ends askew, its neighbours'
+                         near) */
+        for (side = 0; side < 2 && !drop[i]; side++) {
+            size_t me = side ? pairs[i].b : pairs[i].a;
+            size_t mate = side ? pairs[i].a : pairs[i].b;
+            for (j = first[me]; j != SIZE_MAX; j = next[j]) {
+                const jpair *q = &pairs[j / 2];
+                size_t other = j % 2 ? q->a : q->b;
+                if (j / 2 == i || q->cost < 0 ||
+                    e[other].line == e[mate].line ||
+                    e[other].line == e[me].line)
+                    continue;
+                if (q->cost < p->gap_ratio * fmax(pairs[i].cost, 1.0)) {
+                    drop[i] = 1;
+                    break;
+                }
+            }
+        }
+    }
+    for (i = j = 0; i < np; i++)
+        if (!drop[i])
+            pairs[j++] = pairs[i];
+        else
+            amb[pairs[i].a] = amb[pairs[i].b] = 1;
+    *npp = j;
+    free(first), free(next), free(drop);
+    return 0;
+}
+
+static int cmp_xy2(const void *pa, const void *pb)
+{
+    const double *a = pa, *b = pb;
+    return a[0] != b[0] ? (a[0] > b[0]) - (a[0] < b[0])
+                        : (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+/* The ends amb marks that stage 1 left free, into st->gaps_at (sorted). */
+static int keep_gaps_open(td_join_stats *st, const jend *e, size_t ne,
+                          const unsigned char *amb, td_ctx *cx)
+{
+    size_t i, n = st->gaps_open;
+    double *t;
+    for (i = 0; i < ne; i++)
+        n += amb[i] && e[i].partner < 0;
+    if (n == st->gaps_open)
+        return 0;
+    if (!(t = realloc(st->gaps_at, 2 * n * sizeof *t)))
+        return td_seterr(cx, TD_ENOMEM, "join: out of memory");
+    st->gaps_at = t;
+    for (i = 0; i < ne; i++)
+        if (amb[i] && e[i].partner < 0) {
+            t[2 * st->gaps_open] = e[i].x;
+            t[2 * st->gaps_open++ + 1] = e[i].y;
+        }
+    qsort(t, n, 2 * sizeof *t, cmp_xy2);
+    return 0;
+}
+
+/* Whether end a is one stage 1 left open (st->gaps_at). */
+static int gap_open(const td_join_stats *st, const jend *a)
+{
+    double q[2] = {a->x, a->y};
+    return st->gaps_open &&
+           bsearch(q, st->gaps_at, st->gaps_open, 2 * sizeof *q, cmp_xy2);
+}
+
+static int accept_pairs(const td_lines *ls, const td_join_params *p, int stage,
+                        jend *e, size_t ne, jpair *pairs, size_t np,
                         double **acc, size_t *nacc, td_lines *paths,
                         td_join_stats *st, td_ctx *cx)
 {
+    unsigned char *amb = NULL;
     sgrid g;
     chords cg;
     size_t i, cap = 0;
@@ -1397,6 +1532,14 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
     memset(&cg, 0, sizeof cg);
     if (np > 0)
         qsort(pairs, np, sizeof *pairs, cmp_pair);
+    if (stage == 1 && np > 0 && p->gap_ratio > 1) {
+        if (!(amb = td_calloc(ne + 1, 1, cx)))
+            return TD_ENOMEM;
+        if ((rc = gap_alternatives(p, st, e, pairs, &np, amb, cx)) != 0) {
+            free(amb);
+            return rc;
+        }
+    }
     if (stage == 1 && np > 0 && chords_init(&cg, p, e, pairs, np) != 0)
         return td_seterr(cx, TD_ENOMEM, "join: out of memory");
     if (stage >= 2 && np > 0 && sgrid_build(&g, ls, p, e, pairs, np, cx) != 0)
@@ -1405,7 +1548,8 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
         jend *a = &e[pairs[i].a], *b = &e[pairs[i].b];
         double pts[2 * ARC_MAXPTS];
         size_t n;
-        if (a->partner >= 0 || b->partner >= 0 || water_cut_pair(st, a, b))
+        if (a->partner >= 0 || b->partner >= 0 || water_cut_pair(st, a, b) ||
+            (stage >= 2 && (gap_open(st, a) || gap_open(st, b))))
             continue;
         if (stage == 2 && p->gap_room > 0 &&
             ends_beside(&g, ls, p, a, b, p->gap_room))
@@ -1448,6 +1592,9 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p,
     chords_free(&cg);
     if (stage >= 2 && np > 0)
         sgrid_free(&g);
+    if (amb && rc == 0)
+        rc = keep_gaps_open(st, e, ne, amb, cx);
+    free(amb);
     return rc;
 }
 
@@ -1494,8 +1641,9 @@ static int join_pass(td_lines **lsp, const td_join_params *p, int stage,
     if ((rc = collect_ends(ls, p, stage == 2 ? p->long_tangent : p->tangent,
                            stage, &e, &ne, &eol, cx)) != 0 ||
         (rc = find_pairs(ls, e, ne, p, stage, &pairs, &np, cx)) != 0 ||
-        (stage == 1 && (rc = junction_zones(e, ne, p, pairs, &np, st, cx)) != 0) ||
-        (rc = accept_pairs(ls, p, stage, e, pairs, np, &acc, &nacc, paths,
+        (stage == 1 &&
+         (rc = junction_zones(e, ne, p, pairs, &np, st, cx)) != 0) ||
+        (rc = accept_pairs(ls, p, stage, e, ne, pairs, np, &acc, &nacc, paths,
                            st, cx)) != 0)
         goto fail;
     rc = TD_ENOMEM;
@@ -1864,6 +2012,8 @@ void td_join_stats_free(td_join_stats *st)
     st->cross_at = NULL;
     free(st->water_at);
     st->water_at = NULL;
+    free(st->gaps_at);
+    st->gaps_at = NULL;
 }
 
 /* ---- after stage 0: lines turned back at the water -----------------

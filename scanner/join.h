@@ -82,6 +82,10 @@ typedef struct td_join_params {
                           many times as much is left open: two contours
                           running into one stretch of ink, either could
                           go on along it (default 1.5; <= 1: off) */
+    double gap_ratio;  /* stage 1 (ours): a gap pair, one of whose ends has
+                          another candidate on a third line costing under
+                          this many times as much, is left open (<= 1:
+                          off) */
 } td_join_params;
 
 typedef struct td_join_stats {
@@ -98,6 +102,11 @@ typedef struct td_join_stats {
                            (two contours linked by a stream's bank) */
     double *water_at;   /* per cut 6 values: x, y of the vertex dropped
                            and of the two ends it left; free with
+                           td_join_stats_free */
+    size_t gaps_open;   /* ends left open by stage 1's side-step rule
+                           (td_join_params.gap_ratio); the later stages
+                           do not join them either */
+    double *gaps_at;    /* x, y of each of those ends, sorted; free with
                            td_join_stats_free */
     size_t bridges;    /* short pieces between two junctions removed */
     size_t glyphs;     /* small closed rings (digits such as 0, 6, 8, 9)

@@ -315,6 +315,65 @@ static void test_gaps_side_by_side(void)
         }
 }
 
+/* Whether some line of ls has points on both rows y0 and y1. */
+static int spans_rows(const td_lines *ls, double y0, double y1)
+{
+    size_t i, k;
+    for (i = 0; i < ls->n; i++) {
+        int a = 0, b = 0;
+        for (k = 0; k < ls->v[i].n; k++)
+            a |= ls->v[i].xy[2 * k + 1] == y0,
+                b |= ls->v[i].xy[2 * k + 1] == y1;
+        if (a && b)
+            return 1;
+    }
+    return 0;
+}
+
+/* Two contours 3 px apart where they crowd: contour A at row 100 breaks
+ * between x 100 and 115, contour B at row 103 begins at x 104 (its left
+ * part lost in a faded patch).  A's end faces B's start 5 px away at 37
+ * degrees, a cheaper first-stage pair (cost 14.2) than A's own 15-px
+ * break (15): joined, the line runs from contour A onto contour B (to
+ * x 200).  That
+ * pair steps 3 px sideways and A's end has another candidate (its own
+ * continuation) costing under 1.5 times as much: it is left open
+ * (gap_ratio, ours), and A is joined whole along its row.  With the rule
+ * off the line jumps. */
+static void test_sidestep_left_open(void)
+{
+    int on;
+    for (on = 0; on < 2; on++) {
+        td_join_params p = td_join_defaults(W, H);
+        td_join_stats st;
+        td_lines *ls = td_lines_new(NULL);
+        size_t i, whole = 0;
+        add_hline(ls, 20, 100, 100);
+        add_hline(ls, 115, 260, 100);
+        add_hline(ls, 104, 200, 103);
+        if (!on)
+            p.gap_ratio = 0;
+        TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+        for (i = 0; i < ls->n; i++)
+            whole += ls->v[i].n >= 2 && ls->v[i].xy[0] == 20 &&
+                     ls->v[i].xy[2 * ls->v[i].n - 2] == 260 &&
+                     !spans_rows(ls, 100, 103);
+        if (on)
+            TT_CHECKF(!spans_rows(ls, 100, 103) && whole == 1 &&
+                          st.gaps_open == 1,
+                      "%zu lines, a line on both contours: %d, %zu ends "
+                      "left open",
+                      ls->n, spans_rows(ls, 100, 103), st.gaps_open);
+        else
+            TT_CHECKF(spans_rows(ls, 100, 103),
+                      "rule off: %zu lines, none runs onto the other "
+                      "contour (the case no longer tests the rule)",
+                      ls->n);
+        td_join_stats_free(&st);
+        td_lines_free(ls);
+    }
+}
+
 /* A 30-px gap between two pieces of one line is a label gap on paper
  * (joined); the same gap under a road (another ink, td_join_params.other,
  * along the gap) is a contour hidden under it, and stays open: its ends
@@ -618,6 +677,7 @@ int main(void)
     TT_RUN(test_water_turn);
     TT_RUN(test_label_gap);
     TT_RUN(test_gaps_side_by_side);
+    TT_RUN(test_sidestep_left_open);
     TT_RUN(test_gap_under_other_ink);
     TT_RUN(test_short_piece_kept);
     TT_RUN(test_faded_pieces);

@@ -1,7 +1,10 @@
 /* bench_heights: height accuracy of the labeller on sheets drawn from real
  * DEMs (../shared/dems) and the generator's terrains, clean, scanned, in colour
  * printed (tdgen --print) or printed new (--unfaded), with three known points
- * or one known point and the index contours' widths; the share of traced line
+ * (alone, with the index contours' widths every 5th, or as `run --interval
+ * --known` x3 takes them: the printed labels read too and the widths'
+ * spacing picked by the solve, "3 known+lab"), or the labels alone (no
+ * option at all, "labels only"); the share of traced line
  * length with the right height (td_match_heights), lines wrong with confidence
  * >= 0.9, where heights came from, and the labelling time.  Numbers for
  * docs/benchmarks.md.
@@ -55,8 +58,8 @@ static const sheet_case cases[] = {
 
 static const char *const scan_name[6] = {"truth",  "clean",   "scanned",
                                          "colour", "printed", "new"};
-static const char *const hint_name[3] = {"3 known", "3 known+index",
-                                         "labels only"};
+static const char *const hint_name[4] = {"3 known", "3 known+index",
+                                         "labels only", "3 known+lab"};
 
 int main(int argc, char **argv)
 {
@@ -122,7 +125,7 @@ int main(int argc, char **argv)
             }
         }
         for (scanned = 0; scanned < 6; scanned++)
-            for (hint = 0; hint < 3; hint++) {
+            for (hint = 0; hint < 4; hint++) {
                 td_hsheet hs;
                 memset(&hs, 0, sizeof hs);
                 hs.gp = td_gen_defaults();
@@ -141,14 +144,17 @@ int main(int argc, char **argv)
                 hs.no_vees = novees;
                 hs.no_stream_joins = nojoins;
                 hs.use_truth_lines = scanned == 0;
-                if (hint == 2 && scanned < 2)
-                    continue; /* labels: on the scanned sheets */
+                if (hint >= 2 && scanned < 2)
+                    continue; /* labels: on the scanned sheets (3 known
+                                 + labels: `run --interval I --known` x3,
+                                 the labels read too and the widths'
+                                 spacing the solve's) */
                 if (scanned >= 3 && hint == 0 && !all)
                     continue; /* colour, printed: with index widths and
                                  labels */
                 hs.nknown = hint == 2 ? 0 : 3;
-                hs.index_every = hint == 1 ? 5 : 0;
-                hs.read_labels = hint == 2;
+                hs.index_every = hint == 1 ? 5 : hint == 3 ? -1 : 0;
+                hs.read_labels = hint >= 2;
                 hs.no_interval = hint == 2;
                 hs.method = tree ? TD_LABEL_TREE : TD_LABEL_FACES;
                 hs.paper_junctions = paperj;
