@@ -784,12 +784,14 @@ static void test_new_print_labels(void)
  * reader gets, this sheet must not be labelled wrong: an error asking for
  * --interval, or the right interval (test_spots' unsure reads test for
  * the rule that weighs the agreeing reads by how sure they are), with
- * heights as good as the same reads give with the interval given.  Since
- * 2026-12-05 (session 21) the ink's strength is also cut close to the
- * paper (ocr.c, read_strip: a pale label half over the woodland tint,
- * 2600, had read "76"): the interval 20 is inferred from 3 of 5 labels,
- * and the heights are 0.66 right, the labeller's own on this crowded
- * sheet (its lines run onto their neighbours: docs/label.md). */
+ * heights as good as the same reads give with the interval given (as
+ * `run --interval 20` does: the widths' spacing the solve's; until
+ * session 22 without the widths, 0.014-0.028 apart).  Since 2026-12-05
+ * (session 21) the ink's strength is also cut close to the paper (ocr.c,
+ * read_strip: a pale label half over the woodland tint, 2600, had read
+ * "76"): the interval 20 is inferred from 3 of 5 labels, and the heights
+ * are 0.65 right either way, the labeller's own on this crowded sheet (its
+ * lines run onto their neighbours: docs/label.md). */
 /* td_hsheet_run on the sheet drawn from dem at scale and interval with
  * print kind `kind` and no hint (labels read, interval inferred); its
  * return code, with hs and cx for the caller's checks (hs->rep to free). */
@@ -825,6 +827,7 @@ static void test_crowded_misreads_refused(void)
             h2.gp.interval = 20;
             td_hsheet_defects(&h2.gp, 4);
             h2.read_labels = 1;
+            h2.index_every = -1; /* as run --interval 20: the widths too */
             if (td_hsheet_run(&h2, NULL, &c2) == 0)
                 given = h2.score.accuracy;
             td_label_report_free(&h2.rep);
