@@ -1481,11 +1481,13 @@ static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
     return 0;
 }
 
-static int cmp_xy2(const void *pa, const void *pb)
+/* Points (x, y pairs) by x, then y. */
+static int cmp_xy(const void *pa, const void *pb)
 {
     const double *a = pa, *b = pb;
-    return a[0] != b[0] ? (a[0] > b[0]) - (a[0] < b[0])
-                        : (a[1] > b[1]) - (a[1] < b[1]);
+    if (a[0] != b[0])
+        return a[0] < b[0] ? -1 : 1;
+    return (a[1] > b[1]) - (a[1] < b[1]);
 }
 
 /* The ends amb marks that stage 1 left free, into st->gaps_at (sorted). */
@@ -1506,7 +1508,7 @@ static int keep_gaps_open(td_join_stats *st, const jend *e, size_t ne,
             t[2 * st->gaps_open] = e[i].x;
             t[2 * st->gaps_open++ + 1] = e[i].y;
         }
-    qsort(t, n, 2 * sizeof *t, cmp_xy2);
+    qsort(t, n, 2 * sizeof *t, cmp_xy);
     return 0;
 }
 
@@ -1515,7 +1517,7 @@ static int gap_open(const td_join_stats *st, const jend *a)
 {
     double q[2] = {a->x, a->y};
     return st->gaps_open &&
-           bsearch(q, st->gaps_at, st->gaps_open, 2 * sizeof *q, cmp_xy2);
+           bsearch(q, st->gaps_at, st->gaps_open, 2 * sizeof *q, cmp_xy);
 }
 
 static int accept_pairs(const td_lines *ls, const td_join_params *p, int stage,
@@ -1933,14 +1935,6 @@ static void remove_bridges(td_lines *ls, const td_join_params *p,
             st->bridges++;
         }
     }
-}
-
-static int cmp_xy(const void *pa, const void *pb)
-{
-    const double *a = pa, *b = pb;
-    if (a[0] != b[0])
-        return a[0] < b[0] ? -1 : 1;
-    return (a[1] > b[1]) - (a[1] < b[1]);
 }
 
 /* The junction end points of ls, sorted (x, y pairs), for junc_restore. */

@@ -131,6 +131,7 @@ static void test_crossing_rejected(void)
     add_hline(ls, 150, 260, 100);
     TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
     TT_CHECKF(ls->n == 1 && st.long_joins == 1, "%zu lines", ls->n);
+    td_join_stats_free(&st);
     td_lines_free(ls);
 
     ls = td_lines_new(NULL);
@@ -141,6 +142,7 @@ static void test_crossing_rejected(void)
     TT_CHECKF(ls->n == 3 && st.joins == 0 && st.ends_open == 6,
               "%zu lines, %zu joins, %zu open ends", ls->n, st.joins,
               st.ends_open);
+    td_join_stats_free(&st);
     td_lines_free(ls);
 
     ls = td_lines_new(NULL); /* the crossing line has a vertex on the join */
@@ -152,6 +154,7 @@ static void test_crossing_rejected(void)
     }
     TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
     TT_CHECKF(ls->n == 3 && st.joins == 0, "%zu lines", ls->n);
+    td_join_stats_free(&st);
     td_lines_free(ls);
 }
 
@@ -169,6 +172,7 @@ static void test_shift_and_bend(void)
     add_hline(ls, 150, 260, 108);
     TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
     TT_CHECKF(ls->n == 2 && st.joins == 0, "%zu lines", ls->n);
+    td_join_stats_free(&st);
     td_lines_free(ls);
 
     ls = td_lines_new(NULL); /* an arc of radius 400 with a gap at its top */
@@ -180,6 +184,7 @@ static void test_shift_and_bend(void)
         td_line_push(l, 150 + x, 60 + 400 - sqrt(400.0 * 400 - x * x), NULL);
     TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
     TT_CHECKF(ls->n == 1 && st.long_joins == 1, "%zu lines", ls->n);
+    td_join_stats_free(&st);
     td_lines_free(ls);
 }
 
@@ -279,6 +284,7 @@ static void test_label_gap(void)
     TT_CHECKF(ls->n == 2 && count_closed(ls) == 2, "%zu lines, %zu closed",
               ls->n, count_closed(ls));
     TT_CHECK(st.ends_open == 0);
+    td_join_stats_free(&st);
     td_lines_free(ls);
 }
 
@@ -402,6 +408,7 @@ static void test_gap_under_other_ink(void)
                   "case %d: %zu lines, %zu label "
                   "joins",
                   k, ls->n, st.long_joins);
+        td_join_stats_free(&st);
         td_lines_free(ls);
     }
 }
@@ -421,6 +428,7 @@ static void test_short_piece_kept(void)
               "%zu lines, %zu fragments", ls->n, st.fragments);
     TT_CHECKF(ls->n == 1 && td_line_length(&ls->v[0]) > 235, "length %g",
               ls->n ? td_line_length(&ls->v[0]) : 0.0);
+    td_join_stats_free(&st);
     td_lines_free(ls);
 }
 
@@ -451,6 +459,7 @@ static void test_faded_pieces(void)
               "%zu px of the faded line kept, %zu lines, %zu fragments "
               "removed",
               kept, ls->n, st.fragments);
+    td_join_stats_free(&st);
     td_lines_free(ls);
     /* the rule off: every short piece goes */
     ls = td_lines_new(NULL);
@@ -459,6 +468,7 @@ static void test_faded_pieces(void)
     p.straight_keep = 0;
     TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
     TT_CHECKF(ls->n == 0, "%zu lines", ls->n);
+    td_join_stats_free(&st);
     td_lines_free(ls);
 }
 
@@ -518,6 +528,7 @@ static void test_joins_never_cross(void)
         n += crossings(&ls->v[i], ls);
     TT_CHECKF(n == 0 && st.joins >= 1, "%d crossings, %zu joins, %zu lines", n,
               st.joins, ls->n);
+    td_join_stats_free(&st);
     td_lines_free(ls);
 }
 

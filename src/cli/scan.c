@@ -193,6 +193,11 @@ static void summary(const td_scan_result *r, double secs)
     else if (r->wide_cuts > 0)
         fprintf(stderr, "scan: %zu line%s ended where contours crowd into one "
                 "blob of ink\n", r->wide_cuts, r->wide_cuts == 1 ? "" : "s");
+    if (r->join.gaps_open > 0)
+        fprintf(stderr, "scan: %zu line end%s left open where a neighbour's "
+                "end was as near (joined, the line would step onto the next "
+                "contour)\n", r->join.gaps_open,
+                r->join.gaps_open == 1 ? "" : "s");
     if (r->flank_cuts > 0)
         fprintf(stderr, "scan: %zu stretch%s along roads or other inks cut "
                 "out (their flanks look like contour ink)\n", r->flank_cuts,

@@ -21,9 +21,11 @@ static int write_join_report(const char *path, const td_join_stats *j,
     fprintf(f, "joins %zu\nlabel_gap_joins %zu\nstream_joins %zu\n"
             "closures %zu\n"
             "fragments_removed %zu\nglyph_rings_removed %zu\nends_open %zu\n"
-            "merges %zu\nmerges_left_open %zu\nwater_turns_cut %zu\n",
+            "merges %zu\nmerges_left_open %zu\nwater_turns_cut %zu\n"
+            "gap_ends_left_open %zu\n",
             j->joins, j->long_joins, j->cross_joins, j->closures, j->fragments, j->glyphs,
-            j->ends_open, j->merges, j->merges_open, j->water_turns);
+            j->ends_open, j->merges, j->merges_open, j->water_turns,
+            j->gaps_open);
     bad = ferror(f);
     if (fclose(f) != 0 || bad)
         return td_seterr(cx, TD_EIO, "%s: cannot write", path);
