@@ -1398,15 +1398,16 @@ static int water_cut_end(const td_join_stats *st, const jend *a)
     return 0;
 }
 
-/* Whether the chord from a to b passes over the water (p->water). */
-static int chord_over_water(const td_join_params *p, const jend *a,
-                            const jend *b)
+/* Whether the chord from (ax, ay) to (bx, by) passes over the water. */
+static int chord_wet(const td_join_params *p, double ax, double ay, double bx,
+                     double by)
 {
-    int k;
-    for (k = 0; p->water && k <= 8; k++)
-        if (water_at(p, a->x + (b->x - a->x) * k / 8.0,
-                     a->y + (b->y - a->y) * k / 8.0))
+    int m = (int)ceil(hypot(bx - ax, by - ay)), j;
+    for (j = 1; j < m; j++) {
+        double t = (double)j / m;
+        if (water_at(p, ax + t * (bx - ax), ay + t * (by - ay)))
             return 1;
+    }
     return 0;
 }
 
@@ -1419,14 +1420,11 @@ static int chord_over_water(const td_join_params *p, const jend *a,
  * well be its neighbour's; the ends stay open rather than join two
  * contours. */
 static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
-                            const jend *e, jpair *pairs, size_t *npp,
+                            const jend *e, size_t ne, jpair *pairs, size_t *npp,
                             unsigned char *amb, td_ctx *cx)
 {
-    size_t i, j, ne = 0, *first, *next, np = *npp;
+    size_t i, j, *first, *next, np = *npp;
     unsigned char *drop;
-    for (i = 0; i < np; i++)
-        ne = pairs[i].a + 1 > ne ? pairs[i].a + 1 : ne,
-        ne = pairs[i].b + 1 > ne ? pairs[i].b + 1 : ne;
     first = td_malloc((ne + 1) * sizeof *first, cx);
     next = td_malloc((2 * np + 1) * sizeof *next, cx);
     drop = td_calloc(np + 1, 1, cx);
@@ -1448,7 +1446,7 @@ static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
             fmax(fabs(gx * ea->ty - gy * ea->tx),
                  fabs(gx * eb->ty - gy * eb->tx)) < GAP_SIDESTEP ||
             water_cut_end(st, ea) || water_cut_end(st, eb) ||
-            chord_over_water(p, ea, eb))
+            (p->water && chord_wet(p, ea->x, ea->y, eb->x, eb->y)))
             continue; /* a closure, ends on one straight course, a line
                          cut where it turned back at the water (its arms'
                          ends are the cap's, askew), or a contour across
@@ -1537,7 +1535,7 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p, int stage,
     if (stage == 1 && np > 0 && p->gap_ratio > 1) {
         if (!(amb = td_calloc(ne + 1, 1, cx)))
             return TD_ENOMEM;
-        if ((rc = gap_alternatives(p, st, e, pairs, &np, amb, cx)) != 0) {
+        if ((rc = gap_alternatives(p, st, e, ne, pairs, &np, amb, cx)) != 0) {
             free(amb);
             return rc;
         }
@@ -2046,19 +2044,6 @@ static long vertex_at(const td_line *l, const double *cum, double t)
             hi = mid;
     }
     return (long)lo;
-}
-
-/* Whether the chord from (ax, ay) to (bx, by) passes over the water. */
-static int chord_wet(const td_join_params *p, double ax, double ay, double bx,
-                     double by)
-{
-    int m = (int)ceil(hypot(bx - ax, by - ay)), j;
-    for (j = 1; j < m; j++) {
-        double t = (double)j / m;
-        if (water_at(p, ax + t * (bx - ax), ay + t * (by - ay)))
-            return 1;
-    }
-    return 0;
 }
 
 /* The cosine of l's turn at vertex k over WATER_ARM px either side (2
