@@ -72,6 +72,7 @@ td_join_params td_join_defaults(int w, int h)
     p.bridge_max = 12.0;
     p.junc_ratio = 1.5;
     p.gap_ratio = 1.5;
+    p.gap_near = 0.5;
     p.long_gap = 70.0;
     p.long_tangent = 20.0;
     p.cross_gap = 16.0;
@@ -1386,6 +1387,8 @@ static int chords_cross(chords *c, const jend *a, const jend *b)
 }
 
 #define GAP_SIDESTEP 1.5 /* px off the other end's course */
+/* td_join_params.gap_near: gaps shorter than this (px) are not tested */
+#define GAP_NEAR_MIN 6.0
 
 /* Whether a is one of the two ends a cut at the water left. */
 static int water_cut_end(const td_join_stats *st, const jend *a)
@@ -1411,6 +1414,58 @@ static int chord_wet(const td_join_params *p, double ax, double ay, double bx,
     return 0;
 }
 
+/* An end's x and index, to sort the ends by x. */
+typedef struct xend {
+    double x;
+    size_t i;
+} xend;
+
+static int cmp_xend(const void *pa, const void *pb)
+{
+    const xend *a = pa, *b = pb;
+    return (a->x > b->x) - (a->x < b->x);
+}
+
+/* Whether q is among a's candidate partners (ends indexed by e; first,
+ * next: each end's list of pair slots, as in gap_alternatives). */
+static int is_candidate(const jend *e, const jpair *pairs, const size_t *first,
+                        const size_t *next, const jend *a, const jend *q)
+{
+    size_t j;
+    for (j = first[a - e]; j != SIZE_MAX; j = next[j]) {
+        const jpair *pr = &pairs[j / 2];
+        if (&e[j % 2 ? pr->a : pr->b] == q)
+            return 1;
+    }
+    return 0;
+}
+
+/* Whether an end of a third line (not a's, not b's) lies within r px of
+ * end a, other than a's candidate partners (those are the side-step
+ * rule's); ix: the ends by x. */
+static int third_end_near(const jend *e, const xend *ix, size_t ne,
+                          const jpair *pairs, const size_t *first,
+                          const size_t *next, const jend *a, const jend *b,
+                          double r)
+{
+    size_t lo = 0, hi = ne, k;
+    while (lo < hi) { /* the first end at x >= a->x - r */
+        size_t mid = lo + (hi - lo) / 2;
+        if (ix[mid].x < a->x - r)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    for (k = lo; k < ne && ix[k].x <= a->x + r; k++) {
+        const jend *q = &e[ix[k].i];
+        double dq = hypot(a->x - q->x, a->y - q->y);
+        if (q->line != a->line && q->line != b->line && dq <= r &&
+            !is_candidate(e, pairs, first, next, a, q))
+            return 1;
+    }
+    return 0;
+}
+
 /* Stage 1 (ours, docs/scanner.md "Small gaps that step sideways"): a gap
  * pair (not a junction zone's: cost >= 0) that steps sideways (either end
  * GAP_SIDESTEP px or more off the other's course) and one of whose ends
@@ -1418,20 +1473,32 @@ static int chord_wet(const td_join_params *p, double ax, double ay, double bx,
  * as much is dropped from pairs (*npp updated) and its ends marked in
  * amb: breaks side by side where contours crowd, an end that could as
  * well be its neighbour's; the ends stay open rather than join two
- * contours. */
+ * contours.  So is a pair of GAP_NEAR_MIN px or more with an end of a
+ * third line within p->gap_near of its length of either end, whatever
+ * that end's direction (docs/scanner.md "A third line's end near the
+ * gap"): where contours crowd their breaks come side by side, and where
+ * one turns sharply its ink breaks at the turn, its own continuation
+ * fails the angle test and the end straight ahead is another contour's.
+ * Water-turn cut ends and chords over the water are left to stage 3 by
+ * both rules. */
 static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
                             const jend *e, size_t ne, jpair *pairs, size_t *npp,
                             unsigned char *amb, td_ctx *cx)
 {
     size_t i, j, *first, *next, np = *npp;
+    xend *ix;
     unsigned char *drop;
     first = td_malloc((ne + 1) * sizeof *first, cx);
     next = td_malloc((2 * np + 1) * sizeof *next, cx);
+    ix = td_malloc((ne + 1) * sizeof *ix, cx);
     drop = td_calloc(np + 1, 1, cx);
-    if (!first || !next || !drop) {
-        free(first), free(next), free(drop);
+    if (!first || !next || !drop || !ix) {
+        free(first), free(next), free(drop), free(ix);
         return TD_ENOMEM;
     }
+    for (i = 0; i < ne; i++)
+        ix[i] = (xend){e[i].x, i};
+    qsort(ix, ne, sizeof *ix, cmp_xend);
     for (i = 0; i < ne; i++)
         first[i] = SIZE_MAX;
     for (i = np; i-- > 0;) { /* slot 2i: end a's list, 2i + 1: end b's */
@@ -1440,9 +1507,20 @@ static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
     }
     for (i = 0; i < np; i++) {
         const jend *ea = &e[pairs[i].a], *eb = &e[pairs[i].b];
-        double gx = eb->x - ea->x, gy = eb->y - ea->y;
+        double gx = eb->x - ea->x, gy = eb->y - ea->y, d = hypot(gx, gy);
         int side;
-        if (pairs[i].cost < 0 || ea->line == eb->line ||
+        if (p->gap_near > 0 && pairs[i].cost >= 0 && ea->line != eb->line &&
+            d >= GAP_NEAR_MIN && !water_cut_end(st, ea) &&
+            !water_cut_end(st, eb) &&
+            !(p->water && chord_wet(p, ea->x, ea->y, eb->x, eb->y)) &&
+            (third_end_near(e, ix, ne, pairs, first, next, ea, eb,
+                            p->gap_near * d) ||
+             third_end_near(e, ix, ne, pairs, first, next, eb, ea,
+                            p->gap_near * d))) {
+            drop[i] = 1; /* a third line's end nearer than half the gap */
+            continue;
+        }
+        if (p->gap_ratio <= 1 || pairs[i].cost < 0 || ea->line == eb->line ||
             fmax(fabs(gx * ea->ty - gy * ea->tx),
                  fabs(gx * eb->ty - gy * eb->tx)) < GAP_SIDESTEP ||
             water_cut_end(st, ea) || water_cut_end(st, eb) ||
@@ -1475,7 +1553,7 @@ static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
         else
             amb[pairs[i].a] = amb[pairs[i].b] = 1;
     *npp = j;
-    free(first), free(next), free(drop);
+    free(first), free(next), free(drop), free(ix);
     return 0;
 }
 
@@ -1532,7 +1610,7 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p, int stage,
     memset(&cg, 0, sizeof cg);
     if (np > 0)
         qsort(pairs, np, sizeof *pairs, cmp_pair);
-    if (stage == 1 && np > 0 && p->gap_ratio > 1) {
+    if (stage == 1 && np > 0 && (p->gap_ratio > 1 || p->gap_near > 0)) {
         if (!(amb = td_calloc(ne + 1, 1, cx)))
             return TD_ENOMEM;
         if ((rc = gap_alternatives(p, st, e, ne, pairs, &np, amb, cx)) != 0) {

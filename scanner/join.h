@@ -86,6 +86,12 @@ typedef struct td_join_params {
                           another candidate on a third line costing under
                           this many times as much, is left open (<= 1:
                           off) */
+    double gap_near;   /* stage 1 (ours): a gap pair 6 px long or more
+                          is left open when an end of a third line
+                          lies within this share of the gap's length of
+                          either of its ends, whatever its direction: a
+                          contour turning sharply where its ink broke
+                          (default 0.5; <= 0: off) */
 } td_join_params;
 
 typedef struct td_join_stats {
@@ -103,9 +109,10 @@ typedef struct td_join_stats {
     double *water_at;   /* per cut 6 values: x, y of the vertex dropped
                            and of the two ends it left; free with
                            td_join_stats_free */
-    size_t gaps_open;   /* ends left open by stage 1's side-step rule
-                           (td_join_params.gap_ratio); the later stages
-                           do not join them either */
+    size_t gaps_open;   /* ends left open by stage 1's side-step and
+                           near-end rules (td_join_params.gap_ratio,
+                           gap_near); the later stages do not join them
+                           either */
     double *gaps_at;    /* x, y of each of those ends, sorted; free with
                            td_join_stats_free */
     size_t bridges;    /* short pieces between two junctions removed */

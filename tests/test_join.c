@@ -380,6 +380,51 @@ static void test_sidestep_left_open(void)
     }
 }
 
+/* A contour turning sharply where its ink broke (docs/scanner.md "A third
+ * line's end near the gap"): contour A runs along row 100 to x 100 and
+ * goes on down and to the right from (103, 104), 53 degrees off its
+ * course, too sharp a turn for a first-stage pair; line B starts on the
+ * same row at x 112, 12 px straight ahead.  Joined, A would run onto B.
+ * The end of a third line (A's own continuation) lies 5 px from A's end,
+ * under half the gap: the pair is left open (gap_near, ours), both ends
+ * stay free and no later stage joins them.  With the rule off A runs
+ * onto B. */
+static void test_near_end_left_open(void)
+{
+    int on;
+    for (on = 0; on < 2; on++) {
+        td_join_params p = td_join_defaults(W, H);
+        td_join_stats st;
+        td_lines *ls = td_lines_new(NULL);
+        double c[2 * 40];
+        size_t i, k, onto = 0;
+        for (k = 0; k < 40; k++) { /* (103, 104) down at 53 degrees */
+            c[2 * k] = 103 + 0.6 * (double)k;
+            c[2 * k + 1] = 104 + 0.8 * (double)k;
+        }
+        add_hline(ls, 20, 100, 100);
+        add_hline(ls, 112, 260, 100);
+        add_line(ls, c, 40, 0);
+        if (!on)
+            p.gap_near = 0;
+        TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+        for (i = 0; i < ls->n; i++)
+            onto += ls->v[i].n >= 2 && ls->v[i].xy[0] == 20 &&
+                    ls->v[i].xy[2 * ls->v[i].n - 2] == 260;
+        if (on)
+            TT_CHECKF(onto == 0 && ls->n == 3 && st.gaps_open == 2,
+                      "%zu lines, A run onto B: %zu, %zu ends left open", ls->n,
+                      onto, st.gaps_open);
+        else
+            TT_CHECKF(onto == 1,
+                      "rule off: %zu lines, A not run onto B "
+                      "(the case no longer tests the rule)",
+                      ls->n);
+        td_join_stats_free(&st);
+        td_lines_free(ls);
+    }
+}
+
 /* A 30-px gap between two pieces of one line is a label gap on paper
  * (joined); the same gap under a road (another ink, td_join_params.other,
  * along the gap) is a contour hidden under it, and stays open: its ends
@@ -507,7 +552,9 @@ static int crossings(const td_line *s, const td_lines *ls)
  * other contour's end across it (the ink's blur at the cut): the two
  * cheapest small-gap joins would cross, an X of two lines each carrying
  * two heights.  Contours never cross, and neither do joins: the second
- * is refused, and no two lines cross. */
+ * is refused, and no two lines cross.  (The ends lie 4 px apart, under
+ * half the gap: the near-end rule, gap_near, would leave all four open;
+ * it is off here so that the crossing check is what is tested.) */
 static void test_joins_never_cross(void)
 {
     td_join_params p = td_join_defaults(W, H);
@@ -523,6 +570,7 @@ static void test_joins_never_cross(void)
     add_line(ls, b, 4, 0);
     add_line(ls, c, 4, 0);
     add_line(ls, d, 4, 0);
+    p.gap_near = 0;
     TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
     for (i = 0; i < ls->n; i++)
         n += crossings(&ls->v[i], ls);
@@ -689,6 +737,7 @@ int main(void)
     TT_RUN(test_label_gap);
     TT_RUN(test_gaps_side_by_side);
     TT_RUN(test_sidestep_left_open);
+    TT_RUN(test_near_end_left_open);
     TT_RUN(test_gap_under_other_ink);
     TT_RUN(test_short_piece_kept);
     TT_RUN(test_faded_pieces);

@@ -80,7 +80,8 @@ int td_hsheet_pick_known(const td_lines *tl, double interval, int n,
 }
 
 static int draw_verdicts(const td_hsheet *hs, const td_image *im,
-                         const td_lines *ls, const int *verdict, td_ctx *cx)
+                         const td_lines *tl, const td_lines *ls,
+                         const int *verdict, td_ctx *cx)
 {
     static const uint8_t col[6][3] = {{0, 160, 0},     {230, 0, 0},
                                       {150, 150, 150}, {200, 200, 255},
@@ -107,13 +108,16 @@ static int draw_verdicts(const td_hsheet *hs, const td_image *im,
     }
     rc = td_png_write(hs->png, out, cx);
     td_image_free(out);
-    if (rc == 0) { /* the sheet and the labelled lines beside it */
+    if (rc == 0) { /* the sheet, the labelled and the true lines beside it */
         char path[600];
         snprintf(path, sizeof path, "%s.sheet.png", hs->png);
         rc = td_png_write(path, im, cx);
         snprintf(path, sizeof path, "%s.lines.geojson", hs->png);
         if (rc == 0)
             rc = td_geojson_write_lines(path, ls, NULL, cx);
+        snprintf(path, sizeof path, "%s.truth.geojson", hs->png);
+        if (rc == 0)
+            rc = td_geojson_write_lines(path, tl, NULL, cx);
     }
     return rc;
 }
@@ -372,7 +376,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
             rc = td_match_heights_v(tl, ls, im->w, im->h, 2.0, &hs->score, log,
                                     verdict);
         if (rc == 0 && hs->png)
-            rc = draw_verdicts(hs, im, ls, verdict, cx);
+            rc = draw_verdicts(hs, im, tl, ls, verdict, cx);
         free(verdict);
     }
 done:
