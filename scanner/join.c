@@ -1414,16 +1414,16 @@ static int chord_wet(const td_join_params *p, double ax, double ay, double bx,
     return 0;
 }
 
-/* An end's x and index, to sort the ends by x. */
-typedef struct xend {
+/* An x and the index of what has it, to sort by x. */
+typedef struct xkey {
     double x;
     size_t i;
-} xend;
+} xkey;
 
-static int cmp_xend(const void *pa, const void *pb)
+static int cmp_xkey(const void *a, const void *b)
 {
-    const xend *a = pa, *b = pb;
-    return (a->x > b->x) - (a->x < b->x);
+    double xa = ((const xkey *)a)->x, xb = ((const xkey *)b)->x;
+    return (xa > xb) - (xa < xb);
 }
 
 /* Whether q is among a's candidate partners (ends indexed by e; first,
@@ -1443,7 +1443,7 @@ static int is_candidate(const jend *e, const jpair *pairs, const size_t *first,
 /* Whether an end of a third line (not a's, not b's) lies within r px of
  * end a, other than a's candidate partners (those are the side-step
  * rule's); ix: the ends by x. */
-static int third_end_near(const jend *e, const xend *ix, size_t ne,
+static int third_end_near(const jend *e, const xkey *ix, size_t ne,
                           const jpair *pairs, const size_t *first,
                           const size_t *next, const jend *a, const jend *b,
                           double r)
@@ -1486,7 +1486,7 @@ static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
                             unsigned char *amb, td_ctx *cx)
 {
     size_t i, j, *first, *next, np = *npp;
-    xend *ix;
+    xkey *ix;
     unsigned char *drop;
     first = td_malloc((ne + 1) * sizeof *first, cx);
     next = td_malloc((2 * np + 1) * sizeof *next, cx);
@@ -1497,8 +1497,8 @@ static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
         return TD_ENOMEM;
     }
     for (i = 0; i < ne; i++)
-        ix[i] = (xend){e[i].x, i};
-    qsort(ix, ne, sizeof *ix, cmp_xend);
+        ix[i] = (xkey){e[i].x, i};
+    qsort(ix, ne, sizeof *ix, cmp_xkey);
     for (i = 0; i < ne; i++)
         first[i] = SIZE_MAX;
     for (i = np; i-- > 0;) { /* slot 2i: end a's list, 2i + 1: end b's */
@@ -1509,10 +1509,14 @@ static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
         const jend *ea = &e[pairs[i].a], *eb = &e[pairs[i].b];
         double gx = eb->x - ea->x, gy = eb->y - ea->y, d = hypot(gx, gy);
         int side;
-        if (p->gap_near > 0 && pairs[i].cost >= 0 && ea->line != eb->line &&
-            d >= GAP_NEAR_MIN && !water_cut_end(st, ea) &&
-            !water_cut_end(st, eb) &&
-            !(p->water && chord_wet(p, ea->x, ea->y, eb->x, eb->y)) &&
+        if (pairs[i].cost < 0 || ea->line == eb->line ||
+            water_cut_end(st, ea) || water_cut_end(st, eb) ||
+            (p->water && chord_wet(p, ea->x, ea->y, eb->x, eb->y)))
+            continue; /* a closure, a line cut where it turned back at the
+                         water (its arms' ends are the cap's, askew), or a
+                         contour across a stream (its V: ends askew, its
+                         neighbours' near) */
+        if (p->gap_near > 0 && d >= GAP_NEAR_MIN &&
             (third_end_near(e, ix, ne, pairs, first, next, ea, eb,
                             p->gap_near * d) ||
              third_end_near(e, ix, ne, pairs, first, next, eb, ea,
@@ -1520,16 +1524,10 @@ static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
             drop[i] = 1; /* a third line's end nearer than half the gap */
             continue;
         }
-        if (p->gap_ratio <= 1 || pairs[i].cost < 0 || ea->line == eb->line ||
+        if (p->gap_ratio <= 1 ||
             fmax(fabs(gx * ea->ty - gy * ea->tx),
-                 fabs(gx * eb->ty - gy * eb->tx)) < GAP_SIDESTEP ||
-            water_cut_end(st, ea) || water_cut_end(st, eb) ||
-            (p->water && chord_wet(p, ea->x, ea->y, eb->x, eb->y)))
-            continue; /* a closure, ends on one straight course, a line
-                         cut where it turned back at the water (its arms'
-                         ends are the cap's, askew), or a contour across
-                         a stream (its V: ends askew, its neighbours'
-                         near) */
+                 fabs(gx * eb->ty - gy * eb->tx)) < GAP_SIDESTEP)
+            continue; /* ends on one straight course */
         for (side = 0; side < 2 && !drop[i]; side++) {
             size_t me = side ? pairs[i].b : pairs[i].a;
             size_t mate = side ? pairs[i].a : pairs[i].b;
@@ -1827,17 +1825,6 @@ static int keep_straight(const td_lines *ls, const td_join_params *p,
     free(cb);
     free(keep);
     return 0;
-}
-
-typedef struct xkey {
-    double x;
-    size_t i;
-} xkey;
-
-static int cmp_xkey(const void *a, const void *b)
-{
-    double xa = ((const xkey *)a)->x, xb = ((const xkey *)b)->x;
-    return (xa > xb) - (xa < xb);
 }
 
 /* Candidate pieces at least min_length long (longer than a digit's
