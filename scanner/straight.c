@@ -12,6 +12,7 @@ enum { SIDE = 6, NSLOPE = 27, MAX_LINES = 64, MAX_RUN = 3, MIN_PEAKS = 6 };
 #define SLOPE_STEP 0.002   /* Hough slope bins (px per px) */
 #define MAX_SLOPE 0.0262   /* tan 1.5 degrees: a scan's skew at most */
 #define MAX_DRIFT 600.0    /* |slope| x the longest side, px (bounded) */
+#define NEAR 0.75 /* a run erased holds a pixel this near the line's centre */
 
 td_straight_params td_straight_defaults(void)
 {
@@ -205,6 +206,58 @@ static uint8_t *px(td_grid_u8 *g, int vertical, int u, int v)
                     : g->data + (size_t)u * g->stride + v;
 }
 
+/* The line refitted to its own ink: the peaks sit on whole columns of 3-px
+ * band counts, so a can be a pixel or two off the ink.  Least squares over
+ * the centres of the narrow runs (at most 2 px: the line alone, no contour
+ * on it) within 2.5 px of the line, then twice over those within 1 px of
+ * the fit (contours crossing steeply leave narrow runs beside it). */
+static void centre_ink(td_grid_u8 *g, int vertical, int nu, int nv, double *a,
+                       double *b)
+{
+    int pass;
+    for (pass = 0; pass < 3; pass++) {
+        double sv = 0, su = 0, svv = 0, svu = 0, d, tol = pass ? 1.0 : 2.5;
+        int v, m = 0;
+        for (v = 0; v < nv; v++) {
+            double x = *a + *b * v, c;
+            int lo = (int)floor(x - 2.5) + 1, hi, u;
+            if (lo < 0)
+                lo = 0;
+            for (u = lo; u <= x + 2.5 && u < nu && !*px(g, vertical, u, v); u++)
+                ;
+            if (u > x + 2.5 || u >= nu || (u > 0 && *px(g, vertical, u - 1, v)))
+                continue; /* no ink, or a run from further out */
+            for (hi = u; hi + 1 < nu && *px(g, vertical, hi + 1, v); hi++)
+                ;
+            c = 0.5 * (u + hi);
+            if (hi - u + 1 > 2 || fabs(c - x) > tol)
+                continue;
+            sv += v, su += c, svv += (double)v * v, svu += v * c;
+            m++;
+        }
+        d = m * svv - sv * sv;
+        if (m < 16 || !(d > 0))
+            return;
+        *b = (m * svu - sv * su) / d;
+        *a = (su - *b * sv) / m;
+    }
+}
+
+/* The ink pixel on the line at v: the one nearest its centre a + b v,
+ * within NEAR px; -1 when there is none. */
+static int on_line(td_grid_u8 *g, int vertical, int nu, int v, double a,
+                   double b)
+{
+    double x = a + b * v;
+    int u0 = (int)lround(x), k;
+    for (k = 0; k <= 2; k++) { /* u0, u0 - 1, u0 + 1 */
+        int c = k == 0 ? u0 : k == 1 ? u0 - 1 : u0 + 1;
+        if (c >= 0 && c < nu && fabs(c - x) <= NEAR && *px(g, vertical, c, v))
+            return c;
+    }
+    return -1;
+}
+
 /* The share of the line's length with ink within 1 px of it. */
 static double continuity(td_grid_u8 *g, int vertical, int nu, int nv,
                          double a, double b)
@@ -225,9 +278,10 @@ static double line_width(td_grid_u8 *g, int vertical, int nu, int nv,
 {
     int hist[16] = {0}, n = 0, v, k, acc = 0;
     for (v = 0; v < nv; v += 4) {
-        int u = (int)lround(a + b * v), lo = u, hi = u;
-        if (u < 0 || u >= nu || !*px(g, vertical, u, v))
+        int u = on_line(g, vertical, nu, v, a, b), lo, hi;
+        if (u < 0)
             continue;
+        lo = hi = u;
         while (lo > 0 && *px(g, vertical, lo - 1, v) && u - lo < 15)
             lo--;
         while (hi + 1 < nu && *px(g, vertical, hi + 1, v) && hi - u < 15)
@@ -241,7 +295,8 @@ static double line_width(td_grid_u8 *g, int vertical, int nu, int nv,
 }
 
 /* Erase the line where it runs alone: at each v the run of ink across it
- * (through the line's pixel or one beside it) when at most maxrun px
+ * (through its pixel within NEAR px of the line's centre: a contour 2 px
+ * beside a 1-px line is not the line) when at most maxrun px
  * long (the line's median width, at least MAX_RUN; one px more took more
  * of the contours crossing it on the printed Orkhon sheet: own 0.985 ->
  * 0.979); a longer run is a contour crossing there, and stays, so the
@@ -251,12 +306,7 @@ static void erase(td_grid_u8 *g, int vertical, int nu, int nv, double a,
 {
     int v, u;
     for (v = 0; v < nv; v++) {
-        int u0 = (int)lround(a + b * v), lo, hi, k, start = -1;
-        for (k = 0; k <= 2 && start < 0; k++) { /* u0, u0 - 1, u0 + 1 */
-            int c = k == 0 ? u0 : k == 1 ? u0 - 1 : u0 + 1;
-            if (c >= 0 && c < nu && *px(g, vertical, c, v))
-                start = c;
-        }
+        int start = on_line(g, vertical, nu, v, a, b), lo, hi;
         if (start < 0)
             continue;
         lo = hi = start;
@@ -315,6 +365,7 @@ static int one_direction(td_grid_u8 *g, int vertical,
         }
         for (i = 0; i < n; i++)
             pk[i].used |= keep[i];
+        centre_ink(g, vertical, nu, nv, &a, &b);
         w = line_width(g, vertical, nu, nv, a, b);
         if (!(w > 0) || w > p->max_width ||
             continuity(g, vertical, nu, nv, a, b) < p->line_cover)

@@ -3,8 +3,8 @@
  * line tilted by a scan's skew, one straight along each axis, and one
  * broken into pieces by a poor colour classification; the grid goes, the
  * contours stay, and a mask without a grid is left as it was. */
-#include "tests/tt.h"
 #include "scanner/straight.h"
+#include "tests/tt.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -106,7 +106,8 @@ static void test_grid_removed(void)
        the horizontal line meets these at 20 degrees) */
     TT_CHECKF(lost(field, g) < field_ink / 200 && after < before,
               "%zu of the contours' %zu ink pixels erased (ink %zu, before "
-              "%zu)", lost(field, g), field_ink, after, before);
+              "%zu)",
+              lost(field, g), field_ink, after, before);
     td_grid_u8_free(g);
     td_grid_u8_free(field);
 }
@@ -151,6 +152,54 @@ static void test_wide_grid_removed(void)
     td_grid_u8_free(field);
 }
 
+/* A contour running along the grid line for a stretch (4 px wide, over the
+ * line's pixel and three beside it) keeps its ink; a contour passing 2 px
+ * beside the line, not touching it, keeps it too.  Until 2026-12-05 the
+ * line's width was measured only where the pixel nearest its fitted
+ * position was ink: a pixel off a 1-px line, that was the contours
+ * crossing it, the width came out 5 and the stretch along it went (on the
+ * printed Orkhon sheet a contour along the grid at x = 326 lost 35 px and
+ * a hill's heights were mirrored). */
+static void test_contour_along_grid(void)
+{
+    td_ctx cx;
+    td_grid_u8 *field = td_grid_u8_new(W, H, NULL), *g;
+    td_straight_params p = td_straight_defaults();
+    size_t found = 0, along = 0, kept = 0;
+    int x, y, off;
+    td_ctx_init(&cx);
+    contours(field);
+    for (y = 300; y < 380; y++) /* along the line, over it */
+        for (x = 798; x <= 801; x++)
+            TD_AT(field, x, y) = 1;
+    for (y = 600; y < 680; y++) /* beside it, 2 px off, 3 px wide */
+        for (x = 797; x <= 799; x++)
+            TD_AT(field, x, y) = 1;
+    for (off = 0; off < 2; off++) { /* a 1-px grid at 801, a 2-px one */
+        g = td_grid_u8_dup(field, NULL);
+        grid_line(g, 1, 801.0, 0.0, 0);
+        if (off)
+            grid_line(g, 1, 802.0, 0.0, 0);
+        TT_CHECK(td_straight_remove(g, &p, &found, &cx) == 0);
+        TT_CHECKF(found == 1, "%zu lines found, want 1", found);
+        along = kept = 0;
+        for (y = 300; y < 380; y++)
+            for (x = 798; x <= 801; x++)
+                along++, kept += TD_AT(g, x, y) != 0;
+        for (y = 600; y < 680; y++)
+            for (x = 797; x <= 799; x++)
+                along++, kept += TD_AT(g, x, y) != 0;
+        TT_CHECKF(kept == along,
+                  "grid %d px wide: %zu of the %zu pixels "
+                  "of the contours along it kept",
+                  1 + off, kept, along);
+        TT_CHECKF(lost(field, g) < ink(field) / 200,
+                  "%zu contour pixels erased", lost(field, g));
+        td_grid_u8_free(g);
+    }
+    td_grid_u8_free(field);
+}
+
 static void test_no_grid_untouched(void)
 {
     td_ctx cx;
@@ -183,6 +232,7 @@ int main(void)
 {
     TT_RUN(test_grid_removed);
     TT_RUN(test_wide_grid_removed);
+    TT_RUN(test_contour_along_grid);
     TT_RUN(test_no_grid_untouched);
     return tt_summary();
 }
