@@ -55,6 +55,60 @@ static long mark_cuts(const double *s, size_t n, uint8_t *near, uint8_t *cut)
     return runs;
 }
 
+/* Whether the stretch of l from point e (an end) to point b, beside the
+ * other ink, turns off the line's course before it: its chord at least
+ * TD_FLANK_TURN degrees off the chord of the TD_FLANK_HOOK px beyond b
+ * (step +1 or -1 from b, away from e). */
+static int hooks(const td_line *l, const double *s, size_t e, size_t b,
+                 int step)
+{
+    size_t c = b;
+    double ax, ay, hx, hy, cs;
+    while ((step > 0 ? c + 1 < l->n : c > 0) &&
+           fabs(s[c] - s[b]) < TD_FLANK_HOOK)
+        c = step > 0 ? c + 1 : c - 1;
+    ax = l->xy[2 * b] - l->xy[2 * c], ay = l->xy[2 * b + 1] - l->xy[2 * c + 1];
+    hx = l->xy[2 * e] - l->xy[2 * b], hy = l->xy[2 * e + 1] - l->xy[2 * b + 1];
+    if ((ax == 0 && ay == 0) || (hx == 0 && hy == 0))
+        return 0;
+    cs = (ax * hx + ay * hy) / (hypot(ax, ay) * hypot(hx, hy));
+    return cs < cos(TD_FLANK_TURN * M_PI / 180.0);
+}
+
+/* An open line's ends that hook along the other ink: the stretch from each
+ * end while it stays within TD_FLANK_NEAR px of it, when at least
+ * TD_FLANK_HOOK px long and turned off the line's course (hooks), is
+ * marked in cut[] (a contour crossing a road whose end turns along the
+ * road's flank, shorter than TD_FLANK_MIN: the joiner then pairs the
+ * hook's tip, heading along the road, with the next contour's end).  A
+ * line near the other ink all along is left to mark_cuts.  s: arc
+ * lengths.  Returns the number of ends marked. */
+static long trim_ends(const td_line *l, const double *s, const uint8_t *bits,
+                      int w, int h, uint8_t *cut)
+{
+    size_t n = l->n, i, j;
+    long r = 0;
+    for (i = 0; i < n && near_other(bits, w, h, l->xy[2 * i], l->xy[2 * i + 1]);
+         i++)
+        ;
+    if (i == n)
+        return 0;
+    for (j = n;
+         j > i && near_other(bits, w, h, l->xy[2 * j - 2], l->xy[2 * j - 1]);
+         j--)
+        ;
+    if (i > 0 && !cut[0] && s[i - 1] >= TD_FLANK_HOOK && hooks(l, s, 0, i, 1)) {
+        memset(cut, 1, i);
+        r++;
+    }
+    if (j < n && !cut[n - 1] && s[n - 1] - s[j] >= TD_FLANK_HOOK &&
+        hooks(l, s, n - 1, j - 1, -1)) {
+        memset(cut + j, 1, n - j);
+        r++;
+    }
+    return r;
+}
+
 /* Append to out the pieces of l's points pts (n) between the cut points,
  * walking from point off round to it again (a closed walk; 0 for an open
  * line, whose first and last points are l's own ends: they keep their
@@ -169,6 +223,8 @@ long td_flank_cut(td_lines *ls, const uint8_t *bits, int w, int h, td_ctx *cx)
             cut[k] = near[(k0 + k) % n];
         memcpy(near, cut, m);
         r = mark_cuts(s, m, near, cut);
+        if (!l->closed || n < 3)
+            r += trim_ends(l, s, bits, w, h, cut);
         if (r == 0) {
             if (td_lines_append_copy(out, l, cx) != 0)
                 goto fail;

@@ -18,7 +18,10 @@
  *                           for the joiner.
  * The other ink's map is patchy (its 2 x 2 blocks come and go along a
  * thin road): gaps of up to TD_FLANK_GAP px between near stretches count
- * as near. */
+ * as near.  A shorter stretch is cut at an open line's end when it hooks
+ * along the road (at least TD_FLANK_HOOK px, turned TD_FLANK_TURN degrees
+ * off the line's course): the joiner would pair the hook's tip, heading
+ * along the road, with the next contour's end. */
 #ifndef TD_FLANK_H
 #define TD_FLANK_H
 
@@ -31,6 +34,8 @@ extern "C" {
 #define TD_FLANK_NEAR 2   /* px (a 5 x 5 window) */
 #define TD_FLANK_MIN 12.0 /* px along the line */
 #define TD_FLANK_GAP 10.0 /* px */
+#define TD_FLANK_HOOK 4.0 /* px: an end's hook along the other ink */
+#define TD_FLANK_TURN 50.0 /* degrees: its turn off the line's course */
 
 /* Cut out of ls every stretch that runs along another ink: within
  * TD_FLANK_NEAR px of its strokes in bits (w x h, one bit a pixel, rows of

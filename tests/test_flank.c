@@ -102,6 +102,40 @@ done:
     free(b);
 }
 
+/* A contour broken by the road whose end hooks along the road's flank for
+ * 6 px: the hook goes, the line ends heading at the road (else the joiner
+ * pairs the hook's tip, heading along the road, with the next contour's
+ * end: a line on the ridges print ran from one contour onto the next so);
+ * a line ending at the road's edge, and one ending at a slant, keep every
+ * point. */
+static void test_hook_trimmed(void)
+{
+    uint8_t *b = calloc(STRIDE * H, 1);
+    td_lines *ls = td_lines_new(NULL);
+    td_line *l;
+    int k;
+    TT_CHECK(b && ls);
+    if (!b || !ls)
+        goto done;
+    road(b, 0, W - 1, 0);
+    l = line(ls, 60, 5, 60, 46, 41);
+    for (k = 1; l && k <= 6; k++) /* the hook, 2 px off the road */
+        TT_CHECK(td_line_push(l, 60 + k, 48, NULL) == 0);
+    line(ls, 30, 95, 30, 53, 42);
+    line(ls, 90, 95, 80, 53, 42);
+    TT_CHECK(td_flank_cut(ls, b, W, H, NULL) == 1);
+    TT_CHECKF(ls->n == 3, "%zu lines", ls->n);
+    if (ls->n == 3) {
+        const td_line *h = &ls->v[0];
+        double ex = h->xy[2 * h->n - 2], ey = h->xy[2 * h->n - 1];
+        TT_CHECKF(ex == 60 && ey < 48, "the hooked line ends at %g,%g", ex, ey);
+        TT_CHECK(ls->v[1].n == 43 && ls->v[2].n == 43);
+    }
+done:
+    td_lines_free(ls);
+    free(b);
+}
+
 /* A dashed map of the road (the 2 x 2 blocks of a thin road come and go)
  * still cuts the flank; a ring with a side along the road opens there. */
 static void test_patchy_and_ring(void)
@@ -149,6 +183,7 @@ int main(void)
 {
     TT_RUN(test_flank_cut);
     TT_RUN(test_crossing_kept);
+    TT_RUN(test_hook_trimmed);
     TT_RUN(test_patchy_and_ring);
     return tt_summary();
 }
