@@ -250,22 +250,11 @@ static int number_trees(td_ridges *r, td_ctx *cx)
 
 /* Points in processing order: uphill for ridges and inflections,
  * downhill for valleys, each kind from its own end (003 §5 Step 0). */
-typedef struct okey {
-    double z;
-    size_t i;
-} okey;
-
-static int by_key(const void *x, const void *y)
-{
-    double a = ((const okey *)x)->z, b = ((const okey *)y)->z;
-    return (a > b) - (a < b);
-}
-
 static int link_all(lctx *L, const td_homotopy_params *p, td_ctx *cx)
 {
     td_ridges *r = L->r;
     size_t i, *nb = td_malloc((r->ncurve + 1) * sizeof *nb, cx);
-    okey *ord = td_malloc((r->npt + 1) * sizeof *ord, cx);
+    td_dkey *ord = td_malloc((r->npt + 1) * sizeof *ord, cx);
     int rc = 0;
     if (!ord || !nb) {
         free(ord);
@@ -274,9 +263,9 @@ static int link_all(lctx *L, const td_homotopy_params *p, td_ctx *cx)
     }
     for (i = 0; i < r->npt; i++) {
         ord[i].i = i;
-        ord[i].z = r->pt[i].kind == TD_RV_VALLEY ? -r->pt[i].z : r->pt[i].z;
+        ord[i].key = r->pt[i].kind == TD_RV_VALLEY ? -r->pt[i].z : r->pt[i].z;
     }
-    qsort(ord, r->npt, sizeof *ord, by_key);
+    qsort(ord, r->npt, sizeof *ord, td_dkey_cmp);
     for (i = 0; i < r->npt && rc == 0; i++) {
         size_t a = ord[i].i;
         int dir = r->pt[a].kind == TD_RV_VALLEY ? -1 : 1;

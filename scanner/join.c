@@ -1414,18 +1414,6 @@ static int chord_wet(const td_join_params *p, double ax, double ay, double bx,
     return 0;
 }
 
-/* An x and the index of what has it, to sort by x. */
-typedef struct xkey {
-    double x;
-    size_t i;
-} xkey;
-
-static int cmp_xkey(const void *a, const void *b)
-{
-    double xa = ((const xkey *)a)->x, xb = ((const xkey *)b)->x;
-    return (xa > xb) - (xa < xb);
-}
-
 /* Whether q is among a's candidate partners (ends indexed by e; first,
  * next: each end's list of pair slots, as in gap_alternatives). */
 static int is_candidate(const jend *e, const jpair *pairs, const size_t *first,
@@ -1443,7 +1431,7 @@ static int is_candidate(const jend *e, const jpair *pairs, const size_t *first,
 /* Whether an end of a third line (not a's, not b's) lies within r px of
  * end a, other than a's candidate partners (those are the side-step
  * rule's); ix: the ends by x. */
-static int third_end_near(const jend *e, const xkey *ix, size_t ne,
+static int third_end_near(const jend *e, const td_dkey *ix, size_t ne,
                           const jpair *pairs, const size_t *first,
                           const size_t *next, const jend *a, const jend *b,
                           double r)
@@ -1451,12 +1439,12 @@ static int third_end_near(const jend *e, const xkey *ix, size_t ne,
     size_t lo = 0, hi = ne, k;
     while (lo < hi) { /* the first end at x >= a->x - r */
         size_t mid = lo + (hi - lo) / 2;
-        if (ix[mid].x < a->x - r)
+        if (ix[mid].key < a->x - r)
             lo = mid + 1;
         else
             hi = mid;
     }
-    for (k = lo; k < ne && ix[k].x <= a->x + r; k++) {
+    for (k = lo; k < ne && ix[k].key <= a->x + r; k++) {
         const jend *q = &e[ix[k].i];
         double dq = hypot(a->x - q->x, a->y - q->y);
         if (q->line != a->line && q->line != b->line && dq <= r &&
@@ -1486,7 +1474,7 @@ static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
                             unsigned char *amb, td_ctx *cx)
 {
     size_t i, j, *first, *next, np = *npp;
-    xkey *ix;
+    td_dkey *ix;
     unsigned char *drop;
     first = td_malloc((ne + 1) * sizeof *first, cx);
     next = td_malloc((2 * np + 1) * sizeof *next, cx);
@@ -1497,8 +1485,8 @@ static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
         return TD_ENOMEM;
     }
     for (i = 0; i < ne; i++)
-        ix[i] = (xkey){e[i].x, i};
-    qsort(ix, ne, sizeof *ix, cmp_xkey);
+        ix[i] = (td_dkey){e[i].x, i};
+    qsort(ix, ne, sizeof *ix, td_dkey_cmp);
     for (i = 0; i < ne; i++)
         first[i] = SIZE_MAX;
     for (i = np; i-- > 0;) { /* slot 2i: end a's list, 2i + 1: end b's */
@@ -1843,7 +1831,7 @@ static int junction_attached(const td_lines *ls, const jend *e, size_t ne,
                              uint8_t *cont, td_ctx *cx)
 {
     size_t *uf = td_malloc((ls->n + 1) * sizeof *uf, cx), i, j, n = 0;
-    xkey *k = td_malloc((ne + 1) * sizeof *k, cx);
+    td_dkey *k = td_malloc((ne + 1) * sizeof *k, cx);
     uint8_t *lng = td_calloc(ls->n + 1, 1, cx);
     double *net = td_calloc(ls->n + 1, sizeof *net, cx);
     if (!uf || !k || !lng || !net) {
@@ -1854,11 +1842,11 @@ static int junction_attached(const td_lines *ls, const jend *e, size_t ne,
         uf[i] = i;
     for (i = 0; i < ne; i++)
         if (e[i].junc)
-            k[n].x = e[i].x, k[n++].i = i;
-    qsort(k, n, sizeof *k, cmp_xkey);
+            k[n].key = e[i].x, k[n++].i = i;
+    qsort(k, n, sizeof *k, td_dkey_cmp);
     for (i = 0; i < n; i++)
-        for (j = i + 1; j < n && k[j].x - k[i].x <= JUNC_NEAR; j++)
-            if (hypot(k[j].x - k[i].x, e[k[j].i].y - e[k[i].i].y) <=
+        for (j = i + 1; j < n && k[j].key - k[i].key <= JUNC_NEAR; j++)
+            if (hypot(k[j].key - k[i].key, e[k[j].i].y - e[k[i].i].y) <=
                 JUNC_NEAR)
                 uf[zfind(uf, e[k[i].i].line)] = zfind(uf, e[k[j].i].line);
     for (i = 0; i < n; i++)

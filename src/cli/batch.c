@@ -535,17 +535,6 @@ static int cmp_size(const void *pa, const void *pb)
     return (a > b) - (a < b);
 }
 
-typedef struct xkey {
-    double x;
-    size_t i;
-} xkey;
-
-static int cmp_xkey(const void *pa, const void *pb)
-{
-    const xkey *a = pa, *b = pb;
-    return (a->x > b->x) - (a->x < b->x);
-}
-
 static void crs_name(FILE *f, int epsg)
 {
     if (epsg > 0)
@@ -560,7 +549,7 @@ static void crs_name(FILE *f, int epsg)
  * unplaced (out of the joint steps).  0, or -1 out of memory. */
 static int find_neighbours(sheet *v, size_t n, FILE *lg)
 {
-    xkey *ord = malloc((n + 1) * sizeof *ord);
+    td_dkey *ord = malloc((n + 1) * sizeof *ord);
     size_t m = 0, a, b, np = 0, cap = 0, i, *pr = NULL;
     double tol = 0;
     int rc = -1;
@@ -569,13 +558,13 @@ static int find_neighbours(sheet *v, size_t n, FILE *lg)
     for (i = 0; i < n; i++) {
         free(v[i].nb), v[i].nb = NULL, v[i].nnb = 0;
         if (v[i].ok && v[i].placed) {
-            ord[m].x = v[i].x0, ord[m++].i = i;
+            ord[m].key = v[i].x0, ord[m++].i = i;
             tol = fmax(tol, EDGE_TOL * v[i].res);
         }
     }
-    qsort(ord, m, sizeof *ord, cmp_xkey);
+    qsort(ord, m, sizeof *ord, td_dkey_cmp);
     for (a = 0; a < m; a++)
-        for (b = a + 1; b < m && ord[b].x <= v[ord[a].i].x1 + tol; b++) {
+        for (b = a + 1; b < m && ord[b].key <= v[ord[a].i].x1 + tol; b++) {
             sheet *p = &v[ord[a].i], *q = &v[ord[b].i];
             int r = beside(p, q);
             if (r == 0 && p->epsg != q->epsg) {

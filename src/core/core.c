@@ -179,3 +179,9 @@ void td_szvec_free(td_szvec *a)
     a->v = NULL;
     a->n = a->cap = 0;
 }
+
+int td_dkey_cmp(const void *a, const void *b)
+{
+    double x = ((const td_dkey *)a)->key, y = ((const td_dkey *)b)->key;
+    return (x > y) - (x < y);
+}

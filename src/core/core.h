@@ -108,6 +108,14 @@ typedef struct td_szvec {
 int td_szvec_push(td_szvec *a, size_t x, td_ctx *cx); /* 0 or TD_ENOMEM */
 void td_szvec_free(td_szvec *a);                       /* and re-zero */
 
+/* A key and the index of what has it, to sort things by the key (qsort
+ * with td_dkey_cmp: ascending key). */
+typedef struct td_dkey {
+    double key;
+    size_t i;
+} td_dkey;
+int td_dkey_cmp(const void *a, const void *b);
+
 /* Seconds from a monotonic clock. */
 double td_now(void);
 
