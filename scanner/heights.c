@@ -97,6 +97,24 @@
 #define SEARCH_WORK 4e7 /* node and edge visits per improve() */
 #define SEARCH_SWEEPS 20
 #define WFOLD 1.0
+#define FOLD_S                                                                 \
+    15.5 /* a fold across a face edge of w probes (both lines stepping the     \
+            same way from the face) costs WFOLD + k FOLD_S (ln w - FOLD_C)     \
+            (not below WFOLD; k: fold_strength, 0 but on crowded sheets):      \
+            of the face edges the true heights keep, the folds are 0.67 at     \
+            1-2 probes, 0.17 at 10-30, 0.007 at 100 and more (every bench      \
+            sheet); -ln of the odds in the DP's units (DP_FACE_S 13) */
+#define FOLD_C 1.13
+#define FOLD_EXCESS                                                            \
+    0.03 /* solve_all: the strong fold prior only where the answer with        \
+            the weak one has folds for more than this share of the face        \
+            edges' weight: 0.2-1.4 % on the crowded sheets' clean,             \
+            scanned and colour scans, whose lines are good, 5-8 % on           \
+            their printed scans, where leaks and jumps fold regions */
+#define FOLD_R0                                                                \
+    5.0 /* fold_strength: the full FOLD_S where the contours lie at most       \
+           this many pens apart, none from FOLD_R1 on */
+#define FOLD_R1 10.0
 #define SAME_STRAIGHT                                                          \
     0.9 /* same_pieces: walls this straight (chord over                        \
            length) or more */
@@ -212,6 +230,8 @@ typedef struct hs {
     long *band, *band_prior; /* per chunk: best height (band index) */
     double *gap, *gap_prior; /* per chunk */
     int priors;              /* this pass uses the priors */
+    double fold_k;           /* the fold prior's strength now, and ... */
+    double fold_kg;          /* ... the sheet's (fold_strength) */
     long need_lo, need_hi;   /* levels the domain must hold (need_lo >
                                 need_hi: none) */
     int cost_only;           /* only the total cost (the interval's trials) */
@@ -1085,6 +1105,63 @@ static long across(const hs *s, size_t l, int xs, long st, double *cost)
     return 2 * b + (1 - d);
 }
 
+/* What a fold across a face edge of w probes costs (the priors pass): a
+ * face whose two lines step the same way from it is a ridge or valley
+ * band.  On sheets of crowded contours (s->fold_k, fold_strength) such
+ * bands are rare where many probes agree; the share measured on the true
+ * heights of every bench sheet, in docs/label.md ("Folds priced by their
+ * probes"). */
+static double fold_cost(const hs *s, double w)
+{
+    return WFOLD +
+           s->fold_k * fmax(0.0, FOLD_S * (log(w > 1e-3 ? w : 1e-3) - FOLD_C));
+}
+
+static int cmp_dbl(const void *pa, const void *pb)
+{
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
+}
+
+/* How strongly the face edges' folds are priced (s->fold_k, 0..1): by the
+ * sheet's contour spacing (the probes' length, its median weighted by
+ * their count) over its pen (the lines' median width; 2 px when no line
+ * has one).  The true heights' folds are 0.2-0.9 % of the face edges'
+ * weight on the crowded Front Range sheets (contours 3.5-4.5 pens
+ * apart), 0.6-3 % on Orkhon (6-10), 3.5-14 % on Elkhorn (15-23) and
+ * 17-37 % on Elkhorn at interval 20 (37-56): where contours lie far
+ * apart the ground between them folds often, and a strong prior mirrors
+ * the regions beyond the true folds. */
+static int fold_strength(hs *s, td_ctx *cx)
+{
+    size_t i, n = 0, m = s->nfe > s->N ? s->nfe : s->N;
+    double *v = td_malloc((2 * m + 2) * sizeof *v, cx), tw = 0, acc = 0, D = 0,
+           pen = 2.0, R;
+    if (!v)
+        return TD_ENOMEM;
+    for (i = 0; i < s->nfe; i++) {
+        const td_face_edge *f = &s->fe[i];
+        v[2 * n] = hypot(f->hx - f->x, f->hy - f->y);
+        v[2 * n++ + 1] = f->w;
+        tw += f->w;
+    }
+    qsort(v, n, 2 * sizeof *v, cmp_dbl);
+    for (i = 0; i < n && acc < tw / 2; i++)
+        acc += v[2 * i + 1], D = v[2 * i];
+    for (i = 0, n = 0; i < s->N; i++)
+        if (s->ls->v[i].width > 0)
+            v[n++] = s->ls->v[i].width;
+    if (n) {
+        qsort(v, n, sizeof *v, cmp_dbl);
+        pen = v[n / 2];
+    }
+    free(v);
+    R = D / pen;
+    s->fold_kg = fmin(1.0, fmax(0.0, (FOLD_R1 - R) / (FOLD_R1 - FOLD_R0)));
+    s->fold_k = 0.0;
+    return 0;
+}
+
 /* The fold prior on face edge (c, its parent): a face whose boundary
  * pieces (open lines, the inside of rings) step the same way is a ridge
  * or valley band, rarer than a slope.  Not between a ring's outside (a
@@ -1099,7 +1176,7 @@ static double fold_w(const hs *s, uint32_t c)
         return W_NEST;
     if (s->hole[c] || s->hole[s->par[c]])
         return 0.0;
-    return WFOLD;
+    return fold_cost(s, s->fe[s->pid[c]].w);
 }
 
 /* What breaking a face edge of w probes costs in the search's model:
@@ -2041,7 +2118,7 @@ static double edge_cost(const hs *s, const cedge *e, long ba, int da, long bb,
     if (da == db && s->priors && nest_pair(s, e->a, e->b))
         return W_NEST;
     if (da == db && s->priors && !s->hole[e->a] && !s->hole[e->b])
-        return WFOLD;
+        return fold_cost(s, s->fe[e->id].w);
     return 0.0;
 }
 
@@ -2439,6 +2516,25 @@ static int heed_dropped(hs *s, const long *nb, td_ctx *cx)
     return 0;
 }
 
+/* The share of the weight of the face edges answer nb keeps (both sides
+ * one band; not a ring's outside) that are folds. */
+static double fold_share(const hs *s, const long *nb)
+{
+    double all = 0, fold = 0;
+    size_t i;
+    for (i = s->C; i < s->nce; i++) {
+        const cedge *e = &s->ce[i];
+        double w;
+        if (e->kind != E_FACE || nb[e->a] != nb[e->b] || s->hole[e->a] ||
+            s->hole[e->b])
+            continue;
+        w = s->fe[e->id].w;
+        all += w;
+        fold += (nb[e->a ^ 1] > nb[e->a]) == (nb[e->b ^ 1] > nb[e->b]) ? w : 0;
+    }
+    return all > 0 ? fold / all : 0.0;
+}
+
 static double full_cost(hs *s, const long *nb);
 static int solve_all(hs *s, td_ctx *cx)
 {
@@ -2469,6 +2565,13 @@ static int solve_all(hs *s, td_ctx *cx)
     run_pass(s, 0, s->gap, s->band, H);
     run_pass(s, 1, s->gap_prior, s->band_prior, H);
     decode(s, nb);
+    if (s->fold_kg > 0 && !s->cost_only && fold_share(s, nb) > FOLD_EXCESS) {
+        /* (not in the interval's and the index spacing's trials, whose
+           costs are compared with one another) */
+        s->fold_k = s->fold_kg;
+        run_pass(s, 1, s->gap_prior, s->band_prior, H);
+        decode(s, nb);
+    }
     if (!s->cost_only && (rc = heed_dropped(s, nb, cx)) != 0)
         goto done;
     if (s->nunx) { /* kept when the whole model says it is better */
@@ -2833,6 +2936,8 @@ static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
         (rc = gap_pairs(&s, cx)) != 0 ||
         (rc = touched_nodes(&s, &touched, cx)) != 0 ||
         (rc = setup_known(&s, cx)) != 0 || (rc = setup_spots(&s, cx)) != 0)
+        goto fail;
+    if ((rc = fold_strength(&s, cx)) != 0)
         goto fail;
     setup_directions(&s, touched);
     if ((rc = setup_ring_next(&s, touched, cx)) != 0)

@@ -1102,6 +1102,34 @@ static void test_crowded_walls(void)
     crowded_check(0, 0.97, 20.0);
 }
 
+/* The crowded sheet as a printed map (tdgen --print: faded ink, tint, red
+ * roads, JPEG), three known points and the printed labels, as `run
+ * --interval 20 --known` x3 takes them.  The lines leak and jump where
+ * the ink crowds, and with the weak fold prior whole regions came out
+ * folded or an index spacing off (0.460 of the length right); the fold
+ * prior priced by the face edges' probes (heights.c, fold_strength) on
+ * such a sheet: 0.899. */
+static void test_crowded_printed_folds(void)
+{
+    td_hsheet hs;
+    td_grid_f32 *src = crowded_sheet(&hs);
+    td_ctx cx;
+    td_ctx_init(&cx);
+    if (!src)
+        return;
+    td_hsheet_defects(&hs.gp, 3);
+    hs.nknown = 3;
+    hs.index_every = -1;
+    hs.read_labels = 1;
+    TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
+    TT_CHECKF(hs.score.accuracy >= 0.85 && hs.score.n_wrong_sure == 0,
+              "crowded printed, 3 known + labels: accuracy %.3f, %ld wrong "
+              "and sure",
+              hs.score.accuracy, hs.score.n_wrong_sure);
+    td_label_report_free(&hs.rep);
+    td_grid_f32_free(src);
+}
+
 /* The crowded sheet drawn crisp (no blur, noise or breaks) with three
  * known points: an index contour and a thin one whose inks overlap for a
  * stretch swapped at the Y where they part, and whole regions came out an
@@ -1358,6 +1386,7 @@ int main(void)
     TT_RUN(test_river_bank_pair);
     TT_RUN(test_crowded_labels_only);
     TT_RUN(test_crowded_walls);
+    TT_RUN(test_crowded_printed_folds);
     TT_RUN(test_crowded_crisp);
     TT_RUN(test_index_by_ink);
     TT_RUN(test_index_cut_by_length);
