@@ -106,7 +106,7 @@
             sheet); -ln of the odds in the DP's units (DP_FACE_S 13) */
 #define FOLD_C 1.13
 #define FOLD_EXCESS                                                            \
-    0.03 /* solve_all: the strong fold prior only where the answer with        \
+    0.02 /* solve_all: the strong fold prior only where the answer with        \
             the weak one has folds for more than this share of the face        \
             edges' weight: 0.2-1.4 % on the crowded sheets' clean,             \
             scanned and colour scans, whose lines are good, 5-8 % on           \
