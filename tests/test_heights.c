@@ -1321,7 +1321,10 @@ static void test_ticked_pit(void)
 /* Depressions ticked as printed maps tick them, on a sheet drawn from a
  * real DEM (Front Range: 14 SRTM pits, 5 of them large enough for ticks):
  * the ticks read fix those rings, and the rings without ticks keep the
- * ring prior (taking them to rise lost 0.015 of the length here). */
+ * ring prior (taking them to rise lost 0.015 of the length here).  At
+ * least 0.995 until 2026-12-05; 0.9949 since the fold prior's strong form
+ * is taken here (2-3 % of folds in the first answer, contours 9.9 pens
+ * apart: k 0.03; label.md, "Folds priced by their probes"). */
 static void test_ticked_pits_real(void)
 {
     td_hsheet hs;
@@ -1334,7 +1337,7 @@ static void test_ticked_pits_real(void)
     hs.nknown = 3;
     hs.index_every = 5;
     TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
-    TT_CHECKF(hs.score.accuracy >= 0.995, "accuracy %.3f", hs.score.accuracy);
+    TT_CHECKF(hs.score.accuracy >= 0.99, "accuracy %.4f", hs.score.accuracy);
     TT_CHECK(hs.score.n_wrong_sure == 0);
     TT_CHECK(hs.rep.text && strstr(hs.rep.text, "marked as depression"));
     td_label_report_free(&hs.rep);
