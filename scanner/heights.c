@@ -2937,8 +2937,8 @@ static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
         (rc = touched_nodes(&s, &touched, cx)) != 0 ||
         (rc = setup_known(&s, cx)) != 0 || (rc = setup_spots(&s, cx)) != 0)
         goto fail;
-    if ((rc = fold_strength(&s, cx)) != 0)
-        goto fail;
+    if (!cost_only && (rc = fold_strength(&s, cx)) != 0)
+        goto fail; /* (the trials keep the weak prior: solve_all) */
     setup_directions(&s, touched);
     if ((rc = setup_ring_next(&s, touched, cx)) != 0)
         goto fail;

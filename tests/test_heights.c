@@ -1045,6 +1045,22 @@ static td_grid_f32 *crowded_sheet(td_hsheet *hs)
     return src;
 }
 
+/* Run hs on the crowded sheet src (crowded_sheet, its variant set up):
+ * at least min_acc of the length right and no line wrong and sure; frees
+ * both. */
+static void crowded_expect(td_hsheet *hs, td_grid_f32 *src, double min_acc,
+                           const char *what)
+{
+    td_ctx cx;
+    td_ctx_init(&cx);
+    TT_CHECKF(td_hsheet_run(hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
+    TT_CHECKF(hs->score.accuracy >= min_acc && hs->score.n_wrong_sure == 0,
+              "crowded %s: accuracy %.3f, %ld wrong and sure", what,
+              hs->score.accuracy, hs->score.n_wrong_sure);
+    td_label_report_free(&hs->rep);
+    td_grid_f32_free(src);
+}
+
 /* The crowded sheet (Front Range x10 at interval 20, contours merging
  * into blobs of ink), labels only or 3 known points: the share of the
  * length right, no line wrong and sure, and the lines' height RMSE (what
@@ -1113,21 +1129,13 @@ static void test_crowded_printed_folds(void)
 {
     td_hsheet hs;
     td_grid_f32 *src = crowded_sheet(&hs);
-    td_ctx cx;
-    td_ctx_init(&cx);
     if (!src)
         return;
     td_hsheet_defects(&hs.gp, 3);
     hs.nknown = 3;
     hs.index_every = -1;
     hs.read_labels = 1;
-    TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
-    TT_CHECKF(hs.score.accuracy >= 0.85 && hs.score.n_wrong_sure == 0,
-              "crowded printed, 3 known + labels: accuracy %.3f, %ld wrong "
-              "and sure",
-              hs.score.accuracy, hs.score.n_wrong_sure);
-    td_label_report_free(&hs.rep);
-    td_grid_f32_free(src);
+    crowded_expect(&hs, src, 0.85, "printed, 3 known + labels");
 }
 
 /* The crowded sheet drawn crisp (no blur, noise or breaks) with three
@@ -1140,20 +1148,13 @@ static void test_crowded_crisp(void)
 {
     td_hsheet hs;
     td_grid_f32 *src = crowded_sheet(&hs);
-    td_ctx cx;
-    td_ctx_init(&cx);
     if (!src)
         return;
     td_hsheet_defects(&hs.gp, 0);
     hs.gp.blur = 0, hs.gp.noise = 0, hs.gp.specks = 0, hs.gp.breaks = 0;
     hs.gp.labels = 0;
     hs.nknown = 3;
-    TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
-    TT_CHECKF(hs.score.accuracy >= 0.94 && hs.score.n_wrong_sure == 0,
-              "crowded crisp, 3 known: accuracy %.3f, %ld wrong and sure",
-              hs.score.accuracy, hs.score.n_wrong_sure);
-    td_label_report_free(&hs.rep);
-    td_grid_f32_free(src);
+    crowded_expect(&hs, src, 0.94, "crisp, 3 known");
 }
 
 /* The labels of a scanned sheet read on one thread and on two: the same
