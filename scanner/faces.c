@@ -354,6 +354,11 @@ int td_faces_used(const td_faces *f, size_t i)
     return i < f->ls->n && f->used[i];
 }
 
+double td_faces_line_length(const td_faces *f, size_t i)
+{
+    return i < f->ls->n ? f->len[i] : 0.0;
+}
+
 size_t td_faces_nchunks(const td_faces *f)
 {
     return f->nchunks;

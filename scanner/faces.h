@@ -72,6 +72,9 @@ void td_faces_free(td_faces *f);
 /* Nonzero when line i takes part (long enough). */
 int td_faces_used(const td_faces *f, size_t i);
 
+/* The length of line i (px, as td_line_length), measured once. */
+double td_faces_line_length(const td_faces *f, size_t i);
+
 /* Chunks: how many, the line of chunk c, its first vertex, and the chunk
  * of vertex k of line i (-1 when the line takes no part). */
 size_t td_faces_nchunks(const td_faces *f);

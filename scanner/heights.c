@@ -1394,7 +1394,7 @@ static int chunk_verdict(const hs *s, size_t c, int *src, double *conf)
                                                          : TD_HS_SOLVED;
         *conf = *src == TD_HS_KNOWN ? 1.0 : 1.0 - exp(-gB / CONF_SCALE);
         if (*src == TD_HS_SOLVED &&
-            td_line_length(&s->ls->v[td_faces_chunk_line(s->fx, c)]) <
+            td_faces_line_length(s->fx, td_faces_chunk_line(s->fx, c)) <
                 SHORT_SURE)
             *conf = fmin(*conf, SHORT_CONF);
         if (s->doubt && s->doubt[c]) /* its own faces say otherwise */
