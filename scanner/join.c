@@ -387,10 +387,16 @@ fail:
 }
 
 /* Append line src to dst, reversed when rev, skipping nothing; its
- * bridges and edge flag go with it. */
-static int append(td_line *dst, const td_line *src, int rev, td_ctx *cx)
+ * bridges and edge flag go with it.  An empty dst takes src's points
+ * over (src is left without them): most chains are one line. */
+static int append(td_line *dst, td_line *src, int rev, td_ctx *cx)
 {
-    if (td_line_append(dst, src, rev, cx) != 0)
+    if (dst->n == 0 && !dst->xy) {
+        if (rev)
+            td_line_reverse(src);
+        dst->xy = src->xy, dst->n = src->n, dst->cap = src->cap;
+        src->xy = NULL, src->n = src->cap = 0;
+    } else if (td_line_append(dst, src, rev, cx) != 0)
         return TD_ENOMEM;
     dst->bridged += src->bridged;
     dst->edge |= src->edge;
@@ -413,7 +419,7 @@ static int path_inside(td_line *d, const td_line *path, int forward,
 
 /* Build one chain starting at line i entered through end `first` (0: its
  * start, so it is walked forward).  Marks used lines. */
-static int build_chain(const td_lines *ls, const jend *e, const long *end_of_line,
+static int build_chain(td_lines *ls, const jend *e, const long *end_of_line,
                        const td_lines *paths, uint8_t *used, size_t i,
                        int first, td_lines *out, td_ctx *cx)
 {
@@ -447,10 +453,11 @@ static int build_chain(const td_lines *ls, const jend *e, const long *end_of_lin
 }
 
 /* Chains of joined lines into out; closed lines flagged in drop (may be
- * NULL) are left out. */
-static int assemble(const td_lines *ls, const jend *e, const long *eol,
-                    const td_lines *paths, const uint8_t *drop,
-                    td_lines *out, td_ctx *cx)
+ * NULL) are left out.  The lines' points move into out: ls is only fit
+ * to be freed after. */
+static int assemble(td_lines *ls, const jend *e, const long *eol,
+                    const td_lines *paths, const uint8_t *drop, td_lines *out,
+                    td_ctx *cx)
 {
     uint8_t *used = calloc(ls->n + 1, 1);
     size_t i;

@@ -249,6 +249,39 @@ static void test_line_length(void)
     free(l.xy);
 }
 
+/* Appending: forward and reversed, onto itself, empty pieces; a chain
+ * of many small pieces keeps every point in order. */
+static void test_line_append(void)
+{
+    td_ctx cx;
+    td_line a, b, e;
+    size_t i;
+    int ok = 1;
+    td_ctx_init(&cx);
+    memset(&a, 0, sizeof a), memset(&b, 0, sizeof b), memset(&e, 0, sizeof e);
+    for (i = 0; i < 5; i++)
+        td_line_push(&b, (double)i, 10.0 + (double)i, &cx);
+    TT_CHECK(td_line_append(&a, &e, 0, &cx) == 0 && a.n == 0);
+    TT_CHECK(td_line_append(&a, &b, 0, &cx) == 0 && a.n == 5);
+    TT_CHECK(td_line_append(&a, &b, 1, &cx) == 0 && a.n == 10);
+    TT_CHECK(a.xy[0] == 0 && a.xy[9] == 14 && a.xy[10] == 4 && a.xy[11] == 14 &&
+             a.xy[18] == 0 && a.xy[19] == 10);
+    TT_CHECK(td_line_append(&a, &a, 1, &cx) == 0 && a.n == 20);
+    TT_CHECK(a.xy[20] == 0 && a.xy[21] == 10 && a.xy[38] == 0 &&
+             a.xy[39] == 10);
+    a.n = 0;
+    for (i = 0; i < 1000; i++)
+        if (td_line_append(&a, &b, (int)(i & 1), &cx) != 0)
+            ok = 0;
+    TT_CHECK(ok && a.n == 5000 && a.cap >= a.n);
+    for (i = 0; i < 1000 && ok; i++) {
+        size_t k = 5 * i + (i & 1 ? 4 : 0);
+        ok = a.xy[2 * k] == 0 && a.xy[2 * k + 1] == 10;
+    }
+    TT_CHECK(ok);
+    free(a.xy), free(b.xy);
+}
+
 /* ---- GeoJSON ------------------------------------------------------------ */
 
 static const char *tmp(const char *name)
@@ -612,6 +645,7 @@ int main(void)
 {
     TT_RUN(test_lines_basic);
     TT_RUN(test_line_length);
+    TT_RUN(test_line_append);
     TT_RUN(test_geojson_pixel_units);
     TT_RUN(test_geojson_ogrinfo);
     TT_RUN(test_geojson_georef);

@@ -301,12 +301,28 @@ int td_lines_extent(const td_lines *ls, int *w, int *h, td_ctx *cx)
 /* See core.h. */
 int td_line_append(td_line *dst, const td_line *src, int rev, td_ctx *cx)
 {
-    size_t i;
-    for (i = 0; i < src->n; i++) {
-        size_t k = rev ? src->n - 1 - i : i;
-        if (td_line_push(dst, src->xy[2 * k], src->xy[2 * k + 1], cx) != 0)
-            return TD_ENOMEM;
+    size_t i, need = dst->n + src->n;
+    double *o;
+    if (src->n == 0)
+        return 0;
+    if (need > dst->cap) { /* at least double: chains grow piece by piece */
+        size_t cap = need > 2 * dst->cap ? need : 2 * dst->cap;
+        double *xy;
+        if (cap > SIZE_MAX / (2 * sizeof *xy) ||
+            !(xy = realloc(dst->xy, cap * 2 * sizeof *xy)))
+            return td_seterr(cx, TD_ENOMEM, "out of memory (%zu points)", cap);
+        dst->xy = xy;
+        dst->cap = cap;
     }
+    o = dst->xy + 2 * dst->n;
+    if (!rev)
+        memcpy(o, src->xy, src->n * 2 * sizeof *o);
+    else
+        for (i = 0; i < src->n; i++) {
+            o[2 * i] = src->xy[2 * (src->n - 1 - i)];
+            o[2 * i + 1] = src->xy[2 * (src->n - 1 - i) + 1];
+        }
+    dst->n = need;
     return 0;
 }
 
