@@ -438,15 +438,19 @@ int td_interp_slope(const td_grid_f32 *g, const td_span *s, int end,
 double td_interp_tent(double z, double s1, double s2, double d1, double d2,
                       double interval)
 {
-    double v;
+    double v, u;
     interval *= 0.99; /* never reach the next contour's height */
+    /* comparisons, not fmin (a library call, 70 million of them on a
+       10000^2 sheet): no operand is NaN past the sign tests */
     if (s1 > 0 && s2 > 0) {
-        v = fmin(s1 * d1, s2 * d2);
-        return z + fmin(v, interval);
+        v = s1 * d1, u = s2 * d2;
+        v = u < v ? u : v;
+        return z + (interval < v ? interval : v);
     }
     if (s1 < 0 && s2 < 0) {
-        v = fmin(-s1 * d1, -s2 * d2);
-        return z - fmin(v, interval);
+        v = -s1 * d1, u = -s2 * d2;
+        v = u < v ? u : v;
+        return z - (interval < v ? interval : v);
     }
     return z;
 }

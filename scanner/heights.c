@@ -1896,7 +1896,7 @@ static void probe_chunk(const hs *s, size_t i, size_t c, int *viol, int *met)
         size_t k1 = (k + 1) % l->n;
         double ax = l->xy[2 * k], ay = l->xy[2 * k + 1];
         double tx = l->xy[2 * k1] - ax, ty = l->xy[2 * k1 + 1] - ay;
-        double L = hypot(tx, ty);
+        double L = sqrt(tx * tx + ty * ty); /* not hypot: see lines.c */
         if (td_faces_chunk_at(s->fx, i, k) != (long)c || !(L > 0)) {
             pos += L;
             continue;

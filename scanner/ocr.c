@@ -405,11 +405,13 @@ static int compact_ring(const td_line *l, double side)
     size_t k;
     if (!l->closed)
         return 0;
-    for (k = 0; k < l->n; k++) {
+    for (k = 0; k < l->n; k++) { /* most rings are long: out early */
         x0 = fmin(x0, l->xy[2 * k]), x1 = fmax(x1, l->xy[2 * k]);
         y0 = fmin(y0, l->xy[2 * k + 1]), y1 = fmax(y1, l->xy[2 * k + 1]);
+        if (x1 - x0 >= side || y1 - y0 >= side)
+            return 0;
     }
-    return x1 - x0 < side && y1 - y0 < side;
+    return 1;
 }
 
 /* End k (0 first, 1 last) of open line l seen from read r: where it is
@@ -954,6 +956,10 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
         free(cs);
         free(v);
         return td_seterr(cx, TD_ENOMEM, "labels: out of memory");
+    }
+    if (nc == 0) { /* nothing to read: no reader started (0.1 s) */
+        free(cs), free(v), free(st);
+        return 0;
     }
     if (p->ink && p->ink->n > 0 && p->ink->chosen >= 0 && im->channels == 3) {
         if (!(lut = td_malloc(TD_PALETTE_LUT_SIZE, cx))) {

@@ -57,7 +57,8 @@ int td_line_normal(const td_line *l, size_t k, size_t chord, double *nx,
     size_t kb = l->closed ? (k + chord) % n
                           : (k + chord < n ? k + chord : n - 1);
     double dx = l->xy[2 * kb] - l->xy[2 * ka];
-    double dy = l->xy[2 * kb + 1] - l->xy[2 * ka + 1], d = hypot(dx, dy);
+    double dy = l->xy[2 * kb + 1] - l->xy[2 * ka + 1];
+    double d = sqrt(dx * dx + dy * dy); /* not hypot: see lines.c */
     if (d < 1.0)
         return 0;
     *nx = -dy / d, *ny = dx / d;
