@@ -5,8 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Whether any other-ink pixel lies within TD_FLANK_NEAR px of (x, y). */
-static int near_other(const uint8_t *bits, int w, int h, double x, double y)
+/* Contract in flank.h. */
+int td_flank_near(const uint8_t *bits, int w, int h, double x, double y)
 {
     size_t stride = ((size_t)w + 7) / 8;
     int X = (int)floor(x), Y = (int)floor(y), u, v;
@@ -88,13 +88,14 @@ static long trim_ends(const td_line *l, const double *s, const uint8_t *bits,
 {
     size_t n = l->n, i, j;
     long r = 0;
-    for (i = 0; i < n && near_other(bits, w, h, l->xy[2 * i], l->xy[2 * i + 1]);
+    for (i = 0;
+         i < n && td_flank_near(bits, w, h, l->xy[2 * i], l->xy[2 * i + 1]);
          i++)
         ;
     if (i == n)
         return 0;
     for (j = n;
-         j > i && near_other(bits, w, h, l->xy[2 * j - 2], l->xy[2 * j - 1]);
+         j > i && td_flank_near(bits, w, h, l->xy[2 * j - 2], l->xy[2 * j - 1]);
          j--)
         ;
     if (i > 0 && !cut[0] && s[i - 1] >= TD_FLANK_HOOK && hooks(l, s, 0, i, 1)) {
@@ -182,8 +183,8 @@ long td_flank_cut(td_lines *ls, const uint8_t *bits, int w, int h, td_ctx *cx)
                 goto fail;
         }
         for (k = 0, any = 0; k < n; k++) {
-            near[k] =
-                (uint8_t)near_other(bits, w, h, l->xy[2 * k], l->xy[2 * k + 1]);
+            near[k] = (uint8_t)td_flank_near(bits, w, h, l->xy[2 * k],
+                                             l->xy[2 * k + 1]);
             any |= near[k];
         }
         if (!any) { /* most lines: nowhere near another ink */

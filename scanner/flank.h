@@ -37,6 +37,10 @@ extern "C" {
 #define TD_FLANK_HOOK 4.0 /* px: an end's hook along the other ink */
 #define TD_FLANK_TURN 50.0 /* degrees: its turn off the line's course */
 
+/* Whether any pixel of bits (as below) lies within TD_FLANK_NEAR px of
+ * (x, y). */
+int td_flank_near(const uint8_t *bits, int w, int h, double x, double y);
+
 /* Cut out of ls every stretch that runs along another ink: within
  * TD_FLANK_NEAR px of its strokes in bits (w x h, one bit a pixel, rows of
  * (w + 7) / 8 bytes, as td_binarise_other_ink gives; NULL: nothing to

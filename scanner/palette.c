@@ -776,6 +776,16 @@ static int is_contour(const td_palette *pal, int k)
     return k == pal->chosen || (k >= 0 && (pal->also >> k & 1u));
 }
 
+double td_palette_contour_residual(const td_palette *pal, int r, int g, int b)
+{
+    double v[3] = {r, g, b}, a, best = HUGE_VAL;
+    int k;
+    for (k = 0; k < pal->n; k++)
+        if (is_contour(pal, k))
+            best = fmin(best, fit_ink(pal, k, v, &a));
+    return best;
+}
+
 static uint8_t strength_node(const td_palette *pal, const double *v,
                              const void *u)
 {

@@ -114,6 +114,10 @@ void td_palette_veto_lut(const td_palette *pal, uint8_t *lut);
 int td_palette_label(const td_palette *pal, const td_image *im,
                      td_grid_u8 *lbl, td_ctx *cx);
 
+/* How far (r,g,b) lies off the contour inks' mixtures with the paper and
+ * the tints (RGB units: the best fit's residual). */
+double td_palette_contour_residual(const td_palette *pal, int r, int g, int b);
+
 /* Which colour best explains (r,g,b): the ink index (its coverage in *a)
  * or the background's (a = 0). */
 int td_palette_classify(const td_palette *pal, int r, int g, int b,

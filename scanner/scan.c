@@ -5,6 +5,7 @@
 #include "scanner/blobring.h"
 #include "scanner/detint.h"
 #include "scanner/flank.h"
+#include "scanner/foreign.h"
 #include "scanner/streams.h"
 #include "scanner/ticks.h"
 #include "scanner/widecut.h"
@@ -28,6 +29,7 @@ td_scan_params td_scan_defaults(void)
     p.wide_own = -1.0;
     p.join_other = 1;
     p.flank_cut = 1;
+    p.foreign_cut = 1;
     p.straight = td_straight_defaults();
     p.defringe = 0;
     p.fringe = td_defringe_defaults();
@@ -159,6 +161,13 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     td_image_free(vsrc);
     clean = vsrc = NULL;
     rc = p->do_join ? td_join(&res->lines, &jp, &res->join, cx) : 0;
+    if (rc == 0 && p->foreign_cut) {
+        long nf = td_foreign_cut(res->lines, im, &res->palette, other, cx);
+        if (nf < 0)
+            rc = (int)nf;
+        else
+            res->foreign = (size_t)nf;
+    }
     free(water);
     water = NULL;
     if (p->keep_debug)

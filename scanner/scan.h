@@ -4,6 +4,7 @@
  *         -> td_despur -> td_trace (CCW 3x3, 5x5 bridge)
  *         -> td_flank_cut (colour: stretches along other inks cut out)
  *         -> td_join -> lines
+ *         -> td_foreign_cut (colour: short lines in another ink dropped)
  *         -> td_line_widths (each line's ink width, from the mask)
  *         -> td_wide_cut (lines cut where contours crowd into one blob)
  *
@@ -88,6 +89,10 @@ typedef struct td_scan_params {
                              ink's strokes (a road's flanks; flank.h;
                              ours; colour scans with join_other), default
                              1 */
+    int foreign_cut;      /* colour scans read through the palette: drop
+                             short lines whose core colour is no mixture
+                             of the contour ink (text, road dashes;
+                             foreign.h; ours), default 1 */
     int keep_debug;       /* keep mask and skeleton copies in the result */
 } td_scan_params;
 
@@ -115,6 +120,8 @@ typedef struct td_scan_result {
                               labeller's faces (td_label_params.walls) */
     size_t straight_lines; /* grid lines erased from the mask */
     size_t flank_cuts;     /* stretches cut along other inks (flank.h) */
+    size_t foreign;        /* short lines dropped as another ink's
+                              (foreign.h) */
     td_palette palette;    /* the inks found on a colour scan (--ink auto
                               or brown; n = 0 otherwise) */
     double seconds[5];     /* binarise, thin, despur, trace, join */

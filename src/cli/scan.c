@@ -121,6 +121,9 @@ static int parse_args(int argc, char **argv, scan_opts *o)
         {"no-flank-cut", 0, TD_OPT_OFF, &p->flank_cut, .help = "colour "
          "scans: keep traced stretches that run\nalong a road or another "
          "ink (by default cut\nout: its edges look like contour ink; ours)"},
+        {"no-foreign-cut", 0, TD_OPT_OFF, &p->foreign_cut, .help = "colour "
+         "scans: keep short lines whose colour is\nno shade of the contour "
+         "ink (by default\ndropped: text, road dashes; ours)"},
         {"min-length", 0, TD_OPT_DOUBLE, &p->join.min_length, 0, 10000,
          .meta = "PX", .help = "remove open fragments (label digits, text)\n"
          "shorter than PX or fitting in a PX box,\nunless both ends continue "
@@ -198,6 +201,11 @@ static void summary(const td_scan_result *r, double secs)
                 "end was as near (joined, the line would step onto the next "
                 "contour)\n", r->join.gaps_open,
                 r->join.gaps_open == 1 ? "" : "s");
+    if (r->foreign > 0)
+        fprintf(stderr,
+                "scan: %zu short line%s in another ink's colour dropped (text, "
+                "road dashes)\n",
+                r->foreign, r->foreign == 1 ? "" : "s");
     if (r->flank_cuts > 0)
         fprintf(stderr, "scan: %zu stretch%s along roads or other inks cut "
                 "out (their flanks look like contour ink)\n", r->flank_cuts,
