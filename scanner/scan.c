@@ -205,8 +205,8 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
              : pen < 0 ? TD_ENOMEM
                        : 0;
         if (nc < 0 ||
-            (nc > 0 && (rc = td_line_widths_packed(bits, im->w, im->h,
-                                                   res->lines, cx)) != 0)) {
+            (nc > 0 && (rc = td_line_widths_packed_unset(
+                            bits, im->w, im->h, res->lines, cx)) != 0)) {
             rc = nc < 0 ? (int)nc : rc;
             goto fail;
         }

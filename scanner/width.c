@@ -128,8 +128,9 @@ static double line_width(const wmask *m, const td_line *l, double *runs,
     return median_of(runs, nr);
 }
 
-/* Every line's width; lines on threads (each alone). */
-static int widths(const wmask *mask, td_lines *ls, td_ctx *cx)
+/* Every line's width (only_unset: of the lines whose width is 0); lines
+ * on threads (each alone). */
+static int widths(const wmask *mask, td_lines *ls, int only_unset, td_ctx *cx)
 {
     long n = (long)ls->n;
     int fail = 0;
@@ -142,7 +143,7 @@ static int widths(const wmask *mask, td_lines *ls, td_ctx *cx)
 #pragma omp for schedule(dynamic, 16)
         for (i = 0; i < n; i++) {
             td_line *l = &ls->v[i];
-            if (runs)
+            if (runs && !(only_unset && l->width > 0))
                 l->width = l->n < 2 ? 0.0 : line_width(mask, l, runs, maxruns);
         }
         free(runs);
@@ -186,7 +187,7 @@ double td_pen_width(const td_lines *ls, td_ctx *cx)
 int td_line_widths(const td_grid_u8 *mask, td_lines *ls, td_ctx *cx)
 {
     wmask m = {mask->w, mask->h, mask->stride, mask->data, NULL};
-    return widths(&m, ls, cx);
+    return widths(&m, ls, 0, cx);
 }
 
 /* Contract in width.h. */
@@ -221,7 +222,15 @@ int td_line_widths_packed(const uint8_t *bits, int w, int h, td_lines *ls,
                           td_ctx *cx)
 {
     wmask m = {w, h, ((size_t)w + 7) / 8, NULL, bits};
-    return widths(&m, ls, cx);
+    return widths(&m, ls, 0, cx);
+}
+
+/* Contract in width.h. */
+int td_line_widths_packed_unset(const uint8_t *bits, int w, int h, td_lines *ls,
+                                td_ctx *cx)
+{
+    wmask m = {w, h, ((size_t)w + 7) / 8, NULL, bits};
+    return widths(&m, ls, 1, cx);
 }
 
 /* The darkness (paper minus the channel) at (x, y), nearest pixel. */

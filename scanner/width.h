@@ -69,6 +69,11 @@ double td_width_step_below(double t);
 int td_line_widths_packed(const uint8_t *bits, int w, int h, td_lines *ls,
                           td_ctx *cx);
 
+/* The same for the lines whose width is still 0 (pieces a cut made; the
+ * others keep theirs: measured on the same mask, they would not change). */
+int td_line_widths_packed_unset(const uint8_t *bits, int w, int h, td_lines *ls,
+                                td_ctx *cx);
+
 /* Each line's ink darkness (ours): at samples along it (as the widths),
  * the darkest point within TD_DARK_REACH px across it, as paper minus it
  * (the green channel of a colour scan: the contour inks' darkest), the
