@@ -30,7 +30,7 @@ extern "C" {
 #endif
 
 #define TD_FOREIGN_LEN 150.0 /* px */
-#define TD_FOREIGN_RES 20.0  /* RGB units off the contour ink's mixes */
+#define TD_FOREIGN_RES 30.0  /* RGB units off the contour ink's mixes */
 
 /* The median residual of line l's core colour on im (RGB) against the
  * contour ink's mixing lines of pal; -1 when it has no vertex inside. */
