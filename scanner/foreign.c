@@ -106,11 +106,17 @@ long td_foreign_cut(td_lines *ls, const td_image *im, const td_palette *pal,
         free(drop);
         return td_seterr(cx, TD_ENOMEM, "foreign: out of memory");
     }
-    for (i = n; i-- > 0;)
-        if (drop[i]) {
-            td_lines_remove(ls, (size_t)i);
-            nd++;
-        }
+    { /* one pass, not a removal each: thousands on a big sheet */
+        size_t m = 0;
+        for (i = 0; i < n; i++)
+            if (drop[i]) {
+                free(ls->v[i].xy);
+                nd++;
+            } else {
+                ls->v[m++] = ls->v[i];
+            }
+        ls->n = m;
+    }
     free(drop);
     return nd;
 }
