@@ -340,6 +340,28 @@ static void test_tint_straddling_split(void)
     td_grid_f32_free(src);
 }
 
+/* Elkhorn (x6) at interval 20 as a new print: the place names' black
+ * text and a faded red road's thin dashes make no palette cluster of
+ * their own and were traced as short lines (precision 0.964 in
+ * bench_scanreal); the foreign cut (scanner/foreign.c) drops them while
+ * recall stays. */
+static void test_foreign_lines_real(void)
+{
+    td_gen_params gp;
+    td_grid_f32 *src = elkhorn_print(&gp, 4);
+    td_palette pal;
+    td_scanscore sc;
+    if (!src)
+        return;
+    gp.interval = 20;
+    scan_scored(&gp, &pal, &sc);
+    check_brown(&pal);
+    TT_CHECKF(sc.precision >= 0.97 && sc.recall >= 0.945,
+              "Elkhorn at 20, new print: recall %.3f, precision %.3f",
+              sc.recall, sc.precision);
+    td_grid_f32_free(src);
+}
+
 /* A scanner that misregisters the red channel by 1.2 px and the blue one
  * by -1.2 (Elkhorn printed, the benchmark's printed defects): the fringes
  * make colours of their own and the palette takes an olive for the
@@ -472,6 +494,7 @@ int main(void)
     TT_RUN(test_new_print_roads);
     TT_RUN(test_defringe_scan);
     TT_RUN(test_tint_straddling_split);
+    TT_RUN(test_foreign_lines_real);
     TT_RUN(test_grey_as_rgb);
     TT_RUN(test_paper_only);
     return tt_summary();
