@@ -22,7 +22,7 @@ td_straight_params td_straight_defaults(void)
     p.cover = 0.3;
     p.contrast = 0.15;
     p.span = 0.4;
-    p.line_cover = 0.45;
+    p.line_cover = 0.35;
     p.max_width = 6.0;
     return p;
 }

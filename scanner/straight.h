@@ -37,7 +37,9 @@ typedef struct td_straight_params {
     double contrast;  /* ... more than 6 px to either side (0.15; and at
                          least 1.4 times as many) */
     double span;      /* share of the strips with a peak on it (0.4) */
-    double line_cover; /* share of its length with ink within 1 px (0.6) */
+    double line_cover; /* share of its length with ink within 1 px (0.35;
+                          a faded grid on a new print reads as contour
+                          ink along 36-41 % of it: docs/scanner.md) */
     double max_width;  /* wider lines are no grid (default 6 px) */
 } td_straight_params;
 
