@@ -362,6 +362,33 @@ static void test_foreign_lines_real(void)
     td_grid_f32_free(src);
 }
 
+/* The Orkhon valley (x10) at interval 50 as a new print, drawn from the
+ * real DEM: its faded black grid reads as contour ink along 36-41 % of
+ * the lines at x = 326 and 653, and their pieces between the contours were
+ * traced as contours (precision 0.978) until the grid finder took lines
+ * inked along 0.35 of their length (scanner/straight.c). */
+static void test_faint_grid_real(void)
+{
+    td_gen_params gp;
+    td_grid_f32 *src;
+    td_palette pal;
+    td_scanscore sc;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    src = td_hsheet_dem_sheet("orkhon_92m.tif", 10, &gp, &cx);
+    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
+    if (!src)
+        return;
+    gp.interval = 50;
+    td_hsheet_defects(&gp, 4);
+    scan_scored(&gp, &pal, &sc);
+    check_brown(&pal);
+    TT_CHECKF(sc.precision >= 0.985 && sc.recall >= 0.97,
+              "Orkhon at 50, new print: recall %.3f, precision %.3f", sc.recall,
+              sc.precision);
+    td_grid_f32_free(src);
+}
+
 /* A scanner that misregisters the red channel by 1.2 px and the blue one
  * by -1.2 (Elkhorn printed, the benchmark's printed defects): the fringes
  * make colours of their own and the palette takes an olive for the
@@ -495,6 +522,7 @@ int main(void)
     TT_RUN(test_defringe_scan);
     TT_RUN(test_tint_straddling_split);
     TT_RUN(test_foreign_lines_real);
+    TT_RUN(test_faint_grid_real);
     TT_RUN(test_grey_as_rgb);
     TT_RUN(test_paper_only);
     return tt_summary();
