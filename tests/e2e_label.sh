@@ -100,6 +100,12 @@ JSON
         --known 210.5,260.8,180 2>"$T/err"
     check "one known point: the assumed lines listed" \
       "grep -q '^label: note: 25 lines are higher or lower' '$T/err'"
+    # the faces labeller with two known points: nearly every height comes
+    # from the defaults (rings rise), and the summary says so
+    "$TD" label "$T/lines.geojson" -o "$T/two.geojson" --interval 20 \
+        --known 210.5,260.8,180 --known 267.5,244.2,200 2>"$T/err"
+    check "two known points: a note that most heights are assumed" \
+      "[ $? = 0 ] && grep -q '^label: note: 22 of the 24 lines with a height (92 %) took it from the defaults alone' '$T/err'"
 
     # Index contours drawn thicker: the scan measures widths, label checks.
     "$BUILD/tdgen" -o "$T/cone.png" --terrain cone --size 400x300 \

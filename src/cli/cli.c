@@ -129,6 +129,22 @@ void td_cli_heights_summary(const char *cmd, const td_label_report *rep)
     if (rep->vees)
         fprintf(stderr, "%s: streams: %zu crossings read as Vs pointing "
                 "uphill\n", cmd, rep->vees);
+    /* nearly every height a default decided: say so where it is read */
+    {
+        size_t all = b[TD_HS_KNOWN] + b[TD_HS_LABEL] + b[TD_HS_SOLVED] +
+                     b[TD_HS_ASSUMED];
+        if (all > 0 && 5 * b[TD_HS_ASSUMED] > 4 * all)
+            fprintf(stderr,
+                    "%s: note: %zu of the %zu lines with a height (%.0f %%) "
+                    "took it from the defaults alone (rings rise, slopes "
+                    "run on; height_source \"assumed\"): nothing on the "
+                    "sheet or in the hints tells which way they slope, and "
+                    "whole regions may be upside down; add --known points "
+                    "there (or labels) and look at heights.png "
+                    "(--debug-dir)\n",
+                    cmd, b[TD_HS_ASSUMED], all,
+                    100.0 * (double)b[TD_HS_ASSUMED] / (double)all);
+    }
 }
 /* Contract in cli.h. */
 void td_cli_print_palette(const char *prog, const td_palette *pal)

@@ -40,7 +40,8 @@ int td_cli_parse_double(const char *s, double lo, double hi, double *out);
 
 struct td_label_report;
 /* One line "CMD: heights: N known, N solved, N assumed, N without; ..."
- * from a faces labeller's report (nothing for the tree labeller's). */
+ * from a faces labeller's report (nothing for the tree labeller's), and a
+ * note when more than 80 % of the lines with a height are "assumed". */
 void td_cli_heights_summary(const char *cmd,
                             const struct td_label_report *rep);
 
