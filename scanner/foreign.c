@@ -59,14 +59,15 @@ double td_foreign_residual(const td_image *im, const td_palette *pal,
     return v;
 }
 
-/* Whether line l comes within TD_FLANK_NEAR px of the other inks. */
+/* Whether line l crosses the other inks: within TD_FLANK_NEAR px of their
+ * strokes at some of its vertices, fewer than half (a line near them
+ * all along is a road's flank, not a contour across it). */
 static int near_other(const td_line *l, const uint8_t *other, int w, int h)
 {
-    size_t k;
+    size_t k, m = 0;
     for (k = 0; other && k < l->n; k++)
-        if (td_flank_near(other, w, h, l->xy[2 * k], l->xy[2 * k + 1]))
-            return 1;
-    return 0;
+        m += td_flank_near(other, w, h, l->xy[2 * k], l->xy[2 * k + 1]) != 0;
+    return m > 0 && 2 * m < l->n;
 }
 
 /* Contract in foreign.h. */

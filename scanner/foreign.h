@@ -14,11 +14,12 @@
  * A line shorter than TD_FOREIGN_LEN px whose core colour is off the
  * mixing lines by TD_FOREIGN_RES or more (RGB units, the palette's fit;
  * the median over its vertices of the darkest pixel of the 3 x 3 about
- * each) is dropped, unless it comes within TD_FLANK_NEAR px of the other
- * inks' strokes: a contour's stretch across a road takes the road's
- * colour (dropped, one such stretch cost the printed Elkhorn sheet 0.03
- * of its heights).  After the joiner: a letter joined onto a contour
- * stays with it. */
+ * each) is dropped, unless it crosses the other inks' strokes (comes
+ * within TD_FLANK_NEAR px of them at some of its vertices, fewer than
+ * half): a contour's stretch across a road takes the road's colour
+ * (dropped, one such stretch cost the printed Elkhorn sheet 0.03 of its
+ * heights), while a line near them all along is the road's own flank.
+ * After the joiner: a letter joined onto a contour stays with it. */
 #ifndef TD_FOREIGN_H
 #define TD_FOREIGN_H
 

@@ -42,6 +42,22 @@ static void stroke(td_image *im, td_lines *ls, int y, int x0, int x1,
     }
 }
 
+/* The same, vertical at column x from y0 to y1. */
+static void vstroke(td_image *im, td_lines *ls, int x, int y0, int y1,
+                    const uint8_t *c)
+{
+    td_line *l = td_lines_add(ls, NULL);
+    int y, dx, k;
+    for (y = y0; y <= y1; y++) {
+        for (dx = -1; dx <= 1; dx++) {
+            uint8_t *p = im->data + (size_t)y * im->stride + 3 * (x + dx);
+            for (k = 0; k < 3; k++)
+                p[k] = dx ? (uint8_t)((c[k] + PAPER[k]) / 2) : c[k];
+        }
+        TT_CHECK(l && td_line_push(l, x, y, NULL) == 0);
+    }
+}
+
 static td_image *sheet(void)
 {
     td_image *im = td_image_new(W, H, 3, NULL);
@@ -52,9 +68,10 @@ static td_image *sheet(void)
     return im;
 }
 
-/* Grey and pink short lines go; a brown one, a long grey one and a grey
- * one beside another ink's strokes (a contour's stretch across a road
- * takes the road's colour) stay. */
+/* Grey and pink short lines go, and a grey one along another ink's
+ * strokes (a road's flank); a brown one, a long grey one and a grey one
+ * crossing the other ink (a contour's stretch across a road takes the
+ * road's colour) stay. */
 static void test_foreign_cut(void)
 {
     td_image *im = sheet();
@@ -71,16 +88,18 @@ static void test_foreign_cut(void)
     stroke(im, ls, 25, 20, 100, GREY);  /* 1: text, dropped */
     stroke(im, ls, 40, 20, 100, PINK);  /* 2: a road's dash, dropped */
     stroke(im, ls, 55, 20, 290, GREY);  /* 3: long, kept */
-    stroke(im, ls, 70, 20, 100, GREY);  /* 4: beside the road, kept */
-    for (x = 20; x <= 100; x += 8)      /* the other ink's map: patches */
+    stroke(im, ls, 70, 20, 100, GREY);  /* 4: along the road, dropped */
+    vstroke(im, ls, 196, 60, 110, GREY); /* 5: across it, kept */
+    for (x = 20; x <= 240; x += 8)       /* the other ink's map: patches */
         other[72 * stride + (x >> 3)] |= (uint8_t)(1u << (x & 7));
     TT_CHECK(td_foreign_residual(im, &pal, &ls->v[0]) < 5);
     TT_CHECK(td_foreign_residual(im, &pal, &ls->v[1]) > TD_FOREIGN_RES);
     TT_CHECK(td_foreign_residual(im, &pal, &ls->v[2]) > TD_FOREIGN_RES);
+    TT_CHECK(td_foreign_residual(im, &pal, &ls->v[5]) > TD_FOREIGN_RES);
     n = td_foreign_cut(ls, im, &pal, other, NULL);
-    TT_CHECK(n == 2 && ls->n == 3);
+    TT_CHECKF(n == 3 && ls->n == 3, "%ld dropped, %zu left", n, ls->n);
     TT_CHECK(ls->n == 3 && ls->v[0].id == 0 && ls->v[1].id == 3 &&
-             ls->v[2].id == 4);
+             ls->v[2].id == 5);
     /* grey sheets (no palette) and no lines: nothing to do */
     pal.chosen = -1;
     TT_CHECK(td_foreign_cut(ls, im, &pal, NULL, NULL) == 0 && ls->n == 3);

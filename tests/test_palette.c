@@ -344,7 +344,8 @@ static void test_tint_straddling_split(void)
  * text and a faded red road's thin dashes make no palette cluster of
  * their own and were traced as short lines (precision 0.964 in
  * bench_scanreal); the foreign cut (scanner/foreign.c) drops them while
- * recall stays. */
+ * recall stays (0.974), and since 2026-12-05 also the pieces that run
+ * along a red road's flank all their length (0.976). */
 static void test_foreign_lines_real(void)
 {
     td_gen_params gp;
@@ -356,7 +357,7 @@ static void test_foreign_lines_real(void)
     gp.interval = 20;
     scan_scored(&gp, &pal, &sc);
     check_brown(&pal);
-    TT_CHECKF(sc.precision >= 0.97 && sc.recall >= 0.945,
+    TT_CHECKF(sc.precision >= 0.975 && sc.recall >= 0.945,
               "Elkhorn at 20, new print: recall %.3f, precision %.3f",
               sc.recall, sc.precision);
     td_grid_f32_free(src);
