@@ -25,37 +25,37 @@ static td_palette palette(void)
     return p;
 }
 
-/* A horizontal stroke 3 px wide at row y from x0 to x1 in colour c, its
- * edge rows half mixed with the paper; and its traced line. */
-static void stroke(td_image *im, td_lines *ls, int y, int x0, int x1,
-                   const uint8_t *c)
+/* A stroke 3 px wide in colour c, its two edge rows (columns) half mixed
+ * with the paper, and its traced line: horizontal at row `at` from
+ * column a0 to a1, or (vertical) at column `at` from row a0 to a1. */
+static void stroke_dir(td_image *im, td_lines *ls, int vertical, int at, int a0,
+                       int a1, const uint8_t *c)
 {
     td_line *l = td_lines_add(ls, NULL);
-    int x, dy, k;
-    for (x = x0; x <= x1; x++) {
-        for (dy = -1; dy <= 1; dy++) {
-            uint8_t *p = im->data + (size_t)(y + dy) * im->stride + 3 * x;
+    int t, d, k;
+    for (t = a0; t <= a1; t++) {
+        int x = vertical ? at : t, y = vertical ? t : at;
+        for (d = -1; d <= 1; d++) {
+            uint8_t *p = im->data +
+                         (size_t)(y + (vertical ? 0 : d)) * im->stride +
+                         3 * (size_t)(x + (vertical ? d : 0));
             for (k = 0; k < 3; k++)
-                p[k] = dy ? (uint8_t)((c[k] + PAPER[k]) / 2) : c[k];
+                p[k] = d ? (uint8_t)((c[k] + PAPER[k]) / 2) : c[k];
         }
         TT_CHECK(l && td_line_push(l, x, y, NULL) == 0);
     }
 }
 
-/* The same, vertical at column x from y0 to y1. */
+static void stroke(td_image *im, td_lines *ls, int y, int x0, int x1,
+                   const uint8_t *c)
+{
+    stroke_dir(im, ls, 0, y, x0, x1, c);
+}
+
 static void vstroke(td_image *im, td_lines *ls, int x, int y0, int y1,
                     const uint8_t *c)
 {
-    td_line *l = td_lines_add(ls, NULL);
-    int y, dx, k;
-    for (y = y0; y <= y1; y++) {
-        for (dx = -1; dx <= 1; dx++) {
-            uint8_t *p = im->data + (size_t)y * im->stride + 3 * (x + dx);
-            for (k = 0; k < 3; k++)
-                p[k] = dx ? (uint8_t)((c[k] + PAPER[k]) / 2) : c[k];
-        }
-        TT_CHECK(l && td_line_push(l, x, y, NULL) == 0);
-    }
+    stroke_dir(im, ls, 1, x, y0, y1, c);
 }
 
 static td_image *sheet(void)
@@ -84,11 +84,11 @@ static void test_foreign_cut(void)
     TT_CHECK(im && ls && other);
     if (!im || !ls || !other)
         return;
-    stroke(im, ls, 10, 20, 100, BROWN); /* 0: kept */
-    stroke(im, ls, 25, 20, 100, GREY);  /* 1: text, dropped */
-    stroke(im, ls, 40, 20, 100, PINK);  /* 2: a road's dash, dropped */
-    stroke(im, ls, 55, 20, 290, GREY);  /* 3: long, kept */
-    stroke(im, ls, 70, 20, 100, GREY);  /* 4: along the road, dropped */
+    stroke(im, ls, 10, 20, 100, BROWN);  /* 0: kept */
+    stroke(im, ls, 25, 20, 100, GREY);   /* 1: text, dropped */
+    stroke(im, ls, 40, 20, 100, PINK);   /* 2: a road's dash, dropped */
+    stroke(im, ls, 55, 20, 290, GREY);   /* 3: long, kept */
+    stroke(im, ls, 70, 20, 100, GREY);   /* 4: along the road, dropped */
     vstroke(im, ls, 196, 60, 110, GREY); /* 5: across it, kept */
     for (x = 20; x <= 240; x += 8)       /* the other ink's map: patches */
         other[72 * stride + (x >> 3)] |= (uint8_t)(1u << (x & 7));

@@ -282,18 +282,26 @@ static void test_brown_not_fringe(void)
  * contour 0.988, 11 lines jumping contours); an ink near the brown with
  * under a tenth of its long strokes is another ink (palette.c,
  * ALSO_STROKES): 0.999, 3 lines. */
-/* The Elkhorn sheet (x6) as print kind (td_hsheet_defects) into *gp; its
- * source DEM for the caller to free, NULL when it did not load. */
-static td_grid_f32 *elkhorn_print(td_gen_params *gp, int kind)
+/* The sheet drawn from real DEM `dem` at `scale` as print kind
+ * (td_hsheet_defects) into *gp; its source DEM for the caller to free,
+ * NULL when it did not load. */
+static td_grid_f32 *dem_print(const char *dem, int scale, td_gen_params *gp,
+                              int kind)
 {
     td_ctx cx;
     td_grid_f32 *src;
     td_ctx_init(&cx);
-    src = td_hsheet_dem_sheet("elkhorn_srtm3.tif", 6, gp, &cx);
+    src = td_hsheet_dem_sheet(dem, scale, gp, &cx);
     TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
     if (src)
         td_hsheet_defects(gp, kind);
     return src;
+}
+
+/* The Elkhorn sheet (x6) as print kind `kind`. */
+static td_grid_f32 *elkhorn_print(td_gen_params *gp, int kind)
+{
+    return dem_print("elkhorn_srtm3.tif", 6, gp, kind);
 }
 
 static void test_new_print_roads(void)
@@ -371,17 +379,12 @@ static void test_foreign_lines_real(void)
 static void test_faint_grid_real(void)
 {
     td_gen_params gp;
-    td_grid_f32 *src;
+    td_grid_f32 *src = dem_print("orkhon_92m.tif", 10, &gp, 4);
     td_palette pal;
     td_scanscore sc;
-    td_ctx cx;
-    td_ctx_init(&cx);
-    src = td_hsheet_dem_sheet("orkhon_92m.tif", 10, &gp, &cx);
-    TT_CHECKF(src != NULL, "%s", td_errmsg(&cx));
     if (!src)
         return;
     gp.interval = 50;
-    td_hsheet_defects(&gp, 4);
     scan_scored(&gp, &pal, &sc);
     check_brown(&pal);
     TT_CHECKF(sc.precision >= 0.985 && sc.recall >= 0.97,
