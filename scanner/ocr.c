@@ -824,16 +824,22 @@ static size_t ufind(size_t *uf, size_t a)
 }
 
 /* Pieces near each other (boxes within 6 px) form one candidate: its
- * centre, main axis (of the points' scatter) and extents.  *out (free()),
- * returns how many, or -1 (no memory). */
-static long clusters(const td_lines *pc, cand **out)
+ * centre, main axis (of the points' scatter) and extents.  The pieces from
+ * pale on (pale_pieces) cluster only with one another, and a cluster of
+ * them within PALE_NEAR px of the box of another candidate at least half
+ * as long is that candidate's (its pale digits would move the strip off
+ * the label read there).
+ * *out (free()), returns how many, or -1 (no memory). */
+#define PALE_NEAR 10.0
+static long clusters(const td_lines *pc, size_t pale, cand **out)
 {
-    size_t n = pc->n, i, j, k, m = 0;
+    size_t n = pc->n, i, j, k, m = 0, mk = 0;
     size_t *uf = malloc((n + 1) * sizeof *uf);
     double *box = malloc((4 * n + 1) * sizeof *box);
     cand *c = calloc(n + 1, sizeof *c);
-    if (!uf || !box || !c) {
-        free(uf), free(box), free(c);
+    unsigned char *light = calloc(n + 1, 1); /* per candidate: pale */
+    if (!uf || !box || !c || !light) {
+        free(uf), free(box), free(c), free(light);
         return -1;
     }
     for (i = 0; i < n; i++) {
@@ -850,7 +856,8 @@ static long clusters(const td_lines *pc, cand **out)
     }
     for (i = 0; i < n; i++)
         for (j = i + 1; j < n; j++)
-            if (pc->v[i].n && pc->v[j].n && box[4 * i] - 6 <= box[4 * j + 2] &&
+            if (pc->v[i].n && pc->v[j].n && (i >= pale) == (j >= pale) &&
+                box[4 * i] - 6 <= box[4 * j + 2] &&
                 box[4 * j] - 6 <= box[4 * i + 2] &&
                 box[4 * i + 1] - 6 <= box[4 * j + 3] &&
                 box[4 * j + 1] - 6 <= box[4 * i + 3])
@@ -885,12 +892,31 @@ static long clusters(const td_lines *pc, cand **out)
         c[m].cy += 0.5 * (lo + hi) * c[m].uy + 0.5 * (lo2 + hi2) * c[m].ux;
         c[m].along = hi - lo;
         c[m].across = hi2 - lo2;
+        light[m] = i >= pale;
+        for (j = k = 0; light[m] && j < n; j++)
+            k += ufind(uf, j) == i;
+        if (light[m] && k < 2)
+            continue; /* one pale piece alone: no label has one digit */
         m++;
+    }
+    for (i = 0; i < m; i++) { /* pale clusters beside a candidate: out */
+        int near = 0;
+        for (j = 0; j < m && light[i] && !near; j++) {
+            double dx = c[i].cx - c[j].cx, dy = c[i].cy - c[j].cy;
+            near = !light[j] && c[j].along >= 0.5 * c[i].along &&
+                   fabs(dx * c[j].ux + dy * c[j].uy) <=
+                       0.5 * c[j].along + PALE_NEAR &&
+                   fabs(-dx * c[j].uy + dy * c[j].ux) <=
+                       0.5 * c[j].across + PALE_NEAR;
+        }
+        if (!near)
+            c[mk++] = c[i];
     }
     free(uf);
     free(box);
+    free(light);
     *out = c;
-    return (long)m;
+    return (long)mk;
 }
 
 /* A Tesseract reader for one line of digits, or NULL (no memory, or
@@ -931,9 +957,10 @@ static void reader_free(TessBaseAPI *api)
  * the same for any thread count.  Tesseract's own OpenMP regions run on
  * one thread inside ours: for these small pictures they only waited on
  * each other (15 labels 1.24 s -> 0.32 s on one thread of ours). */
-int td_ocr_labels(const td_image *im, const td_lines *ls,
-                  const td_lines *pieces, const td_ocr_params *p,
-                  td_ocr_read **out, size_t *n, td_ctx *cx)
+static int read_labels(const td_image *im, const td_lines *ls,
+                       const td_lines *pieces, size_t pale,
+                       const td_ocr_params *p, td_ocr_read **out, size_t *n,
+                       td_ctx *cx)
 {
     td_ocr_params d = td_ocr_defaults();
     TessBaseAPI *api;
@@ -950,7 +977,7 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
         p = &d;
     if (!pieces || pieces->n == 0)
         return 0;
-    if ((nc = clusters(pieces, &cs)) < 0 ||
+    if ((nc = clusters(pieces, pale, &cs)) < 0 ||
         !(v = td_calloc((size_t)nc + 1, sizeof *v, cx)) ||
         !(st = td_calloc((size_t)nc + 1, 1, cx))) {
         free(cs);
@@ -1043,13 +1070,159 @@ int td_ocr_labels(const td_image *im, const td_lines *ls,
 }
 
 /* Contract in ocr.h. */
+int td_ocr_labels(const td_image *im, const td_lines *ls,
+                  const td_lines *pieces, const td_ocr_params *p,
+                  td_ocr_read **out, size_t *n, td_ctx *cx)
+{
+    return read_labels(im, ls, pieces, pieces ? pieces->n : 0, p, out, n, cx);
+}
+
+/* Pale digits.  A label printed lighter than its line (a new print's
+ * thin type, a faded one) is not in the mask: the joiner sees no text
+ * and leaves its gap open, and no piece marks it.  Around every open end
+ * of a line inside the sheet (a window of PALE_R px each way) the pieces
+ * of the contour ink (its strength by the palette's table: colour scans)
+ * at PALE_LEVEL or more are found (8-connected); those that fit
+ * in the window, are digit-sized (PALE_MIN .. PALE_MAX px on their longer
+ * side, 3 or more on the shorter, 10 px or more) and paler than the
+ * traced ink (no pixel at PALE_TOP) go into pc as their pixels' centres;
+ * clusters() then makes a row of them one candidate.  done (1 bit per
+ * pixel) keeps a piece seen from two ends from going in twice. */
+#define PALE_R 40
+#define PALE_LEVEL 44
+#define PALE_TOP 200
+#define PALE_MIN 7
+#define PALE_MAX 32
+enum { PALE_W = 2 * PALE_R + 1 };
+
+typedef struct pale_ws {
+    const td_image *im;
+    const uint8_t *lut;
+    uint8_t v[PALE_W * PALE_W];
+    int lab[PALE_W * PALE_W], q[PALE_W * PALE_W];
+    uint8_t *done;
+    size_t stride;
+} pale_ws;
+
+/* The contour ink's strength at (X, Y) by the table's nearest node
+ * (enough for a threshold; RGB). */
+static int pale_strength(const pale_ws *ws, int X, int Y)
+{
+    const td_image *im = ws->im;
+    return ws->lut[td_palette_node(im->data + (size_t)Y * im->stride +
+                                   (size_t)X * 3)];
+}
+
+/* The pieces in the window at (x0, y0) from its pixel k: grown into
+ * ws->q (returns the count); *keep when it is a pale digit. */
+static int pale_grow(pale_ws *ws, int x0, int y0, int k, int id, int *keep)
+{
+    int qn = 0, qi, bx0 = k % PALE_W, bx1 = bx0, by0 = k / PALE_W, by1 = by0;
+    int edge = 0, top = 0, bw, bh;
+    ws->lab[k] = id;
+    ws->q[qn++] = k;
+    for (qi = 0; qi < qn; qi++) {
+        int x = ws->q[qi] % PALE_W, y = ws->q[qi] / PALE_W, dx, dy;
+        edge |= x == 0 || y == 0 || x == PALE_W - 1 || y == PALE_W - 1;
+        top = ws->v[ws->q[qi]] > top ? ws->v[ws->q[qi]] : top;
+        bx0 = x < bx0 ? x : bx0, bx1 = x > bx1 ? x : bx1;
+        by0 = y < by0 ? y : by0, by1 = y > by1 ? y : by1;
+        for (dy = -1; dy <= 1; dy++)
+            for (dx = -1; dx <= 1; dx++) {
+                int xx = x + dx, yy = y + dy;
+                if (xx < 0 || yy < 0 || xx >= PALE_W || yy >= PALE_W ||
+                    ws->lab[yy * PALE_W + xx] != -1)
+                    continue;
+                ws->lab[yy * PALE_W + xx] = id;
+                ws->q[qn++] = yy * PALE_W + xx;
+            }
+    }
+    bw = bx1 - bx0 + 1, bh = by1 - by0 + 1;
+    *keep = !edge && top < PALE_TOP && qn >= 10 &&
+            (bw > bh ? bw : bh) >= PALE_MIN &&
+            (bw > bh ? bw : bh) <= PALE_MAX && (bw < bh ? bw : bh) >= 3;
+    if (*keep) { /* not seen from another end */
+        int X = x0 + ws->q[0] % PALE_W, Y = y0 + ws->q[0] / PALE_W;
+        *keep =
+            !(ws->done[(size_t)Y * ws->stride + (size_t)(X >> 3)] >> (X & 7) &
+              1u);
+    }
+    return qn;
+}
+
+static int pale_window(pale_ws *ws, int ex, int ey, td_lines *pc, td_ctx *cx)
+{
+    const td_image *im = ws->im;
+    int x0 = ex - PALE_R, y0 = ey - PALE_R, x, y, id = 0;
+    for (y = 0; y < PALE_W; y++)
+        for (x = 0; x < PALE_W; x++) {
+            int X = x0 + x, Y = y0 + y, k = y * PALE_W + x;
+            ws->v[k] = X < 0 || Y < 0 || X >= im->w || Y >= im->h
+                           ? 0
+                           : (uint8_t)pale_strength(ws, X, Y);
+            ws->lab[k] = ws->v[k] >= PALE_LEVEL ? -1 : 0;
+        }
+    for (x = 0; x < PALE_W * PALE_W; x++) {
+        int keep, qn, qi;
+        td_line *g;
+        if (ws->lab[x] != -1)
+            continue;
+        qn = pale_grow(ws, x0, y0, x, ++id, &keep);
+        if (!keep)
+            continue;
+        if (!(g = td_lines_add(pc, cx)))
+            return TD_ENOMEM;
+        for (qi = 0; qi < qn; qi++) {
+            int X = x0 + ws->q[qi] % PALE_W, Y = y0 + ws->q[qi] / PALE_W;
+            ws->done[(size_t)Y * ws->stride + (size_t)(X >> 3)] |=
+                (uint8_t)(1u << (X & 7));
+            if (td_line_push(g, X + 0.5, Y + 0.5, cx) != 0)
+                return TD_ENOMEM;
+        }
+    }
+    return 0;
+}
+
+static int pale_pieces(const td_image *im, const uint8_t *lut,
+                       const td_lines *ls, td_lines *pc, td_ctx *cx)
+{
+    pale_ws *ws = td_malloc(sizeof *ws, cx);
+    size_t i;
+    int rc = 0;
+    if (!ws)
+        return TD_ENOMEM;
+    ws->im = im, ws->lut = lut;
+    ws->stride = ((size_t)im->w + 7) / 8;
+    if (!(ws->done = td_calloc((size_t)im->h * ws->stride + 1, 1, cx))) {
+        free(ws);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < ls->n && !rc; i++) {
+        const td_line *l = &ls->v[i];
+        int e;
+        if (l->closed || l->n < 2)
+            continue;
+        for (e = 0; e < 2 && !rc; e++) {
+            size_t k = e ? l->n - 1 : 0;
+            int ex = (int)floor(l->xy[2 * k]),
+                ey = (int)floor(l->xy[2 * k + 1]);
+            if (ex >= 3 && ey >= 3 && ex < im->w - 3 && ey < im->h - 3)
+                rc = pale_window(ws, ex, ey, pc, cx);
+        }
+    }
+    free(ws->done);
+    free(ws);
+    return rc;
+}
+
+/* Contract in ocr.h. */
 int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
                        const td_join_stats *join, const td_lines *assoc,
                        const td_ocr_params *p, td_ocr_read **out, size_t *n,
                        td_ctx *cx)
 {
     td_lines *pc = td_lines_new(cx);
-    size_t i;
+    size_t i, pale;
     int rc = 0;
     *out = NULL;
     *n = 0;
@@ -1062,8 +1235,18 @@ int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
     for (i = 0; i < ls->n && !rc; i++)
         if (compact_ring(&ls->v[i], 25.0))
             rc = td_lines_append_copy(pc, &ls->v[i], cx);
+    pale = pc->n;
+    if (!rc && p && p->ink && p->ink->n > 0 && p->ink->chosen >= 0 &&
+        im->channels == 3) { /* colour scans: new prints' pale type */
+        uint8_t *lut = td_malloc(TD_PALETTE_LUT_SIZE, cx);
+        if (!lut)
+            rc = TD_ENOMEM;
+        else
+            td_palette_lut(p->ink, lut), rc = pale_pieces(im, lut, ls, pc, cx);
+        free(lut);
+    }
     if (!rc)
-        rc = td_ocr_labels(im, assoc ? assoc : ls, pc, p, out, n, cx);
+        rc = read_labels(im, assoc ? assoc : ls, pc, pale, p, out, n, cx);
     if (!rc)
         td_ocr_find_spots(im, *out, *n);
     td_lines_free(pc);

@@ -93,8 +93,11 @@ int td_ocr_labels(const td_image *im, const td_lines *ls, const td_lines *gaps,
 /* The label pieces of a scan (td_scan with join.record: the label-gap
  * joins and removed text in *join) and the small closed lines of its
  * lines ls (digits traced as rings: inside a 25 px box), read as above;
- * the reads are tied to the lines of assoc (ls itself, or lines traced
- * before and edited). */
+ * on an RGB scan with p->ink also the pale digits near the open ends of
+ * ls (type lighter than the lines, under the mask's level: a row of
+ * digit-sized pieces of the contour ink's strength, their own candidates;
+ * ocr.c, pale_pieces); the reads are tied to the lines of assoc (ls
+ * itself, or lines traced before and edited). */
 struct td_join_stats;
 int td_ocr_scan_labels(const td_image *im, const td_lines *ls,
                        const struct td_join_stats *join, const td_lines *assoc,

@@ -758,14 +758,17 @@ static void test_printed_interval(void)
  * taken for the label's line; so 2 of 6 labels agreed and run stopped
  * ("only 2 of the 6 ... interval 25").  Now the contour ink's strength
  * is read first, a read that holds the read so far and more wins, and
- * glyph strokes are no label's line: interval 25, 4 of 6 labels right. */
+ * glyph strokes are no label's line: interval 25, 4 of 6 labels right.
+ * The other two were too pale for the mask and nothing marked them; with
+ * the pale digits around the lines' open ends as candidates (session 28,
+ * ocr.c pale_pieces) all 6 are right. */
 static void test_new_print_labels(void)
 {
     td_hsheet hs;
     td_grid_f32 *src = printed_run(&hs, "orkhon_92m.tif", 10, 4, 1, 0);
     if (!src)
         return;
-    TT_CHECKF(hs.interval == 25 && hs.reads_right >= 4 &&
+    TT_CHECKF(hs.interval == 25 && hs.reads_right >= 6 &&
                   hs.score.accuracy >= 0.85 && hs.score.n_wrong_sure == 0,
               "Orkhon new print, labels only: interval %g, %zu of %zu "
               "labels right, accuracy %.3f, %ld wrong and sure",
@@ -918,7 +921,9 @@ static void test_short_piece_in_doubt(void)
  * the grey digits had read nothing here either way.  Now both ways are
  * tried when the grey digits read nothing: 2625 at 0.90, the interval 25
  * inferred from three labels (before: "only 2 of the 3 printed labels
- * read agree"). */
+ * read agree").  Since session 28 the two pale labels left (2875 and 3000
+ * near 115,921 and 155,1056: no piece marked them) are read too
+ * (pale_pieces): all 5 right. */
 static void test_upside_down_pale_label(void)
 {
     td_hsheet hs;
@@ -926,11 +931,34 @@ static void test_upside_down_pale_label(void)
     int rc;
     td_ctx_init(&cx);
     rc = labels_only(&hs, "frontrange_srtm3.tif", 8, 25, 4, &cx);
-    TT_CHECKF(rc == 0 && hs.interval == 25 && hs.reads_right >= 3,
+    TT_CHECKF(rc == 0 && hs.interval == 25 && hs.reads_right >= 5,
               "Front Range 25 new print, labels only: rc %d (%s), interval "
               "%g, %zu of %zu labels right",
               rc, rc ? td_errmsg(&cx) : "", hs.interval, hs.reads_right,
               hs.nreads);
+    td_label_report_free(&hs.rep);
+}
+
+/* The crowded Front Range sheet (interval 20) printed new, no hint: nine
+ * labels printed, in a brown paler than the lines (the new print's thin
+ * type).  Six of them were not in the mask at all: nothing traced in
+ * their gaps, the joiner left the gaps open, and no piece made them a
+ * candidate (3 read right).  The pale digits around the lines' open ends
+ * are candidates now (ocr.c, pale_pieces): at least 6 right, none of the
+ * labels the labeller used wrong. */
+static void test_pale_labels_read(void)
+{
+    td_hsheet hs;
+    td_ctx cx;
+    int rc;
+    td_ctx_init(&cx);
+    rc = labels_only(&hs, "frontrange_srtm3.tif", 10, 20, 4, &cx);
+    TT_CHECKF(rc == 0 && hs.interval == 20 && hs.reads_right >= 6 &&
+                  hs.used_wrong == 0,
+              "crowded new print, labels only: rc %d (%s), interval %g, %zu "
+              "of %zu labels right, %zu used wrong",
+              rc, rc ? td_errmsg(&cx) : "", hs.interval, hs.reads_right,
+              hs.nreads, hs.used_wrong);
     td_label_report_free(&hs.rep);
 }
 
@@ -1384,6 +1412,7 @@ int main(void)
     TT_RUN(test_new_print_labels);
     TT_RUN(test_crowded_misreads_refused);
     TT_RUN(test_upside_down_pale_label);
+    TT_RUN(test_pale_labels_read);
     TT_RUN(test_known_line_in_doubt);
     TT_RUN(test_short_piece_in_doubt);
     TT_RUN(test_one_label_value_refused);
