@@ -1875,14 +1875,26 @@ static int junction_attached(const td_lines *ls, const jend *e, size_t ne,
     return 0;
 }
 
+/* A compact piece as long as min_length or longer, with neither end at
+ * a skeleton junction: too long for a digit's stroke, and no rung between
+ * two touching contours (test_kiss_corner); one end continuing a longer
+ * line makes it that line's hook (a contour bending sharply beside its
+ * label gap, cut off there at a thin neck: Orkhon 50 scanned, the 1500
+ * line at 920,1600). */
+static int hooked(const td_line *l, double min_length)
+{
+    return !l->junc && td_line_length(l) >= min_length;
+}
+
 /* Short open lines (shorter than min_length, or fitting in a box of that
  * side: a bent digit such as 2 or 5) with both ends inside the sheet are
- * label or text fragments unless both ends continue longer lines (a stage-1 pair with an
- * end of a line that is not itself such a candidate): a short piece of a
- * contour between two breaks is kept; so is a compact piece at least twice
- * min_length long with both ends at skeleton junctions (a small ring cut
- * open where it touches a line).  Small closed rings within TEXT_GAP px of
- * a removed fragment are the 0, 6, 8 and 9 of the same label and go too. */
+ * label or text fragments unless both ends continue longer lines (a stage-1
+ * pair with an end of a line that is not itself such a candidate), or one does
+ * and the piece is a hook (hooked): a short piece of a contour between two
+ * breaks is kept; so is a compact piece at least twice min_length long with
+ * both ends at skeleton junctions (a small ring cut open where it touches a
+ * line).  Small closed rings within TEXT_GAP px of a removed fragment are the
+ * 0, 6, 8 and 9 of the same label and go too. */
 static int remove_fragments(td_lines *ls, const td_join_params *p,
                             td_join_stats *st, td_ctx *cx)
 {
@@ -1925,7 +1937,9 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
     if ((rc = junction_attached(ls, e, ne, cand, p->min_length, cont, cx)) != 0)
         goto fail;
     for (i = ls->n; i-- > 0;)
-        if (cand[i] && !(cont[eol[2 * i]] && cont[eol[2 * i + 1]])) {
+        if (cand[i] && !(cont[eol[2 * i]] && cont[eol[2 * i + 1]]) &&
+            !(hooked(&ls->v[i], p->min_length) &&
+              (cont[eol[2 * i]] || cont[eol[2 * i + 1]]))) {
             if (nbox < MAX_TEXT_BOXES)
                 line_box(&ls->v[i], box[nbox++]);
             if (p->record && keep_text(st, &ls->v[i], cx) != 0)

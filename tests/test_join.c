@@ -477,6 +477,38 @@ static void test_short_piece_kept(void)
     td_lines_free(ls);
 }
 
+/* A contour that bends sharply beside its label gap, cut off from the
+ * rest of its line at a thin neck (Orkhon 50 scanned, the 1500 line at
+ * 920,1600): the hook is compact (a 19 x 15 px box, under min_length)
+ * but 40 px long, one of its ends continues the line across a 4 px
+ * break, and the other ends in the label gap.  It is the line's, not a
+ * digit: kept and joined (before: removed as a fragment, the line ended
+ * 30 px short of its gap and the DEM there came out 80 m off). */
+static void test_hook_kept(void)
+{
+    td_join_params p = td_join_defaults(W, H);
+    td_join_stats st;
+    td_lines *ls = td_lines_new(NULL);
+    td_line *l;
+    int k;
+    add_hline(ls, 20, 150, 100);
+    l = td_lines_add(ls, NULL);
+    for (k = 154; k < 162; k++) /* on along the line, then round */
+        td_line_push(l, k, 100, NULL);
+    for (k = 0; k <= 12; k++)
+        td_line_push(l, 162 + 7 * sin(M_PI * k / 12),
+                     107 - 7 * cos(M_PI * k / 12), NULL);
+    for (k = 161; k >= 150; k--) /* back west, into the gap */
+        td_line_push(l, k, 114, NULL);
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    TT_CHECKF(ls->n == 1 && st.fragments == 0 &&
+                  td_line_length(&ls->v[0]) > 170,
+              "%zu lines, %zu fragments, length %g", ls->n, st.fragments,
+              ls->n ? td_line_length(&ls->v[0]) : 0.0);
+    td_join_stats_free(&st);
+    td_lines_free(ls);
+}
+
 /* A faded contour printed in dashes: short straight pieces 20 px apart
  * (too far for the small-gap stage) are contour, not text: they stay and
  * the label-gap stage joins them; the "1" of a label, as straight, goes
@@ -740,6 +772,7 @@ int main(void)
     TT_RUN(test_near_end_left_open);
     TT_RUN(test_gap_under_other_ink);
     TT_RUN(test_short_piece_kept);
+    TT_RUN(test_hook_kept);
     TT_RUN(test_faded_pieces);
     TT_RUN(test_joins_never_cross);
     TT_RUN(test_labels_off);
