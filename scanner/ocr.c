@@ -168,6 +168,43 @@ static int piece_root(int *par, int a)
     return a;
 }
 
+/* Grow the 8-connected component of the pixels marked -1 in lab (w x h)
+ * from pixel k, labelling it id; q (room for w h) gets its pixels.
+ * Returns how many. */
+static int flood8(int *lab, int w, int h, int k, int id, int *q)
+{
+    int qn = 0, qi;
+    lab[k] = id;
+    q[qn++] = k;
+    for (qi = 0; qi < qn; qi++) {
+        int x = q[qi] % w, y = q[qi] / w, dx, dy;
+        for (dy = -1; dy <= 1; dy++)
+            for (dx = -1; dx <= 1; dx++) {
+                int X = x + dx, Y = y + dy;
+                if (X < 0 || Y < 0 || X >= w || Y >= h || lab[Y * w + X] != -1)
+                    continue;
+                lab[Y * w + X] = id;
+                q[qn++] = Y * w + X;
+            }
+    }
+    return qn;
+}
+
+/* The box (x0, y0, x1, y1) of the n pixels q of a w-wide grid; returns
+ * whether one lies on its border (h rows). */
+static int pixel_box(const int *q, int n, int w, int h, int *b)
+{
+    int i, edge = 0;
+    b[0] = w, b[1] = h, b[2] = -1, b[3] = -1;
+    for (i = 0; i < n; i++) {
+        int x = q[i] % w, y = q[i] / w;
+        b[0] = x < b[0] ? x : b[0], b[2] = x > b[2] ? x : b[2];
+        b[1] = y < b[1] ? y : b[1], b[3] = y > b[3] ? y : b[3];
+        edge |= x == 0 || y == 0 || x == w - 1 || y == h - 1;
+    }
+    return edge;
+}
+
 /* Label 8-connected ink components below t and group them into glyphs
  * (PIECE_GAP); keep the glyphs touching no side of the strip, at least 4
  * px tall, near the middle row.  Returns how many were kept and their box
@@ -183,34 +220,17 @@ static int components(strip *s, double t, int *b)
         s->lab[i] = s->g[i] < t ? -1 : 0;
     b[0] = s->w, b[1] = s->h, b[2] = -1, b[3] = -1;
     for (i = 0; i < n; i++) {
-        int sp = 0, x0 = s->w, y0 = s->h, x1 = -1, y1 = -1, area = 0, edge = 0;
+        int area, edge, bx[4];
         if (s->lab[i] != -1)
             continue;
-        next++;
-        stack[sp++] = i;
-        s->lab[i] = next;
-        while (sp > 0) {
-            int p = stack[--sp], x = p % s->w, y = p / s->w, dx, dy;
-            area++;
-            x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
-            y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
-            edge |= x == 0 || y == 0 || x == s->w - 1 || y == s->h - 1;
-            for (dy = -1; dy <= 1; dy++)
-                for (dx = -1; dx <= 1; dx++) {
-                    int X = x + dx, Y = y + dy;
-                    if (X < 0 || Y < 0 || X >= s->w || Y >= s->h ||
-                        s->lab[Y * s->w + X] != -1)
-                        continue;
-                    s->lab[Y * s->w + X] = next;
-                    stack[sp++] = Y * s->w + X;
-                }
-        }
+        area = flood8(s->lab, s->w, s->h, i, ++next, stack);
+        edge = pixel_box(stack, area, s->w, s->h, bx);
         if (edge || np == MAX_PIECES)
             continue; /* a line crossing the strip; noise beyond the cap */
-        pb[np][0] = x0, pb[np][1] = y0, pb[np][2] = x1, pb[np][3] = y1;
-        pb[np][4] = next, pb[np][5] = area;
+        pb[np][0] = bx[0], pb[np][1] = bx[1], pb[np][2] = bx[2];
+        pb[np][3] = bx[3], pb[np][4] = next, pb[np][5] = area;
         par[np] = np;
-        tallest = y1 - y0 + 1 > tallest ? y1 - y0 + 1 : tallest;
+        tallest = bx[3] - bx[1] + 1 > tallest ? bx[3] - bx[1] + 1 : tallest;
         np++;
     }
     free(stack);
@@ -1117,27 +1137,11 @@ static int pale_strength(const pale_ws *ws, int X, int Y)
  * ws->q (returns the count); *keep when it is a pale digit. */
 static int pale_grow(pale_ws *ws, int x0, int y0, int k, int id, int *keep)
 {
-    int qn = 0, qi, bx0 = k % PALE_W, bx1 = bx0, by0 = k / PALE_W, by1 = by0;
-    int edge = 0, top = 0, bw, bh;
-    ws->lab[k] = id;
-    ws->q[qn++] = k;
-    for (qi = 0; qi < qn; qi++) {
-        int x = ws->q[qi] % PALE_W, y = ws->q[qi] / PALE_W, dx, dy;
-        edge |= x == 0 || y == 0 || x == PALE_W - 1 || y == PALE_W - 1;
+    int qn = flood8(ws->lab, PALE_W, PALE_W, k, id, ws->q), qi, b[4];
+    int edge = pixel_box(ws->q, qn, PALE_W, PALE_W, b), top = 0, bw, bh;
+    for (qi = 0; qi < qn; qi++)
         top = ws->v[ws->q[qi]] > top ? ws->v[ws->q[qi]] : top;
-        bx0 = x < bx0 ? x : bx0, bx1 = x > bx1 ? x : bx1;
-        by0 = y < by0 ? y : by0, by1 = y > by1 ? y : by1;
-        for (dy = -1; dy <= 1; dy++)
-            for (dx = -1; dx <= 1; dx++) {
-                int xx = x + dx, yy = y + dy;
-                if (xx < 0 || yy < 0 || xx >= PALE_W || yy >= PALE_W ||
-                    ws->lab[yy * PALE_W + xx] != -1)
-                    continue;
-                ws->lab[yy * PALE_W + xx] = id;
-                ws->q[qn++] = yy * PALE_W + xx;
-            }
-    }
-    bw = bx1 - bx0 + 1, bh = by1 - by0 + 1;
+    bw = b[2] - b[0] + 1, bh = b[3] - b[1] + 1;
     *keep = !edge && top < PALE_TOP && qn >= 10 &&
             (bw > bh ? bw : bh) >= PALE_MIN &&
             (bw > bh ? bw : bh) <= PALE_MAX && (bw < bh ? bw : bh) >= 3;
