@@ -962,6 +962,34 @@ static void test_pale_labels_read(void)
     td_label_report_free(&hs.rep);
 }
 
+/* Orkhon at interval 50 (scale 10), scanned and in colour, no hint: in
+ * the south-east corner the 1500 index line runs round a short piece cut
+ * by the border (the 1450 contour); the probes of the 1550 line beyond
+ * it passed through the gap its label cut and met the piece, and as one
+ * edge outweighed the three pieces of the 1500 line: the piece came out
+ * 1550 (heights' RMSE over the lines 4.21 and 4.17 m, the DEM 11.7 and
+ * 12.3 m).  The label gaps are walls for the probes now (heights.c,
+ * label_walls): RMSE 1.89 and 1.70 m. */
+static void test_label_gap_walls(void)
+{
+    int kind;
+    for (kind = 1; kind <= 2; kind++) {
+        td_hsheet hs;
+        td_ctx cx;
+        int rc;
+        td_ctx_init(&cx);
+        rc = labels_only(&hs, "orkhon_92m.tif", 10, 50, kind, &cx);
+        TT_CHECKF(rc == 0 && hs.interval == 50 &&
+                      td_hscore_rmse(&hs.score) < 3.0 &&
+                      hs.score.accuracy >= 0.985,
+                  "Orkhon 50 %s, labels only: rc %d (%s), interval %g, "
+                  "heights RMSE %.2f m, accuracy %.3f",
+                  td_defect_names[kind], rc, rc ? td_errmsg(&cx) : "",
+                  hs.interval, td_hscore_rmse(&hs.score), hs.score.accuracy);
+        td_label_report_free(&hs.rep);
+    }
+}
+
 /* Elkhorn at interval 20 (scale 6), scanned, no hint: the relief holds
  * one index height, and every label read for sure says 200; a "29" read
  * at confidence 0.5 spanned a step with it, and 0.5 m was inferred as the
@@ -1413,6 +1441,7 @@ int main(void)
     TT_RUN(test_crowded_misreads_refused);
     TT_RUN(test_upside_down_pale_label);
     TT_RUN(test_pale_labels_read);
+    TT_RUN(test_label_gap_walls);
     TT_RUN(test_known_line_in_doubt);
     TT_RUN(test_short_piece_in_doubt);
     TT_RUN(test_one_label_value_refused);
