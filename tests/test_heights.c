@@ -990,6 +990,24 @@ static void test_label_gap_walls(void)
     }
 }
 
+/* The crowded Front Range sheet (interval 20, scale 10) printed new,
+ * three known points and the widths: the red road and the streams cut
+ * its contours, and the probes passing through those gaps said the faces
+ * on the two sides were one (0.939 of the length right).  The gaps
+ * between the free ends the labeller pairs are walls for the probes now
+ * (heights.c, pair_walls): 0.954. */
+static void test_pair_walls(void)
+{
+    td_hsheet hs;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    TT_CHECKF(known_widths(&hs, 10, 20, 4, &cx) == 0, "%s", td_errmsg(&cx));
+    TT_CHECKF(hs.score.accuracy >= 0.947,
+              "crowded new print, 3 known + widths: accuracy %.3f",
+              hs.score.accuracy);
+    td_label_report_free(&hs.rep);
+}
+
 /* Elkhorn at interval 20 (scale 6), scanned, no hint: the relief holds
  * one index height, and every label read for sure says 200; a "29" read
  * at confidence 0.5 spanned a step with it, and 0.5 m was inferred as the
@@ -1442,6 +1460,7 @@ int main(void)
     TT_RUN(test_upside_down_pale_label);
     TT_RUN(test_pale_labels_read);
     TT_RUN(test_label_gap_walls);
+    TT_RUN(test_pair_walls);
     TT_RUN(test_known_line_in_doubt);
     TT_RUN(test_short_piece_in_doubt);
     TT_RUN(test_one_label_value_refused);
