@@ -70,6 +70,7 @@ td_join_params td_join_defaults(int w, int h)
     p.min_length = 25.0;
     p.straight_keep = 0.8;
     p.bridge_max = 12.0;
+    p.chain_max = 80.0;
     p.junc_ratio = 1.5;
     p.gap_ratio = 1.5;
     p.gap_near = 0.5;
@@ -2009,6 +2010,246 @@ static void remove_bridges(td_lines *ls, const td_join_params *p,
     }
 }
 
+/* ---- road chains: a road's stretches between the contours it crosses ---
+ *
+ *        ======+=====+======+=====     a straight road the mask took with
+ *              |     |      |          the contours where no ink tells it
+ *        ======+     +======+=====     apart (a red road over the green
+ *              |     |      |          tint), cut at every contour it
+ *                                      crosses: a chain of short straight
+ *   pieces, each lined up with the next across the contour between.
+ *   Traced, each piece is a "contour" stepping from one level to the next
+ *   (labelled, on the new Orkhon 50 print, three intervals off).  Before
+ *   the joins, open pieces off the border, their chord 8 to chain_max px
+ *   long and every vertex within CHAIN_DEV px of it, are linked when an end
+ *   of one lies within CHAIN_GAP px of an end of the other, on its line
+ *   (within CHAIN_LAT px of the longer one's line, the two directions within
+ *   CHAIN_ANGLE degrees) and another line comes within CHAIN_NEAR px of
+ *   the gap running across it, 30 degrees or more off the chain (the
+ *   contour the road crosses there: a contour broken where its ink faded
+ *   leaves its gaps empty, or its neighbours run alongside); chains of
+ *   CHAIN_MIN pieces or more are removed (ours).  A contour is not
+ *   straight from one crossing to the next three times in a row. */
+#define CHAIN_DEV 2.0
+#define CHAIN_GAP 40.0
+#define CHAIN_LAT 2.5
+#define CHAIN_ANGLE 20.0
+#define CHAIN_COS 0.93969 /* cos(CHAIN_ANGLE) */
+#define CHAIN_MIN 3
+#define CHAIN_NEAR 3.0
+#define CHAIN_ACROSS 0.5 /* sin 30 degrees */
+#define CHAIN_CELL 8.0
+
+typedef struct chain_piece {
+    size_t line;
+    double e[2][2]; /* its first and last point */
+    double u[2];    /* unit chord, first to last */
+    double len;     /* the chord's length */
+} chain_piece;
+
+static int chain_shape(const td_line *l, double max_len)
+{
+    double dx, dy, d;
+    size_t k;
+    if (l->closed || l->edge || l->n < 2)
+        return 0;
+    dx = l->xy[2 * l->n - 2] - l->xy[0], dy = l->xy[2 * l->n - 1] - l->xy[1];
+    d = hypot(dx, dy);
+    if (d < 8.0 || d > max_len)
+        return 0;
+    for (k = 1; k + 1 < l->n; k++) /* within CHAIN_DEV of its chord */
+        if (fabs(dx * (l->xy[2 * k + 1] - l->xy[1]) -
+                 dy * (l->xy[2 * k] - l->xy[0])) > CHAIN_DEV * d)
+            return 0;
+    return 1;
+}
+
+/* Whether end ka of a and end kb of b line up across the gap between. */
+static int chain_link(const chain_piece *a, int ka, const chain_piece *b,
+                      int kb)
+{
+    double gx = b->e[kb][0] - a->e[ka][0], gy = b->e[kb][1] - a->e[ka][1];
+    double g = hypot(gx, gy), c = CHAIN_COS;
+    double ua[2] = {ka ? a->u[0] : -a->u[0], ka ? a->u[1] : -a->u[1]};
+    double ub[2] = {kb ? -b->u[0] : b->u[0], kb ? -b->u[1] : b->u[1]};
+    if (g > CHAIN_GAP || ua[0] * ub[0] + ua[1] * ub[1] < c)
+        return 0; /* ua: out of a; ub: into b, away from the gap */
+    if (g < 1.0)
+        return 1;
+    if (a->len < b->len) /* the longer piece's direction is the surer */
+        ua[0] = ub[0], ua[1] = ub[1];
+    return fabs(ua[0] * gy - ua[1] * gx) <= CHAIN_LAT &&
+           ua[0] * gx + ua[1] * gy > 0;
+}
+
+typedef struct chain_lk {
+    size_t i, j; /* pieces */
+    int ki, kj;  /* their ends */
+    int crossed; /* another line comes within CHAIN_NEAR of the gap */
+} chain_lk;
+
+/* Mark the links whose gap another line crosses or touches: the vertices
+ * of every line in the cells the gaps' boxes touch, against those gaps. */
+static int chain_crossed(const td_lines *ls, const td_join_params *p,
+                         const chain_piece *c, chain_lk *lk, size_t nl,
+                         td_ctx *cx)
+{
+    int cw = (int)(p->w / CHAIN_CELL) + 1, ch = (int)(p->h / CHAIN_CELL) + 1;
+    size_t q, i, k, *head = td_malloc((size_t)cw * ch * sizeof *head, cx),
+                    *next = td_malloc((4 * nl + 1) * sizeof *next, cx),
+                    *who = td_malloc((4 * nl + 1) * sizeof *who, cx), m = 0;
+    if (!head || !next || !who) {
+        free(head), free(next), free(who);
+        return TD_ENOMEM;
+    }
+    for (q = 0; q < (size_t)cw * ch; q++)
+        head[q] = SIZE_MAX;
+    for (q = 0; q < nl; q++) { /* each gap in the cells of its box */
+        const double *A = c[lk[q].i].e[lk[q].ki], *B = c[lk[q].j].e[lk[q].kj];
+        int x0 = cell_of_xy(CHAIN_CELL, fmin(A[0], B[0]) - CHAIN_NEAR, cw),
+            x1 = cell_of_xy(CHAIN_CELL, fmax(A[0], B[0]) + CHAIN_NEAR, cw),
+            y0 = cell_of_xy(CHAIN_CELL, fmin(A[1], B[1]) - CHAIN_NEAR, ch),
+            y1 = cell_of_xy(CHAIN_CELL, fmax(A[1], B[1]) + CHAIN_NEAR, ch), x,
+            y;
+        for (y = y0; y <= y1; y++)
+            for (x = x0; x <= x1; x++) {
+                size_t *nx, *nw;
+                if (m % (4 * nl) == 0 && m > 0) { /* grow (long gaps) */
+                    if (!(nx = realloc(next, (m + 4 * nl + 1) * sizeof *nx))) {
+                        free(head), free(next), free(who);
+                        return td_seterr(cx, TD_ENOMEM, "join: out of memory");
+                    }
+                    next = nx;
+                    if (!(nw = realloc(who, (m + 4 * nl + 1) * sizeof *nw))) {
+                        free(head), free(next), free(who);
+                        return td_seterr(cx, TD_ENOMEM, "join: out of memory");
+                    }
+                    who = nw;
+                }
+                who[m] = q;
+                next[m] = head[(size_t)y * cw + x];
+                head[(size_t)y * cw + x] = m++;
+            }
+    }
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        for (k = 0; k < l->n; k++) {
+            double x = l->xy[2 * k], y = l->xy[2 * k + 1];
+            size_t e = head[(size_t)cell_of_xy(CHAIN_CELL, y, ch) * cw +
+                            (size_t)cell_of_xy(CHAIN_CELL, x, cw)];
+            for (; e != SIZE_MAX; e = next[e]) {
+                chain_lk *L = &lk[who[e]];
+                size_t k0 = k >= 2 ? k - 2 : 0,
+                       k1 = k + 2 < l->n ? k + 2 : l->n - 1;
+                double tx = l->xy[2 * k1] - l->xy[2 * k0],
+                       ty = l->xy[2 * k1 + 1] - l->xy[2 * k0 + 1];
+                const double *u = c[L->i].u;
+                if (L->crossed || i == c[L->i].line || i == c[L->j].line ||
+                    seg_dist(c[L->i].e[L->ki], c[L->j].e[L->kj],
+                             l->xy + 2 * k) > CHAIN_NEAR)
+                    continue;
+                /* across the road, not alongside it (crowded contours
+                   beside a broken one) */
+                L->crossed = k1 > k0 && fabs(u[0] * ty - u[1] * tx) >=
+                                            CHAIN_ACROSS * hypot(tx, ty);
+            }
+        }
+    }
+    free(head), free(next), free(who);
+    return 0;
+}
+
+static int remove_road_chains(td_lines *ls, const td_join_params *p,
+                              td_join_stats *st, td_ctx *cx)
+{
+    size_t i, j, n = 0, nl = 0, cap = 0, *uf = NULL, *size = NULL;
+    size_t *head = NULL, *next = NULL;
+    chain_piece *c = NULL;
+    chain_lk *lk = NULL;
+    int ka, kb, cw, ch, rc = 0;
+    for (i = 0; i < ls->n; i++)
+        n += chain_shape(&ls->v[i], p->chain_max);
+    if (n < CHAIN_MIN)
+        return 0;
+    c = td_malloc(n * sizeof *c, cx);
+    uf = td_malloc(n * sizeof *uf, cx);
+    size = td_calloc(n, sizeof *size, cx);
+    if (!c || !uf || !size) {
+        rc = TD_ENOMEM;
+        goto done;
+    }
+    for (i = 0, n = 0; i < ls->n; i++)
+        if (chain_shape(&ls->v[i], p->chain_max)) {
+            const td_line *l = &ls->v[i];
+            double dx = l->xy[2 * l->n - 2] - l->xy[0],
+                   dy = l->xy[2 * l->n - 1] - l->xy[1], d = hypot(dx, dy);
+            c[n].line = i;
+            c[n].e[0][0] = l->xy[0], c[n].e[0][1] = l->xy[1];
+            c[n].e[1][0] = l->xy[2 * l->n - 2];
+            c[n].e[1][1] = l->xy[2 * l->n - 1];
+            c[n].u[0] = dx / d, c[n].u[1] = dy / d;
+            c[n].len = d;
+            uf[n] = n;
+            n++;
+        }
+    cw = (int)(p->w / CHAIN_GAP) + 1, ch = (int)(p->h / CHAIN_GAP) + 1;
+    if (!(head = td_malloc((size_t)cw * ch * sizeof *head, cx)) ||
+        !(next = td_malloc(2 * n * sizeof *next, cx))) {
+        rc = TD_ENOMEM;
+        goto done;
+    }
+    for (i = 0; i < (size_t)cw * ch; i++)
+        head[i] = SIZE_MAX;
+    for (i = 0; i < 2 * n; i++) { /* the ends in cells of CHAIN_GAP */
+        const double *q = c[i / 2].e[i & 1];
+        size_t cell = (size_t)cell_of_xy(CHAIN_GAP, q[1], ch) * cw +
+                      (size_t)cell_of_xy(CHAIN_GAP, q[0], cw);
+        next[i] = head[cell];
+        head[cell] = i;
+    }
+    for (i = 0; i < 2 * n; i++) { /* each end against the ends near it */
+        const double *q = c[i / 2].e[i & 1];
+        int gx0 = cell_of_xy(CHAIN_GAP, q[0], cw) - 1,
+            gy0 = cell_of_xy(CHAIN_GAP, q[1], ch) - 1, gx, gy;
+        for (gy = gy0 < 0 ? 0 : gy0; gy <= gy0 + 2 && gy < ch; gy++)
+            for (gx = gx0 < 0 ? 0 : gx0; gx <= gx0 + 2 && gx < cw; gx++)
+                for (j = head[(size_t)gy * cw + gx]; j != SIZE_MAX;
+                     j = next[j]) {
+                    ka = (int)(i & 1), kb = (int)(j & 1);
+                    if (j / 2 <= i / 2 ||
+                        !chain_link(&c[i / 2], ka, &c[j / 2], kb) ||
+                        !chain_link(&c[j / 2], kb, &c[i / 2], ka))
+                        continue;
+                    if (nl == cap) {
+                        chain_lk *t;
+                        cap = cap ? 2 * cap : 64;
+                        if (!(t = realloc(lk, cap * sizeof *t))) {
+                            rc =
+                                td_seterr(cx, TD_ENOMEM, "join: out of memory");
+                            goto done;
+                        }
+                        lk = t;
+                    }
+                    lk[nl++] = (chain_lk){i / 2, j / 2, ka, kb, 0};
+                }
+    }
+    if (nl + 1 < CHAIN_MIN || (rc = chain_crossed(ls, p, c, lk, nl, cx)) != 0)
+        goto done;
+    for (i = 0; i < nl; i++) /* a contour runs through the gap */
+        if (lk[i].crossed)
+            uf[zfind(uf, lk[i].i)] = zfind(uf, lk[i].j);
+    for (i = 0; i < n; i++)
+        size[zfind(uf, i)]++;
+    for (i = n; i-- > 0;) /* lines ascending: remove from the back */
+        if (size[zfind(uf, i)] >= CHAIN_MIN) {
+            td_lines_remove(ls, c[i].line);
+            st->road_pieces++;
+        }
+done:
+    free(c), free(uf), free(size), free(lk), free(head), free(next);
+    return rc;
+}
+
 /* The junction end points of ls, sorted (x, y pairs), for junc_restore. */
 static int junc_points(const td_lines *ls, double **out, size_t *n,
                        td_ctx *cx)
@@ -2372,6 +2613,8 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
         goto fail;
     if (p->water && p->cross_gap > 0 && p->water_turns &&
         (rc = cut_water_turns(lsp, p, st, cx)) != 0)
+        goto fail;
+    if (p->chain_max > 0 && (rc = remove_road_chains(*lsp, p, st, cx)) != 0)
         goto fail;
     if ((rc = junc_points(*lsp, &jpts, &njpts, cx)) != 0 ||
         (rc = join_pass(lsp, p, 1, st, cx)) != 0)

@@ -43,6 +43,12 @@ typedef struct td_join_params {
                           tracer's cut, td_line.junc) are removed: a
                           stretch two touching contours share (default
                           12; 0: off) */
+    double chain_max;  /* before stage 1 (ours): chains of 3 or more
+                          straight open pieces no longer than this (px),
+                          each lined up with the next across a gap of up
+                          to 40 px that another line crosses (a road cut
+                          at every contour it crosses) are removed
+                          (default 80; 0: off) */
     const uint8_t *other; /* stage 2 (ours): pixels another ink covers (a
                              road, a river; td_binarise_other_ink: packed
                              bits, w x h), or NULL.  A contour hidden under
@@ -116,6 +122,7 @@ typedef struct td_join_stats {
     double *gaps_at;    /* x, y of each of those ends, sorted; free with
                            td_join_stats_free */
     size_t bridges;    /* short pieces between two junctions removed */
+    size_t road_pieces; /* straight pieces in chains removed (chain_max) */
     size_t glyphs;     /* small closed rings (digits such as 0, 6, 8, 9)
                           removed because a stage-2 join passes through,
                           or next to a removed label fragment */

@@ -509,6 +509,54 @@ static void test_hook_kept(void)
     td_lines_free(ls);
 }
 
+/* A straight road the mask took with the contours, cut at every contour
+ * it crosses: four 36-px pieces lined up at x = 150, each gap holding a
+ * contour.  The pieces go (each would be a "contour" stepping from one
+ * level to the next) and the three contours stay whole; the same pieces
+ * with nothing in their gaps (a contour broken where its ink faded) stay
+ * and are joined. */
+static void test_road_chain(void)
+{
+    int crossed;
+    for (crossed = 1; crossed >= 0; crossed--) {
+        td_join_params p = td_join_defaults(W, H);
+        td_join_stats st;
+        td_lines *ls = td_lines_new(NULL);
+        size_t i, contours = 0, on_road = 0;
+        double y0;
+        if (crossed) {
+            add_hline(ls, 20, 280, 60);
+            add_hline(ls, 20, 280, 100);
+            add_hline(ls, 20, 280, 140);
+        }
+        for (y0 = 22; y0 < 180; y0 += 40) {
+            td_line *l = td_lines_add(ls, NULL);
+            double y;
+            for (y = y0; y <= y0 + 36; y++)
+                td_line_push(l, 150 + (y - 100) * 0.05, y, NULL);
+        }
+        TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+        for (i = 0; i < ls->n; i++) {
+            const td_line *l = &ls->v[i];
+            if (l->xy[1] == l->xy[2 * l->n - 1] && td_line_length(l) > 250)
+                contours++;
+            else if (fabs(l->xy[0] - 150) < 4)
+                on_road++;
+        }
+        if (crossed)
+            TT_CHECKF(st.road_pieces == 4 && contours == 3 && on_road == 0,
+                      "crossed: %zu road pieces removed, %zu whole contours, "
+                      "%zu lines on the road",
+                      st.road_pieces, contours, on_road);
+        else
+            TT_CHECKF(st.road_pieces == 0 && on_road >= 1,
+                      "empty gaps: %zu removed, %zu lines left on the road",
+                      st.road_pieces, on_road);
+        td_join_stats_free(&st);
+        td_lines_free(ls);
+    }
+}
+
 /* A faded contour printed in dashes: short straight pieces 20 px apart
  * (too far for the small-gap stage) are contour, not text: they stay and
  * the label-gap stage joins them; the "1" of a label, as straight, goes
@@ -773,6 +821,7 @@ int main(void)
     TT_RUN(test_gap_under_other_ink);
     TT_RUN(test_short_piece_kept);
     TT_RUN(test_hook_kept);
+    TT_RUN(test_road_chain);
     TT_RUN(test_faded_pieces);
     TT_RUN(test_joins_never_cross);
     TT_RUN(test_labels_off);

@@ -206,6 +206,11 @@ static void summary(const td_scan_result *r, double secs)
                 "scan: %zu short line%s in another ink's colour dropped (text, "
                 "road dashes)\n",
                 r->foreign, r->foreign == 1 ? "" : "s");
+    if (r->join.road_pieces > 0)
+        fprintf(stderr,
+                "scan: %zu straight piece%s lined up along a road "
+                "removed (the road cut at every contour it crosses)\n",
+                r->join.road_pieces, r->join.road_pieces == 1 ? "" : "s");
     if (r->flank_cuts > 0)
         fprintf(stderr, "scan: %zu stretch%s along roads or other inks cut "
                 "out (their flanks look like contour ink)\n", r->flank_cuts,
