@@ -2217,9 +2217,8 @@ static int remove_road_chains(td_lines *ls, const td_join_params *p,
                      j = next[j]) {
                     ka = (int)(i & 1), kb = (int)(j & 1);
                     if (j / 2 <= i / 2 ||
-                        !chain_link(&c[i / 2], ka, &c[j / 2], kb) ||
-                        !chain_link(&c[j / 2], kb, &c[i / 2], ka))
-                        continue;
+                        !chain_link(&c[i / 2], ka, &c[j / 2], kb))
+                        continue; /* (chain_link is symmetric) */
                     if (nl == cap) {
                         chain_lk *t;
                         cap = cap ? 2 * cap : 64;
