@@ -6,11 +6,11 @@
  * back and the breaks bridged as run does them, and each turned off.
  * Numbers for docs/label.md ("Where the DEMs stand") and benchmarks.md.
  *
- *   bench_dem [--dems DIR] [--only NAME] [--dir TMPDIR] [--streams]
- *             [--stream-gap PX]
+ *   bench_dem [--only NAME] [--dir TMPDIR] [--streams] [--stream-gap PX]
  *
  * --streams: the colour sheets' water from the terrain (tdgen --streams);
  * --stream-gap: the scan's joins across the water (0: off). */
+#include "tests/util/bench.h"
 #include "tests/util/hsheet.h"
 
 #include "interp/interp.h"
@@ -53,6 +53,9 @@ static double run_rmse(const char *path, const td_run_params *p,
     return e;
 }
 
+static const char usage[] = "usage: bench_dem [--only NAME] [--dir TMPDIR] "
+                            "[--streams] [--stream-gap PX]\n";
+
 int main(int argc, char **argv)
 {
     const char *only = NULL, *dir = "build-bench/data";
@@ -71,6 +74,8 @@ int main(int argc, char **argv)
             gap = atof(argv[++a]);
         else if (!strcmp(argv[a], "--topodig") && a + 1 < argc)
             a++; /* make bench passes it to every benchmark */
+        else
+            return td_bench_usage("bench_dem", argv[a], usage);
     }
     mkdir(dir, 0777);
     printf("run with no option (labels read, interval inferred), DEM RMSE "

@@ -27,6 +27,7 @@
  * an answer dearer than the truth is the optimiser's error, a cheaper
  * one the model's; and the parts of both (td_oracle_term: where the truth
  * pays more than the answer, the model's weights are worth a look). */
+#include "tests/util/bench.h"
 #include "tests/util/hsheet.h"
 
 #include <math.h>
@@ -55,6 +56,13 @@ static const sheet_case cases[] = {
     {"hills", NULL, TD_GEN_HILLS, 0, 0, 1500},
     {"ridges", NULL, TD_GEN_RIDGES, 0, 0, 2000},
 };
+
+static const char usage[] =
+    "usage: bench_heights [--dems DIR] [--only NAME] [--tree] [--search N]\n"
+    "                     [--log] [--all-hints] [--png DIR] [--streams]\n"
+    "                     [--no-vees] [--no-stream-joins] [--gap-pairs PX]\n"
+    "                     [--oracle] [--detint] [--hachures]\n"
+    "                     [--paper-junctions]\n";
 
 static const char *const scan_name[6] = {"truth",  "clean",   "scanned",
                                          "colour", "printed", "new"};
@@ -100,8 +108,11 @@ int main(int argc, char **argv)
             all = 1; /* colour sheets with 3 known points alone too */
         else if (!strcmp(argv[a], "--png") && a + 1 < argc)
             png = argv[++a];
-        else if (!strcmp(argv[a], "--topodig") || !strcmp(argv[a], "--dir"))
+        else if ((!strcmp(argv[a], "--topodig") || !strcmp(argv[a], "--dir")) &&
+                 a + 1 < argc)
             a++; /* make bench's common options */
+        else
+            return td_bench_usage("bench_heights", argv[a], usage);
     }
     printf("%-11s %-7s %-13s %6s %6s %6s  %5s %5s %5s %5s %5s  %5s %6s "
            "%5s %9s %5s %5s %7s\n",

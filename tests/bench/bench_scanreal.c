@@ -11,9 +11,10 @@
  *   bench_scanreal [--dems DIR] [--only NAME] [--log] [--out DIR] */
 #include "samples/gen/gen.h"
 #include "scanner/scan.h"
+#include "src/io/io.h"
+#include "tests/util/bench.h"
 #include "tests/util/hsheet.h"
 #include "tests/util/match.h"
-#include "src/io/io.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -105,6 +106,9 @@ static void one_kind(const char *name, td_gen_params gp, int kind, int logit,
     td_lines_free(truth);
 }
 
+static const char usage[] =
+    "usage: bench_scanreal [--dems DIR] [--only NAME] [--log] [--out DIR]\n";
+
 int main(int argc, char **argv)
 {
     const char *dir = "tests/data/dems", *only = NULL, *out = NULL;
@@ -119,8 +123,11 @@ int main(int argc, char **argv)
             out = argv[++a];
         else if (!strcmp(argv[a], "--log"))
             logit = 1;
-        else if (!strcmp(argv[a], "--topodig") || !strcmp(argv[a], "--dir"))
+        else if ((!strcmp(argv[a], "--topodig") || !strcmp(argv[a], "--dir")) &&
+                 a + 1 < argc)
             a++; /* make bench's common options */
+        else
+            return td_bench_usage("bench_scanreal", argv[a], usage);
     }
     printf("%-12s %-7s %-10s %6s %6s %6s %6s %6s %6s %6s\n", "sheet", "scan",
            "junctions", "truth", "traced", "recall", "prec", "own", "jumps",

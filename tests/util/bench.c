@@ -89,3 +89,14 @@ int td_bench_option(int argc, char **argv, int i, int *size,
         return 0;
     return 1;
 }
+
+/* See bench.h. */
+int td_bench_usage(const char *prog, const char *arg, const char *usage)
+{
+    if (!strcmp(arg, "--help") || !strcmp(arg, "-h")) {
+        fputs(usage, stdout);
+        return 0;
+    }
+    fprintf(stderr, "%s: unknown option '%s'\n%s", prog, arg, usage);
+    return 2;
+}

@@ -25,4 +25,9 @@ int td_bench_child(char *const argv[], const char *err_path, double *secs,
 int td_bench_option(int argc, char **argv, int i, int *size,
                     const char **dir, const char **exe);
 
+/* argv[i] is no option the benchmark knows: --help or -h print usage
+ * (stdout) and give 0; anything else is named on stderr with the usage
+ * and gives 2 (a mistyped option must not start a long run). */
+int td_bench_usage(const char *prog, const char *arg, const char *usage);
+
 #endif
