@@ -78,6 +78,8 @@
 #define W_DEPR 50.0
 #define W_TICKED 20.0  /* a ring read with depression ticks falls inwards */
 #define W_LABEL 40.0 /* a printed label read with confidence 1 */
+#define LAB_NEAR 0.5
+#define LAB_STEP 0.1
 #define NLAB (1 + TD_OCR_ALTS) /* readings of a label kept per chunk */
 #define ALT_SHARE 0.5 /* an alternative reading this sure counts when the
                          interval is inferred */
@@ -463,6 +465,18 @@ static double lab_conf(const hs *s, size_t c, long h)
         if (lv[k] == (double)h)
             return cf[k];
     return 0.0;
+}
+
+/* The share of a label's weight that line c at level h pays: 1 - the
+ * confidence of the reading giving h; when none gives it, LAB_NEAR and
+ * LAB_STEP more per level from the likeliest reading, up to 1. */
+static double lab_off(const hs *s, size_t c, long h)
+{
+    double cf = lab_conf(s, c, h), d;
+    if (cf > 0)
+        return 1.0 - cf;
+    d = fabs((double)h - s->llab[c * NLAB]);
+    return fmin(1.0, LAB_NEAR + LAB_STEP * d);
 }
 
 /* The levels a label's readings give, on the grid base + k interval:
@@ -1075,7 +1089,7 @@ static inline double line_parts(const hs *s, size_t l, long a0, long a1,
     if (s->nknown[l] && (double)h != s->lknown[l])
         k = WKNOWN * s->nknown[l];
     if (s->wlab[l] > 0) /* W (1 - confidence of the reading giving h) */
-        lb = s->wlab[l] * (1.0 - lab_conf(s, l, h));
+        lb = s->wlab[l] * lab_off(s, l, h);
     if (s->idx[l]) {
         long N = s->p->index_every, m = ((h % N) + N) % N;
         if ((s->idx[l] > 0) != (m == 0))

@@ -1008,6 +1008,31 @@ static void test_pair_walls(void)
     td_label_report_free(&hs.rep);
 }
 
+/* The generator's ridges (2000 px), the new print, no hint.  In the
+ * basin at 1300,550 ("300" printed round it, "200" inside) a "200"
+ * read at 0.96 did not fit the count of rings the
+ * faces give and was refused; a refused label cost the same at any
+ * height, so nothing held the basin's direction and the rings-rise prior
+ * made it a hill, its floor 15 intervals high (accuracy 0.888, the lines'
+ * height RMSE 30.7 m).  A label now costs less the nearer its line's
+ * height is to what it says (lab_off): the basin falls, its floor one
+ * interval high (0.928, 3.5 m). */
+static void test_label_pulls_near(void)
+{
+    td_hsheet hs;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    gen_sheet(&hs, TD_GEN_RIDGES, 2000);
+    td_hsheet_defects(&hs.gp, 4);
+    hs.read_labels = hs.no_interval = 1;
+    TT_CHECKF(td_hsheet_run(&hs, NULL, &cx) == 0, "%s", td_errmsg(&cx));
+    TT_CHECKF(hs.score.accuracy >= 0.915 && td_hscore_rmse(&hs.score) < 10.0,
+              "ridges, new print, labels only: accuracy %.3f, heights RMSE "
+              "%.2f m",
+              hs.score.accuracy, td_hscore_rmse(&hs.score));
+    td_label_report_free(&hs.rep);
+}
+
 /* Elkhorn at interval 20 (scale 6), scanned, no hint: the relief holds
  * one index height, and every label read for sure says 200; a "29" read
  * at confidence 0.5 spanned a step with it, and 0.5 m was inferred as the
@@ -1464,6 +1489,7 @@ int main(void)
     TT_RUN(test_known_line_in_doubt);
     TT_RUN(test_short_piece_in_doubt);
     TT_RUN(test_one_label_value_refused);
+    TT_RUN(test_label_pulls_near);
     TT_RUN(test_river_bank_pair);
     TT_RUN(test_crowded_labels_only);
     TT_RUN(test_crowded_walls);
