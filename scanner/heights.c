@@ -469,12 +469,17 @@ static double lab_conf(const hs *s, size_t c, long h)
 
 /* The share of a label's weight that line c at level h pays: 1 - the
  * confidence of the reading giving h; when none gives it, LAB_NEAR and
- * LAB_STEP more per level from the likeliest reading, up to 1. */
+ * LAB_STEP more per level from the likeliest reading, up to 1 (always 1
+ * in the interval's trials: there a label fits its step or it does not,
+ * and a near miss must not make a wrong interval as cheap as the right
+ * one). */
 static double lab_off(const hs *s, size_t c, long h)
 {
     double cf = lab_conf(s, c, h), d;
     if (cf > 0)
         return 1.0 - cf;
+    if (s->cost_only)
+        return 1.0;
     d = fabs((double)h - s->llab[c * NLAB]);
     return fmin(1.0, LAB_NEAR + LAB_STEP * d);
 }
