@@ -78,8 +78,13 @@
 #define W_DEPR 50.0
 #define W_TICKED 20.0  /* a ring read with depression ticks falls inwards */
 #define W_LABEL 40.0 /* a printed label read with confidence 1 */
-#define LAB_NEAR 0.5
-#define LAB_STEP 0.1
+#define LAB_NEAR                                                               \
+    0.5 /* a label none of whose readings gives its line's height pays     \
+           this share of its weight (lab_off) ...  */
+#define LAB_STEP                                                               \
+    0.1 /* ... and this much more per level off, up to all of it           \
+           (ridges new print: 0.888 -> 0.928; 0.3 + 0.15 d the same gains  \
+           and two rows down, 0.7 + 0.06 d the same) */
 #define NLAB (1 + TD_OCR_ALTS) /* readings of a label kept per chunk */
 #define ALT_SHARE 0.5 /* an alternative reading this sure counts when the
                          interval is inferred */
@@ -1093,7 +1098,8 @@ static inline double line_parts(const hs *s, size_t l, long a0, long a1,
         d += a0 > a1 ? s->up_prior[2 * l] : s->up_prior[2 * l + 1];
     if (s->nknown[l] && (double)h != s->lknown[l])
         k = WKNOWN * s->nknown[l];
-    if (s->wlab[l] > 0) /* W (1 - confidence of the reading giving h) */
+    if (s->wlab[l] > 0) /* W (1 - confidence of the reading giving h, or
+                           the share lab_off prices a miss at) */
         lb = s->wlab[l] * lab_off(s, l, h);
     if (s->idx[l]) {
         long N = s->p->index_every, m = ((h % N) + N) % N;

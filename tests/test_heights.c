@@ -76,6 +76,18 @@ static void gen_sheet(td_hsheet *hs, int terrain, int size)
     hs->gp.w = hs->gp.h = size;
 }
 
+/* That sheet with the defects of kind (td_hsheet_defects) scanned and
+ * labelled as `run` does with no option: the labels read, the interval
+ * inferred.  log: the wrong sure lines (may be NULL). */
+static int gen_labels_only(td_hsheet *hs, int terrain, int size, int kind,
+                           FILE *log, td_ctx *cx)
+{
+    gen_sheet(hs, terrain, size);
+    td_hsheet_defects(&hs->gp, kind);
+    hs->read_labels = hs->no_interval = 1;
+    return td_hsheet_run(hs, log, cx);
+}
+
 /* The generator's hills (1500 px), its true lines, three known points on
  * index contours and the index widths.  Near the top of the south-west
  * hill three rings had no height and two a wrong one (0.968 of the length
@@ -1022,10 +1034,8 @@ static void test_label_pulls_near(void)
     td_hsheet hs;
     td_ctx cx;
     td_ctx_init(&cx);
-    gen_sheet(&hs, TD_GEN_RIDGES, 2000);
-    td_hsheet_defects(&hs.gp, 4);
-    hs.read_labels = hs.no_interval = 1;
-    TT_CHECKF(td_hsheet_run(&hs, NULL, &cx) == 0, "%s", td_errmsg(&cx));
+    TT_CHECKF(gen_labels_only(&hs, TD_GEN_RIDGES, 2000, 4, NULL, &cx) == 0,
+              "%s", td_errmsg(&cx));
     TT_CHECKF(hs.score.accuracy >= 0.915 && td_hscore_rmse(&hs.score) < 10.0,
               "ridges, new print, labels only: accuracy %.3f, heights RMSE "
               "%.2f m",
@@ -1092,11 +1102,9 @@ static void test_labels_on_curves(void)
         td_hsheet hs;
         td_ctx cx;
         td_ctx_init(&cx);
-        gen_sheet(&hs, TD_GEN_HILLS, 1500);
-        td_hsheet_defects(&hs.gp, 1 + colour);
-        hs.read_labels = 1;
-        hs.no_interval = 1;
-        TT_CHECKF(td_hsheet_run(&hs, stderr, &cx) == 0, "%s", td_errmsg(&cx));
+        TT_CHECKF(gen_labels_only(&hs, TD_GEN_HILLS, 1500, 1 + colour, stderr,
+                                  &cx) == 0,
+                  "%s", td_errmsg(&cx));
         TT_CHECKF(hs.score.accuracy >= 0.99 && hs.score.n_wrong_sure == 0,
                   "hills%s, labels only: accuracy %.3f, %ld wrong and sure",
                   colour ? " colour" : "", hs.score.accuracy,
