@@ -21,7 +21,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 /* RMSE of dem against the true DEM, or -1. */
 static double rmse_of(const td_grid_f32 *dem, const td_grid_f32 *truth)
@@ -77,7 +76,8 @@ int main(int argc, char **argv)
         else
             return td_bench_usage("bench_dem", argv[a], usage);
     }
-    mkdir(dir, 0777);
+    if (td_bench_outdir("bench_dem", dir) != 0)
+        return 1;
     printf("run with no option (labels read, interval inferred), DEM RMSE "
            "against the true DEM\n%-12s %-8s %8s %8s %8s %8s %7s %6s %6s "
            "%6s\n",

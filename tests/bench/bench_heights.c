@@ -114,6 +114,8 @@ int main(int argc, char **argv)
         else
             return td_bench_usage("bench_heights", argv[a], usage);
     }
+    if (png && td_bench_outdir("bench_heights", png) != 0)
+        return 1;
     printf("%-11s %-7s %-13s %6s %6s %6s  %5s %5s %5s %5s %5s  %5s %6s "
            "%5s %9s %5s %5s %7s\n",
            "sheet", "scan", "hints", "lines", "acc", "null", "known", "solvd",

@@ -129,6 +129,8 @@ int main(int argc, char **argv)
         else
             return td_bench_usage("bench_scanreal", argv[a], usage);
     }
+    if (out && td_bench_outdir("bench_scanreal", out) != 0)
+        return 1;
     printf("%-12s %-7s %-10s %6s %6s %6s %6s %6s %6s %6s\n", "sheet", "scan",
            "junctions", "truth", "traced", "recall", "prec", "own", "jumps",
            "secs");

@@ -100,3 +100,27 @@ int td_bench_usage(const char *prog, const char *arg, const char *usage)
     fprintf(stderr, "%s: unknown option '%s'\n%s", prog, arg, usage);
     return 2;
 }
+
+/* See bench.h. */
+int td_bench_outdir(const char *prog, const char *dir)
+{
+    char p[4096];
+    size_t i, n = strlen(dir);
+    struct stat st;
+    if (n == 0 || n >= sizeof p)
+        goto fail;
+    memcpy(p, dir, n + 1);
+    for (i = 1; i <= n; i++) /* each parent, then the folder itself */
+        if (p[i] == '/' || p[i] == 0) {
+            char c = p[i];
+            p[i] = 0;
+            if (mkdir(p, 0777) != 0 &&
+                (stat(p, &st) != 0 || !S_ISDIR(st.st_mode)))
+                goto fail;
+            p[i] = c;
+        }
+    return 0;
+fail:
+    fprintf(stderr, "%s: %s: cannot make the folder\n", prog, dir);
+    return -1;
+}

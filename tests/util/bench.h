@@ -30,4 +30,9 @@ int td_bench_option(int argc, char **argv, int i, int *size,
  * and gives 2 (a mistyped option must not start a long run). */
 int td_bench_usage(const char *prog, const char *arg, const char *usage);
 
+/* An output folder (--png, --out, --dir): made with its parents unless it
+ * exists; 0, or -1 with the reason on stderr (before a run of minutes, not
+ * after it). */
+int td_bench_outdir(const char *prog, const char *dir);
+
 #endif
