@@ -36,6 +36,15 @@ extern "C" {
 #define TD_FLANK_GAP 10.0 /* px */
 #define TD_FLANK_HOOK 4.0 /* px: an end's hook along the other ink */
 #define TD_FLANK_TURN 50.0 /* degrees: its turn off the line's course */
+#define TD_FLANK_CORNER                                                        \
+    3.0 /* px: the hook's corner at most this far past the stretch beside      \
+           the other ink (the crossing leaves a gap in its map), the hook      \
+           then along the ink within TD_FLANK_ALONG degrees of its axis        \
+           over TD_FLANK_AXIS px round the tip */
+#define TD_FLANK_TIP                                                           \
+    8.0 /* px: ... when the stretch beside it is shorter than this */
+#define TD_FLANK_ALONG 30.0
+#define TD_FLANK_AXIS 4
 
 /* Whether any pixel of bits (as below) lies within TD_FLANK_NEAR px of
  * (x, y). */

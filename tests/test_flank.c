@@ -136,6 +136,61 @@ done:
     free(b);
 }
 
+/* The hook of the ridges print at 1233,746 (a contour crossing a road top
+ * to bottom, its right piece's tip turned up the road's flank): the other
+ * ink's map has a gap where the contour crosses, so only the tip's first
+ * 3 px lie beside the road and the corner, 2.8 px further on, does not.
+ * The hook still goes, up to its corner; a piece that comes to the road
+ * square, at the same place, keeps every point, and so does an end that
+ * turns off another stroke (a stream, y = 90) across it instead of along
+ * it (Orkhon new print, 910,992: the joiner took the bend's loss for a
+ * free end and joined it to the next contour). */
+static void test_hook_past_the_gap(void)
+{
+    static const double hook[][2] = {{63, 40}, {63, 41}, {63, 42}, {63, 43},
+                                     {64, 44}, {65, 45}, {66, 46}};
+    uint8_t *b = calloc(STRIDE * H, 1);
+    td_lines *ls = td_lines_new(NULL);
+    td_line *l;
+    int k;
+    TT_CHECK(b && ls);
+    if (!b || !ls)
+        goto done;
+    for (k = 0; k < H; k++) /* the road down x = 60..61, its map cut at the
+                               crossing */
+        if (k < 42 || k >= 50)
+            put(b, 60, k), put(b, 61, k);
+    l = td_lines_add(ls, NULL);
+    TT_CHECK(l != NULL);
+    for (k = 0; l && k < 7; k++)
+        TT_CHECK(td_line_push(l, hook[k][0], hook[k][1], NULL) == 0);
+    for (k = 67; l && k <= 110; k++)
+        TT_CHECK(td_line_push(l, k, 46, NULL) == 0);
+    line(ls, 64, 60, 110, 60, 46); /* square to the road */
+    for (k = 0; k <= 40; k++)      /* the stream */
+        put(b, k, 90), put(b, k, 91);
+    l = line(ls, 20, 88, 21, 88, 1); /* beside it, then off across it */
+    for (k = 87; l && k >= 85; k--)
+        TT_CHECK(td_line_push(l, 21, k, NULL) == 0);
+    for (k = 22; l && k <= 30; k++)
+        TT_CHECK(td_line_push(l, k, 85, NULL) == 0);
+    TT_CHECK(td_flank_cut(ls, b, W, H, NULL) == 1);
+    TT_CHECKF(ls->n == 3, "%zu lines", ls->n);
+    if (ls->n == 3) {
+        TT_CHECKF(ls->v[0].xy[0] >= 64 && ls->v[0].xy[1] >= 44 &&
+                      ls->v[0].xy[2 * ls->v[0].n - 2] == 110,
+                  "the hooked piece starts at %g,%g", ls->v[0].xy[0],
+                  ls->v[0].xy[1]);
+        TT_CHECK(ls->v[1].n == 47 && ls->v[1].xy[0] == 64);
+        TT_CHECKF(ls->v[2].n == 14 && ls->v[2].xy[0] == 20,
+                  "the end off the stream: %zu points from %g", ls->v[2].n,
+                  ls->v[2].xy[0]);
+    }
+done:
+    td_lines_free(ls);
+    free(b);
+}
+
 /* A dashed map of the road (the 2 x 2 blocks of a thin road come and go)
  * still cuts the flank; a ring with a side along the road opens there. */
 static void test_patchy_and_ring(void)
@@ -184,6 +239,7 @@ int main(void)
     TT_RUN(test_flank_cut);
     TT_RUN(test_crossing_kept);
     TT_RUN(test_hook_trimmed);
+    TT_RUN(test_hook_past_the_gap);
     TT_RUN(test_patchy_and_ring);
     return tt_summary();
 }
