@@ -7,9 +7,13 @@
  * Numbers for docs/label.md ("Where the DEMs stand") and benchmarks.md.
  *
  *   bench_dem [--only NAME] [--dir TMPDIR] [--streams] [--stream-gap PX]
+ *             [--keep]
  *
  * --streams: the colour sheets' water from the terrain (tdgen --streams);
- * --stream-gap: the scan's joins across the water (0: off). */
+ * --stream-gap: the scan's joins across the water (0: off); --keep: each
+ * sheet (bench_dem_NAME_K.png) stays in the folder, with its true DEM
+ * beside it (bench_dem_NAME_K_truth.tif: `topodig run` the sheet and
+ * `topodig compare --diff` against it shows where a DEM goes wrong). */
 #include "tests/util/bench.h"
 #include "tests/util/hsheet.h"
 
@@ -53,14 +57,14 @@ static double run_rmse(const char *path, const td_run_params *p,
 }
 
 static const char usage[] = "usage: bench_dem [--only NAME] [--dir TMPDIR] "
-                            "[--streams] [--stream-gap PX]\n";
+                            "[--streams] [--stream-gap PX] [--keep]\n";
 
 int main(int argc, char **argv)
 {
     const char *only = NULL, *dir = "build-bench/data";
     static const int kinds[4] = {1, 2, 3, 4};
     size_t s;
-    int a, k, streams = 0;
+    int a, k, streams = 0, keep = 0;
     double gap = -1;
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--only") && a + 1 < argc)
@@ -69,6 +73,8 @@ int main(int argc, char **argv)
             dir = argv[++a];
         else if (!strcmp(argv[a], "--streams"))
             streams = 1;
+        else if (!strcmp(argv[a], "--keep"))
+            keep = 1;
         else if (!strcmp(argv[a], "--stream-gap") && a + 1 < argc)
             gap = atof(argv[++a]);
         else if (!strcmp(argv[a], "--topodig") && a + 1 < argc)
@@ -115,6 +121,15 @@ int main(int argc, char **argv)
                 printf("%-12s %s\n", rs->name, td_errmsg(&cx));
                 goto next;
             }
+            if (keep) {
+                char tp[540];
+                snprintf(tp, sizeof tp, "%s/bench_dem_%s_%d_truth.tif", dir,
+                         rs->name, kinds[k]);
+                if (td_geotiff_write_f32(tp, tdem, NULL, &cx) != 0) {
+                    printf("%-12s %s\n", rs->name, td_errmsg(&cx));
+                    td_ctx_clear(&cx);
+                }
+            }
             ip.interval = td_gen_auto_interval(&gp, tdem);
             if (td_interp_lines(tl, im->w, im->h, &ip, &tli, &cx) == 0)
                 et = rmse_of(tli, tdem);
@@ -129,7 +144,7 @@ int main(int argc, char **argv)
                    et > 0 ? 100.0 * (e[0] / et - 1) : 0.0, walls, breaks, secs);
             fflush(stdout);
         next:
-            if (!getenv("BENCH_DEM_KEEP"))
+            if (!keep)
                 remove(path);
             td_image_free(im);
             td_lines_free(tl);
