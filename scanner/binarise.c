@@ -309,23 +309,53 @@ static int veto_core(const td_image *im, const uint8_t *veto, int x, int y)
     return 0;
 }
 
-/* Where another ink is printed (veto_core), the contour ink's strength is
- * cleared within VETO_R px: a red road's edges over a green tint look like
- * brown over it, and would join the contours it crosses.  With the veto
- * read on the scan with its tints divided out (orig: the scan as it is;
- * p->veto_im), within VETO_R_TINT px where the division changed the
- * pixel: the road's blurred edges over the tint stay brown-looking wider
- * (on the printed Front Range sheet they joined two contours across a
- * road at 1 px). */
-static void veto_row(const td_image *im, const td_image *orig,
-                     const uint8_t *veto, td_grid_u8 *s, int y, int ylo,
-                     int yhi)
+/* The pixels of im that veto_core marks, packed one bit a pixel (rows of
+ * (w + 7) / 8 bytes) into *bits (calloc'ed); *bits NULL when the table
+ * marks no colour at all.  0 or TD_ENOMEM. */
+static int veto_bits(const td_image *im, const uint8_t *veto, uint8_t **bits,
+                     td_ctx *cx)
 {
+    size_t stride = ((size_t)im->w + 7) / 8, n = 0, i;
+    uint8_t *b;
+    int x, y;
+    *bits = NULL;
+    for (i = 0; i < LUT_SIZE; i++)
+        n += veto[i] != 0;
+    if (n == 0)
+        return 0;
+    if (!(b = td_calloc((size_t)im->h * stride + 1, 1, cx)))
+        return TD_ENOMEM;
+#pragma omp parallel for schedule(static) private(x)
+    for (y = 0; y < im->h; y++) { /* each row its own bytes */
+        uint8_t *row = b + (size_t)y * stride;
+        for (x = 0; x < im->w; x++)
+            if (veto_core(im, veto, x, y))
+                row[x >> 3] |= (uint8_t)(1u << (x & 7));
+    }
+    *bits = b;
+    return 0;
+}
+
+/* Where another ink is printed (veto_core; its packed bits vb), the
+ * contour ink's strength is cleared within VETO_R px: a red road's edges
+ * over a green tint look like brown over it, and would join the contours
+ * it crosses.  With the veto read on the scan with its tints divided out
+ * (im; orig: the scan as it is; p->veto_im), within VETO_R_TINT px where
+ * the division changed the pixel: the road's blurred edges over the tint
+ * stay brown-looking wider (on the printed Front Range sheet they joined
+ * two contours across a road at 1 px).  Rows ylo..yhi - 1 of s only. */
+static void veto_row(const td_image *im, const td_image *orig,
+                     const uint8_t *vb, td_grid_u8 *s, int y, int ylo, int yhi)
+{
+    const uint8_t *bits = vb + (size_t)y * (((size_t)im->w + 7) / 8);
     int x, yy, xx;
     for (x = 0; x < im->w; x++) {
         int r = VETO_R;
-        if (!veto_core(im, veto, x, y))
+        if (!(bits[x >> 3] >> (x & 7) & 1)) {
+            if (!bits[x >> 3])
+                x |= 7; /* the next byte */
             continue;
+        }
         if (orig &&
             memcmp(im->data + (size_t)y * im->stride + 3 * (size_t)x,
                    orig->data + (size_t)y * orig->stride + 3 * (size_t)x,
@@ -345,10 +375,10 @@ static void veto_row(const td_image *im, const td_image *orig,
 
 static int strength_pass(const td_image *im, const td_binarise_params *p,
                          td_grid_u8 *s, uint64_t *hist, double frac_end,
-                         td_palette *pal, td_ctx *cx)
+                         td_palette *pal, uint8_t **other, td_ctx *cx)
 {
     strength_ctx sc = {p, im, NULL};
-    uint8_t *veto = NULL;
+    uint8_t *veto = NULL, *vb = NULL;
     int b, nb, rc = 0;
     int vr = p->veto_im ? VETO_R_TINT : VETO_R;
     if (im->channels == 3 &&
@@ -400,7 +430,10 @@ static int strength_pass(const td_image *im, const td_binarise_params *p,
     }
     if (rc != 0 || (rc = td_progress(cx, "binarise", 0.5 * frac_end)) != 0)
         goto fail;
-    if (veto) {
+    if (veto &&
+        (rc = veto_bits(p->veto_im ? p->veto_im : im, veto, &vb, cx)) != 0)
+        goto fail;
+    if (vb) {
 #pragma omp parallel for schedule(dynamic)
         for (b = 0; b < nb; b++) {
             int y0 = b * BAND_ROWS,
@@ -408,7 +441,7 @@ static int strength_pass(const td_image *im, const td_binarise_params *p,
             for (v = y0 - vr > 0 ? y0 - vr : 0;
                  v < (y1 + vr < im->h ? y1 + vr : im->h); v++)
                 veto_row(p->veto_im ? p->veto_im : im, p->veto_im ? im : NULL,
-                         veto, s, v, y0, y1);
+                         vb, s, v, y0, y1);
         }
     }
     if (hist) {
@@ -430,6 +463,10 @@ static int strength_pass(const td_image *im, const td_binarise_params *p,
 fail:
     free(sc.lut);
     free(veto);
+    if (rc == 0 && other)
+        *other = vb;
+    else
+        free(vb);
     return rc;
 }
 
@@ -485,7 +522,7 @@ int td_binarise_strength(const td_image *im, const td_binarise_params *p,
 {
     td_palette pal;
     int rc = check_image(im, p, s, cx);
-    return rc != 0 ? rc : strength_pass(im, p, s, NULL, 1.0, &pal, cx);
+    return rc != 0 ? rc : strength_pass(im, p, s, NULL, 1.0, &pal, NULL, cx);
 }
 
 /* ---- thresholds ---------------------------------------------------------- */
@@ -1201,12 +1238,12 @@ int td_binarise(const td_image *im, const td_binarise_params *p,
 int td_binarise_pal(const td_image *im, const td_binarise_params *p,
                     td_grid_u8 *mask, td_palette *pal_out, td_ctx *cx)
 {
-    return td_binarise_seams(im, p, mask, pal_out, NULL, NULL, cx);
+    return td_binarise_seams(im, p, mask, pal_out, NULL, NULL, NULL, cx);
 }
 
 int td_binarise_seams(const td_image *im, const td_binarise_params *p,
                       td_grid_u8 *mask, td_palette *pal_out, uint8_t *seams,
-                      double *halftone, td_ctx *cx)
+                      double *halftone, uint8_t **other, td_ctx *cx)
 {
     uint64_t hist[256];
     td_palette pal;
@@ -1218,10 +1255,12 @@ int td_binarise_seams(const td_image *im, const td_binarise_params *p,
         *halftone = -1;
     if (pal_out)
         memset(pal_out, 0, sizeof *pal_out);
+    if (other)
+        *other = NULL;
     if ((rc = check_image(im, p, mask, cx)) != 0 ||
         (rc = check_params(p, cx)) != 0)
         goto fail;
-    rc = strength_pass(im, p, mask, hist, 0.4, &pal, cx);
+    rc = strength_pass(im, p, mask, hist, 0.4, &pal, other, cx);
     if (pal_out)
         *pal_out = pal;
     /* the local ink level on the palette's contour ink (printed colour
@@ -1258,6 +1297,10 @@ int td_binarise_seams(const td_image *im, const td_binarise_params *p,
     rc = td_progress(cx, "binarise", 1.0);
 fail:
     free(cores);
+    if (rc != 0 && other) {
+        free(*other);
+        *other = NULL;
+    }
     return rc;
 }
 
@@ -1265,33 +1308,15 @@ fail:
 int td_binarise_other_ink(const td_image *im, const td_palette *pal,
                           uint8_t **bits, td_ctx *cx)
 {
-    uint8_t *veto, *b;
-    size_t stride = ((size_t)im->w + 7) / 8, n = 0, i;
-    int x, y;
+    uint8_t *veto;
+    int rc;
     *bits = NULL;
     if (!pal || pal->n == 0 || pal->chosen < 0 || im->channels != 3)
         return 0;
     if (!(veto = td_malloc(LUT_SIZE, cx)))
         return TD_ENOMEM;
     td_palette_veto_lut(pal, veto);
-    for (i = 0; i < LUT_SIZE; i++)
-        n += veto[i] != 0;
-    if (n == 0) {
-        free(veto);
-        return 0;
-    }
-    if (!(b = td_calloc((size_t)im->h * stride + 1, 1, cx))) {
-        free(veto);
-        return TD_ENOMEM;
-    }
-#pragma omp parallel for schedule(static) private(x)
-    for (y = 0; y < im->h; y++) { /* each row its own bytes */
-        uint8_t *row = b + (size_t)y * stride;
-        for (x = 0; x < im->w; x++)
-            if (veto_core(im, veto, x, y))
-                row[x >> 3] |= (uint8_t)(1u << (x & 7));
-    }
+    rc = veto_bits(im, veto, bits, cx);
     free(veto);
-    *bits = b;
-    return 0;
+    return rc;
 }

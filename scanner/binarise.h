@@ -125,10 +125,13 @@ int td_binarise_pal(const td_image *im, const td_binarise_params *p,
  * paper's mean to the ink's, over those above the sheet's level (-1 with
  * Sauvola's local levels).  Times half the lines' width it is about the
  * width of the ink's edges in px: 0.41-0.48 on crisp sheets, 0.68-0.93
- * blurred by 0.8-1.2 px (binarise.md, "Crisp ink"). */
+ * blurred by 0.8-1.2 px (binarise.md, "Crisp ink").  *other (may be
+ * NULL) gets what td_binarise_other_ink gives for im and the palette
+ * found (the bits the veto cleared the strength round, computed once;
+ * free them), NULL when there is no veto. */
 int td_binarise_seams(const td_image *im, const td_binarise_params *p,
                       td_grid_u8 *mask, td_palette *pal, uint8_t *seams,
-                      double *halftone, td_ctx *cx);
+                      double *halftone, uint8_t **other, td_ctx *cx);
 
 /* The pixels of im that another ink than the contour ink covers (the
  * palette's veto, as binarisation clears them: a road, a river, black

@@ -111,7 +111,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         bin.palette = &pal;
     }
     if ((rc = td_binarise_seams(src, &bin, g, &res->palette, seams, &halftone,
-                                cx)) != 0 ||
+                                &other, cx)) != 0 ||
         (rc = td_straight_remove(g, &p->straight, &res->straight_lines, cx)) !=
             0)
         goto fail;
@@ -140,10 +140,11 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     jp.w = im->w;
     jp.h = im->h;
     jp.record = jp.record || p->keep_debug; /* the overlay draws the joins */
-    if (p->do_join && p->join_other &&
-        (rc = td_binarise_other_ink(vsrc ? vsrc : src, &res->palette, &other,
-                                    cx)) != 0)
-        goto fail;
+    if (!(p->do_join && p->join_other)) {   /* binarisation's veto bits (the
+                                                other inks) not wanted */
+        free(other);
+        other = NULL;
+    }
     jp.other = other;
     if (p->do_join && p->join_other && p->join.cross_gap > 0 &&
         (rc = td_streams_water_bits(src, &res->palette, &water, cx)) != 0)

@@ -514,6 +514,44 @@ static void test_paper_only(void)
     td_image_free(im);
 }
 
+/* The other inks' map the joiner and the flank cut read comes from
+ * binarisation's veto now (computed once): on the printed Elkhorn sheet
+ * with its red roads it is what td_binarise_other_ink gives for the same
+ * scan and palette, bit for bit, and covers the roads (a few thousand
+ * pixels, not the contours' millions). */
+static void test_other_ink_once(void)
+{
+    td_gen_params gp;
+    td_grid_f32 *src = elkhorn_print(&gp, 4);
+    td_image *im = NULL;
+    td_grid_u8 *m = NULL;
+    td_palette pal;
+    uint8_t *once = NULL, *again = NULL;
+    td_binarise_params bp = td_binarise_defaults();
+    td_ctx cx;
+    if (!src)
+        return;
+    td_ctx_init(&cx);
+    TT_CHECK(td_gen_sheet(&gp, &im, NULL, NULL, &cx) == 0);
+    if (im && (m = td_grid_u8_new(im->w, im->h, &cx)) != NULL) {
+        size_t nb = (size_t)im->h * (((size_t)im->w + 7) / 8), i, set = 0;
+        TT_CHECKF(td_binarise_seams(im, &bp, m, &pal, NULL, NULL, &once, &cx) ==
+                      0,
+                  "%s", td_errmsg(&cx));
+        TT_CHECK(td_binarise_other_ink(im, &pal, &again, &cx) == 0);
+        TT_CHECK(once && again);
+        for (i = 0; once && i < nb; i++)
+            set += (size_t)__builtin_popcount(once[i]);
+        TT_CHECKF(once && again && memcmp(once, again, nb) == 0 && set > 1000 &&
+                      set < (size_t)im->w * im->h / 20,
+                  "%zu pixels of other ink", set);
+    }
+    free(once), free(again);
+    td_grid_u8_free(m);
+    td_image_free(im);
+    td_grid_f32_free(src);
+}
+
 int main(void)
 {
     TT_RUN(test_two_inks);
@@ -529,5 +567,6 @@ int main(void)
     TT_RUN(test_faint_grid_real);
     TT_RUN(test_grey_as_rgb);
     TT_RUN(test_paper_only);
+    TT_RUN(test_other_ink_once);
     return tt_summary();
 }
