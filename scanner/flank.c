@@ -75,32 +75,46 @@ static int hooks(const td_line *l, const double *s, size_t e, size_t b,
     return cs < cos(TD_FLANK_TURN * M_PI / 180.0);
 }
 
+/* Contract in flank.h. */
+int td_flank_axis(const uint8_t *bits, int w, int h, double x, double y, int r,
+                  int disc, double *ux, double *uy)
+{
+    size_t stride = ((size_t)w + 7) / 8;
+    int X = (int)floor(x), Y = (int)floor(y), dx, dy, n = 0;
+    double mx = 0, my = 0, xx = 0, yy = 0, xy = 0, a;
+    for (dy = -r; dy <= r; dy++)
+        for (dx = -r; dx <= r; dx++) {
+            int u = X + dx, v = Y + dy;
+            if ((disc && dx * dx + dy * dy > r * r) || u < 0 || v < 0 ||
+                u >= w || v >= h ||
+                !((bits[(size_t)v * stride + (size_t)(u >> 3)] >> (u & 7)) & 1))
+                continue;
+            n++, mx += dx, my += dy;
+            xx += (double)dx * dx, yy += (double)dy * dy, xy += (double)dx * dy;
+        }
+    if (n == 0)
+        return 0;
+    mx /= n, my /= n;
+    xx = xx / n - mx * mx, yy = yy / n - my * my, xy = xy / n - mx * my;
+    a = 0.5 * atan2(2 * xy, xx - yy);
+    *ux = cos(a), *uy = sin(a);
+    return n;
+}
+
 /* Whether the chord from (x0, y0) to (x1, y1) runs along the other ink's
  * strokes round (x0, y0): within TD_FLANK_ALONG degrees of the main axis
- * of its pixels in a (2 TD_FLANK_AXIS + 1)^2 window (their coordinates'
- * covariance), with at least 2 TD_FLANK_AXIS of them. */
+ * of its pixels in a (2 TD_FLANK_AXIS + 1)^2 window (td_flank_axis), with
+ * at least 2 TD_FLANK_AXIS of them. */
 static int along_ink(const uint8_t *bits, int w, int h, double x0, double y0,
                      double x1, double y1)
 {
-    size_t stride = ((size_t)w + 7) / 8;
-    int X = (int)floor(x0), Y = (int)floor(y0), u, v;
-    double n = 0, mx = 0, my = 0, sxx = 0, syy = 0, sxy = 0, a, cx, cy, c;
-    for (v = Y - TD_FLANK_AXIS; v <= Y + TD_FLANK_AXIS; v++)
-        for (u = X - TD_FLANK_AXIS; u <= X + TD_FLANK_AXIS; u++)
-            if (u >= 0 && v >= 0 && u < w && v < h &&
-                (bits[(size_t)v * stride + (size_t)(u >> 3)] >> (u & 7)) & 1) {
-                double dx = u - X, dy = v - Y;
-                n++, mx += dx, my += dy;
-                sxx += dx * dx, syy += dy * dy, sxy += dx * dy;
-            }
-    if (n < 2 * TD_FLANK_AXIS || (x1 == x0 && y1 == y0))
+    double ux = 0, uy = 0, cx = x1 - x0, cy = y1 - y0;
+    if (td_flank_axis(bits, w, h, x0, y0, TD_FLANK_AXIS, 0, &ux, &uy) <
+            2 * TD_FLANK_AXIS ||
+        (cx == 0 && cy == 0))
         return 0;
-    mx /= n, my /= n;
-    sxx = sxx / n - mx * mx, syy = syy / n - my * my, sxy = sxy / n - mx * my;
-    a = 0.5 * atan2(2 * sxy, sxx - syy); /* the main axis */
-    cx = x1 - x0, cy = y1 - y0;
-    c = fabs(cx * cos(a) + cy * sin(a)) / hypot(cx, cy);
-    return c >= cos(TD_FLANK_ALONG * M_PI / 180.0);
+    return fabs(cx * ux + cy * uy) / hypot(cx, cy) >=
+           cos(TD_FLANK_ALONG * M_PI / 180.0);
 }
 
 /* The corner of the hook at end e (0 or n - 1; step +1 from 0, -1 from

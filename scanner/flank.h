@@ -50,6 +50,13 @@ extern "C" {
  * (x, y). */
 int td_flank_near(const uint8_t *bits, int w, int h, double x, double y);
 
+/* The main axis (*ux, *uy, unit; the covariance of their coordinates) of
+ * the pixels of bits (as below) within r px of (floor x, floor y): the
+ * (2r + 1)^2 square, or the disc of radius r when disc.  Returns how many
+ * pixels it rests on (*ux, *uy untouched when none). */
+int td_flank_axis(const uint8_t *bits, int w, int h, double x, double y, int r,
+                  int disc, double *ux, double *uy);
+
 /* Cut out of ls every stretch that runs along another ink: within
  * TD_FLANK_NEAR px of its strokes in bits (w x h, one bit a pixel, rows of
  * (w + 7) / 8 bytes, as td_binarise_other_ink gives; NULL: nothing to

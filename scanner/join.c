@@ -24,6 +24,7 @@
  *   0.3 |ab| (long_cost), and the segment a-b meets no other line (a
  *   bucket grid of line segments). */
 #include "scanner/join.h"
+#include "scanner/flank.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -921,27 +922,8 @@ static int water_near(const td_join_params *p, double x, double y, int r)
 static int stream_dir(const td_join_params *p, double x, double y, double *sx,
                       double *sy)
 {
-    size_t stride = ((size_t)p->w + 7) / 8;
-    int X = (int)floor(x), Y = (int)floor(y), dx, dy, n = 0;
-    double mx = 0, my = 0, xx = 0, yy = 0, xy = 0, a;
-    for (dy = -STREAM_R; dy <= STREAM_R; dy++)
-        for (dx = -STREAM_R; dx <= STREAM_R; dx++) {
-            int u = X + dx, v = Y + dy;
-            if (dx * dx + dy * dy > STREAM_R * STREAM_R || u < 0 || v < 0 ||
-                u >= p->w || v >= p->h ||
-                !((p->water[(size_t)v * stride + (size_t)(u >> 3)] >> (u & 7)) &
-                  1))
-                continue;
-            n++, mx += dx, my += dy;
-            xx += (double)dx * dx, yy += (double)dy * dy, xy += (double)dx * dy;
-        }
-    if (n < STREAM_R)
-        return 0;
-    mx /= n, my /= n;
-    xx = xx / n - mx * mx, yy = yy / n - my * my, xy = xy / n - mx * my;
-    a = 0.5 * atan2(2 * xy, xx - yy);
-    *sx = cos(a), *sy = sin(a);
-    return 1;
+    return td_flank_axis(p->water, p->w, p->h, x, y, STREAM_R, 1, sx, sy) >=
+           STREAM_R;
 }
 
 /* The stream about P runs across the gap a-b (at least STREAM_CROSS from

@@ -19,6 +19,16 @@ static void put(uint8_t *b, int x, int y)
         b[y * STRIDE + (x >> 3)] |= (uint8_t)(1u << (x & 7));
 }
 
+/* An empty map of the other ink (W x H) and no lines; 0 (checked) when
+ * either cannot be had. */
+static int fixture(uint8_t **b, td_lines **ls)
+{
+    *b = calloc(STRIDE * H, 1);
+    *ls = td_lines_new(NULL);
+    TT_CHECK(*b && *ls);
+    return *b && *ls;
+}
+
 /* A road along y = 50 from x0 to x1, 2 px wide; dash > 0: on for dash px,
  * off for 2 dash (the patchy map of a thin road's 2 x 2 blocks). */
 static void road(uint8_t *b, int x0, int x1, int dash)
@@ -54,11 +64,10 @@ static void xrange(const td_line *l, double *lo, double *hi)
  * stretch goes, the two ends off the road stay as two lines. */
 static void test_flank_cut(void)
 {
-    uint8_t *b = calloc(STRIDE * H, 1);
-    td_lines *ls = td_lines_new(NULL);
+    uint8_t *b;
+    td_lines *ls;
     double lo, hi;
-    TT_CHECK(b && ls);
-    if (!b || !ls)
+    if (!fixture(&b, &ls))
         goto done;
     road(b, 40, 80, 0);
     line(ls, 10, 49, 110, 49, 100)->junc = 3;
@@ -83,10 +92,9 @@ done:
  * road); so does a line 4 px off the road, beside it. */
 static void test_crossing_kept(void)
 {
-    uint8_t *b = calloc(STRIDE * H, 1);
-    td_lines *ls = td_lines_new(NULL);
-    TT_CHECK(b && ls);
-    if (!b || !ls)
+    uint8_t *b;
+    td_lines *ls;
+    if (!fixture(&b, &ls))
         goto done;
     road(b, 0, W - 1, 0);
     line(ls, 60, 5, 60, 95, 90);
@@ -110,12 +118,11 @@ done:
  * point. */
 static void test_hook_trimmed(void)
 {
-    uint8_t *b = calloc(STRIDE * H, 1);
-    td_lines *ls = td_lines_new(NULL);
+    uint8_t *b;
+    td_lines *ls;
     td_line *l;
     int k;
-    TT_CHECK(b && ls);
-    if (!b || !ls)
+    if (!fixture(&b, &ls))
         goto done;
     road(b, 0, W - 1, 0);
     l = line(ls, 60, 5, 60, 46, 41);
@@ -149,12 +156,11 @@ static void test_hook_past_the_gap(void)
 {
     static const double hook[][2] = {{63, 40}, {63, 41}, {63, 42}, {63, 43},
                                      {64, 44}, {65, 45}, {66, 46}};
-    uint8_t *b = calloc(STRIDE * H, 1);
-    td_lines *ls = td_lines_new(NULL);
+    uint8_t *b;
+    td_lines *ls;
     td_line *l;
     int k;
-    TT_CHECK(b && ls);
-    if (!b || !ls)
+    if (!fixture(&b, &ls))
         goto done;
     for (k = 0; k < H; k++) /* the road down x = 60..61, its map cut at the
                                crossing */
@@ -195,13 +201,12 @@ done:
  * still cuts the flank; a ring with a side along the road opens there. */
 static void test_patchy_and_ring(void)
 {
-    uint8_t *b = calloc(STRIDE * H, 1);
-    td_lines *ls = td_lines_new(NULL);
+    uint8_t *b;
+    td_lines *ls;
     td_line *r;
     double lo, hi;
     int k;
-    TT_CHECK(b && ls);
-    if (!b || !ls)
+    if (!fixture(&b, &ls))
         goto done;
     road(b, 20, 100, 3);
     r = td_lines_add(ls, NULL);
