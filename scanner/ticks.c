@@ -11,7 +11,10 @@
 #define TICK_OVER 1.25    /* px: a tick widens the ink at least this much */
 #define TICK_REACH 8.0    /* px: and at most this much */
 #define TICK_SIDE 2.0     /* px: paper either side of a tick */
-#define TICK_SPACING 40.0 /* pen widths of ring per tick, at least */
+#define TICK_SPACING                                                           \
+    13.0 /* pen widths of ring per tick, at least: printed ticks come every \
+            8-12 line widths; sharp bends, grid lines and labels make 2-3   \
+            "ticks" on rings of any length (docs/scanner.md) */
 #define ONE_SIDE 0.75     /* px: a tick widens its side this much more */
 #define NARROW 4          /* vertices: a tick is about one pen wide */
 

@@ -19,9 +19,9 @@
  * wider than at the vertices about it, the extra ink on one side of the
  * traced line and a thin stroke there (paper 2 px to either side).  A
  * ring is marked when it has at least `min_in` ticks inside, at least one
- * per 40 pen widths of its length (the sheet's pen: td_pen_width) and
+ * per 13 pen widths of its length (the sheet's pen: td_pen_width) and
  * more than twice as many inside as outside; rings whose mean half-width
- * (2 area / perimeter) is under the pen plus 3 px are left unmarked (no
+ * (2 area / perimeter) is under the pen plus 2 px are left unmarked (no
  * room for a tick inside).  Returns the number of lines marked (>= 0) or
  * TD_ENOMEM. */
 long td_ticks_mark(td_lines *ls, const uint8_t *bits, int w, int h,
