@@ -2860,11 +2860,41 @@ static size_t one_value(const td_label_params *p, double *v)
     return n;
 }
 
+/* The same when all but one of them give one value: how many do (the
+ * odd one into *odd), 0 otherwise. */
+static size_t one_value_but_one(const td_label_params *p, double *v,
+                                const td_ocr_read **odd)
+{
+    size_t i, j, n = 0;
+    *odd = NULL;
+    for (j = 0; j < p->nlabels; j++) { /* j: the read left out */
+        const td_ocr_read *r = &p->labels[j];
+        double w = 0;
+        int one = 1;
+        if (r->spot || r->conf < SPAN_CONF)
+            continue;
+        for (i = 0, n = 0; i < p->nlabels && one; i++) {
+            const td_ocr_read *q = &p->labels[i];
+            if (i == j || q->spot || q->conf < SPAN_CONF)
+                continue;
+            one = n++ == 0 || q->value == w;
+            w = q->value;
+        }
+        if (one && n > 0 && w != r->value) {
+            *v = w;
+            *odd = r;
+            return n;
+        }
+    }
+    return 0;
+}
+
 /* Contract in heights_int.h. */
 int td_heights_infer(td_lines *ls, const td_label_params *p,
                      td_label_report *rep, td_ctx *cx)
 {
     td_label_params q = *p;
+    const td_ocr_read *odd = NULL;
     double I, I2, c1, c2, conf_all = 0, conf_agree = 0, v1 = 0;
     int rc, N = 0;
     size_t i, nl = 0, agree, nsure;
@@ -2881,6 +2911,15 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
                          nl == 1 ? " was" : "s were");
     if ((rc = infer_interval(ls, p, &I, &N, &c1, &c2, &I2, cx)) != 0)
         return rc;
+    if (I > 0 && c2 - c1 < fmax(INFER_MARGIN, 0.1 * c1) &&
+        (nsure = one_value_but_one(p, &v1, &odd)) >= MIN_INFER_LABELS)
+        /* the steps tried rest on one read, most likely a misread */
+        return td_seterr(cx, TD_EINVAL,
+                         "no interval: the %zu labels read for sure all say "
+                         "%g but one (%g near %.0f,%.0f, most likely "
+                         "misread), so no step between two of them tells "
+                         "it; give --interval I",
+                         nsure, v1, odd->value, odd->x, odd->y);
     if (I > 0 && c2 - c1 < fmax(INFER_MARGIN, 0.1 * c1))
         /* a broken or crowded trace: the topology cannot tell */
         return td_seterr(cx, TD_EINVAL,

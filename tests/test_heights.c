@@ -1061,6 +1061,16 @@ static void test_one_label_value_refused(void)
               "accuracy %.3f",
               rc, rc ? td_errmsg(&cx) : "", hs.interval, hs.score.accuracy);
     td_label_report_free(&hs.rep);
+    /* the printed scan: nine say 200 and a faded one reads "260" at
+       0.90; the steps tried (intervals 2 and 1) rest on that read alone,
+       and the error said they fit "about equally well" */
+    td_ctx_clear(&cx);
+    rc = labels_only(&hs, "elkhorn_srtm3.tif", 6, 20, 3, &cx);
+    TT_CHECKF(rc != 0 && strstr(td_errmsg(&cx), "all say 200 but one") &&
+                  strstr(td_errmsg(&cx), "--interval"),
+              "Elkhorn interval 20 printed, labels only: rc %d (%s)", rc,
+              rc ? td_errmsg(&cx) : "");
+    td_label_report_free(&hs.rep);
 }
 
 /* Front Range at interval 25 (scale 8), the colour scan with its river,
