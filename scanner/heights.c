@@ -2843,15 +2843,15 @@ done:
     return rc;
 }
 
-/* How many labels were read at least SPAN_CONF sure (spot heights
- * aside) when they all give one value (into *v); 0 when they differ or
- * none is that sure. */
-static size_t one_value(const td_label_params *p, double *v)
+/* How many labels were read at least SPAN_CONF sure (spot heights and
+ * label `skip` aside; SIZE_MAX: none) when they all give one value (into
+ * *v); 0 when they differ or none is that sure. */
+static size_t one_value_but(const td_label_params *p, size_t skip, double *v)
 {
     size_t i, n = 0;
     for (i = 0; i < p->nlabels; i++) {
         const td_ocr_read *r = &p->labels[i];
-        if (r->spot || r->conf < SPAN_CONF)
+        if (i == skip || r->spot || r->conf < SPAN_CONF)
             continue;
         if (n++ && r->value != *v)
             return 0;
@@ -2860,28 +2860,23 @@ static size_t one_value(const td_label_params *p, double *v)
     return n;
 }
 
+static size_t one_value(const td_label_params *p, double *v)
+{
+    return one_value_but(p, SIZE_MAX, v);
+}
+
 /* The same when all but one of them give one value: how many do (the
  * odd one into *odd), 0 otherwise. */
 static size_t one_value_but_one(const td_label_params *p, double *v,
                                 const td_ocr_read **odd)
 {
-    size_t i, j, n = 0;
+    size_t j, n;
     *odd = NULL;
     for (j = 0; j < p->nlabels; j++) { /* j: the read left out */
         const td_ocr_read *r = &p->labels[j];
-        double w = 0;
-        int one = 1;
         if (r->spot || r->conf < SPAN_CONF)
             continue;
-        for (i = 0, n = 0; i < p->nlabels && one; i++) {
-            const td_ocr_read *q = &p->labels[i];
-            if (i == j || q->spot || q->conf < SPAN_CONF)
-                continue;
-            one = n++ == 0 || q->value == w;
-            w = q->value;
-        }
-        if (one && n > 0 && w != r->value) {
-            *v = w;
+        if ((n = one_value_but(p, j, v)) > 0 && *v != r->value) {
             *odd = r;
             return n;
         }
