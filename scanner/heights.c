@@ -94,6 +94,7 @@
     0.7 /* a label step needs two values read at least this sure that          \
            differ by it: on Elkhorn at interval 20 every label read for        \
            sure said 200, and a "29" read at 0.5 made 0.5 m the interval */
+#define FAR_LEVELS 20.0    /* label_range */
 #define INFER_MARGIN 20.0  /* the runner-up interval costs at least this
                               (and 10 %) more, or none is inferred: half a
                               label read for sure */
@@ -493,7 +494,7 @@ static double lab_off(const hs *s, size_t c, long h)
  * lev[], cf[] (most confident first) and whether each was read turned
  * round; returns how many. */
 static int readings(const hs *s, const td_ocr_read *r, long *lev, double *cf,
-                    int *turned)
+                    int *turned, double lo_v, double hi_v)
 {
     int k, m = 0;
     for (k = -1; k < TD_OCR_ALTS; k++) {
@@ -502,12 +503,39 @@ static int readings(const hs *s, const td_ocr_read *r, long *lev, double *cf,
         double f = (v - s->p->base) / s->p->interval;
         if (!(c > 0))
             break;
-        if (fabs(f - lround(f)) > 1e-6)
+        if (fabs(f - lround(f)) > 1e-6 || v < lo_v || v > hi_v)
             continue;
         lev[m] = lround(f), cf[m] = c, turned[m] = k >= 0 && r->alt[k].turned;
         m++;
     }
     return m;
+}
+
+/* The heights a label can have: within the range of the labels read at
+ * least SPAN_CONF sure and the known points, widened by the larger of
+ * that range and FAR_LEVELS intervals (a read outside lost or gained a
+ * digit: on the printed Front Range 20 sheet "2040" read as "40" at 0.5
+ * tied its line 100 intervals below its neighbours); no limit without
+ * such labels or points. */
+static void label_range(const hs *s, double *lo_v, double *hi_v)
+{
+    double lo = HUGE_VAL, hi = -HUGE_VAL, I = s->p->interval, w;
+    size_t i;
+    for (i = 0; i < s->p->nlabels; i++) {
+        const td_ocr_read *r = &s->p->labels[i];
+        double f = (r->value - s->p->base) / I;
+        if (!r->spot && r->conf >= SPAN_CONF && fabs(f - lround(f)) < 1e-6)
+            lo = fmin(lo, r->value), hi = fmax(hi, r->value);
+    }
+    for (i = 0; i < s->p->nknown; i++)
+        lo = fmin(lo, s->p->known[i].height),
+        hi = fmax(hi, s->p->known[i].height);
+    if (lo > hi) {
+        *lo_v = -HUGE_VAL, *hi_v = HUGE_VAL;
+        return;
+    }
+    w = fmax(hi - lo, FAR_LEVELS * I);
+    *lo_v = lo - w, *hi_v = hi + w;
 }
 
 /* One printed label r on line l, read as the m levels lev (confidences
@@ -613,6 +641,8 @@ static void setup_labels(hs *s)
 {
     size_t i;
     int j;
+    double lo_v, hi_v;
+    label_range(s, &lo_v, &hi_v);
     for (i = 0; i < s->p->nlabels; i++) {
         td_ocr_read *r = &s->p->labels[i];
         long lev[NLAB];
@@ -622,8 +652,12 @@ static void setup_labels(hs *s)
             continue; /* setup_spots */
         r->used = 0;
         r->why = NULL;
-        if ((m = readings(s, r, lev, cf, turned)) == 0) {
+        if ((m = readings(s, r, lev, cf, turned, -HUGE_VAL, HUGE_VAL)) == 0) {
             r->why = "not base + a multiple of the interval";
+            continue;
+        }
+        if ((m = readings(s, r, lev, cf, turned, lo_v, hi_v)) == 0) {
+            r->why = "far outside the heights of the surer labels";
             continue;
         }
         for (j = 0; j < 2; j++)

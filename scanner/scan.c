@@ -34,6 +34,8 @@ td_scan_params td_scan_defaults(void)
     p.defringe = 0;
     p.fringe = td_defringe_defaults();
     p.detint = 0;
+    p.pale = 1;
+    p.pale_p = td_pale_defaults();
     return p;
 }
 
@@ -66,6 +68,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     td_binarise_params bin = p->bin;
     td_palette pal;
     td_image *vsrc = NULL; /* the scan with its tints divided out */
+    td_lines *pale = NULL; /* faded lines traced apart, till the ink's are */
     double t0, halftone = -1;
     int rc;
     memset(res, 0, sizeof *res);
@@ -116,6 +119,20 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             0)
         goto fail;
     res->seconds[0] = td_now() - t0;
+    if (p->pale && res->palette.n > 0) {
+        long np;
+        if (!(pale = td_lines_new(cx))) {
+            rc = TD_ENOMEM;
+            goto fail;
+        }
+        np = td_pale_trace(src, &res->palette, g, other, &p->pale_p, &p->spur,
+                           &p->trace, pale, cx);
+        if (np < 0) {
+            rc = (int)np;
+            goto fail;
+        }
+        res->pale = (size_t)np;
+    }
     rc = TD_ENOMEM;
     if (p->keep_debug && !(res->mask = td_grid_u8_dup(g, cx)))
         goto fail;
@@ -135,6 +152,16 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     t0 = td_now();
     if ((rc = td_trace(g, &p->trace, &res->lines, &res->trace, cx)) != 0)
         goto fail;
+    if (pale) {
+        size_t i;
+        for (i = 0; i < pale->n; i++) {
+            if ((rc = td_lines_append_copy(res->lines, &pale->v[i], cx)) != 0)
+                goto fail;
+            res->lines->v[res->lines->n - 1].id = (long)res->lines->n - 1;
+        }
+        td_lines_free(pale);
+        pale = NULL;
+    }
     res->seconds[3] = td_now() - t0;
     t0 = td_now();
     jp.w = im->w;
@@ -238,6 +265,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     free(seams);
     return 0;
 fail:
+    td_lines_free(pale);
     td_image_free(clean);
     td_image_free(vsrc);
     free(other);

@@ -21,6 +21,7 @@
 #include "scanner/defringe.h"
 #include "scanner/despur.h"
 #include "scanner/join.h"
+#include "scanner/pale.h"
 #include "scanner/straight.h"
 #include "scanner/thin.h"
 #include "scanner/trace.h"
@@ -93,6 +94,10 @@ typedef struct td_scan_params {
                              short lines whose core colour is no mixture
                              of the contour ink (text, road dashes;
                              foreign.h; ours), default 1 */
+    int pale;             /* colour scans read through the palette: faded
+                             contours found apart from the ink and traced
+                             on their own (pale.h; ours), default 1 */
+    td_pale_params pale_p;
     int keep_debug;       /* keep mask and skeleton copies in the result */
 } td_scan_params;
 
@@ -122,6 +127,7 @@ typedef struct td_scan_result {
     size_t flank_cuts;     /* stretches cut along other inks (flank.h) */
     size_t foreign;        /* short lines dropped as another ink's
                               (foreign.h) */
+    size_t pale;           /* faded lines traced apart (pale.h) */
     td_palette palette;    /* the inks found on a colour scan (--ink auto
                               or brown; n = 0 otherwise) */
     double seconds[5];     /* binarise, thin, despur, trace, join */

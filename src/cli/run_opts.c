@@ -65,6 +65,9 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
         {"detint", 0, TD_OPT_FLAG, &r->p.scan.detint, .help =
          "colour scans: inks over a tint divided by\nit (ours; see topodig "
          "scan --help)"},
+        {"no-pale", 0, TD_OPT_OFF, &r->p.scan.pale, .help =
+         "colour scans: no faded lines traced apart\n(ours; see topodig scan "
+         "--help)"},
         {"defringe", 0, TD_OPT_FLAG, &r->p.scan.defringe, .help =
          "colour scans: colour fringes out before the\ninks are found "
          "(ours; see topodig scan --help)"},

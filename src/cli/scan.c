@@ -78,6 +78,11 @@ static int parse_args(int argc, char **argv, scan_opts *o)
         {"no-local-level", 0, TD_OPT_OFF, &p->bin.local_level, .help =
          "one Otsu level everywhere (by default, ours,\ntiles where the ink "
          "came out paler than\nthe sheet's threshold lower)"},
+        {"no-pale", 0, TD_OPT_OFF, &p->pale, .help =
+         "colour scans: no faded lines traced apart\n(by default, ours, thin "
+         "ridges of the\ncontour ink's colour too pale for the\nthreshold, "
+         "clear of the ink, are traced\non their own and joined by their "
+         "ends:\nsee docs/scanner.md, 'Faded lines apart')"},
         {"cores", 0, TD_OPT_FLAG, &p->bin.cores, .help =
          "colour scans, faded print (ours): thin\nridges of the contour "
          "ink's strength\njoined to the ink are ink (more of a faded\n"

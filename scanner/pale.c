@@ -1,0 +1,256 @@
+/* pale.c: faded contours traced apart from the ink.  See pale.h. */
+#include "scanner/pale.h"
+
+#include "scanner/straight.h"
+#include "scanner/thin.h"
+#include "src/io/io.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+td_pale_params td_pale_defaults(void)
+{
+    td_pale_params p;
+    p.depth = 0.15;
+    p.hue_cos = 0.9;
+    p.apart = 2;
+    p.min_points = 12;
+    return p;
+}
+
+#define PALE_BLOCK 32 /* rows per block of work */
+
+#define BIT(b, st, x, y) (((b)[(size_t)(y) * (st) + ((x) >> 3)] >> ((x)&7)) & 1)
+
+typedef struct ridge_ctx {
+    const td_image *im;
+    float d[3];                 /* paper - ink, RGB */
+    float inv;                  /* 1 / |d|^2 */
+    float depth;                /* p->depth */
+    float cos2;                 /* p->hue_cos^2 */
+    float dn;                   /* |d| */
+    float o[TD_PALETTE_MAX][3]; /* the other inks' paper - ink, unit */
+    int no;
+} ridge_ctx;
+
+static int near_ink(const td_grid_u8 *mask, const uint8_t *other, size_t stride,
+                    int x, int y, int r);
+
+/* How far colour c lies along paper -> ink from the palette's paper: 0 at
+ * the paper, 1 at the ink (a lighter paper is negative), less the same
+ * for black (a constant: only differences are used). */
+static float along(const ridge_ctx *rc, const uint8_t *c)
+{
+    return -((float)c[0] * rc->d[0] + (float)c[1] * rc->d[1] +
+             (float)c[2] * rc->d[2]) *
+           rc->inv;
+}
+
+/* Pixel x of row y (2 px inside the sheet; a: its value of along, rows w
+ * apart) is a ridge along paper -> ink: along one of four directions at
+ * least as far along as both neighbours, depth further than both pixels
+ * 2 px off, and its difference from them pointing from paper to ink more
+ * than to any other ink. */
+static int pale_ridge(const ridge_ctx *rc, const float *a, int x, int y,
+                      ptrdiff_t w)
+{
+    static const int d[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+    float s = a[0];
+    int k;
+    for (k = 0; k < 4; k++) {
+        int dx = d[k][0], dy = d[k][1], c;
+        ptrdiff_t o = dy * w + dx;
+        float e[3], ed = 0, ee = 0;
+        const uint8_t *p0, *pa, *pb;
+        if (a[-o] > s || a[o] > s || a[-2 * o] + rc->depth > s ||
+            a[2 * o] + rc->depth > s)
+            continue;
+        p0 = rc->im->data + (size_t)y * rc->im->stride + (size_t)x * 3;
+        pa = rc->im->data + (size_t)(y - 2 * dy) * rc->im->stride +
+             (size_t)(x - 2 * dx) * 3;
+        pb = rc->im->data + (size_t)(y + 2 * dy) * rc->im->stride +
+             (size_t)(x + 2 * dx) * 3;
+        for (c = 0; c < 3; c++) {
+            e[c] = 0.5f * ((float)pa[c] + (float)pb[c]) - (float)p0[c];
+            ed += e[c] * rc->d[c];
+            ee += e[c] * e[c];
+        }
+        if (ed > 0 && ed * ed >= rc->cos2 * ee * rc->dn * rc->dn) {
+            int j;
+            for (j = 0; j < rc->no; j++) /* nearer another ink's way */
+                if (e[0] * rc->o[j][0] + e[1] * rc->o[j][1] +
+                        e[2] * rc->o[j][2] >
+                    ed / rc->dn)
+                    break;
+            if (j == rc->no)
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* The ridges of rows [ya, yb) into bits (rows stride bytes), buf holding
+ * along for rows ya - 2 .. yb + 1 (w floats each). */
+static void ridge_rows(const ridge_ctx *rc, const td_grid_u8 *mask,
+                       const uint8_t *other, int apart, int ya, int yb,
+                       float *buf, uint8_t *bits, size_t stride)
+{
+    const td_image *im = rc->im;
+    int y, x, r0 = ya - 2 < 0 ? 0 : ya - 2,
+              r1 = yb + 2 > im->h ? im->h : yb + 2;
+    for (y = r0; y < r1; y++) {
+        const uint8_t *px = im->data + (size_t)y * im->stride;
+        float *row = buf + (size_t)(y - (ya - 2)) * (size_t)im->w;
+        for (x = 0; x < im->w; x++)
+            row[x] = along(rc, px + 3 * (size_t)x);
+    }
+    for (y = ya < 2 ? 2 : ya; y < yb && y < im->h - 2; y++) {
+        const float *row = buf + (size_t)(y - (ya - 2)) * (size_t)im->w;
+        const uint8_t *m = mask->data + (size_t)y * mask->stride;
+        uint8_t *b = bits + (size_t)y * stride;
+        for (x = 2; x < im->w - 2; x++)
+            if (!m[x] && pale_ridge(rc, row + x, x, y, im->w) &&
+                !near_ink(mask, other, stride, x, y, apart))
+                b[x >> 3] |= (uint8_t)(1u << (x & 7));
+    }
+}
+
+/* Anything of mask (nonzero) or other (bits) within r px of (x, y). */
+static int near_ink(const td_grid_u8 *mask, const uint8_t *other, size_t stride,
+                    int x, int y, int r)
+{
+    int u, v;
+    for (v = y - r; v <= y + r; v++)
+        for (u = x - r; u <= x + r; u++) {
+            if (u < 0 || v < 0 || u >= mask->w || v >= mask->h)
+                continue;
+            if (mask->data[(size_t)v * mask->stride + u] ||
+                (other && BIT(other, stride, u, v)))
+                return 1;
+        }
+    return 0;
+}
+
+/* Contract in pale.h. */
+long td_pale_trace(const td_image *im, const td_palette *pal,
+                   const td_grid_u8 *mask, const uint8_t *other,
+                   const td_pale_params *p, const td_despur_params *sp,
+                   const td_trace_params *tp, td_lines *lines, td_ctx *cx)
+{
+    size_t stride = ((size_t)im->w + 7) / 8, i;
+    uint8_t *bits;
+    ridge_ctx rc;
+    td_grid_u8 *g = NULL;
+    td_lines *pl = NULL;
+    td_thin_stats ts;
+    td_despur_stats ds;
+    td_trace_stats trs;
+    int x, y, x0 = im->w, y0 = im->h, x1 = -1, y1 = -1, pad, c, k, err = 0;
+    long added = 0;
+    td_straight_params st = td_straight_defaults();
+    float dd = 0;
+    if (im->channels != 3 || pal->n == 0 || pal->chosen < 0 || im->w < 5 ||
+        im->h < 5)
+        return 0;
+    for (c = 0; c < 3; c++) {
+        rc.d[c] = (float)pal->ink[pal->paper].rgb[c] -
+                  (float)pal->ink[pal->chosen].rgb[c];
+        dd += rc.d[c] * rc.d[c];
+    }
+    if (dd < 100.0f)
+        return 0;
+    rc.im = im;
+    rc.inv = 1.0f / dd;
+    rc.dn = sqrtf(dd);
+    rc.no = 0;
+    for (k = 0; k < pal->n; k++) {
+        float n2 = 0;
+        if (k == pal->paper || k == pal->chosen || (pal->also >> k & 1u))
+            continue;
+        for (c = 0; c < 3; c++) {
+            rc.o[rc.no][c] =
+                (float)pal->ink[pal->paper].rgb[c] - (float)pal->ink[k].rgb[c];
+            n2 += rc.o[rc.no][c] * rc.o[rc.no][c];
+        }
+        if (n2 < 100.0f)
+            continue;
+        for (c = 0; c < 3; c++)
+            rc.o[rc.no][c] /= sqrtf(n2);
+        rc.no++;
+    }
+    rc.depth = (float)p->depth;
+    rc.cos2 = (float)(p->hue_cos * p->hue_cos);
+    if (!(bits = td_calloc(stride * (size_t)im->h + 1, 1, cx)))
+        return TD_ENOMEM;
+#pragma omp parallel
+    {
+        float *buf =
+            malloc((size_t)(PALE_BLOCK + 4) * (size_t)im->w * sizeof *buf);
+        int blk, nblk = (im->h + PALE_BLOCK - 1) / PALE_BLOCK;
+        if (!buf) {
+#pragma omp atomic write
+            err = TD_ENOMEM;
+        }
+#pragma omp for schedule(dynamic, 1)
+        for (blk = 0; blk < nblk; blk++)
+            if (buf) {
+                int ya = blk * PALE_BLOCK;
+                ridge_rows(&rc, mask, other, p->apart, ya,
+                           ya + PALE_BLOCK > im->h ? im->h : ya + PALE_BLOCK,
+                           buf, bits, stride);
+            }
+        free(buf);
+    }
+    if (err) {
+        err = td_seterr(cx, TD_ENOMEM, "pale lines: out of memory");
+        goto done;
+    }
+    for (y = 0; y < im->h; y++) /* the ridges' box */
+        for (x = 0; x < im->w; x++)
+            if (BIT(bits, stride, x, y)) {
+                x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
+                y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
+            }
+    if (x1 < 0)
+        goto done;
+    /* padded so that only the sheet's own border is near a traced end */
+    pad = tp->edge_dist + 4;
+    x0 = x0 - pad < 0 ? 0 : x0 - pad, y0 = y0 - pad < 0 ? 0 : y0 - pad;
+    x1 = x1 + pad >= im->w ? im->w - 1 : x1 + pad;
+    y1 = y1 + pad >= im->h ? im->h - 1 : y1 + pad;
+    if (!(g = td_grid_u8_new(x1 - x0 + 1, y1 - y0 + 1, cx))) {
+        err = TD_ENOMEM;
+        goto done;
+    }
+    for (y = y0; y <= y1; y++)
+        for (x = x0; x <= x1; x++)
+            g->data[(size_t)(y - y0) * g->stride + (x - x0)] =
+                (uint8_t)BIT(bits, stride, x, y);
+    free(bits);
+    bits = NULL;
+    if ((err = td_straight_remove(g, &st, NULL, cx)) != 0 ||
+        (err = td_cv_remove_specks(g, 8, NULL, cx)) != 0 ||
+        (err = td_thin_hilditch(g, &ts, cx)) != 0 ||
+        (err = td_despur(g, sp, &ds, cx)) != 0 ||
+        (err = td_trace(g, tp, &pl, &trs, cx)) != 0)
+        goto done;
+    for (i = 0; i < pl->n && err == 0; i++) {
+        td_line *l = &pl->v[i];
+        size_t q;
+        if (l->n < (size_t)p->min_points)
+            continue;
+        for (q = 0; q < l->n; q++)
+            l->xy[2 * q] += x0, l->xy[2 * q + 1] += y0;
+        if ((err = td_lines_append_copy(lines, l, cx)) == 0) {
+            lines->v[lines->n - 1].id = (long)lines->n - 1;
+            added++;
+        }
+    }
+done:
+    free(bits);
+    td_lines_free(pl);
+    td_grid_u8_free(g);
+    return err ? err : added;
+}

@@ -1,0 +1,52 @@
+/* pale.h: faded contours traced apart from the ink (ours; colour scans;
+ * not in the papers).  docs/scanner.md, "Faded lines apart".
+ *
+ * A printed sheet fades and yellows unevenly: where its paper is lighter
+ * than the palette's paper, a contour at a third of the ink's strength is
+ * as dark as the palette's paper and no threshold on the ink's strength
+ * keeps it, though the eye sees it plainly.  What stays is its shape: a
+ * thin ridge of colour change along the paper-to-ink direction.  Such
+ * ridges, found apart from (never touching) the thresholded ink, are
+ * thinned and traced on their own, and the joiner pairs their ends with
+ * the ink's lines by its end rules, so a faded stretch never ties two
+ * contours by a contact. */
+#ifndef TD_PALE_H
+#define TD_PALE_H
+
+#include "scanner/despur.h"
+#include "scanner/palette.h"
+#include "scanner/trace.h"
+#include "src/core/core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct td_pale_params {
+    double depth;   /* a ridge pixel is at least this share of the paper
+                       to ink distance darker (along it) than both pixels
+                       2 px off across it (default 0.15) */
+    double hue_cos; /* and its difference from them points from paper to
+                       ink within this cosine (default 0.9) */
+    int apart;      /* px kept clear round the ink and other inks
+                       (default 2) */
+    int min_points; /* shortest pale line kept, points (default 12) */
+} td_pale_params;
+
+td_pale_params td_pale_defaults(void);
+
+/* Faded lines of RGB scan im (pal: its palette, with a chosen contour
+ * ink) not within p->apart px of mask's ink (0/1, w x h of im) nor of
+ * other's pixels (packed bits as td_binarise_other_ink, or NULL), traced
+ * with sp and tp and appended to lines.  Returns the number of lines
+ * added (0 on grey scans or without a chosen ink) or a negative TD_E*. */
+long td_pale_trace(const td_image *im, const td_palette *pal,
+                   const td_grid_u8 *mask, const uint8_t *other,
+                   const td_pale_params *p, const td_despur_params *sp,
+                   const td_trace_params *tp, td_lines *lines, td_ctx *cx);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
