@@ -48,24 +48,20 @@ static float along(const ridge_ctx *rc, const uint8_t *c)
            rc->inv;
 }
 
-/* Pixel x of row y (2 px inside the sheet; a: its value of along, rows w
- * apart) is a ridge along paper -> ink: along one of four directions at
- * least as far along as both neighbours, depth further than both pixels
- * 2 px off, and its difference from them pointing from paper to ink more
- * than to any other ink. */
-static int pale_ridge(const ridge_ctx *rc, const float *a, int x, int y,
-                      ptrdiff_t w)
+/* The directions (bit k of d[k]: along a row, a column, the two
+ * diagonals) along which pixel x of row y (2 px inside the sheet) is a
+ * ridge of along whose difference from the pixels 2 px off points from
+ * paper to ink more than to any other ink: 0 when none. */
+static const int dir4[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+
+static int pale_hue(const ridge_ctx *rc, int x, int y, unsigned dirs)
 {
-    static const int d[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
-    float s = a[0];
     int k;
     for (k = 0; k < 4; k++) {
-        int dx = d[k][0], dy = d[k][1], c;
-        ptrdiff_t o = dy * w + dx;
+        int dx = dir4[k][0], dy = dir4[k][1], c, j;
         float e[3], ed = 0, ee = 0;
         const uint8_t *p0, *pa, *pb;
-        if (a[-o] > s || a[o] > s || a[-2 * o] + rc->depth > s ||
-            a[2 * o] + rc->depth > s)
+        if (!(dirs >> k & 1u))
             continue;
         p0 = rc->im->data + (size_t)y * rc->im->stride + (size_t)x * 3;
         pa = rc->im->data + (size_t)(y - 2 * dy) * rc->im->stride +
@@ -77,29 +73,55 @@ static int pale_ridge(const ridge_ctx *rc, const float *a, int x, int y,
             ed += e[c] * rc->d[c];
             ee += e[c] * e[c];
         }
-        if (ed > 0 && ed * ed >= rc->cos2 * ee * rc->dn * rc->dn) {
-            int j;
-            for (j = 0; j < rc->no; j++) /* nearer another ink's way */
-                if (e[0] * rc->o[j][0] + e[1] * rc->o[j][1] +
-                        e[2] * rc->o[j][2] >
-                    ed / rc->dn)
-                    break;
-            if (j == rc->no)
-                return 1;
-        }
+        if (!(ed > 0 && ed * ed >= rc->cos2 * ee * rc->dn * rc->dn))
+            continue;
+        for (j = 0; j < rc->no; j++) /* nearer another ink's way */
+            if (e[0] * rc->o[j][0] + e[1] * rc->o[j][1] + e[2] * rc->o[j][2] >
+                ed / rc->dn)
+                break;
+        if (j == rc->no)
+            return 1;
     }
     return 0;
 }
 
+/* Per pixel x of a row (r[2]; r[0..4] the rows 2 up .. 2 down) the
+ * directions along which it is at least as far along as both neighbours
+ * and depth further than both pixels 2 px off, into pk (0 at the ink of
+ * mask row m); branch-free so that the compiler vectorises it. */
+static void peak_row(const float *const *r, const uint8_t *m, int w,
+                     float depth, uint8_t *pk)
+{
+    const float *r0 = r[0], *r1 = r[1], *r2 = r[2], *r3 = r[3], *r4 = r[4];
+    int x;
+    for (x = 2; x < w - 2; x++) {
+        float s = r2[x], t = s - depth;
+        unsigned f;
+        f = (unsigned)((r2[x - 1] <= s) & (r2[x + 1] <= s) &
+                       (r2[x - 2] <= t) & (r2[x + 2] <= t));
+        f |= (unsigned)((r1[x] <= s) & (r3[x] <= s) & (r0[x] <= t) &
+                        (r4[x] <= t))
+             << 1;
+        f |= (unsigned)((r1[x - 1] <= s) & (r3[x + 1] <= s) &
+                        (r0[x - 2] <= t) & (r4[x + 2] <= t))
+             << 2;
+        f |= (unsigned)((r3[x - 1] <= s) & (r1[x + 1] <= s) &
+                        (r4[x - 2] <= t) & (r0[x + 2] <= t))
+             << 3;
+        pk[x] = (uint8_t)(m[x] ? 0u : f);
+    }
+}
+
 /* The ridges of rows [ya, yb) into bits (rows stride bytes), buf holding
- * along for rows ya - 2 .. yb + 1 (w floats each). */
+ * along for rows ya - 2 .. yb + 1 (w floats each) and then w bytes. */
 static void ridge_rows(const ridge_ctx *rc, const td_grid_u8 *mask,
                        const uint8_t *other, int apart, int ya, int yb,
                        float *buf, uint8_t *bits, size_t stride)
 {
     const td_image *im = rc->im;
-    int y, x, r0 = ya - 2 < 0 ? 0 : ya - 2,
-              r1 = yb + 2 > im->h ? im->h : yb + 2;
+    uint8_t *pk = (uint8_t *)(buf + (size_t)(yb - ya + 4) * (size_t)im->w);
+    int y, x, k, r0 = ya - 2 < 0 ? 0 : ya - 2,
+                 r1 = yb + 2 > im->h ? im->h : yb + 2;
     for (y = r0; y < r1; y++) {
         const uint8_t *px = im->data + (size_t)y * im->stride;
         float *row = buf + (size_t)(y - (ya - 2)) * (size_t)im->w;
@@ -107,11 +129,14 @@ static void ridge_rows(const ridge_ctx *rc, const td_grid_u8 *mask,
             row[x] = along(rc, px + 3 * (size_t)x);
     }
     for (y = ya < 2 ? 2 : ya; y < yb && y < im->h - 2; y++) {
-        const float *row = buf + (size_t)(y - (ya - 2)) * (size_t)im->w;
-        const uint8_t *m = mask->data + (size_t)y * mask->stride;
+        const float *r[5];
         uint8_t *b = bits + (size_t)y * stride;
+        for (k = 0; k < 5; k++)
+            r[k] = buf + (size_t)(y - 2 + k - (ya - 2)) * (size_t)im->w;
+        peak_row(r, mask->data + (size_t)y * mask->stride, im->w, rc->depth,
+                 pk);
         for (x = 2; x < im->w - 2; x++)
-            if (!m[x] && pale_ridge(rc, row + x, x, y, im->w) &&
+            if (pk[x] && pale_hue(rc, x, y, pk[x]) &&
                 !near_ink(mask, other, stride, x, y, apart))
                 b[x >> 3] |= (uint8_t)(1u << (x & 7));
     }
@@ -187,7 +212,7 @@ long td_pale_trace(const td_image *im, const td_palette *pal,
 #pragma omp parallel
     {
         float *buf =
-            malloc((size_t)(PALE_BLOCK + 4) * (size_t)im->w * sizeof *buf);
+            malloc((size_t)(PALE_BLOCK + 5) * (size_t)im->w * sizeof *buf);
         int blk, nblk = (im->h + PALE_BLOCK - 1) / PALE_BLOCK;
         if (!buf) {
 #pragma omp atomic write
@@ -207,12 +232,14 @@ long td_pale_trace(const td_image *im, const td_palette *pal,
         err = td_seterr(cx, TD_ENOMEM, "pale lines: out of memory");
         goto done;
     }
-    for (y = 0; y < im->h; y++) /* the ridges' box */
-        for (x = 0; x < im->w; x++)
-            if (BIT(bits, stride, x, y)) {
-                x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
+    for (y = 0; y < im->h; y++) /* the ridges' box (by bytes) */
+        for (i = 0; i < stride; i++)
+            if (bits[(size_t)y * stride + i]) {
+                int bx = (int)i * 8;
+                x0 = bx < x0 ? bx : x0, x1 = bx + 7 > x1 ? bx + 7 : x1;
                 y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
             }
+    x1 = x1 >= im->w ? im->w - 1 : x1;
     if (x1 < 0)
         goto done;
     /* padded so that only the sheet's own border is near a traced end */
@@ -224,10 +251,13 @@ long td_pale_trace(const td_image *im, const td_palette *pal,
         err = TD_ENOMEM;
         goto done;
     }
-    for (y = y0; y <= y1; y++)
-        for (x = x0; x <= x1; x++)
-            g->data[(size_t)(y - y0) * g->stride + (x - x0)] =
-                (uint8_t)BIT(bits, stride, x, y);
+    for (y = y0; y <= y1; y++) /* grid_new zeroes; the set bits only */
+        for (i = (size_t)x0 / 8; i <= (size_t)x1 / 8; i++) {
+            unsigned v = bits[(size_t)y * stride + i];
+            for (x = (int)i * 8; v; v >>= 1, x++)
+                if ((v & 1u) && x >= x0 && x <= x1)
+                    g->data[(size_t)(y - y0) * g->stride + (x - x0)] = 1;
+        }
     free(bits);
     bits = NULL;
     if ((err = td_straight_remove(g, &st, NULL, cx)) != 0 ||
