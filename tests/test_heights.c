@@ -1043,6 +1043,44 @@ static void test_label_pulls_near(void)
     td_label_report_free(&hs.rep);
 }
 
+/* A read that lost its leading digits ("2560" read as "60", confidence
+ * 0.5) on the fourth of five nested rings, with sure reads of 2500 and
+ * 2520 on the outer two (interval 20): it lies far outside the heights of
+ * the surer labels (2500-2520 widened by 20 intervals) and is refused as
+ * such; the ring gets 2560 from the rings round it, not 60. */
+static void test_label_far_refused(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_label_params p = params(400, 400, 20);
+    td_label_report rep;
+    td_ocr_read r[3];
+    td_ctx cx;
+    int k;
+    td_ctx_init(&cx);
+    for (k = 0; k < 5; k++)
+        circle(ls, 200, 200, 180 - 35 * k, 0);
+    memset(r, 0, sizeof r);
+    for (k = 0; k < 3; k++) {
+        int ring = k < 2 ? k : 3;
+        r[k].x = 200 + 180 - 35 * ring, r[k].y = 200;
+        r[k].ux = 0, r[k].uy = -1, r[k].digit_px = 12, r[k].len = 30;
+        r[k].value = k < 2 ? 2500 + 20 * k : 60;
+        r[k].conf = k < 2 ? 0.95 : 0.5;
+        r[k].line[0] = ring, r[k].line[1] = -1;
+    }
+    p.labels = r;
+    p.nlabels = 3;
+    TT_CHECKF(td_label_auto(ls, &p, &rep, &cx) == 0, "%s", td_errmsg(&cx));
+    TT_CHECKF(r[0].used && r[1].used && !r[2].used && r[2].why &&
+                  strstr(r[2].why, "far outside"),
+              "used %d %d %d, why \"%s\"", r[0].used, r[1].used, r[2].used,
+              r[2].why ? r[2].why : "");
+    TT_CHECKF(ls->v[3].has_height && ls->v[3].height == 2560,
+              "ring 4: %g", ls->v[3].height);
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+}
+
 /* Elkhorn at interval 20 (scale 6), scanned, no hint: the relief holds
  * one index height, and every label read for sure says 200; a "29" read
  * at confidence 0.5 spanned a step with it, and 0.5 m was inferred as the
@@ -1505,6 +1543,7 @@ int main(void)
     TT_RUN(test_label_gap_walls);
     TT_RUN(test_pair_walls);
     TT_RUN(test_known_line_in_doubt);
+    TT_RUN(test_label_far_refused);
     TT_RUN(test_short_piece_in_doubt);
     TT_RUN(test_one_label_value_refused);
     TT_RUN(test_label_pulls_near);
