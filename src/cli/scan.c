@@ -206,6 +206,10 @@ static void summary(const td_scan_result *r, double secs)
                 "end was as near (joined, the line would step onto the next "
                 "contour)\n", r->join.gaps_open,
                 r->join.gaps_open == 1 ? "" : "s");
+    if (r->pale > 0)
+        fprintf(stderr, "scan: %zu faded piece%s of contour traced apart from "
+                "the ink (--no-pale: without)\n", r->pale,
+                r->pale == 1 ? "" : "s");
     if (r->foreign > 0)
         fprintf(stderr,
                 "scan: %zu short line%s in another ink's colour dropped (text, "
