@@ -94,21 +94,22 @@ static void peak_row(const float *const *r, const uint8_t *m, int w,
 {
     const float *r0 = r[0], *r1 = r[1], *r2 = r[2], *r3 = r[3], *r4 = r[4];
     int x;
+#pragma omp simd
     for (x = 2; x < w - 2; x++) {
         float s = r2[x], t = s - depth;
         unsigned f;
-        f = (unsigned)((r2[x - 1] <= s) & (r2[x + 1] <= s) &
-                       (r2[x - 2] <= t) & (r2[x + 2] <= t));
+        f = (unsigned)((r2[x - 1] <= s) & (r2[x + 1] <= s) & (r2[x - 2] <= t) &
+                       (r2[x + 2] <= t));
         f |= (unsigned)((r1[x] <= s) & (r3[x] <= s) & (r0[x] <= t) &
                         (r4[x] <= t))
              << 1;
-        f |= (unsigned)((r1[x - 1] <= s) & (r3[x + 1] <= s) &
-                        (r0[x - 2] <= t) & (r4[x + 2] <= t))
+        f |= (unsigned)((r1[x - 1] <= s) & (r3[x + 1] <= s) & (r0[x - 2] <= t) &
+                        (r4[x + 2] <= t))
              << 2;
-        f |= (unsigned)((r3[x - 1] <= s) & (r1[x + 1] <= s) &
-                        (r4[x - 2] <= t) & (r0[x + 2] <= t))
+        f |= (unsigned)((r3[x - 1] <= s) & (r1[x + 1] <= s) & (r4[x - 2] <= t) &
+                        (r0[x + 2] <= t))
              << 3;
-        pk[x] = (uint8_t)(m[x] ? 0u : f);
+        pk[x] = (uint8_t)(f * (unsigned)(m[x] == 0));
     }
 }
 
@@ -125,6 +126,7 @@ static void ridge_rows(const ridge_ctx *rc, const td_grid_u8 *mask,
     for (y = r0; y < r1; y++) {
         const uint8_t *px = im->data + (size_t)y * im->stride;
         float *row = buf + (size_t)(y - (ya - 2)) * (size_t)im->w;
+#pragma omp simd
         for (x = 0; x < im->w; x++)
             row[x] = along(rc, px + 3 * (size_t)x);
     }
