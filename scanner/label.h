@@ -256,6 +256,14 @@ int td_label_use_ink(const td_lines *ls, int every, td_ctx *cx);
 int td_label_thick_cut(const td_lines *ls, const td_label_params *p,
                        double *cut, int *inked, td_ctx *cx);
 
+/* How many thin lines lie between two consecutive thick ones (weight >=
+ * cut; lines under 30 px or unmeasured break a count) along transects
+ * every 16 px, rows and columns, of an h px high sheet: hist[k] (k =
+ * 1..20) the counts of k, hist[0] their total (hist: 21 entries).
+ * Returns the commonest k (0 when none), or TD_ENOMEM. */
+int td_label_index_count(const td_lines *ls, double cut, int inked, int h,
+                         long *hist, td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

@@ -265,3 +265,101 @@ int td_label_check_index(const td_lines *ls, const td_label_params *p,
     }
     return 0;
 }
+
+/* ---- the index spacing counted along transects ---------------------------
+ * Along a straight transect, consecutive index contours are N lines apart
+ * (N - 1 thin ones between) wherever the ground climbs steadily; ridges,
+ * valleys and untraced lines make other counts, but the commonest is
+ * N - 1.  Transects: every SPACING_STEP px, rows and columns. */
+#define SPACING_STEP 16
+#define SPACING_MAX 20 /* thin lines between two thick ones counted */
+
+typedef struct xing {
+    int32_t t;  /* transect: rows first, then columns */
+    int8_t cls; /* 1 thick, 0 thin, -1 unknown (short or unmeasured) */
+    float at;   /* position along it */
+} xing;
+
+static int cmp_xing(const void *pa, const void *pb)
+{
+    const xing *a = pa, *b = pb;
+    if (a->t != b->t)
+        return (a->t > b->t) - (a->t < b->t);
+    return (a->at > b->at) - (a->at < b->at);
+}
+
+static int push_xing(xing **v, size_t *n, size_t *cap, xing x)
+{
+    if (*n == *cap) {
+        size_t nc = *cap ? 2 * *cap : 4096;
+        xing *q = realloc(*v, nc * sizeof *q);
+        if (!q)
+            return TD_ENOMEM;
+        *v = q, *cap = nc;
+    }
+    (*v)[(*n)++] = x;
+    return 0;
+}
+
+/* Contract in label.h. */
+int td_label_index_count(const td_lines *ls, double cut, int inked, int h,
+                         long *hist, td_ctx *cx)
+{
+    xing *v = NULL;
+    size_t n = 0, cap = 0, i, k;
+    long best = 0, total = 0;
+    int mode = 0, nrow = (h + SPACING_STEP - 1) / SPACING_STEP;
+    for (k = 0; k <= SPACING_MAX; k++)
+        hist[k] = 0;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        double wt = td_line_weight(l, inked);
+        int8_t cls = wt > 0 && td_line_length(l) >= MIN_CHECK_LEN
+                         ? (int8_t)(wt >= cut)
+                         : (int8_t)-1;
+        size_t m = l->n + (l->closed && l->n > 2 ? 1 : 0);
+        for (k = 0; k + 1 < m; k++) {
+            const double *a = l->xy + 2 * k, *b = l->xy + 2 * ((k + 1) % l->n);
+            int d;
+            for (d = 0; d < 2; d++) { /* 0: rows (y = const), 1: columns */
+                double a0 = a[1 - d], b0 = b[1 - d], lo = fmin(a0, b0),
+                       hi = fmax(a0, b0);
+                long r = (long)ceil((lo - 0.5 * SPACING_STEP) / SPACING_STEP);
+                for (; r * SPACING_STEP + 0.5 * SPACING_STEP < hi; r++) {
+                    double at = r * SPACING_STEP + 0.5 * SPACING_STEP, f;
+                    xing x;
+                    if (at < lo)
+                        continue;
+                    f = (at - a0) / (b0 - a0);
+                    x.t = (int32_t)(d ? nrow + r : r);
+                    x.cls = cls;
+                    x.at = (float)(a[d] + f * (b[d] - a[d]));
+                    if (push_xing(&v, &n, &cap, x) != 0) {
+                        free(v);
+                        return td_seterr(cx, TD_ENOMEM, "label: out of memory");
+                    }
+                }
+            }
+        }
+    }
+    if (n > 1)
+        qsort(v, n, sizeof *v, cmp_xing);
+    for (i = 0; i < n; i++) { /* from each thick crossing to the next */
+        int thin = 0;
+        if (v[i].cls != 1)
+            continue;
+        for (k = i + 1;
+             k < n && v[k].t == v[i].t && v[k].cls == 0 && thin <= SPACING_MAX;
+             k++)
+            thin++;
+        if (k < n && v[k].t == v[i].t && v[k].cls == 1 && thin >= 1 &&
+            thin <= SPACING_MAX)
+            hist[thin]++, total++;
+    }
+    free(v);
+    for (k = 1; k <= SPACING_MAX; k++)
+        if (hist[k] > best)
+            best = hist[k], mode = (int)k;
+    hist[0] = total;
+    return mode;
+}

@@ -657,8 +657,39 @@ static void test_index_widths(void)
     td_grid_f32_free(dem);
 }
 
+/* The index spacing counted along transects (td_label_index_count):
+ * 40 lines climbing a slope 8 px apart, every 5th 3.2 px wide and the
+ * others 1.8: the
+ * count of thin lines between two thick ones is 4 on every transect
+ * across the slope; an unmeasured line breaks a count. */
+static void test_index_counted(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    long hist[21];
+    int k, mode, x;
+    for (k = 0; k < 40; k++) {
+        td_line *l = td_lines_add(ls, NULL);
+        for (x = 0; x <= 400; x += 4)
+            td_line_push(l, x, 10 + 8 * k, NULL);
+        l->width = k % 5 == 0 ? 3.2 : 1.8;
+    }
+    mode = td_label_index_count(ls, 2.4, 0, 340, hist, NULL);
+    /* 25 columns (x = 8, 24, ..., 392) cross 7 pairs of thick lines */
+    TT_CHECKF(mode == 4 && hist[4] == 175 && hist[0] == 175,
+              "mode %d, %ld of %ld", mode, hist[4], hist[0]);
+    { /* a short piece (unmeasured) between two thick lines breaks it */
+        td_line *l = td_lines_add(ls, NULL);
+        for (x = 0; x <= 400; x += 4)
+            td_line_push(l, x, 14, NULL);
+    }
+    mode = td_label_index_count(ls, 2.4, 0, 340, hist, NULL);
+    TT_CHECKF(mode == 4 && hist[0] == 150, "mode %d, %ld", mode, hist[0]);
+    td_lines_free(ls);
+}
+
 int main(void)
 {
+    TT_RUN(test_index_counted);
     TT_RUN(test_cone_one_point);
     TT_RUN(test_true_points_agree);
     TT_RUN(test_index_decides);
