@@ -38,9 +38,9 @@ typedef struct ridge_ctx {
 static int near_ink(const td_grid_u8 *mask, const uint8_t *other, size_t stride,
                     int x, int y, int r);
 
-/* How far colour c lies along paper -> ink from the palette's paper: 0 at
- * the paper, 1 at the ink (a lighter paper is negative), less the same
- * for black (a constant: only differences are used). */
+/* How far colour c lies along paper -> ink, in paper-to-ink distances,
+ * up to a constant (only differences are used: a lighter paper shifts
+ * it, the ridge test does not see that). */
 static float along(const ridge_ctx *rc, const uint8_t *c)
 {
     return -((float)c[0] * rc->d[0] + (float)c[1] * rc->d[1] +
@@ -48,12 +48,14 @@ static float along(const ridge_ctx *rc, const uint8_t *c)
            rc->inv;
 }
 
-/* The directions (bit k of d[k]: along a row, a column, the two
- * diagonals) along which pixel x of row y (2 px inside the sheet) is a
- * ridge of along whose difference from the pixels 2 px off points from
- * paper to ink more than to any other ink: 0 when none. */
+/* The four directions of the ridge test: along a row, a column and the
+ * two diagonals. */
 static const int dir4[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
 
+/* Whether, along one of the directions in dirs (bit k: dir4[k]; those
+ * along which pixel x of row y, 2 px inside the sheet, is a ridge), the
+ * pixel's difference from the two pixels 2 px off points from paper to
+ * contour ink within the cosine and more than to any other ink. */
 static int pale_hue(const ridge_ctx *rc, int x, int y, unsigned dirs)
 {
     int k;
@@ -160,6 +162,22 @@ static int near_ink(const td_grid_u8 *mask, const uint8_t *other, size_t stride,
     return 0;
 }
 
+/* The layer's sub-steps (grid, specks, thinning, spurs, tracing) report
+ * to the caller's progress as one stage, "faded lines", step k of 5. */
+typedef struct pale_prog {
+    td_ctx *outer;
+    int k;
+} pale_prog;
+
+static int pale_progress(const char *stage, double frac, void *user)
+{
+    const pale_prog *pp = user;
+    (void)stage;
+    return pp->outer->progress("faded lines",
+                               (pp->k + fmin(fmax(frac, 0.0), 1.0)) / 5.0,
+                               pp->outer->progress_user);
+}
+
 /* Contract in pale.h. */
 long td_pale_trace(const td_image *im, const td_palette *pal,
                    const td_grid_u8 *mask, const uint8_t *other,
@@ -177,6 +195,8 @@ long td_pale_trace(const td_image *im, const td_palette *pal,
     int x, y, x0 = im->w, y0 = im->h, x1 = -1, y1 = -1, pad, c, k, err = 0;
     long added = 0;
     td_straight_params st = td_straight_defaults();
+    td_ctx lc;
+    pale_prog pp;
     float dd = 0;
     if (im->channels != 3 || pal->n == 0 || pal->chosen < 0 || im->w < 5 ||
         im->h < 5)
@@ -262,12 +282,21 @@ long td_pale_trace(const td_image *im, const td_palette *pal,
         }
     free(bits);
     bits = NULL;
-    if ((err = td_straight_remove(g, &st, NULL, cx)) != 0 ||
-        (err = td_cv_remove_specks(g, 8, NULL, cx)) != 0 ||
-        (err = td_thin_hilditch(g, &ts, cx)) != 0 ||
-        (err = td_despur(g, sp, &ds, cx)) != 0 ||
-        (err = td_trace(g, tp, &pl, &trs, cx)) != 0)
+    td_ctx_init(&lc);
+    if (cx && cx->progress)
+        lc.progress = pale_progress, lc.progress_user = &pp;
+    pp.outer = cx, pp.k = 0;
+    if ((err = td_straight_remove(g, &st, NULL, &lc)) == 0 && ++pp.k &&
+        (err = td_cv_remove_specks(g, 8, NULL, &lc)) == 0 && ++pp.k &&
+        (err = td_thin_hilditch(g, &ts, &lc)) == 0 && ++pp.k &&
+        (err = td_despur(g, sp, &ds, &lc)) == 0 && ++pp.k)
+        err = td_trace(g, tp, &pl, &trs, &lc);
+    if (err) { /* the inner cause, in the caller's context */
+        if (cx && !cx->code)
+            td_seterr(cx, lc.code ? lc.code : err, "%s",
+                      lc.msg[0] ? lc.msg : "faded lines: failed");
         goto done;
+    }
     for (i = 0; i < pl->n && err == 0; i++) {
         td_line *l = &pl->v[i];
         size_t q;
