@@ -489,10 +489,11 @@ static void test_pinched_finger(void)
     td_image_free(im);
 }
 
-/* Sheet name of td_real_sheets printed (td_hsheet_defects kind 3), scanned
+/* Sheet name of td_real_sheets with td_hsheet_defects' kind, scanned
  * without faded lines apart (k 0) and with (k 1): scores into sc[k], the
  * faded lines added into *added; 0 or nonzero when it could not run. */
-static int pale_scores(const char *name, td_scanscore *sc, size_t *added)
+static int pale_scores(const char *name, int kind, td_scanscore *sc,
+                       size_t *added)
 {
     const td_real_sheet *rs = NULL;
     td_gen_params gp;
@@ -509,7 +510,7 @@ static int pale_scores(const char *name, td_scanscore *sc, size_t *added)
         return 1;
     if (rs->interval > 0)
         gp.interval = rs->interval;
-    td_hsheet_defects(&gp, 3);
+    td_hsheet_defects(&gp, kind);
     if (td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0)
         for (k = 0, rc = 0; k < 2 && rc == 0; k++) {
             td_scan_params sp = td_scan_defaults();
@@ -535,12 +536,14 @@ static int pale_scores(const char *name, td_scanscore *sc, size_t *added)
  * contour (own share and jumps as without); on the printed Orkhon 50
  * sheet, whose faded grey grid lines are as thin ridges, no grid line is
  * traced (precision 0.994 -> 0.976 before the pale layer's grid lines
- * were erased). */
+ * were erased); nor on the new print of Orkhon, whose grid is too faint
+ * for the grid finder and came out in straight pieces (precision 0.996 ->
+ * 0.994 before such pieces were dropped). */
 static void test_pale_lines(void)
 {
     td_scanscore sc[2];
     size_t added = 0;
-    TT_CHECK(pale_scores("frontrange20", sc, &added) == 0);
+    TT_CHECK(pale_scores("frontrange20", 3, sc, &added) == 0);
     fprintf(stderr,
             "  crowded printed: recall %.3f -> %.3f, precision %.3f -> %.3f, "
             "own %.3f -> %.3f, jumps %ld -> %ld of %ld -> %ld lines (%zu "
@@ -554,7 +557,7 @@ static void test_pale_lines(void)
     TT_CHECK(sc[1].own >= sc[0].own - 0.002);
     TT_CHECK((double)sc[1].n_jump / (double)sc[1].n_traced <=
              (double)sc[0].n_jump / (double)sc[0].n_traced + 0.003);
-    TT_CHECK(pale_scores("orkhon50", sc, &added) == 0);
+    TT_CHECK(pale_scores("orkhon50", 3, sc, &added) == 0);
     fprintf(stderr,
             "  Orkhon 50 printed: recall %.3f -> %.3f, precision "
             "%.3f -> %.3f (%zu faded added)\n",
@@ -562,6 +565,13 @@ static void test_pale_lines(void)
             added);
     TT_CHECK(sc[1].precision >= sc[0].precision - 0.004);
     TT_CHECK(sc[1].recall >= sc[0].recall - 0.001);
+    TT_CHECK(pale_scores("orkhon", 4, sc, &added) == 0);
+    fprintf(stderr,
+            "  Orkhon new print: recall %.3f -> %.3f, precision %.3f -> %.3f "
+            "(%zu faded added)\n",
+            sc[0].recall, sc[1].recall, sc[0].precision, sc[1].precision,
+            added);
+    TT_CHECK(sc[1].precision >= sc[0].precision - 0.001);
 }
 
 static void test_blank(void)
