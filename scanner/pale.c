@@ -202,7 +202,6 @@ static int pale_progress(const char *stage, double frac, void *user)
 /* Contract in pale.h. */
 long td_pale_trace(const td_image *im, const td_palette *pal,
                    const td_grid_u8 *mask, const uint8_t *other,
-                   const td_straight_line *grid, size_t ngrid,
                    const td_pale_params *p, const td_despur_params *sp,
                    const td_trace_params *tp, td_lines *lines, td_ctx *cx)
 {
@@ -276,7 +275,6 @@ long td_pale_trace(const td_image *im, const td_palette *pal,
         err = td_seterr(cx, TD_ENOMEM, "pale lines: out of memory");
         goto done;
     }
-    td_straight_clear_bits(bits, im->w, im->h, grid, ngrid, p->apart);
     for (y = 0; y < im->h; y++) /* the ridges' box (by bytes) */
         for (i = 0; i < stride; i++)
             if (bits[(size_t)y * stride + i]) {

@@ -15,7 +15,6 @@
 
 #include "scanner/despur.h"
 #include "scanner/palette.h"
-#include "scanner/straight.h"
 #include "scanner/trace.h"
 #include "src/core/core.h"
 
@@ -37,15 +36,12 @@ typedef struct td_pale_params {
 td_pale_params td_pale_defaults(void);
 
 /* Faded lines of RGB scan im (pal: its palette, with a chosen contour
- * ink) not within p->apart px of mask's ink (0/1, w x h of im), of
- * other's pixels (packed bits as td_binarise_other_ink, or NULL) or of
- * the ngrid grid lines found in the ink (td_straight_remove_lines; a
- * faint grid line's faded stretches are such ridges too), traced with sp
- * and tp and appended to lines.  Returns the number of lines added (0 on
- * grey scans or without a chosen ink) or a negative TD_E*. */
+ * ink) not within p->apart px of mask's ink (0/1, w x h of im) nor of
+ * other's pixels (packed bits as td_binarise_other_ink, or NULL), traced
+ * with sp and tp and appended to lines.  Returns the number of lines
+ * added (0 on grey scans or without a chosen ink) or a negative TD_E*. */
 long td_pale_trace(const td_image *im, const td_palette *pal,
                    const td_grid_u8 *mask, const uint8_t *other,
-                   const td_straight_line *grid, size_t ngrid,
                    const td_pale_params *p, const td_despur_params *sp,
                    const td_trace_params *tp, td_lines *lines, td_ctx *cx);
 

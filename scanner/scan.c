@@ -69,7 +69,6 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     td_palette pal;
     td_image *vsrc = NULL; /* the scan with its tints divided out */
     td_lines *pale = NULL; /* faded lines traced apart, till the ink's are */
-    td_straight_line grid[TD_STRAIGHT_MAX]; /* the grid lines erased */
     double t0, halftone = -1;
     int rc;
     memset(res, 0, sizeof *res);
@@ -116,8 +115,8 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     }
     if ((rc = td_binarise_seams(src, &bin, g, &res->palette, seams, &halftone,
                                 &other, cx)) != 0 ||
-        (rc = td_straight_remove_lines(g, &p->straight, grid,
-                                       &res->straight_lines, cx)) != 0)
+        (rc = td_straight_remove(g, &p->straight, &res->straight_lines, cx)) !=
+            0)
         goto fail;
     res->seconds[0] = td_now() - t0;
     if (p->pale && res->palette.n > 0) {
@@ -126,9 +125,8 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             rc = TD_ENOMEM;
             goto fail;
         }
-        np = td_pale_trace(src, &res->palette, g, other, grid,
-                           res->straight_lines, &p->pale_p, &p->spur, &p->trace,
-                           pale, cx);
+        np = td_pale_trace(src, &res->palette, g, other, &p->pale_p, &p->spur,
+                           &p->trace, pale, cx);
         if (np < 0) {
             rc = (int)np;
             goto fail;

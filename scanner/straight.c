@@ -325,7 +325,7 @@ static void erase(td_grid_u8 *g, int vertical, int nu, int nv, double a,
  * *found += lines erased. */
 static int one_direction(td_grid_u8 *g, int vertical,
                          const td_straight_params *p, size_t *found,
-                         td_straight_line *out, td_ctx *cx)
+                         td_ctx *cx)
 {
     int S = p->strip > 16 ? p->strip : 16;
     int nu = vertical ? g->w : g->h, nv = vertical ? g->h : g->w;
@@ -371,8 +371,6 @@ static int one_direction(td_grid_u8 *g, int vertical,
             continuity(g, vertical, nu, nv, a, b) < p->line_cover)
             continue;
         erase(g, vertical, nu, nv, a, b, w > MAX_RUN ? (int)w : MAX_RUN);
-        if (out)
-            out[*found] = (td_straight_line){vertical, a, b, w};
         (*found)++;
     }
     rc = 0;
@@ -386,43 +384,16 @@ done:
 }
 
 /* See straight.h. */
-int td_straight_remove_lines(td_grid_u8 *mask, const td_straight_params *p,
-                             td_straight_line *lines, size_t *found, td_ctx *cx)
+int td_straight_remove(td_grid_u8 *mask, const td_straight_params *p,
+                       size_t *found, td_ctx *cx)
 {
     size_t n = 0;
     int rc = 0;
     if (p->on)
-        rc = one_direction(mask, 1, p, &n, lines, cx);
+        rc = one_direction(mask, 1, p, &n, cx);
     if (rc == 0 && p->on)
-        rc = one_direction(mask, 0, p, &n, lines, cx);
+        rc = one_direction(mask, 0, p, &n, cx);
     if (found)
         *found = n;
     return rc;
-}
-
-int td_straight_remove(td_grid_u8 *mask, const td_straight_params *p,
-                       size_t *found, td_ctx *cx)
-{
-    return td_straight_remove_lines(mask, p, NULL, found, cx);
-}
-
-/* See straight.h. */
-void td_straight_clear_bits(uint8_t *bits, int w, int h,
-                            const td_straight_line *lines, size_t n, double pad)
-{
-    size_t stride = ((size_t)w + 7) / 8, i;
-    for (i = 0; i < n; i++) {
-        const td_straight_line *l = &lines[i];
-        int nu = l->vertical ? w : h, nv = l->vertical ? h : w, v, u;
-        double r = 0.5 * l->width + pad;
-        for (v = 0; v < nv; v++) {
-            double c = l->a + l->b * v;
-            int lo = (int)ceil(c - r), hi = (int)floor(c + r);
-            for (u = lo < 0 ? 0 : lo; u <= hi && u < nu; u++) {
-                int x = l->vertical ? u : v, y = l->vertical ? v : u;
-                bits[(size_t)y * stride + ((size_t)x >> 3)] &=
-                    (uint8_t) ~(1u << (x & 7));
-            }
-        }
-    }
 }

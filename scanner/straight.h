@@ -51,27 +51,6 @@ td_straight_params td_straight_defaults(void);
 int td_straight_remove(td_grid_u8 *mask, const td_straight_params *p,
                        size_t *found, td_ctx *cx);
 
-/* A line found: vertical ones x = a + b y, the others y = a + b x; its
- * ink's median width, px. */
-typedef struct td_straight_line {
-    int vertical;
-    double a, b, width;
-} td_straight_line;
-
-#define TD_STRAIGHT_MAX 128 /* lines found at most (64 each way) */
-
-/* td_straight_remove, the lines erased also into lines[0..*found-1]
- * (room for TD_STRAIGHT_MAX). */
-int td_straight_remove_lines(td_grid_u8 *mask, const td_straight_params *p,
-                             td_straight_line *lines, size_t *found,
-                             td_ctx *cx);
-
-/* Clear every pixel of the w x h packed bits (rows of (w + 7) / 8 bytes)
- * within half a line's width + pad px of one of the n lines. */
-void td_straight_clear_bits(uint8_t *bits, int w, int h,
-                            const td_straight_line *lines, size_t n,
-                            double pad);
-
 #ifdef __cplusplus
 }
 #endif
