@@ -511,30 +511,39 @@ static int readings(const hs *s, const td_ocr_read *r, long *lev, double *cf,
     return m;
 }
 
-/* The heights a label can have: within the range of the labels read at
+/* The heights the line labels read at least `least` sure (on base + a
+ * multiple of the interval) and the known points span, into *lo, *hi
+ * (lo > hi: none). */
+static void label_span(const hs *s, double least, double *lo, double *hi)
+{
+    size_t i;
+    *lo = HUGE_VAL, *hi = -HUGE_VAL;
+    for (i = 0; i < s->p->nlabels; i++) {
+        const td_ocr_read *r = &s->p->labels[i];
+        double f = (r->value - s->p->base) / s->p->interval;
+        if (!r->spot && r->conf >= least && fabs(f - lround(f)) < 1e-6)
+            *lo = fmin(*lo, r->value), *hi = fmax(*hi, r->value);
+    }
+    for (i = 0; i < s->p->nknown; i++)
+        *lo = fmin(*lo, s->p->known[i].height),
+        *hi = fmax(*hi, s->p->known[i].height);
+}
+
+/* The heights a label can have: within the span of the labels read at
  * least SPAN_CONF sure and the known points, widened by the larger of
- * that range and FAR_LEVELS intervals (a read outside lost or gained a
+ * that span and FAR_LEVELS intervals (a read outside lost or gained a
  * digit: on the printed Front Range 20 sheet "2040" read as "40" at 0.5
  * tied its line 100 intervals below its neighbours); no limit without
  * such labels or points. */
 static void label_range(const hs *s, double *lo_v, double *hi_v)
 {
-    double lo = HUGE_VAL, hi = -HUGE_VAL, I = s->p->interval, w;
-    size_t i;
-    for (i = 0; i < s->p->nlabels; i++) {
-        const td_ocr_read *r = &s->p->labels[i];
-        double f = (r->value - s->p->base) / I;
-        if (!r->spot && r->conf >= SPAN_CONF && fabs(f - lround(f)) < 1e-6)
-            lo = fmin(lo, r->value), hi = fmax(hi, r->value);
-    }
-    for (i = 0; i < s->p->nknown; i++)
-        lo = fmin(lo, s->p->known[i].height),
-        hi = fmax(hi, s->p->known[i].height);
+    double lo, hi, w;
+    label_span(s, SPAN_CONF, &lo, &hi);
     if (lo > hi) {
         *lo_v = -HUGE_VAL, *hi_v = HUGE_VAL;
         return;
     }
-    w = fmax(hi - lo, FAR_LEVELS * I);
+    w = fmax(hi - lo, FAR_LEVELS * s->p->interval);
     *lo_v = lo - w, *hi_v = hi + w;
 }
 
@@ -588,18 +597,10 @@ static void label_on(hs *s, const td_ocr_read *r, size_t l, const long *lev,
 static int setup_spots(hs *s, td_ctx *cx)
 {
     size_t i;
-    double lo_v = HUGE_VAL, hi_v = -HUGE_VAL, I = s->p->interval;
+    double lo_v, hi_v, I = s->p->interval;
     /* the range the line labels span, widened by 20 intervals: a spot
        read outside it lost digits (2748 read as 274) */
-    for (i = 0; i < s->p->nlabels; i++) {
-        const td_ocr_read *r = &s->p->labels[i];
-        double f = (r->value - s->p->base) / I;
-        if (!r->spot && fabs(f - lround(f)) < 1e-6)
-            lo_v = fmin(lo_v, r->value), hi_v = fmax(hi_v, r->value);
-    }
-    for (i = 0; i < s->p->nknown; i++)
-        lo_v = fmin(lo_v, s->p->known[i].height),
-        hi_v = fmax(hi_v, s->p->known[i].height);
+    label_span(s, -HUGE_VAL, &lo_v, &hi_v);
     for (i = 0; i < s->p->nlabels; i++) {
         td_ocr_read *r = &s->p->labels[i];
         long nodes[16], lo;
@@ -2786,10 +2787,30 @@ static double levels_spanned(const td_label_params *p, double I, double least)
 static const int index_every[4] = {5, 4, 10, 2};
 static const double index_rarer[4] = {0.0, 8.0, 15.0, 15.0};
 
-static double count_cost(const long *hist, int every);
+/* What the transects say against spacing `every`: COUNT_W x (1 - its
+ * count / the largest count of the spacings tried), hist as
+ * td_label_index_count's; 0 without counts.  On the printed cone (rings
+ * 7 px apart, widths blurred together) the solve with every 10th thick
+ * cost 47.6 against 59.4 for every 5th, and the inner rings came out one
+ * interval off; the transects there count 139 runs of 4 thin lines
+ * between thick ones and none of 9. */
+#define COUNT_W 30.0
+static double count_cost(const long *hist, int every)
+{
+    long most = 0;
+    int k;
+    if (hist[0] <= 0)
+        return 0.0;
+    for (k = 0; k < 4; k++)
+        if (index_every[k] - 1 <= 20 && hist[index_every[k] - 1] > most)
+            most = hist[index_every[k] - 1];
+    if (most <= 0 || every - 1 > 20)
+        return most > 0 ? COUNT_W : 0.0;
+    return COUNT_W * (1.0 - (double)hist[every - 1] / (double)most);
+}
 
-/* The transects' counts (td_label_index_count) into hist, hist[0] = 0
- * when the widths show no thick lines; 0 or TD_ENOMEM. */
+/* The transects' counts (td_label_index_count) into hist: 1, or 0 with
+ * hist[0] = 0 when the widths show no thick lines, or TD_ENOMEM. */
 static int index_counts(const td_lines *ls, const td_label_params *p,
                         long *hist, td_ctx *cx)
 {
@@ -2799,7 +2820,7 @@ static int index_counts(const td_lines *ls, const td_label_params *p,
     if (rc <= 0)
         return rc;
     rc = td_label_index_count(ls, cut, inked, p->h, hist, cx);
-    return rc < 0 ? rc : 0;
+    return rc < 0 ? rc : 1;
 }
 
 static int infer_interval(td_lines *ls, const td_label_params *p,
@@ -2816,8 +2837,9 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
     long hist[21];
     int k, rc = 0, si, ns = 0, na = 0;
     *best_i = 0, *best_c = HUGE_VAL;
-    if (p->index_every <= 0 && (rc = index_counts(ls, p, hist, cx)) != 0)
+    if (p->index_every <= 0 && (rc = index_counts(ls, p, hist, cx)) < 0)
         return rc;
+    rc = 0;
     *second = HUGE_VAL, *second_i = 0;
     /* the steps S = N x a nice interval that half the values or more fit
      * (a few misreads) whose intervals keep the labels' span within the
@@ -3227,28 +3249,6 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
     return rc;
 }
 
-/* What the transects say against spacing `every`: COUNT_W x (1 - its
- * count / the largest count of the spacings tried), hist as
- * td_label_index_count's; 0 without counts.  On the printed cone (rings
- * 7 px apart, widths blurred together) the solve with every 10th thick
- * cost 47.6 against 59.4 for every 5th, and the inner rings came out one
- * interval off; the transects there count 139 runs of 4 thin lines
- * between thick ones and none of 9. */
-#define COUNT_W 30.0
-static double count_cost(const long *hist, int every)
-{
-    long most = 0;
-    int k;
-    if (hist[0] <= 0)
-        return 0.0;
-    for (k = 0; k < 4; k++)
-        if (index_every[k] - 1 <= 20 && hist[index_every[k] - 1] > most)
-            most = hist[index_every[k] - 1];
-    if (most <= 0 || every - 1 > 20)
-        return most > 0 ? COUNT_W : 0.0;
-    return COUNT_W * (1.0 - (double)hist[every - 1] / (double)most);
-}
-
 /* Contract in heights_int.h.  The spacings and their small costs are
  * infer_interval's (index_every, index_rarer), with what the transects
  * count (td_label_index_count, count_cost). */
@@ -3260,15 +3260,14 @@ int td_heights_solve_index(td_lines *ls, const td_label_params *p,
     size_t nfe = 0;
     dp_tables dp = {NULL, NULL, NULL, 0};
     td_label_params q = *p;
-    double cut, best = HUGE_VAL;
+    double best = HUGE_VAL;
     long hist[21];
     int rc, k, N = 0;
-    if ((rc = td_label_thick_cut(ls, p, &cut, NULL, cx)) < 0)
+    if ((rc = index_counts(ls, p, hist, cx)) < 0)
         return rc;
     if (rc == 0) /* no thicker lines: nothing to try */
         return td_heights_solve(ls, p, rep, cx);
-    if ((rc = index_counts(ls, p, hist, cx)) != 0 ||
-        (rc = faces_of(ls, p, &fx, &fe, &nfe, cx)) != 0)
+    if ((rc = faces_of(ls, p, &fx, &fe, &nfe, cx)) != 0)
         goto done;
     q.index_auto = 1;
     for (k = 0; k < 4; k++) {

@@ -8,7 +8,6 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
-#include <string.h>
 
 td_pale_params td_pale_defaults(void)
 {
@@ -34,9 +33,6 @@ typedef struct ridge_ctx {
     float o[TD_PALETTE_MAX][3]; /* the other inks' paper - ink, unit */
     int no;
 } ridge_ctx;
-
-static int near_ink(const td_grid_u8 *mask, const uint8_t *other, size_t stride,
-                    int x, int y, int r);
 
 /* How far colour c lies along paper -> ink, in paper-to-ink distances,
  * up to a constant (only differences are used: a lighter paper shifts
@@ -115,6 +111,22 @@ static void peak_row(const float *const *r, const uint8_t *m, int w,
     }
 }
 
+/* Anything of mask (nonzero) or other (bits) within r px of (x, y). */
+static int near_ink(const td_grid_u8 *mask, const uint8_t *other, size_t stride,
+                    int x, int y, int r)
+{
+    int u, v;
+    for (v = y - r; v <= y + r; v++)
+        for (u = x - r; u <= x + r; u++) {
+            if (u < 0 || v < 0 || u >= mask->w || v >= mask->h)
+                continue;
+            if (mask->data[(size_t)v * mask->stride + u] ||
+                (other && BIT(other, stride, u, v)))
+                return 1;
+        }
+    return 0;
+}
+
 /* The ridges of rows [ya, yb) into bits (rows stride bytes), buf holding
  * along for rows ya - 2 .. yb + 1 (w floats each) and then w bytes. */
 static void ridge_rows(const ridge_ctx *rc, const td_grid_u8 *mask,
@@ -144,22 +156,6 @@ static void ridge_rows(const ridge_ctx *rc, const td_grid_u8 *mask,
                 !near_ink(mask, other, stride, x, y, apart))
                 b[x >> 3] |= (uint8_t)(1u << (x & 7));
     }
-}
-
-/* Anything of mask (nonzero) or other (bits) within r px of (x, y). */
-static int near_ink(const td_grid_u8 *mask, const uint8_t *other, size_t stride,
-                    int x, int y, int r)
-{
-    int u, v;
-    for (v = y - r; v <= y + r; v++)
-        for (u = x - r; u <= x + r; u++) {
-            if (u < 0 || v < 0 || u >= mask->w || v >= mask->h)
-                continue;
-            if (mask->data[(size_t)v * mask->stride + u] ||
-                (other && BIT(other, stride, u, v)))
-                return 1;
-        }
-    return 0;
 }
 
 /* A piece of a faint grid line: open, straight (its chord at least
@@ -200,25 +196,15 @@ static int pale_progress(const char *stage, double frac, void *user)
 }
 
 /* Contract in pale.h. */
-long td_pale_trace(const td_image *im, const td_palette *pal,
-                   const td_grid_u8 *mask, const uint8_t *other,
-                   const td_pale_params *p, const td_despur_params *sp,
-                   const td_trace_params *tp, td_lines *lines, td_ctx *cx)
+int td_pale_find(const td_image *im, const td_palette *pal,
+                 const td_grid_u8 *mask, const uint8_t *other,
+                 const td_pale_params *p, uint8_t **bits, td_ctx *cx)
 {
-    size_t stride = ((size_t)im->w + 7) / 8, i;
-    uint8_t *bits;
+    size_t stride = ((size_t)im->w + 7) / 8;
     ridge_ctx rc;
-    td_grid_u8 *g = NULL;
-    td_lines *pl = NULL;
-    td_thin_stats ts;
-    td_despur_stats ds;
-    td_trace_stats trs;
-    int x, y, x0 = im->w, y0 = im->h, x1 = -1, y1 = -1, pad, c, k, err = 0;
-    long added = 0;
-    td_straight_params st = td_straight_defaults();
-    td_ctx lc;
-    pale_prog pp;
+    int c, k, err = 0;
     float dd = 0;
+    *bits = NULL;
     if (im->channels != 3 || pal->n == 0 || pal->chosen < 0 || im->w < 5 ||
         im->h < 5)
         return 0;
@@ -250,7 +236,7 @@ long td_pale_trace(const td_image *im, const td_palette *pal,
     }
     rc.depth = (float)p->depth;
     rc.cos2 = (float)(p->hue_cos * p->hue_cos);
-    if (!(bits = td_calloc(stride * (size_t)im->h + 1, 1, cx)))
+    if (!(*bits = td_calloc(stride * (size_t)im->h + 1, 1, cx)))
         return TD_ENOMEM;
 #pragma omp parallel
     {
@@ -267,33 +253,51 @@ long td_pale_trace(const td_image *im, const td_palette *pal,
                 int ya = blk * PALE_BLOCK;
                 ridge_rows(&rc, mask, other, p->apart, ya,
                            ya + PALE_BLOCK > im->h ? im->h : ya + PALE_BLOCK,
-                           buf, bits, stride);
+                           buf, *bits, stride);
             }
         free(buf);
     }
     if (err) {
-        err = td_seterr(cx, TD_ENOMEM, "pale lines: out of memory");
-        goto done;
+        free(*bits);
+        *bits = NULL;
+        return td_seterr(cx, TD_ENOMEM, "faded lines: out of memory");
     }
-    for (y = 0; y < im->h; y++) /* the ridges' box (by bytes) */
+    return 0;
+}
+
+/* Contract in pale.h. */
+long td_pale_trace(const uint8_t *bits, int w, int h, const td_pale_params *p,
+                   const td_despur_params *sp, const td_trace_params *tp,
+                   td_lines *lines, td_ctx *cx)
+{
+    size_t stride = ((size_t)w + 7) / 8, i;
+    td_grid_u8 *g = NULL;
+    td_lines *pl = NULL;
+    td_thin_stats ts;
+    td_despur_stats ds;
+    td_trace_stats trs;
+    int x, y, x0 = w, y0 = h, x1 = -1, y1 = -1, pad, err = 0;
+    long added = 0;
+    td_straight_params st = td_straight_defaults();
+    td_ctx lc;
+    pale_prog pp;
+    for (y = 0; y < h; y++) /* the ridges' box (by bytes) */
         for (i = 0; i < stride; i++)
             if (bits[(size_t)y * stride + i]) {
                 int bx = (int)i * 8;
                 x0 = bx < x0 ? bx : x0, x1 = bx + 7 > x1 ? bx + 7 : x1;
                 y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
             }
-    x1 = x1 >= im->w ? im->w - 1 : x1;
+    x1 = x1 >= w ? w - 1 : x1;
     if (x1 < 0)
-        goto done;
+        return 0;
     /* padded so that only the sheet's own border is near a traced end */
     pad = tp->edge_dist + 4;
     x0 = x0 - pad < 0 ? 0 : x0 - pad, y0 = y0 - pad < 0 ? 0 : y0 - pad;
-    x1 = x1 + pad >= im->w ? im->w - 1 : x1 + pad;
-    y1 = y1 + pad >= im->h ? im->h - 1 : y1 + pad;
-    if (!(g = td_grid_u8_new(x1 - x0 + 1, y1 - y0 + 1, cx))) {
-        err = TD_ENOMEM;
-        goto done;
-    }
+    x1 = x1 + pad >= w ? w - 1 : x1 + pad;
+    y1 = y1 + pad >= h ? h - 1 : y1 + pad;
+    if (!(g = td_grid_u8_new(x1 - x0 + 1, y1 - y0 + 1, cx)))
+        return TD_ENOMEM;
     for (y = y0; y <= y1; y++) /* grid_new zeroes; the set bits only */
         for (i = (size_t)x0 / 8; i <= (size_t)x1 / 8; i++) {
             unsigned v = bits[(size_t)y * stride + i];
@@ -301,8 +305,6 @@ long td_pale_trace(const td_image *im, const td_palette *pal,
                 if ((v & 1u) && x >= x0 && x <= x1)
                     g->data[(size_t)(y - y0) * g->stride + (x - x0)] = 1;
         }
-    free(bits);
-    bits = NULL;
     td_ctx_init(&lc);
     if (cx && cx->progress)
         lc.progress = pale_progress, lc.progress_user = &pp;
@@ -331,7 +333,6 @@ long td_pale_trace(const td_image *im, const td_palette *pal,
         }
     }
 done:
-    free(bits);
     td_lines_free(pl);
     td_grid_u8_free(g);
     return err ? err : added;

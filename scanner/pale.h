@@ -35,15 +35,23 @@ typedef struct td_pale_params {
 
 td_pale_params td_pale_defaults(void);
 
-/* Faded lines of RGB scan im (pal: its palette, with a chosen contour
- * ink) not within p->apart px of mask's ink (0/1, w x h of im) nor of
- * other's pixels (packed bits as td_binarise_other_ink, or NULL), traced
- * with sp and tp and appended to lines.  Returns the number of lines
- * added (0 on grey scans or without a chosen ink) or a negative TD_E*. */
-long td_pale_trace(const td_image *im, const td_palette *pal,
-                   const td_grid_u8 *mask, const uint8_t *other,
-                   const td_pale_params *p, const td_despur_params *sp,
-                   const td_trace_params *tp, td_lines *lines, td_ctx *cx);
+/* The faded lines' ridges of RGB scan im (pal: its palette, with a
+ * chosen contour ink) not within p->apart px of mask's ink (0/1, w x h of
+ * im) nor of other's pixels (packed bits as td_binarise_other_ink, or
+ * NULL), packed one bit a pixel (rows of (w + 7) / 8 bytes) into *bits
+ * (free it); *bits NULL on grey scans or without a chosen ink.  Called on
+ * the mask before thinning.  0 or TD_ENOMEM. */
+int td_pale_find(const td_image *im, const td_palette *pal,
+                 const td_grid_u8 *mask, const uint8_t *other,
+                 const td_pale_params *p, uint8_t **bits, td_ctx *cx);
+
+/* Those ridges (w x h) as a layer of their own: the grid erased, specks
+ * removed, thinned, despurred (sp) and traced (tp); the lines of
+ * p->min_points or more that are no piece of a faint grid appended to
+ * lines (ids renumbered).  Returns how many, or a negative TD_E*. */
+long td_pale_trace(const uint8_t *bits, int w, int h, const td_pale_params *p,
+                   const td_despur_params *sp, const td_trace_params *tp,
+                   td_lines *lines, td_ctx *cx);
 
 #ifdef __cplusplus
 }

@@ -68,7 +68,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     td_binarise_params bin = p->bin;
     td_palette pal;
     td_image *vsrc = NULL; /* the scan with its tints divided out */
-    td_lines *pale = NULL; /* faded lines traced apart, till the ink's are */
+    uint8_t *pale = NULL;  /* faded lines' ridges, till the ink is traced */
     double t0, halftone = -1;
     int rc;
     memset(res, 0, sizeof *res);
@@ -119,20 +119,9 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             0)
         goto fail;
     res->seconds[0] = td_now() - t0;
-    if (p->pale && res->palette.n > 0) {
-        long np;
-        if (!(pale = td_lines_new(cx))) {
-            rc = TD_ENOMEM;
-            goto fail;
-        }
-        np = td_pale_trace(src, &res->palette, g, other, &p->pale_p, &p->spur,
-                           &p->trace, pale, cx);
-        if (np < 0) {
-            rc = (int)np;
-            goto fail;
-        }
-        res->pale = (size_t)np;
-    }
+    if (p->pale && (rc = td_pale_find(src, &res->palette, g, other, &p->pale_p,
+                                      &pale, cx)) != 0)
+        goto fail;
     rc = TD_ENOMEM;
     if (p->keep_debug && !(res->mask = td_grid_u8_dup(g, cx)))
         goto fail;
@@ -152,15 +141,16 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     t0 = td_now();
     if ((rc = td_trace(g, &p->trace, &res->lines, &res->trace, cx)) != 0)
         goto fail;
-    if (pale) {
-        size_t i;
-        for (i = 0; i < pale->n; i++) {
-            if ((rc = td_lines_append_copy(res->lines, &pale->v[i], cx)) != 0)
-                goto fail;
-            res->lines->v[res->lines->n - 1].id = (long)res->lines->n - 1;
-        }
-        td_lines_free(pale);
+    if (pale) { /* traced apart, added to the ink's lines */
+        long np = td_pale_trace(pale, im->w, im->h, &p->pale_p, &p->spur,
+                                &p->trace, res->lines, cx);
+        free(pale);
         pale = NULL;
+        if (np < 0) {
+            rc = (int)np;
+            goto fail;
+        }
+        res->pale = (size_t)np;
     }
     res->seconds[3] = td_now() - t0;
     t0 = td_now();
@@ -265,7 +255,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     free(seams);
     return 0;
 fail:
-    td_lines_free(pale);
+    free(pale);
     td_image_free(clean);
     td_image_free(vsrc);
     free(other);

@@ -16,9 +16,9 @@
  * and seams on, the seam pixels packed the same way (+1/8 byte).  With
  * keep_debug, copies of the mask and the thinned skeleton are kept in the
  * result (+2 bytes per pixel).  Colour scans with pale: the faded
- * ridges packed (+1/8 byte per pixel) and their box's grid (+1 byte per
- * pixel of it) beside the mask while they are traced, below the scan's
- * peak, which comes later (281 -> 282 MB on a 6000 x 6000 print). */
+ * ridges packed (+1/8 byte per pixel) from before thinning until traced,
+ * then their box's grid (+1 byte per pixel of it) beside the skeleton;
+ * below the scan's peak (281 -> 282 MB on a 6000 x 6000 print). */
 #ifndef TD_SCAN_H
 #define TD_SCAN_H
 
