@@ -539,18 +539,23 @@ static int pale_scores(const char *name, int kind, td_scanscore *sc,
  * were erased); nor on the new print of Orkhon, whose grid is too faint
  * for the grid finder and came out in straight pieces (precision 0.996 ->
  * 0.994 before such pieces were dropped). */
+/* The scores without and with the faded lines, on stderr. */
+static void pale_print(const char *what, const td_scanscore *sc, size_t added)
+{
+    fprintf(stderr,
+            "  %s: recall %.3f -> %.3f, precision %.3f -> %.3f, own %.3f -> "
+            "%.3f, jumps %ld -> %ld of %ld -> %ld lines (%zu faded added)\n",
+            what, sc[0].recall, sc[1].recall, sc[0].precision, sc[1].precision,
+            sc[0].own, sc[1].own, sc[0].n_jump, sc[1].n_jump, sc[0].n_traced,
+            sc[1].n_traced, added);
+}
+
 static void test_pale_lines(void)
 {
     td_scanscore sc[2];
     size_t added = 0;
     TT_CHECK(pale_scores("frontrange20", 3, sc, &added) == 0);
-    fprintf(stderr,
-            "  crowded printed: recall %.3f -> %.3f, precision %.3f -> %.3f, "
-            "own %.3f -> %.3f, jumps %ld -> %ld of %ld -> %ld lines (%zu "
-            "faded added)\n",
-            sc[0].recall, sc[1].recall, sc[0].precision, sc[1].precision,
-            sc[0].own, sc[1].own, sc[0].n_jump, sc[1].n_jump, sc[0].n_traced,
-            sc[1].n_traced, added);
+    pale_print("crowded printed", sc, added);
     TT_CHECK(added >= 50);
     TT_CHECK(sc[1].recall >= sc[0].recall + 0.012);
     TT_CHECK(sc[1].precision >= 0.995);
@@ -558,19 +563,11 @@ static void test_pale_lines(void)
     TT_CHECK((double)sc[1].n_jump / (double)sc[1].n_traced <=
              (double)sc[0].n_jump / (double)sc[0].n_traced + 0.003);
     TT_CHECK(pale_scores("orkhon50", 3, sc, &added) == 0);
-    fprintf(stderr,
-            "  Orkhon 50 printed: recall %.3f -> %.3f, precision "
-            "%.3f -> %.3f (%zu faded added)\n",
-            sc[0].recall, sc[1].recall, sc[0].precision, sc[1].precision,
-            added);
+    pale_print("Orkhon 50 printed", sc, added);
     TT_CHECK(sc[1].precision >= sc[0].precision - 0.004);
     TT_CHECK(sc[1].recall >= sc[0].recall - 0.001);
     TT_CHECK(pale_scores("orkhon", 4, sc, &added) == 0);
-    fprintf(stderr,
-            "  Orkhon new print: recall %.3f -> %.3f, precision %.3f -> %.3f "
-            "(%zu faded added)\n",
-            sc[0].recall, sc[1].recall, sc[0].precision, sc[1].precision,
-            added);
+    pale_print("Orkhon new print", sc, added);
     TT_CHECK(sc[1].precision >= sc[0].precision - 0.001);
 }
 
