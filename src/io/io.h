@@ -340,6 +340,13 @@ int td_cv_jpeg_roundtrip(td_image *im, int quality, td_ctx *cx);
  * a, b) as cv::cvtColor(COLOR_RGB2Lab) on float input computes it. */
 int td_cv_rgb_to_lab(const uint8_t *rgb, size_t n, float *lab, td_ctx *cx);
 
+/* OpenCV's CIELAB tables built on a thread of their own (the first
+ * conversion's 0.13-0.17 s) while a colour scan is read: begin returns a
+ * handle (NULL when no thread could start), end waits for it (NULL: no-op).
+ * Nothing may convert colours in between. */
+void *td_cv_lab_warm_begin(void);
+void td_cv_lab_warm_end(void *h);
+
 /* k-means of n points of dim floats (pts[n * dim]) into k clusters
  * (cv::kmeans, k-means++ seeding from a fixed seed, so the same input gives
  * the same clusters; `attempts` restarts, the most compact kept).  label[n]
