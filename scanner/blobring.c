@@ -56,18 +56,14 @@ long td_blob_rings(const uint8_t *bits, int w, int h, td_lines *ls,
         return 0;
     for (i = 0; i < ls->n; i++) {
         td_line *l = &ls->v[i];
-        double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
-        double a, mx, my, r;
+        double b[4], a, mx, my, r;
         int n;
         if (!l->closed || l->edge || l->n < 1 || l->n > 9)
             continue;
-        for (k = 0; k < l->n; k++) {
-            x0 = fmin(x0, l->xy[2 * k]), x1 = fmax(x1, l->xy[2 * k]);
-            y0 = fmin(y0, l->xy[2 * k + 1]), y1 = fmax(y1, l->xy[2 * k + 1]);
-        }
-        if (x1 - x0 > 2.01 || y1 - y0 > 2.01 ||
-            !dot(bits, w, h, (int)floor(0.5 * (x0 + x1)),
-                 (int)floor(0.5 * (y0 + y1)), &a, &mx, &my))
+        td_line_box(l, b);
+        if (b[2] - b[0] > 2.01 || b[3] - b[1] > 2.01 ||
+            !dot(bits, w, h, (int)floor(0.5 * (b[0] + b[2])),
+                 (int)floor(0.5 * (b[1] + b[3])), &a, &mx, &my))
             continue;
         r = sqrt(a / 3.14159265358979) - 0.5 * pen;
         if (r < 1.5)

@@ -9,15 +9,26 @@
 int td_flank_near(const uint8_t *bits, int w, int h, double x, double y)
 {
     size_t stride = ((size_t)w + 7) / 8;
-    int X = (int)floor(x), Y = (int)floor(y), u, v;
+    int X = (int)floor(x), Y = (int)floor(y), v;
+    int a = X - TD_FLANK_NEAR < 0 ? 0 : X - TD_FLANK_NEAR;
+    int b = X + TD_FLANK_NEAR >= w ? w - 1 : X + TD_FLANK_NEAR;
+    unsigned mask;
+    if (a > b)
+        return 0;
+    /* the window's bits of a row at once: at most 2 bytes */
+    _Static_assert(2 * TD_FLANK_NEAR + 1 <= 9, "a window row in 2 bytes");
+    mask = (1u << (b - a + 1)) - 1u;
     for (v = Y - TD_FLANK_NEAR; v <= Y + TD_FLANK_NEAR; v++) {
         const uint8_t *row;
+        unsigned bb;
         if (v < 0 || v >= h)
             continue;
         row = bits + (size_t)v * stride;
-        for (u = X - TD_FLANK_NEAR; u <= X + TD_FLANK_NEAR; u++)
-            if (u >= 0 && u < w && (row[u >> 3] >> (u & 7)) & 1)
-                return 1;
+        bb = row[a >> 3];
+        if (b >> 3 != a >> 3)
+            bb |= (unsigned)row[b >> 3] << 8;
+        if ((bb >> (a & 7)) & mask)
+            return 1;
     }
     return 0;
 }

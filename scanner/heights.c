@@ -377,17 +377,8 @@ static double *line_boxes(const hs *s, td_ctx *cx)
     if (!box)
         return NULL;
 #pragma omp parallel for schedule(dynamic, 16)
-    for (i = 0; i < (long)s->N; i++) {
-        const td_line *l = &s->ls->v[i];
-        double *b = box + 4 * i;
-        size_t k;
-        b[0] = b[1] = INFINITY, b[2] = b[3] = -INFINITY;
-        for (k = 0; k < l->n; k++) {
-            b[0] = fmin(b[0], l->xy[2 * k]), b[2] = fmax(b[2], l->xy[2 * k]);
-            b[1] = fmin(b[1], l->xy[2 * k + 1]);
-            b[3] = fmax(b[3], l->xy[2 * k + 1]);
-        }
-    }
+    for (i = 0; i < (long)s->N; i++)
+        td_line_box(&s->ls->v[i], box + 4 * i);
     return box;
 }
 

@@ -532,13 +532,9 @@ static int collect_ends(const td_lines *ls, const td_join_params *p,
 /* Whether l fits in a box of side min_length (a digit's size). */
 static int compact(const td_line *l, double min_length)
 {
-    double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
-    size_t k;
-    for (k = 0; k < l->n; k++) {
-        x0 = fmin(x0, l->xy[2 * k]), x1 = fmax(x1, l->xy[2 * k]);
-        y0 = fmin(y0, l->xy[2 * k + 1]), y1 = fmax(y1, l->xy[2 * k + 1]);
-    }
-    return x1 - x0 < min_length && y1 - y0 < min_length;
+    double b[4];
+    td_line_box(l, b);
+    return b[2] - b[0] < min_length && b[3] - b[1] < min_length;
 }
 
 /* Small closed rings (fitting in min_length): digits of a label when a
@@ -1737,19 +1733,6 @@ fail:
 #define TEXT_GAP 4.0 /* px between a digit ring and the next glyph */
 #define TEXT_NEAR 12.0 /* a straight piece this near a curled one is text */
 
-/* Bounding box of l: x0, y0, x1, y1. */
-static void line_box(const td_line *l, double *b)
-{
-    size_t k;
-    b[0] = b[1] = HUGE_VAL;
-    b[2] = b[3] = -HUGE_VAL;
-    for (k = 0; k < l->n; k++) {
-        b[0] = fmin(b[0], l->xy[2 * k]), b[2] = fmax(b[2], l->xy[2 * k]);
-        b[1] = fmin(b[1], l->xy[2 * k + 1]);
-        b[3] = fmax(b[3], l->xy[2 * k + 1]);
-    }
-}
-
 /* The gap between boxes a and b (0 when they overlap). */
 static double box_gap(const double *a, const double *b)
 {
@@ -1788,12 +1771,12 @@ static int keep_straight(const td_lines *ls, const td_join_params *p,
     for (i = 0; i < ls->n; i++) /* the curled pieces */
         if ((cand[i] && !straight_piece(&ls->v[i], p->straight_keep)) ||
             small_ring(&ls->v[i], p->min_length))
-            line_box(&ls->v[i], cb[m++]);
+            td_line_box(&ls->v[i], cb[m++]);
     for (i = 0; i < ls->n; i++) {
         double b[4];
         if (!cand[i] || !straight_piece(&ls->v[i], p->straight_keep))
             continue;
-        line_box(&ls->v[i], b);
+        td_line_box(&ls->v[i], b);
         for (j = 0; j < m && box_gap(b, cb[j]) > TEXT_NEAR; j++)
             ;
         keep[i] = j == m;
@@ -1924,7 +1907,7 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
             !(hooked(&ls->v[i], p->min_length) &&
               (cont[eol[2 * i]] || cont[eol[2 * i + 1]]))) {
             if (nbox < MAX_TEXT_BOXES)
-                line_box(&ls->v[i], box[nbox++]);
+                td_line_box(&ls->v[i], box[nbox++]);
             if (p->record && keep_text(st, &ls->v[i], cx) != 0)
                 goto fail;
             td_lines_remove(ls, i);
@@ -1940,7 +1923,7 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
             int near = 0;
             if (!small_ring(&ls->v[i], p->min_length) || ls->v[i].edge)
                 continue;
-            line_box(&ls->v[i], b);
+            td_line_box(&ls->v[i], b);
             for (k = 0; k < nbox && !near; k++) {
                 /* one label's glyphs: side by side, of one size */
                 double sr = fmax(b[2] - b[0], b[3] - b[1]);

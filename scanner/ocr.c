@@ -426,8 +426,9 @@ static int compact_ring(const td_line *l, double side)
     if (!l->closed)
         return 0;
     for (k = 0; k < l->n; k++) { /* most rings are long: out early */
-        x0 = fmin(x0, l->xy[2 * k]), x1 = fmax(x1, l->xy[2 * k]);
-        y0 = fmin(y0, l->xy[2 * k + 1]), y1 = fmax(y1, l->xy[2 * k + 1]);
+        double x = l->xy[2 * k], y = l->xy[2 * k + 1];
+        x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
+        y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
         if (x1 - x0 >= side || y1 - y0 >= side)
             return 0;
     }
@@ -1413,18 +1414,14 @@ size_t td_ocr_drop_dots(td_lines *ls, const td_lines *text, td_ocr_read *r,
     size_t i, j, k, m = 0;
     for (i = ls->n; text && i-- > 0;) {
         const td_line *l = &ls->v[i];
-        double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
-        double cx, cy;
+        double b[4], cx, cy;
         int near = 0;
         if (!l->closed || l->n == 0)
             continue;
-        for (k = 0; k < l->n; k++) {
-            x0 = fmin(x0, l->xy[2 * k]), x1 = fmax(x1, l->xy[2 * k]);
-            y0 = fmin(y0, l->xy[2 * k + 1]), y1 = fmax(y1, l->xy[2 * k + 1]);
-        }
-        if (x1 - x0 > DOT_MAX + 2 || y1 - y0 > DOT_MAX + 2)
+        td_line_box(l, b);
+        if (b[2] - b[0] > DOT_MAX + 2 || b[3] - b[1] > DOT_MAX + 2)
             continue;
-        cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+        cx = 0.5 * (b[0] + b[2]), cy = 0.5 * (b[1] + b[3]);
         for (j = 0; j < text->n && !near; j++)
             for (k = 0; k < text->v[j].n && !near; k++)
                 near = hypot(text->v[j].xy[2 * k] - cx,

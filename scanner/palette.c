@@ -390,11 +390,13 @@ static void label_crop(const td_palette *pal, const td_image *im, int x0,
                        int y0, int cw, int ch, uint8_t *lbl)
 {
     uint8_t node[LUT_N * LUT_N * LUT_N];
-    int x, y;
+    int y;
     for_nodes(pal, crop_node, NULL, node);
+#pragma omp parallel for schedule(static)
     for (y = 0; y < ch; y++) {
         const uint8_t *px = im->data + (size_t)(y0 + y) * im->stride +
                             3 * (size_t)x0;
+        int x;
         for (x = 0; x < cw; x++, px += 3)
             lbl[(size_t)y * cw + x] = node[td_palette_node(px)];
     }
@@ -411,10 +413,12 @@ static void label_crop(const td_palette *pal, const td_image *im, int x0,
 static void fill_speckle(const td_palette *pal, uint8_t *lbl, int cw, int ch,
                          uint8_t *tmp)
 {
-    int pass, x, y;
+    int pass, y;
     for (pass = 0; pass < FILL_PASSES; pass++) {
         memcpy(tmp, lbl, (size_t)cw * ch);
-        for (y = 1; y + 1 < ch; y++)
+#pragma omp parallel for schedule(static)
+        for (y = 1; y < ch - 1; y++) {
+            int x;
             for (x = 1; x + 1 < cw; x++) {
                 size_t at = (size_t)y * cw + x;
                 const uint8_t *up = tmp + at - cw, *dn = tmp + at + cw;
@@ -436,6 +440,7 @@ static void fill_speckle(const td_palette *pal, uint8_t *lbl, int cw, int ch,
                     }
                 lbl[at] = (uint8_t)best;
             }
+        }
     }
 }
 
@@ -447,16 +452,30 @@ static void label_medians(const td_palette *pal, const td_image *im, int x0,
                           double (*med)[3], long (*h)[3][256])
 {
     long n[TD_PALETTE_MAX] = {0};
-    int t, x, y, c, v;
+    int t, y, c, v;
     memset(h, 0, sizeof *h * TD_PALETTE_MAX);
-    for (y = 0; y < ch; y++) {
-        const uint8_t *px =
-            im->data + (size_t)(y0 + y) * im->stride + 3 * (size_t)x0;
-        for (x = 0; x < cw; x++, px += 3) {
-            t = lbl[(size_t)y * cw + x];
+#pragma omp parallel private(t, c, v)
+    { /* each thread's counts (a crop has under 2^32 pixels), then summed */
+        uint32_t lh[TD_PALETTE_MAX][3][256], ln[TD_PALETTE_MAX];
+        memset(lh, 0, sizeof lh), memset(ln, 0, sizeof ln);
+#pragma omp for schedule(static) nowait
+        for (y = 0; y < ch; y++) {
+            const uint8_t *px =
+                im->data + (size_t)(y0 + y) * im->stride + 3 * (size_t)x0;
+            int x;
+            for (x = 0; x < cw; x++, px += 3) {
+                t = lbl[(size_t)y * cw + x];
+                for (c = 0; c < 3; c++)
+                    lh[t][c][px[c]]++;
+                ln[t]++;
+            }
+        }
+#pragma omp critical(td_palette_medians)
+        for (t = 0; t < TD_PALETTE_MAX; t++) {
+            n[t] += ln[t];
             for (c = 0; c < 3; c++)
-                h[t][c][px[c]]++;
-            n[t]++;
+                for (v = 0; v < 256; v++)
+                    h[t][c][v] += lh[t][c][v];
         }
     }
     for (t = 0; t < pal->n; t++)
@@ -480,6 +499,9 @@ static void stroke_stats(td_palette *pal, const uint8_t *lbl, int cw, int ch,
     double area[TD_PALETTE_MAX] = {0}, per[TD_PALETTE_MAX] = {0},
            longa[TD_PALETTE_MAX] = {0};
     int x, y, i;
+    /* whole numbers summed: the same for any thread count */
+#pragma omp parallel for schedule(static) private(x)                          \
+    reduction(+ : area[:TD_PALETTE_MAX], per[:TD_PALETTE_MAX])
     for (y = 0; y < ch; y++)
         for (x = 0; x < cw; x++) {
             int v = lbl[(size_t)y * cw + x];
@@ -683,7 +705,7 @@ int td_palette_find(const td_image *im, td_palette *pal, td_ctx *cx)
     }
     {
         float lab[3 * TD_PALETTE_MAX];
-        uint8_t rgb[3 * TD_PALETTE_MAX];
+        uint8_t rgb[3 * TD_PALETTE_MAX] = {0};
         for (i = 0; i < pal->n; i++)
             memcpy(rgb + 3 * i, pal->ink[i].rgb, 3);
         if ((rc = td_cv_rgb_to_lab(rgb, (size_t)pal->n, lab, cx)) != 0)

@@ -264,15 +264,9 @@ static int extend_end(td_line *l, int at_start, int w, int h, int d,
  * border is a degenerate closed ring, not an open line. */
 static void close_dot(td_line *l)
 {
-    double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
-    size_t i;
-    for (i = 0; i < l->n; i++) {
-        x0 = fmin(x0, l->xy[2 * i]);
-        x1 = fmax(x1, l->xy[2 * i]);
-        y0 = fmin(y0, l->xy[2 * i + 1]);
-        y1 = fmax(y1, l->xy[2 * i + 1]);
-    }
-    if (x1 - x0 <= 2.0 && y1 - y0 <= 2.0)
+    double b[4];
+    td_line_box(l, b);
+    if (b[2] - b[0] <= 2.0 && b[3] - b[1] <= 2.0)
         l->closed = 1;
 }
 

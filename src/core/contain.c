@@ -96,19 +96,6 @@ static int make_ring(const td_line *l, int w, int h, td_line *r, td_ctx *cx)
     return td_line_push(r, xs, ys, cx) != 0 ? TD_ENOMEM : 0;
 }
 
-static void bbox(const td_line *l, double b[4])
-{
-    size_t i;
-    b[0] = b[1] = INFINITY;
-    b[2] = b[3] = -INFINITY;
-    for (i = 0; i < l->n; i++) {
-        b[0] = fmin(b[0], l->xy[2 * i]);
-        b[1] = fmin(b[1], l->xy[2 * i + 1]);
-        b[2] = fmax(b[2], l->xy[2 * i]);
-        b[3] = fmax(b[3], l->xy[2 * i + 1]);
-    }
-}
-
 /* Smallest region other than `self` holding (x,y) within box q. */
 static long smallest_holding(const td_contain *ct, const double *boxes,
                              long self, const double q[4], double x, double y)
@@ -154,7 +141,7 @@ int td_contain_build(const td_lines *ls, int w, int h, td_contain *ct,
             goto fail;
         ct->parent[i] = k ? -2 : -1;
         ct->area[i] = k ? 0 : fabs(td_line_signed_area(r));
-        bbox(r, &boxes[4 * i]);
+        td_line_box(r, &boxes[4 * i]);
     }
     for (i = 0; i < ls->n; i++) {
         const td_line *l = &ls->v[i];

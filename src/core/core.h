@@ -247,6 +247,11 @@ int td_line_append(td_line *dst, const td_line *src, int rev, td_ctx *cx);
 void td_lines_remove(td_lines *ls, size_t i);
 /* Length of the polyline (closing segment included when closed). */
 double td_line_length(const td_line *l);
+
+/* The bounding box of l's vertices: b = x0, y0, x1, y1 (x0 = +inf, x1 =
+ * -inf when l has none).  Comparisons, not fmin/fmax (library calls here;
+ * vertices are never NaN). */
+void td_line_box(const td_line *l, double b[4]);
 /* 1 when a point of l lies on the border pixels of a w x h sheet (x or y
  * under 1, or over w - 1 or h - 1: td_line.edge), else 0. */
 int td_line_on_border(const td_line *l, int w, int h);

@@ -108,6 +108,19 @@ int td_line_on_border(const td_line *l, int w, int h)
 }
 
 /* See lines.h. */
+void td_line_box(const td_line *l, double b[4])
+{
+    double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
+    size_t k;
+    for (k = 0; k < l->n; k++) {
+        double x = l->xy[2 * k], y = l->xy[2 * k + 1];
+        x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
+        y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
+    }
+    b[0] = x0, b[1] = y0, b[2] = x1, b[3] = y1;
+}
+
+/* See core.h. */
 double td_line_length(const td_line *l)
 {
     double len = 0.0;
@@ -286,8 +299,8 @@ int td_lines_extent(const td_lines *ls, int *w, int *h, td_ctx *cx)
     size_t i, k;
     for (i = 0; i < ls->n; i++)
         for (k = 0; k < ls->v[i].n; k++) {
-            mx = fmax(mx, ls->v[i].xy[2 * k]);
-            my = fmax(my, ls->v[i].xy[2 * k + 1]);
+            double x = ls->v[i].xy[2 * k], y = ls->v[i].xy[2 * k + 1];
+            mx = x > mx ? x : mx, my = y > my ? y : my;
         }
     if (!(mx < TD_MAX_DIM) || !(my < TD_MAX_DIM))
         return td_seterr(cx, TD_ETOOBIG,
