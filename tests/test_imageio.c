@@ -14,6 +14,9 @@
 #include <png.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 #include <sys/stat.h>
 #include <tiffio.h>
 #include <xtiffio.h>
@@ -751,8 +754,9 @@ static void write_png_filtered(const char *path, int w, int h, int ch,
 
 /* The reader of 8-bit grey and RGB PNGs (libdeflate, the filters undone
  * in place; pngio.c) gives the pixels written, every row filter on its
- * own and libpng's mix, one pixel wide or wider; a PNG with a byte of
- * its image data changed (the chunk's CRC wrong, or put right so that
+ * own and libpng's mix, one pixel wide or wider, rows of several of the
+ * threads' chunks (pngio.c unfilter_rows) on 1, 2 and 3 threads; a PNG with a
+ * byte of its image data changed (the chunk's CRC wrong, or put right so that
  * only the zlib check can tell) or cut short is refused naming the file,
  * never read. */
 static void test_png_fast(void)
@@ -760,28 +764,36 @@ static void test_png_fast(void)
     static const int filters[6] = {PNG_FILTER_NONE,  PNG_FILTER_SUB,
                                    PNG_FILTER_UP,    PNG_FILTER_AVG,
                                    PNG_FILTER_PAETH, PNG_ALL_FILTERS};
-    static const int sizes[3][2] = {{1, 7}, {2, 3}, {97, 61}};
+    static const int sizes[4][2] = {{1, 7}, {2, 3}, {97, 61}, {3001, 23}};
     char *path = tmpfile_path("fast.png");
-    uint8_t *v = malloc(97 * 61 * 3);
-    int fi, si, ch, k;
+    uint8_t *v = malloc(3001 * 23 * 3);
+    int fi, si, ch, k, nt;
     for (ch = 1; ch <= 3; ch += 2)
         for (fi = 0; fi < 6; fi++)
-            for (si = 0; si < 3; si++) {
-                int w = sizes[si][0], h = sizes[si][1];
-                td_image *im = NULL;
-                td_ctx cx;
-                td_ctx_init(&cx);
-                write_png_filtered(path, w, h, ch, filters[fi], v);
-                TT_CHECKF(td_image_read(path, &im, NULL, &cx) == 0, "%s",
-                          td_errmsg(&cx));
-                if (!im)
-                    continue;
-                TT_CHECKF(im->w == w && im->h == h && im->channels == ch &&
-                              memcmp(im->data, v, (size_t)w * h * ch) == 0,
-                          "%d channels, filter %d, %d x %d: pixels differ", ch,
-                          fi, w, h);
-                td_image_free(im);
-            }
+            for (si = 0; si < 4; si++)
+                for (nt = 1; nt <= 3; nt++) {
+                    int w = sizes[si][0], h = sizes[si][1];
+                    td_image *im = NULL;
+                    td_ctx cx;
+                    td_ctx_init(&cx);
+                    write_png_filtered(path, w, h, ch, filters[fi], v);
+#ifdef _OPENMP
+                    omp_set_num_threads(nt);
+#endif
+                    TT_CHECKF(td_image_read(path, &im, NULL, &cx) == 0, "%s",
+                              td_errmsg(&cx));
+#ifdef _OPENMP
+                    omp_set_num_threads(omp_get_num_procs());
+#endif
+                    if (!im)
+                        continue;
+                    TT_CHECKF(im->w == w && im->h == h && im->channels == ch &&
+                                  memcmp(im->data, v, (size_t)w * h * ch) == 0,
+                              "%d channels, filter %d, %d x %d, %d threads: "
+                              "pixels differ",
+                              ch, fi, w, h, nt);
+                    td_image_free(im);
+                }
     for (k = 0; k < 3; k++) { /* CRC wrong, CRC right, cut short */
         td_image *im = NULL;
         td_ctx cx;
