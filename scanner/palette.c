@@ -18,13 +18,20 @@
 #define K (K_LIGHT + K_STRONG)
 #define OFF_PAPER 20.0   /* RGB distance from the paper to be sampled */
 #define STRONG 70.0      /* ... to be a strong sample */
+#define CROSS_APART 25.0 /* a crossing's colour: this far from both inks */
+#define SAME_INK 12.0    /* clusters this near are one ink (a brown that
+                            k-means cut in three, each too thin alone, was
+                            dropped as noise and the blue river taken) */
 #define MIN_SHARE 2e-4   /* clusters rarer than this are noise */
 #define CROP 2048        /* side of the crop the strokes are measured on */
 #define LONG 40          /* a long stroke's bounding box side, px */
 #define MIN_WIDTH 1.0    /* narrower strokes are scattered noise */
-#define MIN_LINE_LEN 1000.0 /* ... unless they make this many px of long
-                               strokes per Mpx (a thin ink whose edges its
-                               lighter prints took) */
+/* ... unless they make this many px of long strokes per Mpx (a thin ink
+ * whose edges its lighter prints took; the red roads of the printed
+ * sheets measure 0.95-1.1 px and 760-2600, scattered noise 0.5-0.8 px and
+ * 0-300: at 1000 the roads were dropped on some printings and went into
+ * the contour ink, recall 0.90-0.92 against 0.92-0.93) */
+#define MIN_LINE_LEN 500.0
 #define A_MAX 2.0        /* largest coverage fitted */
 #define TINT_LIGHT 90.0  /* tints are this near the paper (RGB) */
 #define SOFT0 4.0        /* the contour ink's strength where it explains a */
@@ -291,10 +298,26 @@ done:
     return rc;
 }
 
+/* Colour c is ink iv mixed with the paper (a thinner, fainter or
+ * blurred print of it), or nearly iv itself; *r: the fit's residual. */
+static int mixture_of(const double *c, const double *iv, const double *paper,
+                      double *r)
+{
+    double a;
+    *r = sqrt(fit(c, paper, iv, paper, &a));
+    return (a > 0.05 && a <= 1.0 &&
+            *r < fmin(25.0, 12.0 + 0.1 * a * dist3(iv, paper))) ||
+           dist3(c, iv) < SAME_INK;
+}
+
 /* Drop the clusters that are one cluster's ink printed over another's
- * (where a road crosses a contour: darker than either, and rarer than
- * both; a brown is no red over a green tint, being lighter than the red);
- * returns the new count. */
+ * (where a road crosses a contour: darker than either, rarer than both
+ * and apart from both; a brown is no red over a green tint, being
+ * lighter than the red).  Apart: a cluster within CROSS_APART of one of
+ * the two is a shade of it, no crossing (ours, 2026-12-06: the crowded
+ * printed Front Range sheet two levels darker had its brown dropped as
+ * a faded brown over a darker one, and the red roads were traced).
+ * Returns the new count. */
 static int drop_crossings(clus *cl, int ncl, const double *paper)
 {
     int k, i, j, m = 0;
@@ -305,8 +328,10 @@ static int drop_crossings(clus *cl, int ncl, const double *paper)
                 double a;
                 if (i == k || j == k || i == j || cl[i].n <= cl[k].n ||
                     cl[j].n <= cl[k].n ||
-                    dist3(cl[k].rgb, paper) <=
-                        fmax(dist3(cl[i].rgb, paper), dist3(cl[j].rgb, paper)))
+                    dist3(cl[k].rgb, paper) <= fmax(dist3(cl[i].rgb, paper),
+                                                    dist3(cl[j].rgb, paper)) ||
+                    dist3(cl[k].rgb, cl[i].rgb) < CROSS_APART ||
+                    dist3(cl[k].rgb, cl[j].rgb) < CROSS_APART)
                     continue;
                 drop = sqrt(fit(cl[k].rgb, cl[i].rgb, cl[j].rgb, paper, &a)) <
                            20.0 &&
@@ -336,15 +361,12 @@ static void keep_bases(td_palette *pal, const double *paper, clus *cl,
     pal->ink[0].role = TD_INKROLE_PAPER;
     pal->ink[0].share = 1.0;
     for (j = 0; j < ncl; j++) {
-        double share = (double)cl[j].n / (double)nsamp, a, best = HUGE_VAL;
+        double share = (double)cl[j].n / (double)nsamp, best = HUGE_VAL;
         int into = -1;
         for (i = 1; i < pal->n; i++) {
             double iv[3], r;
             rgb_of(&pal->ink[i], iv);
-            r = sqrt(fit(cl[j].rgb, paper, iv, paper, &a));
-            if (a > 0.05 && a <= 1.0 &&
-                r < fmin(25.0, 12.0 + 0.1 * a * dist3(iv, paper)) &&
-                r < best)
+            if (mixture_of(cl[j].rgb, iv, paper, &r) && r < best)
                 best = r, into = i;
         }
         if (into < 0 && (share < MIN_SHARE || pal->n == TD_PALETTE_MAX)) {

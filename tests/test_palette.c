@@ -397,7 +397,10 @@ static void test_faint_grid_real(void)
  * by -1.2 (Elkhorn printed, the benchmark's printed defects): the fringes
  * make colours of their own and the palette takes an olive for the
  * contour ink (recall 0.100); with --defringe each ink pixel takes the
- * colour around it first and the lines are found (0.937). */
+ * colour around it first and the lines are found (0.937).  Since
+ * 2026-12-06 the plain palette keeps the contours' orange fringe (0.79 px,
+ * 808 px of long strokes per Mpx) as a second contour ink: recall 0.823
+ * -> 0.864 without --defringe (precision 0.995 -> 0.983), 0.924 with. */
 static void test_defringe_scan(void)
 {
     td_gen_params gp;
@@ -415,7 +418,7 @@ static void test_defringe_scan(void)
             off.recall, off.precision, on.recall, on.precision);
     check_brown(&pal);
     TT_CHECK(on.recall >= 0.92 && on.precision >= 0.98);
-    TT_CHECK(on.recall > off.recall + 0.1);
+    TT_CHECK(on.recall > off.recall + 0.04 && off.precision >= 0.98);
     td_grid_f32_free(src);
 }
 
@@ -473,6 +476,76 @@ static void test_crowded_print(void)
     }
     TT_CHECKF(sc.recall >= 0.8 && sc.precision >= 0.99,
               "recall %.3f precision %.3f", sc.recall, sc.precision);
+    td_grid_f32_free(src);
+}
+
+/* The crowded printed sheet as another scanner gives it: its levels
+ * mapped by v -> lo + v (hi - lo) / 255 (gdal_translate -scale 0 255 lo
+ * hi).  Two levels darker, a faded brown cluster over a darker brown one
+ * looked like a crossing of two inks and the brown was dropped: the red
+ * roads were taken (recall 0.857); five levels lighter at the paper end,
+ * the roads' red measured 0.98 px wide and was dropped as noise, and the
+ * roads went into the contour ink (recall 0.907).  The contour ink is no
+ * red, a red ink stays in the palette, and the recall holds (0.916-0.933
+ * over eight such mappings and two colour balances, docs/binarise.md). */
+static void test_crowded_print_levels(void)
+{
+    static const int lev[2][2] = {{-2, 253}, {5, 255}};
+    td_gen_params gp;
+    td_grid_f32 *src = front_range(&gp, 10);
+    td_image *im = NULL;
+    td_lines *truth = NULL;
+    td_ctx cx;
+    int v;
+    td_ctx_init(&cx);
+    if (!src)
+        return;
+    gp.interval = 20;
+    td_hsheet_defects(&gp, 3);
+    TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
+    for (v = 0; v < 2 && im; v++) {
+        td_image *sh = td_image_new(im->w, im->h, 3, &cx);
+        td_scan_params sp = td_scan_defaults();
+        td_scan_result res;
+        td_scanscore sc;
+        int x, y, i, red = 0;
+        TT_CHECK(sh != NULL);
+        if (!sh)
+            break;
+        for (y = 0; y < im->h; y++)
+            for (x = 0; x < 3 * im->w; x++) {
+                double q = lev[v][0] + im->data[(size_t)y * im->stride + x] *
+                                           (lev[v][1] - lev[v][0]) / 255.0;
+                sh->data[(size_t)y * sh->stride + x] =
+                    (uint8_t)(q < 0     ? 0
+                              : q > 255 ? 255
+                                        : lrint(q));
+            }
+        TT_CHECKF(td_scan(sh, &sp, &res, &cx) == 0, "%s", td_errmsg(&cx));
+        for (i = 0; i < res.palette.n; i++) {
+            const uint8_t *c = res.palette.ink[i].rgb;
+            int r = c[0] > c[1] + 100 && c[0] > c[2] + 100;
+            red |= r && res.palette.ink[i].role == TD_INKROLE_INK;
+            TT_CHECKF(!r || i != res.palette.chosen,
+                      "levels %d..%d: the red #%02x%02x%02x taken", lev[v][0],
+                      lev[v][1], c[0], c[1], c[2]);
+        }
+        TT_CHECKF(red, "levels %d..%d: no red ink in the palette", lev[v][0],
+                  lev[v][1]);
+        TT_CHECK(td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
+                               NULL) == 0);
+        fprintf(stderr,
+                "  crowded print, levels %d..%d: recall %.3f "
+                "precision %.3f\n",
+                lev[v][0], lev[v][1], sc.recall, sc.precision);
+        TT_CHECKF(sc.recall >= 0.91 && sc.precision >= 0.99,
+                  "levels %d..%d: recall %.3f precision %.3f", lev[v][0],
+                  lev[v][1], sc.recall, sc.precision);
+        td_scan_result_free(&res);
+        td_image_free(sh);
+    }
+    td_image_free(im);
+    td_lines_free(truth);
     td_grid_f32_free(src);
 }
 
@@ -558,6 +631,7 @@ int main(void)
     TT_RUN(test_printed_map);
     TT_RUN(test_split_brown);
     TT_RUN(test_crowded_print);
+    TT_RUN(test_crowded_print_levels);
     TT_RUN(test_print_variants);
     TT_RUN(test_brown_not_fringe);
     TT_RUN(test_new_print_roads);
