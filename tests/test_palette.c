@@ -483,11 +483,12 @@ static void test_crowded_print(void)
  * mapped by v -> lo + v (hi - lo) / 255 (gdal_translate -scale 0 255 lo
  * hi).  Two levels darker, a faded brown cluster over a darker brown one
  * looked like a crossing of two inks and the brown was dropped: the red
- * roads were taken (recall 0.857); five levels lighter at the paper end,
- * the roads' red measured 0.98 px wide and was dropped as noise, and the
- * roads went into the contour ink (recall 0.907).  The contour ink is no
- * red, a red ink stays in the palette, and the recall holds (0.916-0.933
- * over eight such mappings and two colour balances, docs/binarise.md). */
+ * roads were taken (recall 0.861; palette.c, CROSS_APART).  Five levels
+ * lighter at the paper end the benchmark's copy of this sheet lost its
+ * red as noise (0.98 px, 971 px of long strokes per Mpx; MIN_LINE_LEN);
+ * here the red stays at either noise bar.  The contour ink is no red, a
+ * red ink stays in the palette, and the recall holds (0.916-0.933 over
+ * ten such mappings of the benchmark's copy, docs/binarise.md). */
 static void test_crowded_print_levels(void)
 {
     static const int lev[2][2] = {{-2, 253}, {5, 255}};
