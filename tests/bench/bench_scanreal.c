@@ -6,9 +6,14 @@
  * junctions, ours without the seam split, and the
  * default (ours with it); then the same on the generator's 800 px cone,
  * whose rings both roads of the printed kinds cross.  Numbers for
- * docs/scanner.md and docs/binarise.md.
+ * docs/scanner.md and docs/binarise.md.  --levels: instead, the colour
+ * kinds with their levels mapped as other scanners give them (eight
+ * gdal_translate -scale ranges and two colour balances), the defaults'
+ * recall and precision on each (the palette's sensitivity,
+ * docs/binarise.md).
  *
- *   bench_scanreal [--dems DIR] [--only NAME] [--log] [--out DIR] */
+ *   bench_scanreal [--dems DIR] [--only NAME] [--log] [--out DIR]
+ *                  [--levels] */
 #include "samples/gen/gen.h"
 #include "scanner/scan.h"
 #include "src/io/io.h"
@@ -16,6 +21,7 @@
 #include "tests/util/hsheet.h"
 #include "tests/util/match.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -106,13 +112,88 @@ static void one_kind(const char *name, td_gen_params gp, int kind, int logit,
     td_lines_free(truth);
 }
 
+/* The level mappings of --levels: per channel v -> lo + v (hi - lo) /
+ * 255 (gdal_translate -scale 0 255 lo hi), clamped. */
+static const struct {
+    const char *name;
+    int lo[3], hi[3];
+} level_maps[10] = {{"0..255", {0, 0, 0}, {255, 255, 255}},
+                    {"-2..253", {-2, -2, -2}, {253, 253, 253}},
+                    {"2..257", {2, 2, 2}, {257, 257, 257}},
+                    {"1..256", {1, 1, 1}, {256, 256, 256}},
+                    {"-4..251", {-4, -4, -4}, {251, 251, 251}},
+                    {"0..250", {0, 0, 0}, {250, 250, 250}},
+                    {"5..255", {5, 5, 5}, {255, 255, 255}},
+                    {"0..260", {0, 0, 0}, {260, 260, 260}},
+                    {"R+3,B-3", {3, 0, -3}, {258, 255, 252}},
+                    {"R-3,G+2", {-3, 2, 0}, {252, 257, 255}}};
+
+/* One colour kind under every level mapping: a row each, then the
+ * worst and mean recall. */
+static void levels_kind(const char *name, td_gen_params gp, int kind,
+                        td_ctx *cx)
+{
+    td_image *im = NULL, *sh = NULL;
+    td_lines *truth = NULL;
+    double lo = 1, sum = 0;
+    int m, n = 0;
+    td_hsheet_defects(&gp, kind);
+    if (td_gen_sheet(&gp, &im, &truth, NULL, cx) != 0 ||
+        !(sh = td_image_new(im->w, im->h, 3, cx))) {
+        printf("%-12s %-7s generate failed: %s\n", name, td_defect_names[kind],
+               td_errmsg(cx));
+        td_ctx_clear(cx);
+        td_image_free(im);
+        td_lines_free(truth);
+        return;
+    }
+    for (m = 0; m < 10; m++) {
+        td_scan_params sp = td_scan_defaults();
+        td_scan_result res;
+        td_scanscore sc;
+        int x, y, c;
+        for (y = 0; y < im->h; y++)
+            for (x = 0; x < im->w; x++)
+                for (c = 0; c < 3; c++) {
+                    double q =
+                        level_maps[m].lo[c] +
+                        im->data[(size_t)y * im->stride + 3 * (size_t)x + c] *
+                            (level_maps[m].hi[c] - level_maps[m].lo[c]) / 255.0;
+                    sh->data[(size_t)y * sh->stride + 3 * (size_t)x + c] =
+                        (uint8_t)(q < 0     ? 0
+                                  : q > 255 ? 255
+                                            : lrint(q));
+                }
+        if (td_scan(sh, &sp, &res, cx) != 0) {
+            printf("%-12s %-7s %-10s scan failed: %s\n", name,
+                   td_defect_names[kind], level_maps[m].name, td_errmsg(cx));
+            td_ctx_clear(cx);
+            continue;
+        }
+        td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc, NULL);
+        printf("%-12s %-7s %-10s %6ld %6ld %6.3f %6.3f\n", name,
+               td_defect_names[kind], level_maps[m].name, sc.n_truth,
+               sc.n_traced, sc.recall, sc.precision);
+        fflush(stdout);
+        lo = sc.recall < lo ? sc.recall : lo;
+        sum += sc.recall, n++;
+        td_scan_result_free(&res);
+    }
+    printf("%-12s %-7s %-10s recall worst %.3f mean %.3f\n", name,
+           td_defect_names[kind], "(all)", lo, n ? sum / n : 0);
+    td_image_free(sh);
+    td_image_free(im);
+    td_lines_free(truth);
+}
+
 static const char usage[] =
-    "usage: bench_scanreal [--dems DIR] [--only NAME] [--log] [--out DIR]\n";
+    "usage: bench_scanreal [--dems DIR] [--only NAME] [--log] [--out DIR] "
+    "[--levels]\n";
 
 int main(int argc, char **argv)
 {
     const char *dir = "tests/data/dems", *only = NULL, *out = NULL;
-    int logit = 0, a;
+    int logit = 0, levels = 0, a;
     size_t c;
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--dems") && a + 1 < argc)
@@ -123,6 +204,8 @@ int main(int argc, char **argv)
             out = argv[++a];
         else if (!strcmp(argv[a], "--log"))
             logit = 1;
+        else if (!strcmp(argv[a], "--levels"))
+            levels = 1;
         else if ((!strcmp(argv[a], "--topodig") || !strcmp(argv[a], "--dir")) &&
                  a + 1 < argc)
             a++; /* make bench's common options */
@@ -131,9 +214,13 @@ int main(int argc, char **argv)
     }
     if (out && td_bench_outdir("bench_scanreal", out) != 0)
         return 1;
-    printf("%-12s %-7s %-10s %6s %6s %6s %6s %6s %6s %6s\n", "sheet", "scan",
-           "junctions", "truth", "traced", "recall", "prec", "own", "jumps",
-           "secs");
+    if (levels)
+        printf("%-12s %-7s %-10s %6s %6s %6s %6s\n", "sheet", "scan", "levels",
+               "truth", "traced", "recall", "prec");
+    else
+        printf("%-12s %-7s %-10s %6s %6s %6s %6s %6s %6s %6s\n", "sheet",
+               "scan", "junctions", "truth", "traced", "recall", "prec", "own",
+               "jumps", "secs");
     for (c = 0; c < sizeof td_real_sheets / sizeof td_real_sheets[0]; c++) {
         const td_real_sheet *k = &td_real_sheets[c];
         td_grid_f32 *src = NULL;
@@ -155,11 +242,14 @@ int main(int argc, char **argv)
             gp.interval = k->interval;
             gp.w = (int)(src->w * k->scale);
             gp.h = (int)(src->h * k->scale);
-            one_kind(k->name, gp, kind, logit, out, &cx);
+            if (levels && kind >= 2)
+                levels_kind(k->name, gp, kind, &cx);
+            else if (!levels)
+                one_kind(k->name, gp, kind, logit, out, &cx);
         }
         td_grid_f32_free(src);
     }
-    if (!only || !strcmp(only, "cone")) {
+    if (!levels && (!only || !strcmp(only, "cone"))) {
         /* the generator's cone, 800 px: every ring crossed by both roads
            (the printed kinds), contours 7 px apart */
         td_ctx cx;
