@@ -492,6 +492,7 @@ static void test_crowded_print(void)
 static void test_crowded_print_levels(void)
 {
     static const int lev[2][2] = {{-2, 253}, {5, 255}};
+    int lo[3], hi[3];
     td_gen_params gp;
     td_grid_f32 *src = front_range(&gp, 10);
     td_image *im = NULL;
@@ -509,19 +510,13 @@ static void test_crowded_print_levels(void)
         td_scan_params sp = td_scan_defaults();
         td_scan_result res;
         td_scanscore sc;
-        int x, y, i, red = 0;
+        int i, red = 0;
         TT_CHECK(sh != NULL);
         if (!sh)
             break;
-        for (y = 0; y < im->h; y++)
-            for (x = 0; x < 3 * im->w; x++) {
-                double q = lev[v][0] + im->data[(size_t)y * im->stride + x] *
-                                           (lev[v][1] - lev[v][0]) / 255.0;
-                sh->data[(size_t)y * sh->stride + x] =
-                    (uint8_t)(q < 0     ? 0
-                              : q > 255 ? 255
-                                        : lrint(q));
-            }
+        lo[0] = lo[1] = lo[2] = lev[v][0];
+        hi[0] = hi[1] = hi[2] = lev[v][1];
+        td_hsheet_levels(im, sh, lo, hi);
         TT_CHECKF(td_scan(sh, &sp, &res, &cx) == 0, "%s", td_errmsg(&cx));
         for (i = 0; i < res.palette.n; i++) {
             const uint8_t *c = res.palette.ink[i].rgb;

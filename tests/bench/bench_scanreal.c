@@ -21,7 +21,6 @@
 #include "tests/util/hsheet.h"
 #include "tests/util/match.h"
 
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -151,19 +150,7 @@ static void levels_kind(const char *name, td_gen_params gp, int kind,
         td_scan_params sp = td_scan_defaults();
         td_scan_result res;
         td_scanscore sc;
-        int x, y, c;
-        for (y = 0; y < im->h; y++)
-            for (x = 0; x < im->w; x++)
-                for (c = 0; c < 3; c++) {
-                    double q =
-                        level_maps[m].lo[c] +
-                        im->data[(size_t)y * im->stride + 3 * (size_t)x + c] *
-                            (level_maps[m].hi[c] - level_maps[m].lo[c]) / 255.0;
-                    sh->data[(size_t)y * sh->stride + 3 * (size_t)x + c] =
-                        (uint8_t)(q < 0     ? 0
-                                  : q > 255 ? 255
-                                            : lrint(q));
-                }
+        td_hsheet_levels(im, sh, level_maps[m].lo, level_maps[m].hi);
         if (td_scan(sh, &sp, &res, cx) != 0) {
             printf("%-12s %-7s %-10s scan failed: %s\n", name,
                    td_defect_names[kind], level_maps[m].name, td_errmsg(cx));

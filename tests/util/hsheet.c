@@ -409,6 +409,24 @@ const char *const td_defect_names[5] = {"clean", "scanned", "colour", "printed",
                                         "new"};
 
 /* Contract in hsheet.h. */
+void td_hsheet_levels(const td_image *in, td_image *out, const int lo[3],
+                      const int hi[3])
+{
+    int x, y, c;
+    for (y = 0; y < in->h; y++)
+        for (x = 0; x < in->w; x++)
+            for (c = 0; c < 3; c++) {
+                double q =
+                    lo[c] +
+                    in->data[(size_t)y * in->stride + 3 * (size_t)x + c] *
+                        (hi[c] - lo[c]) / 255.0;
+                out->data[(size_t)y * out->stride + 3 * (size_t)x + c] =
+                    (uint8_t)(q < 0     ? 0
+                              : q > 255 ? 255
+                                        : lrint(q));
+            }
+}
+
 void td_hsheet_defects(td_gen_params *p, int kind)
 {
     p->line_width = 1.8;

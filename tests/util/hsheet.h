@@ -87,6 +87,12 @@ void td_hsheet_defects(td_gen_params *p, int kind);
 td_grid_f32 *td_hsheet_dem_sheet(const char *dem, double scale,
                                  td_gen_params *gp, td_ctx *cx);
 
+/* RGB image in mapped into out (the same size) as another scanner gives
+ * it: per channel v -> lo + v (hi - lo) / 255, rounded and clamped
+ * (gdal_translate -scale 0 255 lo hi). */
+void td_hsheet_levels(const td_image *in, td_image *out, const int lo[3],
+                      const int hi[3]);
+
 /* Load a real DEM (../shared/dems/NAME) into *out, or return nonzero. */
 int td_hsheet_load_dem(const char *path, td_grid_f32 **out, td_ctx *cx);
 
