@@ -12,7 +12,7 @@
  *   bench_heights [--dems DIR] [--only NAME] [--tree] [--search N] [--log]
  *                 [--all-hints] [--png DIR] [--streams] [--no-vees]
  *                 [--no-stream-joins] [--gap-pairs PX] [--oracle]
- *                 [--detint]
+ *                 [--detint] [--spots N]
  *
  * --detint: the scanner divides the colour sheets' tints out (scan
  * --detint, scanner/detint.h);
@@ -62,7 +62,7 @@ static const char usage[] =
     "                     [--log] [--all-hints] [--png DIR] [--streams]\n"
     "                     [--no-vees] [--no-stream-joins] [--gap-pairs PX]\n"
     "                     [--oracle] [--detint] [--hachures]\n"
-    "                     [--paper-junctions]\n";
+    "                     [--paper-junctions] [--spots N]\n";
 
 static const char *const scan_name[6] = {"truth",  "clean",   "scanned",
                                          "colour", "printed", "new"};
@@ -75,7 +75,7 @@ int main(int argc, char **argv)
     int tree = 0, logit = 0, paperj = 0, all = 0, search = 0, hach = 0, a;
     int streams = 0, novees = 0, nojoins = 0, detint = 0;
     double gap_pairs = 0;
-    int oracle = 0;
+    int oracle = 0, spots = 0;
     size_t c;
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--dems") && a + 1 < argc)
@@ -100,6 +100,8 @@ int main(int argc, char **argv)
             nojoins = 1;
         else if (!strcmp(argv[a], "--hachures"))
             hach = 1;
+        else if (!strcmp(argv[a], "--spots") && a + 1 < argc)
+            spots = atoi(argv[++a]); /* spot heights on the scanned kinds */
         else if (!strcmp(argv[a], "--paper-junctions"))
             paperj = 1;
         else if (!strcmp(argv[a], "--log"))
@@ -153,6 +155,7 @@ int main(int argc, char **argv)
                 }
                 td_hsheet_defects(&hs.gp, scanned >= 2 ? scanned - 1 : 0);
                 hs.gp.hachures = hach;
+                hs.gp.spots = scanned >= 2 ? spots : 0;
                 hs.gp.streams = streams && hs.gp.colour;
                 hs.no_vees = novees;
                 hs.no_stream_joins = nojoins;

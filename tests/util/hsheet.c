@@ -288,6 +288,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
                                          &reads, &hs->nreads, cx)) != 0)
                 goto done;
             td_ocr_drop_digits(res.lines, reads, hs->nreads);
+            td_ocr_drop_dots(res.lines, res.join.text, reads, hs->nreads);
             if (!(truth = calloc(hs->nreads + 1, sizeof *truth))) {
                 rc = TD_ENOMEM;
                 goto done;
