@@ -794,6 +794,33 @@ int td_cv_kmeans(const float *pts, int n, int dim, int k, int attempts,
     });
 }
 
+int td_cv_kmeans_from(const float *pts, int n, int dim, int k, int *label,
+                      float *centre, td_ctx *cx)
+{
+    return guarded("kmeans", cx, [&] {
+        if (n < k || k < 1 || dim < 1)
+            return td_seterr(cx, TD_EINVAL,
+                             "kmeans: %d points for %d "
+                             "clusters",
+                             n, k);
+        cv::Mat data(n, dim, CV_32F, const_cast<float *>(pts));
+        cv::Mat lab(n, 1, CV_32S), cen;
+        for (int i = 0; i < n; i++)
+            lab.at<int>(i) = label[i];
+        cv::kmeans(
+            data, k, lab,
+            cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT,
+                             30, 0.05),
+            1, cv::KMEANS_USE_INITIAL_LABELS, cen);
+        for (int i = 0; i < n; i++)
+            label[i] = lab.at<int>(i);
+        for (int i = 0; i < k; i++)
+            for (int d = 0; d < dim; d++)
+                centre[i * dim + d] = cen.at<float>(i, d);
+        return 0;
+    });
+}
+
 int td_cv_rgb_to_grey(const td_image *im, td_grid_u8 *grey, td_ctx *cx)
 {
     return guarded("grey", cx, [&] {

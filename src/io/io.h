@@ -355,6 +355,12 @@ void td_cv_lab_warm_end(void *h);
 int td_cv_kmeans(const float *pts, int n, int dim, int k, int attempts,
                  int *label, float *centre, td_ctx *cx);
 
+/* The same from the caller's seeding: label[n] in holds each point's
+ * first cluster (0..k-1; cv::KMEANS_USE_INITIAL_LABELS, one attempt), out
+ * its last.  Nothing random: the same input gives the same clusters. */
+int td_cv_kmeans_from(const float *pts, int n, int dim, int k, int *label,
+                      float *centre, td_ctx *cx);
+
 /* RGB (3-channel td_image) to 8-bit grey: BT.601 luma 0.299 R + 0.587 G +
  * 0.114 B as cv::cvtColor(COLOR_RGB2GRAY) computes it (its own fixed-point
  * rounding); grey has im's size.  A 1-channel image is copied.  Works row
