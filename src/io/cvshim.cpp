@@ -767,8 +767,10 @@ void td_cv_lab_warm_end(void *h)
     delete w;
 }
 
-int td_cv_kmeans(const float *pts, int n, int dim, int k, int attempts,
-                 int *label, float *centre, td_ctx *cx)
+/* cv::kmeans with `flags` (KMEANS_PP_CENTERS: seeds from a fixed RNG state;
+ * KMEANS_USE_INITIAL_LABELS: label[] in holds the first clusters). */
+static int kmeans_with(const float *pts, int n, int dim, int k, int attempts,
+                       int flags, int *label, float *centre, td_ctx *cx)
 {
     return guarded("kmeans", cx, [&] {
         if (n < k || k < 1 || dim < 1)
@@ -778,12 +780,17 @@ int td_cv_kmeans(const float *pts, int n, int dim, int k, int attempts,
         cv::Mat lab, cen;
         cv::RNG &rng = cv::theRNG();
         uint64 saved = rng.state;
+        if (flags & cv::KMEANS_USE_INITIAL_LABELS) {
+            lab.create(n, 1, CV_32S);
+            for (int i = 0; i < n; i++)
+                lab.at<int>(i) = label[i];
+        }
         rng.state = 0x5eed5eedULL;
         cv::kmeans(data, k, lab,
                    cv::TermCriteria(cv::TermCriteria::EPS +
                                         cv::TermCriteria::COUNT,
                                     30, 0.05),
-                   attempts, cv::KMEANS_PP_CENTERS, cen);
+                   attempts, flags, cen);
         rng.state = saved;
         for (int i = 0; i < n; i++)
             label[i] = lab.at<int>(i);
@@ -794,31 +801,18 @@ int td_cv_kmeans(const float *pts, int n, int dim, int k, int attempts,
     });
 }
 
+int td_cv_kmeans(const float *pts, int n, int dim, int k, int attempts,
+                 int *label, float *centre, td_ctx *cx)
+{
+    return kmeans_with(pts, n, dim, k, attempts, cv::KMEANS_PP_CENTERS, label,
+                       centre, cx);
+}
+
 int td_cv_kmeans_from(const float *pts, int n, int dim, int k, int *label,
                       float *centre, td_ctx *cx)
 {
-    return guarded("kmeans", cx, [&] {
-        if (n < k || k < 1 || dim < 1)
-            return td_seterr(cx, TD_EINVAL,
-                             "kmeans: %d points for %d "
-                             "clusters",
-                             n, k);
-        cv::Mat data(n, dim, CV_32F, const_cast<float *>(pts));
-        cv::Mat lab(n, 1, CV_32S), cen;
-        for (int i = 0; i < n; i++)
-            lab.at<int>(i) = label[i];
-        cv::kmeans(
-            data, k, lab,
-            cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT,
-                             30, 0.05),
-            1, cv::KMEANS_USE_INITIAL_LABELS, cen);
-        for (int i = 0; i < n; i++)
-            label[i] = lab.at<int>(i);
-        for (int i = 0; i < k; i++)
-            for (int d = 0; d < dim; d++)
-                centre[i * dim + d] = cen.at<float>(i, d);
-        return 0;
-    });
+    return kmeans_with(pts, n, dim, k, 1, cv::KMEANS_USE_INITIAL_LABELS, label,
+                       centre, cx);
 }
 
 int td_cv_rgb_to_grey(const td_image *im, td_grid_u8 *grey, td_ctx *cx)
