@@ -247,10 +247,12 @@ typedef struct gcell {
     double sum[3];
 } gcell;
 
-static int cmp_gkey(const void *a, const void *b)
+static int cmp_gkey(const void *a, const void *b) /* key, then sample */
 {
-    int64_t x = ((const int64_t *)a)[0], y = ((const int64_t *)b)[0];
-    return (x > y) - (x < y);
+    const int64_t *x = a, *y = b;
+    if (x[0] != y[0])
+        return (x[0] > y[0]) - (x[0] < y[0]);
+    return (x[1] > y[1]) - (x[1] < y[1]);
 }
 
 static int cmp_gcount(const void *a, const void *b)
