@@ -366,8 +366,9 @@ static int strong_kmeans(const float *fb, long n, int *lbl, float *cen,
  * samples off the paper: the light ones (tints and faint ink) by k-means
  * in CIELAB, the strong ones (ink) by k-means (strong_kmeans) of their
  * direction from the paper in RGB, which a pixel partly covered by an ink
- * shares with the ink's full colour (so an anti-aliased red road and a brown contour fall
- * in different clusters even where their colours are near). */
+ * shares with the ink's full colour (so an anti-aliased red road and a
+ * brown contour fall in different clusters even where their colours are
+ * near). */
 static int sample_clusters(const td_image *im, double *paper, clus *cl,
                            int *ncl, long *nsamp, td_ctx *cx)
 {

@@ -15,7 +15,9 @@
  *                 [--detint] [--spots N]
  *
  * --detint: the scanner divides the colour sheets' tints out (scan
- * --detint, scanner/detint.h);
+ * --detint, scanner/detint.h); --spots N: up to N spot heights drawn on
+ * the scanned, colour and printed sheets (tdgen --spot-heights; real
+ * maps carry them, docs/label.md "Spot heights");
  * --streams: the colour sheets' water drawn from the terrain (tdgen
  * --streams) instead of the random river; --no-vees: the streams' Vs not
  * read (scanner/streams.h); --no-stream-joins: the joiner's stage 3 (across
