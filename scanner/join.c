@@ -70,6 +70,7 @@ td_join_params td_join_defaults(int w, int h)
     p.tangent = 8.0;
     p.min_length = 25.0;
     p.straight_keep = 0.8;
+    p.chains = 1;
     p.bridge_max = 12.0;
     p.chain_max = 80.0;
     p.junc_ratio = 1.5;
@@ -1852,6 +1853,63 @@ static int hooked(const td_line *l, double min_length)
     return !l->junc && td_line_length(l) >= min_length;
 }
 
+/* Ours: a short piece whose end pairs with an end of another short piece
+ * continues a longer line when that piece's other end does, through any
+ * number of short pieces: a contour broken several times in a row (a faded
+ * stretch) comes in pieces that pair only with each other, yet the chain
+ * runs from one longer line's end to another's.  A chain with a free end
+ * (the glyphs of a label next to a contour end) stays ungrounded on that
+ * side, and so does one grounded on a longer line's end that pairs with
+ * another longer line's end itself (a stroke beside a small break of a
+ * line: the line joins across the break, bench_heights' scanned Elkhorn 20
+ * sheet at 1582,200).  Ends at skeleton junctions do not chain (a stroke
+ * or small loop hanging at a junction of a line's break pairs with the
+ * line's ends on both sides of it: kept, it takes the line's join there;
+ * junction pieces have their own rule, junction_attached).  The least
+ * fixpoint: chain[] only grows from the ends that pair with longer
+ * lines. */
+static int chain_continue(const td_lines *ls, const jend *e, size_t ne,
+                          const long *eol, const jpair *pairs, size_t np,
+                          const uint8_t *cand, uint8_t *cont, td_ctx *cx)
+{
+    uint8_t *direct = td_calloc(ne + 1, 1, cx),
+            *chain = td_calloc(ne + 1, 1, cx);
+    size_t i;
+    int again = 1;
+    if (!direct || !chain) {
+        free(direct), free(chain);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < np; i++) {
+        size_t a = pairs[i].a, b = pairs[i].b;
+        if (e[a].line != e[b].line && !cand[e[a].line] && !cand[e[b].line])
+            direct[a] = direct[b] = 1;
+    }
+    while (again) {
+        again = 0;
+        for (i = 0; i < np; i++) {
+            size_t a = pairs[i].a, b = pairs[i].b, k;
+            if (e[a].line == e[b].line)
+                continue;
+            for (k = 0; k < 2; k++) {
+                size_t x = k ? b : a, y = k ? a : b, ly = e[y].line;
+                long oy = eol[2 * ly + (1 - e[y].at_end)];
+                if (chain[x] || !cand[e[x].line] || e[x].junc || e[y].junc)
+                    continue;
+                if (cand[ly] ? oy >= 0 && chain[oy] : !direct[y])
+                    chain[x] = 1, again = 1;
+            }
+        }
+    }
+    for (i = 0; i < ls->n; i++) {
+        long s0 = eol[2 * i], s1 = eol[2 * i + 1];
+        if (cand[i] && s0 >= 0 && s1 >= 0 && chain[s0] && chain[s1])
+            cont[s0] = cont[s1] = 1;
+    }
+    free(direct), free(chain);
+    return 0;
+}
+
 /* Short open lines (shorter than min_length, or fitting in a box of that
  * side: a bent digit such as 2 or 5) with both ends inside the sheet are
  * label or text fragments unless both ends continue longer lines (a stage-1
@@ -1900,6 +1958,9 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
         cont[a] |= !cand[e[b].line];
         cont[b] |= !cand[e[a].line];
     }
+    if (p->chains &&
+        (rc = chain_continue(ls, e, ne, eol, pairs, np, cand, cont, cx)) != 0)
+        goto fail;
     if ((rc = junction_attached(ls, e, ne, cand, p->min_length, cont, cx)) != 0)
         goto fail;
     for (i = ls->n; i-- > 0;)

@@ -28,6 +28,10 @@ typedef struct td_join_params {
                              curled piece (a digit) within 12 px, is a
                              piece of a faded or broken contour and stays
                              (default 0.8; 0: off, every short piece goes) */
+    int chains; /* stage 0 (ours): short pieces that pair end to end into a
+                   chain running from one longer line's end to another's
+                   are a contour broken several times, and stay (default
+                   1) */
     double long_gap;   /* stage 2: longest label gap joined, px (default
                           70: a 60-px label gap plus the skeleton's pull-back
                           at both ends; <= max_gap: off) */

@@ -597,6 +597,92 @@ static void test_faded_pieces(void)
     td_lines_free(ls);
 }
 
+/* A contour broken four times in a row where its ink faded on a winding
+ * stretch (bench_heights' printed Elkhorn 20 sheet): three short curved
+ * pieces (a 6-px bump each, under min_length, too bent for straight_keep)
+ * between two long lines, 3-px breaks.  Each piece pairs only with its
+ * neighbours, yet the chain runs from one long line's end to the
+ * other's: the pieces stay and the line comes out whole.  With the rule
+ * off (chains 0) they went as text and the line stayed in two. */
+static void test_broken_chain(void)
+{
+    int chains;
+    for (chains = 1; chains >= 0; chains--) {
+        td_join_params p = td_join_defaults(W, H);
+        td_join_stats st;
+        td_lines *ls = td_lines_new(NULL);
+        double x0;
+        p.chains = chains;
+        add_hline(ls, 20, 100, 100);
+        for (x0 = 103; x0 < 150; x0 += 17) { /* 14-px bumps, 3-px breaks */
+            td_line *l = td_lines_add(ls, NULL);
+            double x;
+            for (x = x0; x <= x0 + 14; x += 0.5)
+                td_line_push(l, x, 100 - 3 * (1 - cos(M_PI * (x - x0) / 7)),
+                             NULL);
+        }
+        add_hline(ls, 154, 260, 100);
+        TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+        if (chains)
+            TT_CHECKF(ls->n == 1 && st.fragments == 0,
+                      "chains: %zu lines, %zu fragments removed", ls->n,
+                      st.fragments);
+        else
+            TT_CHECKF(st.fragments == 3, "no chains: %zu fragments removed",
+                      st.fragments);
+        td_join_stats_free(&st);
+        td_lines_free(ls);
+    }
+}
+
+/* A line broken at a skeleton junction where a small loop hangs (the
+ * traced pieces of bench_heights' scanned Elkhorn 20 sheet at 1582,200,
+ * moved): the west line's end, a 22-px piece on to the east line and the
+ * loop's two ends all at the junction.  The loop pairs with the west
+ * line's end and with the piece, whose other end continues the east
+ * line; but ends at junctions do not chain: the loop goes, as before, and
+ * the line comes out whole (with the loop kept it took the west line's
+ * join and the line stayed in two, the region beyond one interval off). */
+static void test_chain_not_at_junction(void)
+{
+    const double piece[] = {166.5, 91.5, 165.5, 91.5, 164.5, 90.5, 163.5, 89.5,
+                            162.5, 89.5, 161.5, 88.5, 160.5, 88.5, 159.5, 88.5,
+                            158.5, 88.5, 157.5, 89.5, 156.5, 89.5, 155.5, 90.5,
+                            154.5, 91.5, 153.5, 92.5, 152.5, 93.5, 151.5, 94.5,
+                            151.5, 95.5, 150.5, 96.5, 151.5, 97.5};
+    const double loop[] = {
+        152.5, 101.5, 153.5, 102.5, 154.5, 102.5, 155.5, 101.5, 156.5, 101.5,
+        157.5, 100.5, 158.5, 99.5,  158.5, 98.5,  158.5, 97.5,  158.5, 96.5,
+        157.5, 95.5,  156.5, 95.5,  155.5, 96.5,  154.5, 97.5,  153.5, 98.5};
+    const double west[] = {
+        128.5, 105.5, 129.5, 104.5, 130.5, 104.5, 131.5, 104.5, 132.5, 104.5,
+        133.5, 104.5, 134.5, 103.5, 135.5, 103.5, 136.5, 103.5, 137.5, 103.5,
+        138.5, 103.5, 139.5, 103.5, 140.5, 103.5, 141.5, 102.5, 142.5, 102.5,
+        143.5, 101.5, 144.5, 101.5, 145.5, 101.5, 146.5, 101.5, 147.5, 100.5,
+        148.5, 100.5, 149.5, 100.5, 150.5, 100.5};
+    td_join_params p = td_join_defaults(W, H);
+    td_join_stats st;
+    td_lines *ls = td_lines_new(NULL);
+    td_line *l = td_lines_add(ls, NULL);
+    size_t k;
+    for (k = 30; k < 128; k++) /* the west line, straight, then as traced */
+        td_line_push(l, k + 0.5, 105.5, NULL);
+    for (k = 0; k < sizeof west / sizeof *west / 2; k++)
+        td_line_push(l, west[2 * k], west[2 * k + 1], NULL);
+    l->junc = 2;
+    add_line(ls, piece, sizeof piece / sizeof *piece / 2, 0);
+    ls->v[1].junc = 2;
+    add_line(ls, loop, sizeof loop / sizeof *loop / 2, 0);
+    ls->v[2].junc = 3;
+    add_hline(ls, 169.5, 280.5, 91.5);
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    TT_CHECKF(ls->n == 1 && td_line_length(&ls->v[0]) > 180,
+              "%zu lines, %zu fragments removed, first %g px", ls->n,
+              st.fragments, ls->n ? td_line_length(&ls->v[0]) : 0.0);
+    td_join_stats_free(&st);
+    td_lines_free(ls);
+}
+
 /* Number of proper crossings between segment ab and the lines. */
 static int seg_crossings(const double *a, const double *b, const td_lines *ls)
 {
@@ -823,6 +909,8 @@ int main(void)
     TT_RUN(test_hook_kept);
     TT_RUN(test_road_chain);
     TT_RUN(test_faded_pieces);
+    TT_RUN(test_broken_chain);
+    TT_RUN(test_chain_not_at_junction);
     TT_RUN(test_joins_never_cross);
     TT_RUN(test_labels_off);
     TT_RUN(test_labelled_sheets);
