@@ -282,61 +282,80 @@ static void hist_row(const uint8_t *s, int w, uint64_t (*h)[256])
 #define VETO_R 1
 #define VETO_R_TINT 2 /* where td_detint divided a tint out */
 
-/* Pixel (x, y) is another ink by the veto table (its nearest node);
- * outside the image it is not. */
-static int vetoed(const td_image *im, const uint8_t *veto, int x, int y)
+/* Word i of row y of a bit grid of W words a row, 0 outside. */
+static uint64_t word_at(const uint64_t *r, size_t W, int h, int y, long i)
 {
-    if (x < 0 || y < 0 || x >= im->w || y >= im->h)
-        return 0;
-    return veto[td_palette_node(im->data + (size_t)y * im->stride +
-                                3 * (size_t)x)] != 0;
+    return y < 0 || y >= h || i < 0 || (size_t)i >= W
+               ? 0
+               : r[(size_t)y * W + (size_t)i];
 }
 
-/* A vetoed pixel in a vetoed 2 x 2 block: another ink's stroke, not the
- * one-pixel colour fringe along the contour ink's own edge. */
-static int veto_core(const td_image *im, const uint8_t *veto, int x, int y)
+/* Word i of the 2 x 2 blocks of row y: bit x set when the pixels x and
+ * x + 1 of rows y and y + 1 all are. */
+static uint64_t block_word(const uint64_t *r, size_t W, int h, int y, long i)
 {
-    int dx, dy;
-    if (!vetoed(im, veto, x, y))
-        return 0;
-    for (dy = -1; dy <= 0; dy++)
-        for (dx = -1; dx <= 0; dx++)
-            if (vetoed(im, veto, x + dx, y + dy) &&
-                vetoed(im, veto, x + dx + 1, y + dy) &&
-                vetoed(im, veto, x + dx, y + dy + 1) &&
-                vetoed(im, veto, x + dx + 1, y + dy + 1))
-                return 1;
-    return 0;
+    uint64_t a = word_at(r, W, h, y, i), b = word_at(r, W, h, y + 1, i);
+    uint64_t a1 = (a >> 1) | (word_at(r, W, h, y, i + 1) << 63);
+    uint64_t b1 = (b >> 1) | (word_at(r, W, h, y + 1, i + 1) << 63);
+    return a & a1 & b & b1;
 }
 
-/* The pixels of im that veto_core marks, packed one bit a pixel (rows of
- * (w + 7) / 8 bytes) into *bits (calloc'ed); *bits NULL when the table
- * marks no colour at all.  0 or TD_ENOMEM. */
+/* The pixels of im that are another ink's stroke, packed one bit a pixel
+ * (rows of (w + 7) / 8 bytes, bit x & 7 of byte x / 8) into *bits
+ * (calloc'ed): a pixel the veto table marks (its nearest node) in a 2 x 2
+ * block of such pixels, not the one-pixel colour fringe along the contour
+ * ink's own edge; *bits NULL when the table marks no colour at all.  The
+ * table is read once a pixel, the blocks found 64 pixels at a time.  0 or
+ * TD_ENOMEM. */
 static int veto_bits(const td_image *im, const uint8_t *veto, uint8_t **bits,
                      td_ctx *cx)
 {
-    size_t stride = ((size_t)im->w + 7) / 8, n = 0, i;
+    size_t stride = ((size_t)im->w + 7) / 8, W = ((size_t)im->w + 63) / 64,
+           n = 0, i;
+    uint64_t *raw;
     uint8_t *b;
-    int x, y;
+    int x, y, h = im->h;
     *bits = NULL;
     for (i = 0; i < LUT_SIZE; i++)
         n += veto[i] != 0;
     if (n == 0)
         return 0;
-    if (!(b = td_calloc((size_t)im->h * stride + 1, 1, cx)))
+    if (!(raw = td_calloc((size_t)h * W + 1, sizeof *raw, cx)))
         return TD_ENOMEM;
-#pragma omp parallel for schedule(static) private(x)
-    for (y = 0; y < im->h; y++) { /* each row its own bytes */
-        uint8_t *row = b + (size_t)y * stride;
-        for (x = 0; x < im->w; x++)
-            if (veto_core(im, veto, x, y))
-                row[x >> 3] |= (uint8_t)(1u << (x & 7));
+    if (!(b = td_calloc((size_t)h * stride + 1, 1, cx))) {
+        free(raw);
+        return TD_ENOMEM;
     }
+#pragma omp parallel for schedule(static) private(x)
+    for (y = 0; y < h; y++) { /* each row its own words */
+        const uint8_t *px = im->data + (size_t)y * im->stride;
+        uint64_t *row = raw + (size_t)y * W;
+        for (x = 0; x < im->w; x++)
+            if (veto[td_palette_node(px + 3 * (size_t)x)])
+                row[x >> 6] |= (uint64_t)1 << (x & 63);
+    }
+#pragma omp parallel for schedule(static)
+    for (y = 0; y < h; y++) {
+        uint8_t *row = b + (size_t)y * stride;
+        size_t j, q;
+        for (q = 0; q < W; q++) {
+            long k = (long)q;
+            uint64_t b0 = block_word(raw, W, h, y, k),
+                     bp = block_word(raw, W, h, y - 1, k);
+            uint64_t b0l = (b0 << 1) | (block_word(raw, W, h, y, k - 1) >> 63);
+            uint64_t bpl =
+                (bp << 1) | (block_word(raw, W, h, y - 1, k - 1) >> 63);
+            uint64_t core = raw[(size_t)y * W + q] & (b0 | b0l | bp | bpl);
+            for (j = 0; j < 8 && 8 * q + j < stride; j++)
+                row[8 * q + j] = (uint8_t)(core >> (8 * j));
+        }
+    }
+    free(raw);
     *bits = b;
     return 0;
 }
 
-/* Where another ink is printed (veto_core; its packed bits vb), the
+/* Where another ink is printed (veto_bits; its packed bits vb), the
  * contour ink's strength is cleared within VETO_R px: a red road's edges
  * over a green tint look like brown over it, and would join the contours
  * it crosses.  With the veto read on the scan with its tints divided out

@@ -621,6 +621,75 @@ static void test_other_ink_once(void)
     td_grid_f32_free(src);
 }
 
+/* The other inks' map is the veto table's pixels (their nearest node)
+ * that lie in a 2 x 2 block of such pixels: found 64 pixels at a time, it
+ * must match that definition pixel by pixel, across the words' seams and
+ * at the sheet's edges (the printed Elkhorn sheet, 4524 px wide, not a
+ * multiple of 64; roads run off every side). */
+static int veto_px(const td_image *im, const uint8_t *lut, int x, int y)
+{
+    if (x < 0 || y < 0 || x >= im->w || y >= im->h)
+        return 0;
+    return lut[td_palette_node(im->data + (size_t)y * im->stride +
+                               3 * (size_t)x)] != 0;
+}
+
+static void test_other_ink_blocks(void)
+{
+    td_gen_params gp;
+    td_grid_f32 *src = elkhorn_print(&gp, 4);
+    td_image *im = NULL;
+    td_grid_u8 *m = NULL;
+    td_palette pal;
+    uint8_t *bits = NULL, *lut = malloc(TD_PALETTE_LUT_SIZE);
+    td_binarise_params bp = td_binarise_defaults();
+    td_ctx cx;
+    size_t bad = 0, set = 0, edge = 0;
+    if (!src || !lut) {
+        free(lut);
+        td_grid_f32_free(src);
+        return;
+    }
+    td_ctx_init(&cx);
+    TT_CHECK(td_gen_sheet(&gp, &im, NULL, NULL, &cx) == 0);
+    if (im && (m = td_grid_u8_new(im->w, im->h, &cx)) != NULL &&
+        td_binarise_pal(im, &bp, m, &pal, &cx) == 0 &&
+        td_binarise_other_ink(im, &pal, &bits, &cx) == 0 && bits) {
+        size_t stride = ((size_t)im->w + 7) / 8;
+        int x, y;
+        td_palette_veto_lut(&pal, lut);
+        for (y = 0; y < im->h; y++)
+            for (x = 0; x < im->w; x++) {
+                int dx, dy, core = 0, got;
+                for (dy = -1; dy <= 0; dy++)
+                    for (dx = -1; dx <= 0; dx++)
+                        core |= veto_px(im, lut, x + dx, y + dy) &&
+                                veto_px(im, lut, x + dx + 1, y + dy) &&
+                                veto_px(im, lut, x + dx, y + dy + 1) &&
+                                veto_px(im, lut, x + dx + 1, y + dy + 1);
+                core &= veto_px(im, lut, x, y);
+                got = (bits[(size_t)y * stride + (size_t)(x >> 3)] >> (x & 7)) &
+                      1;
+                bad += got != core;
+                set += (size_t)core;
+                edge +=
+                    core && (x < 1 || y < 1 || x >= im->w - 1 ||
+                             y >= im->h - 1 || (x & 63) == 63 || (x & 63) == 0);
+            }
+        TT_CHECK(im->w % 64 != 0);
+        TT_CHECKF(bad == 0 && set > 1000 && edge > 10,
+                  "%zu pixels differ from the definition (%zu set, %zu at "
+                  "edges and word seams)",
+                  bad, set, edge);
+    } else {
+        TT_CHECKF(0, "%s", td_errmsg(&cx));
+    }
+    free(bits), free(lut);
+    td_grid_u8_free(m);
+    td_image_free(im);
+    td_grid_f32_free(src);
+}
+
 int main(void)
 {
     TT_RUN(test_two_inks);
@@ -638,5 +707,6 @@ int main(void)
     TT_RUN(test_grey_as_rgb);
     TT_RUN(test_paper_only);
     TT_RUN(test_other_ink_once);
+    TT_RUN(test_other_ink_blocks);
     return tt_summary();
 }
