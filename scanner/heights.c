@@ -108,11 +108,20 @@
 #define FOLD_S                                                                 \
     15.5 /* a fold across a face edge of w probes (both lines stepping the     \
             same way from the face) costs WFOLD + k FOLD_S (ln w - FOLD_C)     \
-            (not below WFOLD; k: fold_strength, 0 but on crowded sheets):      \
-            of the face edges the true heights keep, the folds are 0.67 at     \
-            1-2 probes, 0.17 at 10-30, 0.007 at 100 and more (every bench      \
-            sheet); -ln of the odds in the DP's units (DP_FACE_S 13) */
+            (not below WFOLD; k: fold_strength on crowded sheets, FOLD_TIE     \
+            elsewhere): of the face edges the true heights keep, the folds     \
+            are 0.67 at 1-2 probes, 0.17 at 10-30, 0.007 at 100 and more       \
+            (every bench sheet); -ln of the odds in the DP's units (DP_FACE_S  \
+            13) */
 #define FOLD_C 1.13
+#define FOLD_TIE                                                               \
+    0.001 /* fold_cost's k on every sheet at least: the same price by the      \
+             probes, a thousandth of it, so that of two answers the weak       \
+             prior prices alike the one with its folds on the face edges of    \
+             fewer probes wins (the shares above), not the lower bands: on     \
+             Elkhorn scanned 11 lines (1,885 px) were left undecided, two      \
+             answers priced alike, one folding on face edges of 68 and 70      \
+             probes (docs/label.md, "Ties broken by the folds' probes") */
 #define FOLD_EXCESS                                                            \
     0.02 /* solve_all: the strong fold prior only where the answer with        \
             the weak one has folds for more than this share of the face        \
@@ -1164,8 +1173,8 @@ static long across(const hs *s, size_t l, int xs, long st, double *cost)
  * probes"). */
 static double fold_cost(const hs *s, double w)
 {
-    return WFOLD +
-           s->fold_k * fmax(0.0, FOLD_S * (log(w > 1e-3 ? w : 1e-3) - FOLD_C));
+    double k = s->fold_k > FOLD_TIE ? s->fold_k : FOLD_TIE;
+    return WFOLD + k * fmax(0.0, FOLD_S * (log(w > 1e-3 ? w : 1e-3) - FOLD_C));
 }
 
 static int cmp_dbl(const void *pa, const void *pb)
