@@ -3,8 +3,13 @@
  * (tests/data/dems), against the DEM interpolated from the sheet's true
  * lines: RMSE of each against the true DEM and their ratio (the heights
  * issue's target: run within 10 % of the true lines), with the walls put
- * back and the breaks bridged as run does them, and each turned off.
- * Numbers for docs/label.md ("Where the DEMs stand") and benchmarks.md.
+ * back and the breaks bridged as run does them, and each turned off; and
+ * where the loss comes from: the lines run traced and labelled, given
+ * their true heights (the median of the true DEM under each, to the
+ * nearest level) and interpolated as the true lines are ("traced"; what
+ * the tracing alone costs, with the lines run left without a height left
+ * out), and every traced line so ("all").  Numbers for docs/label.md
+ * ("Where the DEMs stand") and benchmarks.md.
  *
  *   bench_dem [--only NAME] [--dir TMPDIR] [--streams] [--stream-gap PX]
  *             [--keep]
@@ -22,6 +27,7 @@
 #include "src/io/io.h"
 #include "src/pipeline/pipeline.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -56,6 +62,78 @@ static double run_rmse(const char *path, const td_run_params *p,
     return e;
 }
 
+/* on_labelled: a copy of the labelled lines (before the run drops those
+ * without a height) into *(td_lines **)user. */
+static int keep_lines(const td_run_result *r, void *user)
+{
+    td_lines **out = user;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    td_lines_free(*out);
+    *out = td_lines_copy(r->lines, &cx);
+    return *out ? 0 : TD_ENOMEM;
+}
+
+static int cmp_float(const void *pa, const void *pb)
+{
+    float a = *(const float *)pa, b = *(const float *)pb;
+    return (a > b) - (a < b);
+}
+
+/* Every line of ls its true height: the median of the true DEM under its
+ * vertices, to the nearest level base + k interval; with all 0 only the
+ * lines the run gave a height (the others keep none). */
+static void true_heights(td_lines *ls, const td_grid_f32 *dem, double base,
+                         double interval, int all)
+{
+    size_t i, k;
+    for (i = 0; i < ls->n; i++) {
+        td_line *l = &ls->v[i];
+        float *v;
+        size_t n = 0;
+        if ((!all && !l->has_height) || !(v = malloc(l->n * sizeof *v + 1)))
+            continue;
+        for (k = 0; k < l->n; k++) {
+            long x = (long)l->xy[2 * k], y = (long)l->xy[2 * k + 1];
+            if (x >= 0 && y >= 0 && x < dem->w && y < dem->h)
+                v[n++] = dem->data[(size_t)y * dem->stride + (size_t)x];
+        }
+        if (n) {
+            qsort(v, n, sizeof *v, cmp_float);
+            l->has_height = 1;
+            l->height =
+                base + interval * floor((v[n / 2] - base) / interval + 0.5);
+        }
+        free(v);
+    }
+}
+
+/* The traced lines ls with the true heights (the run's labelled ones, or
+ * all), interpolated as the truth column is: RMSE against the true DEM,
+ * or -1. */
+static double traced_rmse(const td_lines *ls, const td_grid_f32 *dem,
+                          const td_interp_params *ip, double base, int all,
+                          int w, int h)
+{
+    td_ctx cx;
+    td_lines *c;
+    td_grid_f32 *g = NULL;
+    double e = -1;
+    size_t i;
+    td_ctx_init(&cx);
+    if (!ls || !(c = td_lines_copy(ls, &cx)))
+        return -1;
+    true_heights(c, dem, base, ip->interval, all);
+    for (i = c->n; i-- > 0;) /* as run drops them */
+        if (!c->v[i].has_height)
+            td_lines_remove(c, i);
+    if (td_interp_lines(c, w, h, ip, &g, &cx) == 0)
+        e = rmse_of(g, dem);
+    td_grid_f32_free(g);
+    td_lines_free(c);
+    return e;
+}
+
 static const char usage[] = "usage: bench_dem [--only NAME] [--dir TMPDIR] "
                             "[--streams] [--stream-gap PX] [--keep]\n";
 
@@ -85,10 +163,12 @@ int main(int argc, char **argv)
     if (td_bench_outdir("bench_dem", dir) != 0)
         return 1;
     printf("run with no option (labels read, interval inferred), DEM RMSE "
-           "against the true DEM\n%-12s %-8s %8s %8s %8s %8s %7s %6s %6s "
+           "against the true DEM; traced: the lines run labelled with their "
+           "true\nheights, all: every traced line so, both interpolated as "
+           "the truth is\n%-12s %-8s %8s %8s %8s %8s %8s %8s %7s %6s %6s "
            "%6s\n",
-           "sheet", "scan", "run", "no-walls", "no-bridge", "truth", "ratio",
-           "walls", "breaks", "secs");
+           "sheet", "scan", "run", "no-walls", "no-bridge", "traced", "all",
+           "truth", "ratio", "walls", "breaks", "secs");
     for (s = 0; s < sizeof td_real_sheets / sizeof *td_real_sheets; s++) {
         const td_real_sheet *rs = &td_real_sheets[s];
         if (only && strcmp(only, rs->name))
@@ -98,11 +178,12 @@ int main(int argc, char **argv)
             td_image *im = NULL;
             td_lines *tl = NULL;
             td_grid_f32 *tdem = NULL, *tli = NULL, *src;
+            td_lines *lab = NULL;
             td_interp_params ip = td_interp_defaults();
             td_run_params p = td_run_defaults();
             td_ctx cx;
             char path[512];
-            double e[3], et = -1, secs, sx;
+            double e[5], et = -1, secs, sx;
             size_t walls = 0, breaks = 0, wx, bx;
             td_ctx_init(&cx);
             if (!(src = td_hsheet_dem_sheet(rs->dem, rs->scale, &gp, &cx))) {
@@ -133,21 +214,27 @@ int main(int argc, char **argv)
             ip.interval = td_gen_auto_interval(&gp, tdem);
             if (td_interp_lines(tl, im->w, im->h, &ip, &tli, &cx) == 0)
                 et = rmse_of(tli, tdem);
+            p.on_labelled = keep_lines, p.user = &lab;
             e[0] = run_rmse(path, &p, tdem, &walls, &breaks, &secs);
+            p.on_labelled = NULL;
+            e[3] = traced_rmse(lab, tdem, &ip, gp.base, 0, im->w, im->h);
+            e[4] = traced_rmse(lab, tdem, &ip, gp.base, 1, im->w, im->h);
             p.walls_back = 0;
             e[1] = run_rmse(path, &p, tdem, &wx, &bx, &sx);
             p.walls_back = 1, p.bridge = 0;
             e[2] = run_rmse(path, &p, tdem, &wx, &bx, &sx);
-            printf("%-12s %-8s %8.3f %8.3f %8.3f %8.3f %6.1f%% %6zu %6zu "
-                   "%6.2f\n",
-                   rs->name, td_defect_names[kinds[k]], e[0], e[1], e[2], et,
-                   et > 0 ? 100.0 * (e[0] / et - 1) : 0.0, walls, breaks, secs);
+            printf("%-12s %-8s %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %6.1f%% "
+                   "%6zu %6zu %6.2f\n",
+                   rs->name, td_defect_names[kinds[k]], e[0], e[1], e[2], e[3],
+                   e[4], et, et > 0 ? 100.0 * (e[0] / et - 1) : 0.0, walls,
+                   breaks, secs);
             fflush(stdout);
         next:
             if (!keep)
                 remove(path);
             td_image_free(im);
             td_lines_free(tl);
+            td_lines_free(lab);
             td_grid_f32_free(tdem);
             td_grid_f32_free(tli);
             td_grid_f32_free(src);
