@@ -12,6 +12,7 @@
  *   bench_heights [--dems DIR] [--only NAME] [--tree] [--search N] [--log]
  *                 [--all-hints] [--png DIR] [--streams] [--no-vees]
  *                 [--no-stream-joins] [--gap-pairs PX] [--oracle]
+ *                 [--oracle-box X0,Y0,X1,Y1]
  *                 [--detint] [--spots N]
  *
  * --detint: the scanner divides the colour sheets' tints out (scan
@@ -28,7 +29,10 @@
  * traced line's majority contour, its up side from the true surface):
  * an answer dearer than the truth is the optimiser's error, a cheaper
  * one the model's; and the parts of both (td_oracle_term: where the truth
- * pays more than the answer, the model's weights are worth a look). */
+ * pays more than the answer, the model's weights are worth a look);
+ * --oracle-box X0,Y0,X1,Y1: the same with the true heights only on the
+ * lines wholly inside the box (scan pixels), the answer's elsewhere: one
+ * region's price. */
 #include "tests/util/bench.h"
 #include "tests/util/hsheet.h"
 
@@ -63,7 +67,8 @@ static const char usage[] =
     "usage: bench_heights [--dems DIR] [--only NAME] [--tree] [--search N]\n"
     "                     [--log] [--all-hints] [--png DIR] [--streams]\n"
     "                     [--no-vees] [--no-stream-joins] [--gap-pairs PX]\n"
-    "                     [--oracle] [--detint] [--hachures]\n"
+    "                     [--oracle] [--oracle-box X0,Y0,X1,Y1]\n"
+    "                     [--detint] [--hachures]\n"
     "                     [--paper-junctions] [--spots N]\n";
 
 static const char *const scan_name[6] = {"truth",  "clean",   "scanned",
@@ -78,6 +83,7 @@ int main(int argc, char **argv)
     int streams = 0, novees = 0, nojoins = 0, detint = 0;
     double gap_pairs = 0;
     int oracle = 0, spots = 0;
+    double obox[4] = {0, 0, 0, 0};
     size_t c;
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--dems") && a + 1 < argc)
@@ -91,6 +97,10 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[a], "--streams"))
             streams = 1;
         else if (!strcmp(argv[a], "--oracle"))
+            oracle = 1;
+        else if (!strcmp(argv[a], "--oracle-box") && a + 1 < argc &&
+                 sscanf(argv[++a], "%lf,%lf,%lf,%lf", &obox[0], &obox[1],
+                        &obox[2], &obox[3]) == 4)
             oracle = 1;
         else if (!strcmp(argv[a], "--detint"))
             detint = 1;
@@ -180,6 +190,7 @@ int main(int argc, char **argv)
                 hs.detint = detint;
                 hs.gap_pairs = gap_pairs;
                 hs.oracle = oracle;
+                memcpy(hs.oracle_box, obox, sizeof obox);
                 if (png) {
                     snprintf(path, sizeof path, "%s/%s_%d_%d.png", png, k->name,
                              scanned, hint);

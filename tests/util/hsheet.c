@@ -127,6 +127,17 @@ static int draw_verdicts(const td_hsheet *hs, const td_image *im,
  * 0 (left of its direction, y down) is the higher, by the true surface
  * dem 2.5 px either side of its vertices on that contour.  0 or
  * TD_ENOMEM. */
+/* Whether every vertex of l lies in the box b (x0, y0, x1, y1). */
+static int line_in_box(const td_line *l, const double *b)
+{
+    size_t k;
+    for (k = 0; k < l->n; k++)
+        if (l->xy[2 * k] < b[0] || l->xy[2 * k] > b[2] ||
+            l->xy[2 * k + 1] < b[1] || l->xy[2 * k + 1] > b[3])
+            return 0;
+    return 1;
+}
+
 static int true_heights(const td_lines *tl, const td_lines *ls,
                         const td_grid_f32 *dem, double *h, signed char *up,
                         td_ctx *cx)
@@ -336,12 +347,17 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
         tl, hs->interval, hs->nknown > 8 ? 8 : hs->nknown, kp);
     lp.known = kp;
     if (hs->oracle) {
+        size_t i;
         if (!(oh = malloc((ls->n + 1) * sizeof *oh)) ||
             !(oup = malloc(ls->n + 1)) ||
             (rc = true_heights(tl, ls, dem, oh, oup, cx)) != 0) {
             rc = rc ? rc : TD_ENOMEM;
             goto done;
         }
+        if (hs->oracle_box[2] > hs->oracle_box[0])
+            for (i = 0; i < ls->n; i++)
+                if (!line_in_box(&ls->v[i], hs->oracle_box))
+                    oh[i] = NAN;
         lp.oracle_h = oh, lp.oracle_up = oup;
     }
     t0 = td_now();

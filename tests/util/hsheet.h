@@ -25,6 +25,10 @@ typedef struct td_hsheet {
                                    scans; < 0: off) */
     int oracle;                 /* price the true heights under the whole
                                    model too (rep.oracle_cost; faces) */
+    double oracle_box[4];       /* x0, y0, x1, y1: only the lines wholly
+                                   inside take their true heights there,
+                                   the others keep the answer (one region's
+                                   price; x1 <= x0: every line) */
     int read_labels;            /* read the printed labels (scanner/ocr.h) and
                                    give them to the labeller */
     int no_interval;            /* infer the interval from the labels */
