@@ -98,11 +98,13 @@ int main(int argc, char **argv)
             streams = 1;
         else if (!strcmp(argv[a], "--oracle"))
             oracle = 1;
-        else if (!strcmp(argv[a], "--oracle-box") && a + 1 < argc &&
-                 sscanf(argv[++a], "%lf,%lf,%lf,%lf", &obox[0], &obox[1],
-                        &obox[2], &obox[3]) == 4)
+        else if (!strcmp(argv[a], "--oracle-box") && a + 1 < argc) {
+            if (sscanf(argv[++a], "%lf,%lf,%lf,%lf", &obox[0], &obox[1],
+                       &obox[2], &obox[3]) != 4 ||
+                !(obox[2] > obox[0] && obox[3] > obox[1]))
+                return td_bench_usage("bench_heights", argv[a], usage);
             oracle = 1;
-        else if (!strcmp(argv[a], "--detint"))
+        } else if (!strcmp(argv[a], "--detint"))
             detint = 1;
         else if (!strcmp(argv[a], "--gap-pairs") && a + 1 < argc)
             gap_pairs = atof(argv[++a]);

@@ -122,11 +122,6 @@ static int draw_verdicts(const td_hsheet *hs, const td_image *im,
     return rc;
 }
 
-/* Per line of ls: its true height (the truth line of tl nearest each
- * vertex within 2 px, the most vertices; NAN: none) and whether its side
- * 0 (left of its direction, y down) is the higher, by the true surface
- * dem 2.5 px either side of its vertices on that contour.  0 or
- * TD_ENOMEM. */
 /* Whether every vertex of l lies in the box b (x0, y0, x1, y1). */
 static int line_in_box(const td_line *l, const double *b)
 {
@@ -138,6 +133,11 @@ static int line_in_box(const td_line *l, const double *b)
     return 1;
 }
 
+/* Per line of ls: its true height (the truth line of tl nearest each
+ * vertex within 2 px, the most vertices; NAN: none) and whether its side
+ * 0 (left of its direction, y down) is the higher, by the true surface
+ * dem 2.5 px either side of its vertices on that contour.  0 or
+ * TD_ENOMEM. */
 static int true_heights(const td_lines *tl, const td_lines *ls,
                         const td_grid_f32 *dem, double *h, signed char *up,
                         td_ctx *cx)
