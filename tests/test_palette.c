@@ -304,6 +304,20 @@ static td_grid_f32 *elkhorn_print(td_gen_params *gp, int kind)
     return dem_print("elkhorn_srtm3.tif", 6, gp, kind);
 }
 
+/* The printed Elkhorn sheet of kind (td_hsheet_defects) as the scanner
+ * gets it; NULL when the DEM is missing (then skipped) or on failure. */
+static td_image *elkhorn_print_image(int kind, td_ctx *cx)
+{
+    td_gen_params gp;
+    td_grid_f32 *src = elkhorn_print(&gp, kind);
+    td_image *im = NULL;
+    if (src)
+        TT_CHECKF(td_gen_sheet(&gp, &im, NULL, NULL, cx) == 0, "%s",
+                  td_errmsg(cx));
+    td_grid_f32_free(src);
+    return im;
+}
+
 static void test_new_print_roads(void)
 {
     td_gen_params gp;
@@ -590,18 +604,14 @@ static void test_paper_only(void)
  * pixels, not the contours' millions). */
 static void test_other_ink_once(void)
 {
-    td_gen_params gp;
-    td_grid_f32 *src = elkhorn_print(&gp, 4);
-    td_image *im = NULL;
+    td_image *im;
     td_grid_u8 *m = NULL;
     td_palette pal;
     uint8_t *once = NULL, *again = NULL;
     td_binarise_params bp = td_binarise_defaults();
     td_ctx cx;
-    if (!src)
-        return;
     td_ctx_init(&cx);
-    TT_CHECK(td_gen_sheet(&gp, &im, NULL, NULL, &cx) == 0);
+    im = elkhorn_print_image(4, &cx);
     if (im && (m = td_grid_u8_new(im->w, im->h, &cx)) != NULL) {
         size_t nb = (size_t)im->h * (((size_t)im->w + 7) / 8), i, set = 0;
         TT_CHECKF(td_binarise_seams(im, &bp, m, &pal, NULL, NULL, &once, &cx) ==
@@ -618,7 +628,6 @@ static void test_other_ink_once(void)
     free(once), free(again);
     td_grid_u8_free(m);
     td_image_free(im);
-    td_grid_f32_free(src);
 }
 
 /* The other inks' map is the veto table's pixels (their nearest node)
@@ -636,23 +645,19 @@ static int veto_px(const td_image *im, const uint8_t *lut, int x, int y)
 
 static void test_other_ink_blocks(void)
 {
-    td_gen_params gp;
-    td_grid_f32 *src = elkhorn_print(&gp, 4);
-    td_image *im = NULL;
+    td_image *im;
     td_grid_u8 *m = NULL;
     td_palette pal;
     uint8_t *bits = NULL, *lut = malloc(TD_PALETTE_LUT_SIZE);
     td_binarise_params bp = td_binarise_defaults();
     td_ctx cx;
     size_t bad = 0, set = 0, edge = 0;
-    if (!src || !lut) {
+    td_ctx_init(&cx);
+    if (!lut || !(im = elkhorn_print_image(4, &cx))) {
         free(lut);
-        td_grid_f32_free(src);
         return;
     }
-    td_ctx_init(&cx);
-    TT_CHECK(td_gen_sheet(&gp, &im, NULL, NULL, &cx) == 0);
-    if (im && (m = td_grid_u8_new(im->w, im->h, &cx)) != NULL &&
+    if ((m = td_grid_u8_new(im->w, im->h, &cx)) != NULL &&
         td_binarise_pal(im, &bp, m, &pal, &cx) == 0 &&
         td_binarise_other_ink(im, &pal, &bits, &cx) == 0 && bits) {
         size_t stride = ((size_t)im->w + 7) / 8;
@@ -687,7 +692,6 @@ static void test_other_ink_blocks(void)
     free(bits), free(lut);
     td_grid_u8_free(m);
     td_image_free(im);
-    td_grid_f32_free(src);
 }
 
 int main(void)
