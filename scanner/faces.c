@@ -13,6 +13,9 @@
 #define CELL 8 /* the finest cell; coarser when the sheet is large and empty */
 #define MAX_CELLS 4000000
 #define SIMPLIFY 0.6 /* px: traced staircases simplified before indexing */
+#define SKEL_CLEAR                                                             \
+    1.6 /* px: a probe's own line's and the line it meets's                    \
+           skeleton pixels lie this close to its ends */
 
 struct td_faces {
     const td_lines *ls;
@@ -31,6 +34,9 @@ struct td_faces {
     uint32_t *cline;  /* per chunk: its line */
     uint32_t *cfirst; /* per chunk: its first vertex */
     size_t nchunks;
+    uint8_t *skel; /* packed bits, w x h: the scanner's skeleton pixels
+                      no used line runs within a pixel of
+                      (td_faces_set_skeleton), or NULL */
     td_faces_params p;
 };
 
@@ -338,6 +344,7 @@ void td_faces_free(td_faces *f)
     free(f->start);
     free(f->seg);
     free(f->used);
+    free(f->skel);
     free(f->len);
     td_lines_free(f->sl);
     free(f->soff);
@@ -519,7 +526,82 @@ int td_faces_around(const td_faces *f, double x, double y, long nodes[16])
 typedef struct hit {
     uint32_t a, b;
     float x, y, hx, hy, w;
+    uint32_t step; /* untraced ink crossed (td_face_edge.step) */
 } hit;
+
+/* Contract in faces.h. */
+int td_faces_set_skeleton(td_faces *f, const td_grid_u8 *skel, td_ctx *cx)
+{
+    size_t i, k, row = ((size_t)f->w + 7) / 8;
+    int x, y;
+    free(f->skel);
+    f->skel = NULL;
+    if (!skel || skel->w != f->w || skel->h != f->h)
+        return 0;
+    if (!(f->skel = td_calloc(row * (size_t)f->h + 1, 1, cx)))
+        return TD_ENOMEM;
+    for (y = 0; y < f->h; y++)
+        for (x = 0; x < f->w; x++)
+            if (skel->data[(size_t)y * skel->stride + (size_t)x])
+                f->skel[(size_t)y * row + x / 8] |= (uint8_t)(1u << (x & 7));
+    /* the used lines' own pixels, and their neighbours, out */
+    for (i = 0; i < f->ls->n; i++) {
+        const td_line *l = &f->ls->v[i];
+        if (!f->used[i])
+            continue;
+        for (k = 0; k < l->n + (l->closed != 0); k++) {
+            const double *a = l->xy + 2 * (k ? k - 1 : 0),
+                         *b = l->xy + 2 * (k % l->n);
+            double len = hypot(b[0] - a[0], b[1] - a[1]);
+            int j, m = (int)ceil(2 * len) + 1;
+            for (j = 0; j <= m; j++) {
+                double px = a[0] + (b[0] - a[0]) * j / m,
+                       py = a[1] + (b[1] - a[1]) * j / m;
+                int cx0 = (int)floor(px), cy0 = (int)floor(py), dx, dy;
+                for (dy = -1; dy <= 1; dy++)
+                    for (dx = -1; dx <= 1; dx++) {
+                        int u = cx0 + dx, v = cy0 + dy;
+                        if (u >= 0 && v >= 0 && u < f->w && v < f->h)
+                            f->skel[(size_t)v * row + u / 8] &=
+                                (uint8_t) ~(1u << (u & 7));
+                    }
+            }
+        }
+    }
+    return 0;
+}
+
+/* Whether the probe from (x,y) along unit d crosses a skeleton pixel
+ * between t0 and t1: the pixels the segment passes through, in order
+ * (Amanatides & Woo), so a diagonal line of 8-connected pixels is never
+ * slipped through. */
+static int skel_crossed(const td_faces *f, double x, double y, const double *d,
+                        double t0, double t1)
+{
+    size_t row = ((size_t)f->w + 7) / 8;
+    double px = x + d[0] * t0, py = y + d[1] * t0, tmx, tmy, tdx, tdy, t = t0;
+    int cx = (int)floor(px), cy = (int)floor(py);
+    int sx = d[0] > 0 ? 1 : -1, sy = d[1] > 0 ? 1 : -1;
+    tdx = d[0] != 0 ? 1.0 / fabs(d[0]) : INFINITY;
+    tdy = d[1] != 0 ? 1.0 / fabs(d[1]) : INFINITY;
+    tmx = d[0] != 0 ? t0 + ((cx + (sx > 0)) - px) / d[0] : INFINITY;
+    tmy = d[1] != 0 ? t0 + ((cy + (sy > 0)) - py) / d[1] : INFINITY;
+    while (t < t1) {
+        if (cx >= 0 && cy >= 0 && cx < f->w && cy < f->h &&
+            (f->skel[(size_t)cy * row + (size_t)cx / 8] >> (cx & 7) & 1))
+            return 1;
+        if (tmx < tmy) {
+            t = tmx;
+            cx += sx;
+            tmx += tdx;
+        } else {
+            t = tmy;
+            cy += sy;
+            tmy += tdy;
+        }
+    }
+    return 0;
+}
 
 /* By node pair, then place (so the merged order is the same for any
  * number of threads). */
@@ -530,6 +612,8 @@ static int cmp_hit(const void *pa, const void *pb)
         return a->a < b->a ? -1 : 1;
     if (a->b != b->b)
         return a->b < b->b ? -1 : 1;
+    if (a->step != b->step)
+        return a->step < b->step ? -1 : 1;
     if (a->y != b->y)
         return a->y < b->y ? -1 : 1;
     return (a->x > b->x) - (a->x < b->x);
@@ -538,7 +622,8 @@ static int cmp_hit(const void *pa, const void *pb)
 #define MAX_PROBES 256 /* per side of a line: longer lines probe sparser */
 
 static int push_hit(hit **hv, size_t *nh, size_t *cap, uint32_t me, uint32_t m,
-                    double x, double y, double hx, double hy, float w)
+                    double x, double y, double hx, double hy, float w,
+                    uint32_t step)
 {
     if (*nh == *cap) {
         size_t nc = *cap ? 2 * *cap : 4096;
@@ -554,6 +639,7 @@ static int push_hit(hit **hv, size_t *nh, size_t *cap, uint32_t me, uint32_t m,
     (*hv)[*nh].y = (float)y;
     (*hv)[*nh].hx = (float)hx;
     (*hv)[*nh].hy = (float)hy;
+    (*hv)[*nh].step = step;
     (*hv)[(*nh)++].w = w;
     return 0;
 }
@@ -567,7 +653,8 @@ static void merge_hits(hit *hv, size_t from, size_t *nh)
         return;
     qsort(hv + from, *nh - from, sizeof *hv, cmp_hit);
     for (k = from; k < *nh; k++) {
-        if (m > from && hv[m - 1].a == hv[k].a && hv[m - 1].b == hv[k].b) {
+        if (m > from && hv[m - 1].a == hv[k].a && hv[m - 1].b == hv[k].b &&
+            hv[m - 1].step == hv[k].step) {
             hv[m - 1].w += hv[k].w;
             continue;
         }
@@ -606,10 +693,14 @@ static int probe_line(const td_faces *f, size_t i, hit **hv, size_t *nh,
                 long m = td_faces_ray(f, x, y, sg * n[0], sg * n[1], (long)i,
                                       1.5, &t);
                 uint32_t me = 2 * cme + (uint32_t)side;
+                double dd[2] = {sg * n[0], sg * n[1]};
+                uint32_t step;
                 if (m < 0 || (uint32_t)m / 2 == me / 2)
                     continue; /* the border, or this chunk again */
-                if (push_hit(hv, nh, cap, me, (uint32_t)m, x, y,
-                             x + sg * n[0] * t, y + sg * n[1] * t, w) != 0)
+                step = f->skel && t > 2 * SKEL_CLEAR &&
+                       skel_crossed(f, x, y, dd, SKEL_CLEAR, t - SKEL_CLEAR);
+                if (push_hit(hv, nh, cap, me, (uint32_t)m, x, y, x + dd[0] * t,
+                             y + dd[1] * t, w, step) != 0)
                     return TD_ENOMEM;
             }
         }
@@ -662,13 +753,15 @@ int td_faces_edges(const td_faces *f, td_face_edge **out, size_t *n, td_ctx *cx)
         return TD_ENOMEM;
     }
     for (i = 0; i < nh; i++) {
-        if (m > 0 && e[m - 1].a == hv[i].a && e[m - 1].b == hv[i].b) {
+        if (m > 0 && e[m - 1].a == hv[i].a && e[m - 1].b == hv[i].b &&
+            e[m - 1].step == hv[i].step) {
             e[m - 1].w += hv[i].w;
             continue;
         }
         e[m].a = hv[i].a;
         e[m].b = hv[i].b;
         e[m].w = hv[i].w;
+        e[m].step = hv[i].step;
         e[m].x = hv[i].x;
         e[m].y = hv[i].y;
         e[m].hx = hv[i].hx;
@@ -678,4 +771,15 @@ int td_faces_edges(const td_faces *f, td_face_edge **out, size_t *n, td_ctx *cx)
     *out = e;
     *n = m;
     return 0;
+}
+
+/* Contract in faces.h. */
+int td_faces_untraced_between(const td_faces *f, double x0, double y0,
+                              double x1, double y1, double clear)
+{
+    double d[2] = {x1 - x0, y1 - y0}, L = hypot(d[0], d[1]);
+    if (!f->skel || !(L > 2 * clear))
+        return 0;
+    d[0] /= L, d[1] /= L;
+    return skel_crossed(f, x0, y0, d, clear, L - clear);
 }

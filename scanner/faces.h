@@ -42,6 +42,12 @@ typedef struct td_face_edge {
                       side: longer lines further apart) */
     float x, y;    /* where one of them started (for messages) */
     float hx, hy;  /* and where it met the other line */
+    uint32_t step; /* 1: the probes crossed skeleton ink on the way that
+                      is no line of the index (td_faces_set_skeleton):
+                      contours left untraced lie between the two sides,
+                      which are then not one face but a step of one or
+                      more levels; kept apart from the probes that did
+                      not (the same pair may have both) */
 } td_face_edge;
 
 typedef struct td_faces_params {
@@ -68,6 +74,20 @@ td_faces *td_faces_new(const td_lines *ls, int w, int h,
 td_faces *td_faces_new_walls(const td_lines *ls, const td_lines *walls, int w,
                              int h, const td_faces_params *p, td_ctx *cx);
 void td_faces_free(td_faces *f);
+
+/* The scanner's skeleton (td_scan_result.despurred, the sheet's size;
+ * nonzero: ink): its pixels that no used line runs within a pixel of are
+ * kept (packed, w h / 8 bytes), and from now on td_faces_edges marks the
+ * probes that cross one more than 1.6 px from both their ends
+ * (td_face_edge.step).  NULL (or another size): off.  Returns 0 or
+ * TD_ENOMEM. */
+int td_faces_set_skeleton(td_faces *f, const td_grid_u8 *skel, td_ctx *cx);
+
+/* Whether the segment (x0,y0)-(x1,y1) crosses a pixel of that untraced
+ * skeleton more than `clear` px from both its ends (0: no skeleton set,
+ * or the segment is too short). */
+int td_faces_untraced_between(const td_faces *f, double x0, double y0,
+                              double x1, double y1, double clear);
 
 /* Nonzero when line i takes part (long enough). */
 int td_faces_used(const td_faces *f, size_t i);

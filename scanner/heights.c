@@ -154,6 +154,13 @@
             heights break 2-16 % of these ties on the crowded                  \
             Front Range sheet (7 of 59 clean, 22 of 141 new                    \
             print); at 100 they overruled the faces there */
+#define GAP_CLEAR                                                              \
+    1.5 /* px: a pair's chord that crosses skeleton ink no line was traced     \
+           on this far from both ends is not used: its ends stop in a          \
+           merge of contours (faces.h), not at a break */
+#define STEP_LEVEL                                                             \
+    1.0 /* a step edge (faces.h) holding more than one untraced contour:       \
+           each level past the first costs (a tie-breaker, like WFOLD) */
 #define GAP_EPS 1e-3
 #define SHORT_SURE                                                             \
     32.0 /* px: a line this short solved through the faces alone is at         \
@@ -169,7 +176,7 @@
             for sure alone 0.85, two 0.98 */
 #define MAX_CELLS (96u << 20) /* state table entries (8 bytes each, x3) */
 
-enum { E_LINE, E_FACE, E_CONT, E_SAME, E_GAP };
+enum { E_LINE, E_FACE, E_CONT, E_SAME, E_GAP, E_STEP };
 #define IS_CONT(k) ((k) == E_CONT || (k) == E_SAME || (k) == E_GAP)
 
 typedef struct tedge {
@@ -198,6 +205,9 @@ typedef struct hs {
     td_faces *fx;
     td_face_edge *fe;
     size_t nfe, N, C, V; /* lines, chunks, side nodes (2C) */
+    const td_face_edge *st; /* step edges: probes across skeleton ink no
+                               line traced (faces.h; step_cost), nst */
+    size_t nst;
     uint32_t *same;      /* node pairs: two pieces of one cut line
                             (same_pieces), nsame pairs */
     size_t nsame;
@@ -920,9 +930,10 @@ static double cont_w(const hs *s, uint32_t kind)
 static int candidates(hs *s, td_ctx *cx)
 {
     size_t i, c, n = 0, c0, m;
-    if (!(s->ce = td_malloc((2 * s->C + s->nfe + s->nsame + s->ngaps + 1) *
-                                sizeof *s->ce,
-                            cx)))
+    if (!(s->ce =
+              td_malloc((2 * s->C + s->nfe + s->nst + s->nsame + s->ngaps + 1) *
+                            sizeof *s->ce,
+                        cx)))
         return TD_ENOMEM;
     for (c = 0; c < s->C; c++)
         s->ce[n++] = (cedge){(uint32_t)(2 * c), (uint32_t)(2 * c + 1), E_LINE,
@@ -940,6 +951,10 @@ static int candidates(hs *s, td_ctx *cx)
     for (i = 0; i < s->nfe; i++)
         s->ce[n++] = (cedge){s->fe[i].a, s->fe[i].b, E_FACE, (uint32_t)i,
                              WFACE * s->fe[i].w, WFACE * s->fe[i].w};
+    for (i = 0; i < s->nst; i++)
+        s->ce[n++] =
+            (cedge){s->st[i].a,  s->st[i].b,         E_STEP,
+                    (uint32_t)i, WFACE * s->st[i].w, WFACE * s->st[i].w};
     for (i = 0; i < s->nsame; i++)
         s->ce[n++] = (cedge){s->same[2 * i], s->same[2 * i + 1], E_SAME,
                              (uint32_t)i,    SAME_KEY,           SAME_KEY};
@@ -1255,6 +1270,19 @@ static double face_cost(double w)
     return FACE_A + FACE_B * log(w > 1 ? w : 1);
 }
 
+/* A step edge (faces.h: untraced contours between two sides) holds when
+ * the ground runs on one way through it: side a with band ba whose
+ * partner is higher (da) falls into the step, so b lies lower (bb < ba)
+ * and its own partner lower still (!db); and the same rising.  Held, it
+ * costs STEP_LEVEL for each level past the first (one contour left
+ * untraced is the usual); broken, `broken`. */
+static double step_cost(long ba, int da, long bb, int db, double broken)
+{
+    if (da == db || (da ? bb >= ba : bb <= ba))
+        return broken;
+    return STEP_LEVEL * (double)(labs(bb - ba) - 1);
+}
+
 /* Messages over the edge from node c to its parent (up) or back (down):
  * out[x] = min over y of cost(x, y) + in[y]. */
 static void pass_edge(const hs *s, uint32_t c, const double *in, double *out,
@@ -1274,6 +1302,20 @@ static void pass_edge(const hs *s, uint32_t c, const double *in, double *out,
         double m = vmin(in, K2, NULL) + cont_w(s, s->pkind[c]);
         for (x = 0; x < K2; x++)
             out[x] = in[x] < m ? in[x] : m;
+    } else if (s->pkind[c] == E_STEP) {
+        /* x falling into the step (its partner higher, x & 1) takes the
+           best y below it whose partner is lower; rising, above it */
+        double esc = vmin(in, K2, NULL) + dp_face(s->st[s->pid[c]].w), run;
+        size_t K = s->K, b;
+        for (b = 0, run = INFINITY; b < K; b++) { /* y below, partner lower */
+            out[2 * b + 1] = run < esc ? run : esc;
+            run = in[2 * b] < run + STEP_LEVEL ? in[2 * b] : run + STEP_LEVEL;
+        }
+        for (b = K, run = INFINITY; b-- > 0;) { /* y above, partner higher */
+            out[2 * b] = run < esc ? run : esc;
+            run = in[2 * b + 1] < run + STEP_LEVEL ? in[2 * b + 1]
+                                                   : run + STEP_LEVEL;
+        }
     } else {
         double m[2] = {INFINITY, INFINITY}, wf = dp_face(s->fe[s->pid[c]].w),
                fo = fold_w(s, c);
@@ -1364,6 +1406,15 @@ static void decode_joint(hs *s, long *nb, uint32_t *st)
             int xs = (int)(1 - (c & 1));
             long v = across(s, s->pid[c], xs, (long)st[u], &lc);
             by = v >= 0 ? (size_t)v : 0;
+        } else if (s->pkind[c] == E_STEP) {
+            size_t x = st[u];
+            double wf = dp_face(s->st[s->pid[c]].w);
+            for (y = 0; y < K2; y++) {
+                double v = in[y] + step_cost((long)(x >> 1), (int)(x & 1),
+                                             (long)(y >> 1), (int)(y & 1), wf);
+                if (v < best - 1e-9)
+                    best = v, by = y;
+            }
         } else {
             size_t x = st[u];
             double wf = IS_CONT(s->pkind[c]) ? cont_w(s, s->pkind[c])
@@ -2138,6 +2189,10 @@ static int gap_pairs(hs *s, td_ctx *cx)
                 td_faces_chunk_line(s->fx, (size_t)hit / 2) != q->b)
                 continue;
         }
+        /* ends in contour ink left untraced: a merge, not a break */
+        if (td_faces_untraced_between(s->fx, v[i].ax, v[i].ay, v[i].bx, v[i].by,
+                                      GAP_CLEAR))
+            continue;
         /* travelling on from a's end into b: the same sides when a ends
            there and b starts, else swapped */
         s->gaps[2 * s->ngaps] = (uint32_t)(2 * a);
@@ -2173,6 +2228,8 @@ static double edge_cost(const hs *s, const cedge *e, long ba, int da, long bb,
 {
     if (IS_CONT(e->kind))
         return ba != bb || da != db ? cont_w(s, e->kind) : 0.0;
+    if (e->kind == E_STEP)
+        return step_cost(ba, da, bb, db, face_cost(s->st[e->id].w));
     if (ba != bb)
         return face_cost(s->fe[e->id].w);
     if (da == db && s->priors && nest_pair(s, e->a, e->b))
@@ -2425,10 +2482,10 @@ static int oracle_costs(hs *s, const long *nb, td_ctx *cx)
                 continue;
             v = edge_cost(s, e, b[e->a], b[e->a ^ 1] > b[e->a], b[e->b],
                           b[e->b ^ 1] > b[e->b]);
-            k = IS_CONT(e->kind)           ? TD_OT_CONT
-                : b[e->a] != b[e->b]       ? TD_OT_FACE
-                : nest_pair(s, e->a, e->b) ? TD_OT_NEST
-                                           : TD_OT_FOLD;
+            k = IS_CONT(e->kind)                          ? TD_OT_CONT
+                : e->kind == E_STEP || b[e->a] != b[e->b] ? TD_OT_FACE
+                : nest_pair(s, e->a, e->b)                ? TD_OT_NEST
+                                                          : TD_OT_FOLD;
             t[k] += v;
         }
         t[TD_OT_TOTAL] = full_cost(s, b); /* the parts add up to it */
@@ -2752,8 +2809,8 @@ static double share_on(const td_label_params *p, double S)
  * among those that keep the labels' span within the sheet's number of
  * lines (levels_spanned). */
 static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
-                    td_face_edge *fe, size_t nfe, int cost_only, dp_tables *dp,
-                    td_label_report *rep, td_ctx *cx);
+                    td_face_edge *fe, const size_t *nfe, int cost_only,
+                    dp_tables *dp, td_label_report *rep, td_ctx *cx);
 static int faces_of(const td_lines *ls, const td_label_params *p, td_faces **fx,
                     td_face_edge **fe, size_t *nfe, td_ctx *cx);
 
@@ -2829,7 +2886,7 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
 {
     td_faces *fx = NULL;
     td_face_edge *fe = NULL;
-    size_t nfe = 0;
+    size_t nfe[2] = {0, 0};
     static const double nice[4] = {1.0, 2.0, 2.5, 5.0};
     double dec, Ss[MAX_STEPS], all[160], sh, best = HUGE_VAL;
     dp_tables dp = {NULL, NULL, NULL, 0};
@@ -2895,7 +2952,7 @@ static int infer_interval(td_lines *ls, const td_label_params *p,
                                   thick */
             q.index_auto = 1;
             memset(&r, 0, sizeof r);
-            if (!fx && (rc = faces_of(ls, p, &fx, &fe, &nfe, cx)) != 0)
+            if (!fx && (rc = faces_of(ls, p, &fx, &fe, nfe, cx)) != 0)
                 goto done;
             rc = solve_on(ls, &q, fx, fe, nfe, 1, &dp, &r, cx);
             cost += r.cost;
@@ -3057,8 +3114,8 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
  * NULL); with cost_only the lines are left as they are and only
  * rep->cost is set. */
 static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
-                    td_face_edge *fe, size_t nfe, int cost_only, dp_tables *dp,
-                    td_label_report *rep, td_ctx *cx)
+                    td_face_edge *fe, const size_t *nfe, int cost_only,
+                    dp_tables *dp, td_label_report *rep, td_ctx *cx)
 {
     hs s;
     unsigned char *touched = NULL;
@@ -3066,7 +3123,8 @@ static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
     memset(&s, 0, sizeof s);
     s.need_lo = 1, s.need_hi = 0;
     s.ls = ls, s.p = p, s.rep = rep, s.N = ls->n, s.cost_only = cost_only;
-    s.fx = fx, s.fe = fe, s.nfe = nfe;
+    s.fx = fx, s.fe = fe, s.nfe = nfe[0];
+    s.st = fe + nfe[0], s.nst = nfe[1];
     s.dp = dp ? dp : &s.own;
     s.C = td_faces_nchunks(fx);
     s.V = 2 * s.C;
@@ -3216,6 +3274,7 @@ static int faces_of(const td_lines *ls, const td_label_params *p, td_faces **fx,
 {
     td_faces_params fp = td_faces_defaults();
     td_lines *walls;
+    size_t n = 0, i;
     int rc;
     fp.chunk_len = 0;
     *fe = NULL;
@@ -3231,7 +3290,27 @@ static int faces_of(const td_lines *ls, const td_label_params *p, td_faces **fx,
     td_lines_free(walls);
     if (!*fx)
         return cx && cx->code ? cx->code : TD_ENOMEM;
-    return td_faces_edges(*fx, fe, nfe, cx);
+    if ((rc = td_faces_set_skeleton(*fx, p->skeleton, cx)) != 0 ||
+        (rc = td_faces_edges(*fx, fe, &n, cx)) != 0)
+        return rc;
+    for (i = 0, nfe[1] = 0; i < n; i++)
+        nfe[1] += (*fe)[i].step != 0;
+    if (nfe[1]) { /* the step edges last, each part in its order */
+        td_face_edge *t = td_malloc(nfe[1] * sizeof *t, cx);
+        size_t a = 0, b = 0;
+        if (!t)
+            return TD_ENOMEM;
+        for (i = 0; i < n; i++) {
+            if ((*fe)[i].step)
+                t[b++] = (*fe)[i];
+            else
+                (*fe)[a++] = (*fe)[i];
+        }
+        memcpy(*fe + a, t, b * sizeof *t);
+        free(t);
+    }
+    nfe[0] = n - nfe[1];
+    return 0;
 }
 
 /* Contract in heights_int.h. */
@@ -3240,8 +3319,8 @@ int td_heights_solve(td_lines *ls, const td_label_params *p,
 {
     td_faces *fx = NULL;
     td_face_edge *fe = NULL;
-    size_t nfe = 0;
-    int rc = faces_of(ls, p, &fx, &fe, &nfe, cx);
+    size_t nfe[2] = {0, 0};
+    int rc = faces_of(ls, p, &fx, &fe, nfe, cx);
     if (rc == 0)
         rc = solve_on(ls, p, fx, fe, nfe, 0, NULL, rep, cx);
     free(fe);
@@ -3257,7 +3336,7 @@ int td_heights_solve_index(td_lines *ls, const td_label_params *p,
 {
     td_faces *fx = NULL;
     td_face_edge *fe = NULL;
-    size_t nfe = 0;
+    size_t nfe[2] = {0, 0};
     dp_tables dp = {NULL, NULL, NULL, 0};
     td_label_params q = *p;
     double best = HUGE_VAL;
@@ -3267,7 +3346,7 @@ int td_heights_solve_index(td_lines *ls, const td_label_params *p,
         return rc;
     if (rc == 0) /* no thicker lines: nothing to try */
         return td_heights_solve(ls, p, rep, cx);
-    if ((rc = faces_of(ls, p, &fx, &fe, &nfe, cx)) != 0)
+    if ((rc = faces_of(ls, p, &fx, &fe, nfe, cx)) != 0)
         goto done;
     q.index_auto = 1;
     for (k = 0; k < 4; k++) {

@@ -68,6 +68,11 @@ typedef struct td_label_params {
     size_t nknown;
     const double *depressions; /* x,y pairs */
     size_t ndepressions;
+    const td_grid_u8 *skeleton; /* faces: the scanner's skeleton
+                                   (td_scan_result.despurred; NULL: none):
+                                   probes across skeleton ink that no line
+                                   was traced on are steps, not one face
+                                   (faces.h, docs/label.md) */
     const td_lines *walls; /* where the scanner cut lines out of a blob of
                               crowded contours (td_scan_result.walls): no
                               face runs through them; NULL: none */

@@ -406,6 +406,102 @@ static void test_probes_wall(void)
     td_lines_free(ls);
 }
 
+/* The skeleton of a w x h sheet with a row of ink at each y of ys[] from
+ * x0 to x1 (the caller frees it). */
+static td_grid_u8 *skeleton_rows(int w, int h, const int *ys, int n, int x0,
+                                 int x1)
+{
+    td_grid_u8 *g = td_grid_u8_new(w, h, NULL);
+    int k, x;
+    if (!g)
+        return NULL;
+    for (k = 0; k < n; k++)
+        for (x = x0; x <= x1; x++)
+            g->data[(size_t)ys[k] * g->stride + (size_t)x] = 1;
+    return g;
+}
+
+/* The same two lines with a contour between them that the scanner left
+ * untraced (its skeleton pixels at y 45, no line): the probes across it
+ * say step, not one face.  The lines' own skeleton pixels do not. */
+static void test_probes_step(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    static const int own[2] = {40, 50}, all[3] = {40, 45, 50};
+    td_grid_u8 *g0 = skeleton_rows(200, 100, own, 2, 50, 150),
+               *g1 = skeleton_rows(200, 100, all, 3, 50, 150);
+    td_faces *f;
+    td_face_edge *e = NULL;
+    size_t n = 0;
+    int k, y;
+    for (y = 0; y < 2; y++) {
+        td_line *l = td_lines_add(ls, NULL);
+        for (k = 0; k <= 100; k++)
+            td_line_push(l, 50.5 + k, 40.5 + 10 * y, NULL);
+    }
+    f = td_faces_new(ls, 200, 100, NULL, NULL);
+    TT_CHECK(f && g0 && g1 && td_faces_set_skeleton(f, g0, NULL) == 0 &&
+             td_faces_edges(f, &e, &n, NULL) == 0);
+    TT_CHECKF(n == 1 && e[0].step == 0, "%zu edges, first step %u", n,
+              n ? e[0].step : 0);
+    free(e), e = NULL;
+    TT_CHECK(td_faces_set_skeleton(f, g1, NULL) == 0 &&
+             td_faces_edges(f, &e, &n, NULL) == 0);
+    TT_CHECKF(n == 1 && e[0].step == 1 && e[0].w >= 45,
+              "%zu edges, first step %u w %g", n, n ? e[0].step : 0,
+              n ? e[0].w : 0);
+    TT_CHECK(td_faces_untraced_between(f, 60, 40.5, 60, 50.5, 1.5) == 1 &&
+             td_faces_untraced_between(f, 60, 40.5, 80, 40.5, 1.5) == 0);
+    free(e);
+    td_faces_free(f);
+    td_grid_u8_free(g0);
+    td_grid_u8_free(g1);
+    td_lines_free(ls);
+}
+
+/* A slope of straight contours 20 px apart across a 200 x 120 sheet,
+ * rising down the screen (known points: 100 on the top line, 110 on the
+ * next), with the contour at y 60 left untraced: only its skeleton
+ * shows it.  The lines below it are 130 and 140; without the skeleton
+ * the labeller cannot tell a contour is missing and takes them one
+ * interval lower. */
+static void test_step_untraced_contour(void)
+{
+    static const int ys[5] = {20, 40, 60, 80, 100};
+    static const double want[2][4] = {{100, 110, 120, 130},
+                                      {100, 110, 130, 140}};
+    td_label_point kp[2] = {{100, 20.5, 100, -1}, {100, 40.5, 110, -1}};
+    td_grid_u8 *g = skeleton_rows(200, 120, ys, 5, 0, 199);
+    int pass;
+    for (pass = 0; pass < 2; pass++) {
+        td_lines *ls = td_lines_new(NULL);
+        td_label_params p = params(200, 120, 10);
+        td_label_report rep;
+        td_ctx cx;
+        int k, j;
+        td_ctx_init(&cx);
+        for (k = 0; k < 5; k++) {
+            td_line *l;
+            if (ys[k] == 60)
+                continue;
+            l = td_lines_add(ls, NULL);
+            for (j = 0; j < 200; j++)
+                td_line_push(l, j + 0.5, ys[k] + 0.5, NULL);
+        }
+        p.known = kp;
+        p.nknown = 2;
+        p.skeleton = pass ? g : NULL;
+        TT_CHECKF(td_label_auto(ls, &p, &rep, &cx) == 0, "%s", td_errmsg(&cx));
+        for (k = 0; k < 4; k++)
+            TT_CHECKF(ls->v[k].has_height && ls->v[k].height == want[pass][k],
+                      "skeleton %d, line %d: %d %g (want %g)", pass, k,
+                      ls->v[k].has_height, ls->v[k].height, want[pass][k]);
+        td_label_report_free(&rep);
+        td_lines_free(ls);
+    }
+    td_grid_u8_free(g);
+}
+
 /* A sheet drawn from tests/data/dems/<dem> at scale x its size, lines
  * 1.8 px, index lines 3.2 px; scanned: blur, noise, specks, breaks and
  * inline labels (font 1: DejaVu, tops uphill; 0: stroke digits).  *src is
@@ -1588,6 +1684,8 @@ int main(void)
 {
     TT_RUN(test_probes_parallel);
     TT_RUN(test_probes_wall);
+    TT_RUN(test_probes_step);
+    TT_RUN(test_step_untraced_contour);
     TT_RUN(test_real_orkhon);
     TT_RUN(test_oracle_price);
     TT_RUN(test_real_frontrange);

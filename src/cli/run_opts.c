@@ -59,6 +59,9 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
          .help = "faces: two free line ends at most PX apart\nthat face each "
          "other are one contour (ours;\nmeasured: see docs/label.md; 0: off;"
          "\ndefault 24 on a colour scan, else 0)", .no_default = 1},
+        {"steps", 0, TD_OPT_FLAG, &r->p.steps, .help = "faces: a probe across "
+         "contour ink no line\nwas traced on is a step of one level or\nmore, "
+         "not one face (ours; measured: see\ndocs/label.md)"},
         {"ink", 0, TD_OPT_FUNC, &r->p.scan.bin, .fn = ink, .meta = "KIND",
          .help = "auto | dark | brown | brown-hue | R,G,B[:tol]\n(default "
          "auto; see topodig scan --help)"},

@@ -89,6 +89,10 @@ typedef struct td_run_params {
                               (scanner/streams.h; default 1) */
     td_label_params label;
     td_interp_params interp;
+    int steps;             /* the labeller's step edges: probes across
+                              skeleton ink no line was traced on
+                              (td_label_params.skeleton; ours; default 0,
+                              docs/label.md) */
     int walls_back;        /* after labelling, the stretches the scanner
                               cut out of lines (td_scan_result.walls) whose
                               two sides got one height go back in as lines
@@ -113,6 +117,9 @@ typedef struct td_run_result {
                               NULL once interpolated */
     td_lines *walls;       /* the scan's blobs (td_scan_result.walls);
                               NULL once labelled */
+    td_grid_u8 *skel;      /* the scan's skeleton (td_scan_result.despurred)
+                              for the labeller's step edges; freed after
+                              labelling */
     td_grid_f32 *dem;
     size_t undetermined; /* cells of dem left nodata */
     size_t traced, dropped, ncross;

@@ -59,6 +59,10 @@ static int do_scan(const char *path, const td_run_params *p, td_run_result *r,
         res.lines = NULL;
         r->walls = res.walls;
         res.walls = NULL;
+        if (p->steps) {
+            r->skel = res.despurred;
+            res.despurred = NULL;
+        }
         r->traced = r->lines->n;
         r->pal = res.palette;
     }
@@ -107,6 +111,7 @@ static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
     lp.vees = r->vees;
     lp.nvees = tree ? 0 : r->nvees;
     lp.walls = r->walls;
+    lp.skeleton = r->skel;
     lp.colour = r->pal.n > 0; /* gap_pairs < 0: on for colour scans */
     lp.w = r->w;
     lp.h = r->h;
@@ -153,6 +158,8 @@ static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
         }
     td_lines_free(r->walls);
     r->walls = NULL;
+    td_grid_u8_free(r->skel);
+    r->skel = NULL;
     r->secs[1] = td_now() - t0;
     if (r->lines->n == 0)
         return td_seterr(cx, TD_EINVAL, "no traced line could be labelled "
@@ -198,6 +205,7 @@ void td_run_result_free(td_run_result *r)
     td_grid_f32_free(r->dem);
     td_lines_free(r->lines);
     td_lines_free(r->walls);
+    td_grid_u8_free(r->skel);
     td_label_report_free(&r->rep);
     td_label_report_free(&r->checks);
     td_image_free(r->scan);

@@ -12,7 +12,7 @@
  *   bench_heights [--dems DIR] [--only NAME] [--tree] [--search N] [--log]
  *                 [--all-hints] [--png DIR] [--streams] [--no-vees]
  *                 [--no-stream-joins] [--gap-pairs PX] [--oracle]
- *                 [--oracle-box X0,Y0,X1,Y1]
+ *                 [--oracle-box X0,Y0,X1,Y1] [--steps]
  *                 [--detint] [--spots N]
  *
  * --detint: the scanner divides the colour sheets' tints out (scan
@@ -32,7 +32,8 @@
  * pays more than the answer, the model's weights are worth a look);
  * --oracle-box X0,Y0,X1,Y1: the same with the true heights only on the
  * lines wholly inside the box (scan pixels), the answer's elsewhere: one
- * region's price. */
+ * region's price; --steps: the labeller's step edges (the scan's
+ * skeleton, td_label_params.skeleton; off by default). */
 #include "tests/util/bench.h"
 #include "tests/util/hsheet.h"
 
@@ -67,7 +68,7 @@ static const char usage[] =
     "usage: bench_heights [--dems DIR] [--only NAME] [--tree] [--search N]\n"
     "                     [--log] [--all-hints] [--png DIR] [--streams]\n"
     "                     [--no-vees] [--no-stream-joins] [--gap-pairs PX]\n"
-    "                     [--oracle] [--oracle-box X0,Y0,X1,Y1]\n"
+    "                     [--oracle] [--oracle-box X0,Y0,X1,Y1] [--steps]\n"
     "                     [--detint] [--hachures]\n"
     "                     [--paper-junctions] [--spots N]\n";
 
@@ -82,7 +83,7 @@ int main(int argc, char **argv)
     int tree = 0, logit = 0, paperj = 0, all = 0, search = 0, hach = 0, a;
     int streams = 0, novees = 0, nojoins = 0, detint = 0;
     double gap_pairs = 0;
-    int oracle = 0, spots = 0;
+    int oracle = 0, spots = 0, steps = 0;
     double obox[4] = {0, 0, 0, 0};
     size_t c;
     for (a = 1; a < argc; a++) {
@@ -98,6 +99,8 @@ int main(int argc, char **argv)
             streams = 1;
         else if (!strcmp(argv[a], "--oracle"))
             oracle = 1;
+        else if (!strcmp(argv[a], "--steps"))
+            steps = 1;
         else if (!strcmp(argv[a], "--oracle-box") && a + 1 < argc) {
             if (sscanf(argv[++a], "%lf,%lf,%lf,%lf", &obox[0], &obox[1],
                        &obox[2], &obox[3]) != 4 ||
@@ -192,6 +195,7 @@ int main(int argc, char **argv)
                 hs.detint = detint;
                 hs.gap_pairs = gap_pairs;
                 hs.oracle = oracle;
+                hs.steps = steps;
                 memcpy(hs.oracle_box, obox, sizeof obox);
                 if (png) {
                     snprintf(path, sizeof path, "%s/%s_%d_%d.png", png, k->name,

@@ -32,6 +32,8 @@ typedef struct td_hsheet {
     int read_labels;            /* read the printed labels (scanner/ocr.h) and
                                    give them to the labeller */
     int no_interval;            /* infer the interval from the labels */
+    int steps;                  /* the labeller's step edges (the scan's
+                                   skeleton: td_label_params.skeleton) */
     int no_vees;                /* colour: do not read the streams' Vs
                                    (scanner/streams.h; read by default) */
     int no_stream_joins;        /* colour: the joiner's stage 3 off
