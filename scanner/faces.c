@@ -13,6 +13,7 @@
 #define CELL 8 /* the finest cell; coarser when the sheet is large and empty */
 #define MAX_CELLS 4000000
 #define SIMPLIFY 0.6 /* px: traced staircases simplified before indexing */
+#define SKEL_MIN_PX 8 /* skeleton pieces of fewer pixels are specks */
 #define SKEL_CLEAR                                                             \
     1.6 /* px: a probe's own line's and the line it meets's                    \
            skeleton pixels lie this close to its ends */
@@ -529,21 +530,82 @@ typedef struct hit {
     uint32_t step; /* untraced ink crossed (td_face_edge.step) */
 } hit;
 
+/* Out of f->skel, the pieces (8-connected) of fewer than SKEL_MIN_PX
+ * pixels: specks of ink, tick stubs, a line's leftover corner, not a
+ * contour left untraced.  Returns 0 or TD_ENOMEM. */
+static int drop_specks(td_faces *f, td_ctx *cx)
+{
+    size_t row = ((size_t)f->w + 7) / 8, nb = row * (size_t)f->h, i, cap = 64;
+    uint8_t *seen = td_calloc(nb + 1, 1, cx);
+    size_t *st = td_malloc(cap * sizeof *st, cx), *piece = NULL;
+    if (!seen || !st || !(piece = td_malloc(SKEL_MIN_PX * sizeof *piece, cx))) {
+        free(seen), free(st);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < nb; i++) {
+        int bit;
+        if (!(f->skel[i] & ~seen[i]))
+            continue;
+        for (bit = 0; bit < 8; bit++) {
+            size_t n = 0, np = 0, sp = 0, p0 = (i % row) * 8 + (size_t)bit,
+                   y0 = i / row;
+            if (!(f->skel[i] >> bit & 1) || (seen[i] >> bit & 1) ||
+                p0 >= (size_t)f->w)
+                continue;
+            seen[i] |= (uint8_t)(1u << bit);
+            st[sp++] = y0 * (size_t)f->w + p0;
+            while (sp) { /* the piece, counted up to SKEL_MIN_PX */
+                size_t q = st[--sp], qx = q % (size_t)f->w, qy = q / (size_t)f->w;
+                int dx, dy;
+                if (np < SKEL_MIN_PX)
+                    piece[np++] = q;
+                n++;
+                for (dy = -1; dy <= 1; dy++)
+                    for (dx = -1; dx <= 1; dx++) {
+                        long ux = (long)qx + dx, uy = (long)qy + dy;
+                        size_t b;
+                        if (ux < 0 || uy < 0 || ux >= f->w || uy >= f->h)
+                            continue;
+                        b = (size_t)uy * row + (size_t)ux / 8;
+                        if (!(f->skel[b] >> (ux & 7) & 1) ||
+                            (seen[b] >> (ux & 7) & 1))
+                            continue;
+                        seen[b] |= (uint8_t)(1u << (ux & 7));
+                        if (sp == cap) {
+                            size_t *t = realloc(st, 2 * cap * sizeof *t);
+                            if (!t) {
+                                free(seen), free(st), free(piece);
+                                return td_seterr(cx, TD_ENOMEM,
+                                                 "faces: out of memory");
+                            }
+                            st = t, cap *= 2;
+                        }
+                        st[sp++] = (size_t)uy * (size_t)f->w + (size_t)ux;
+                    }
+            }
+            if (n < SKEL_MIN_PX)
+                for (sp = 0; sp < np; sp++) {
+                    size_t q = piece[sp], qx = q % (size_t)f->w;
+                    f->skel[(q / (size_t)f->w) * row + qx / 8] &=
+                        (uint8_t) ~(1u << (qx & 7));
+                }
+        }
+    }
+    free(seen), free(st), free(piece);
+    return 0;
+}
+
 /* Contract in faces.h. */
-int td_faces_set_skeleton(td_faces *f, const td_grid_u8 *skel, td_ctx *cx)
+int td_faces_set_skeleton(td_faces *f, const uint8_t *bits, td_ctx *cx)
 {
     size_t i, k, row = ((size_t)f->w + 7) / 8;
-    int x, y;
     free(f->skel);
     f->skel = NULL;
-    if (!skel || skel->w != f->w || skel->h != f->h)
+    if (!bits)
         return 0;
-    if (!(f->skel = td_calloc(row * (size_t)f->h + 1, 1, cx)))
+    if (!(f->skel = td_malloc(row * (size_t)f->h + 1, cx)))
         return TD_ENOMEM;
-    for (y = 0; y < f->h; y++)
-        for (x = 0; x < f->w; x++)
-            if (skel->data[(size_t)y * skel->stride + (size_t)x])
-                f->skel[(size_t)y * row + x / 8] |= (uint8_t)(1u << (x & 7));
+    memcpy(f->skel, bits, row * (size_t)f->h);
     /* the used lines' own pixels, and their neighbours, out */
     for (i = 0; i < f->ls->n; i++) {
         const td_line *l = &f->ls->v[i];
@@ -568,7 +630,7 @@ int td_faces_set_skeleton(td_faces *f, const td_grid_u8 *skel, td_ctx *cx)
             }
         }
     }
-    return 0;
+    return drop_specks(f, cx);
 }
 
 /* Whether the probe from (x,y) along unit d crosses a skeleton pixel

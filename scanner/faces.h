@@ -75,13 +75,13 @@ td_faces *td_faces_new_walls(const td_lines *ls, const td_lines *walls, int w,
                              int h, const td_faces_params *p, td_ctx *cx);
 void td_faces_free(td_faces *f);
 
-/* The scanner's skeleton (td_scan_result.despurred, the sheet's size;
- * nonzero: ink): its pixels that no used line runs within a pixel of are
- * kept (packed, w h / 8 bytes), and from now on td_faces_edges marks the
- * probes that cross one more than 1.6 px from both their ends
- * (td_face_edge.step).  NULL (or another size): off.  Returns 0 or
+/* The scanner's skeleton (td_scan_result.skel_bits: the sheet's w x h,
+ * one bit a pixel, rows of (w + 7) / 8 bytes): its pixels that no used
+ * line runs within a pixel of are kept (a copy), and from now on
+ * td_faces_edges marks the probes that cross one more than 1.6 px from
+ * both their ends (td_face_edge.step).  NULL: off.  Returns 0 or
  * TD_ENOMEM. */
-int td_faces_set_skeleton(td_faces *f, const td_grid_u8 *skel, td_ctx *cx);
+int td_faces_set_skeleton(td_faces *f, const uint8_t *bits, td_ctx *cx);
 
 /* Whether the segment (x0,y0)-(x1,y1) crosses a pixel of that untraced
  * skeleton more than `clear` px from both its ends (0: no skeleton set,

@@ -68,8 +68,8 @@ typedef struct td_label_params {
     size_t nknown;
     const double *depressions; /* x,y pairs */
     size_t ndepressions;
-    const td_grid_u8 *skeleton; /* faces: the scanner's skeleton
-                                   (td_scan_result.despurred; NULL: none):
+    const uint8_t *skeleton; /* faces: the scanner's skeleton, w x h packed
+                                (td_scan_result.skel_bits; NULL: none):
                                    probes across skeleton ink that no line
                                    was traced on are steps, not one face
                                    (faces.h, docs/label.md) */

@@ -47,6 +47,7 @@ void td_scan_result_free(td_scan_result *res)
     td_grid_u8_free(res->mask);
     td_grid_u8_free(res->skeleton);
     td_grid_u8_free(res->despurred);
+    free(res->skel_bits);
     free(res->other);
     memset(res, 0, sizeof *res);
 }
@@ -55,6 +56,26 @@ void td_scan_result_free(td_scan_result *res)
 static size_t packed_bytes(int w, int h)
 {
     return (size_t)h * (((size_t)w + 7) / 8) + 1;
+}
+
+/* The skeleton g packed one bit a pixel, less the pixels within
+ * TD_FLANK_NEAR px of other's strokes (may be NULL); NULL when out of
+ * memory. */
+static uint8_t *skeleton_bits(const td_grid_u8 *g, const uint8_t *other,
+                              int w, int h, td_ctx *cx)
+{
+    size_t row = ((size_t)w + 7) / 8;
+    uint8_t *b = td_calloc(packed_bytes(w, h) + 1, 1, cx);
+    int x, y;
+    if (!b)
+        return NULL;
+#pragma omp parallel for private(x) schedule(static)
+    for (y = 0; y < h; y++)
+        for (x = 0; x < w; x++)
+            if (g->data[(size_t)y * g->stride + (size_t)x] &&
+                !(other && td_flank_near(other, w, h, x + 0.5, y + 0.5)))
+                b[(size_t)y * row + (size_t)x / 8] |= (uint8_t)(1u << (x & 7));
+    return b;
 }
 
 int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
@@ -188,6 +209,9 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     }
     free(water);
     water = NULL;
+    if (rc == 0 && p->skel_bits &&
+        !(res->skel_bits = skeleton_bits(g, other, im->w, im->h, cx)))
+        rc = TD_ENOMEM;
     if (p->keep_debug)
         res->other = other;
     else

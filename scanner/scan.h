@@ -104,6 +104,9 @@ typedef struct td_scan_params {
                              on their own (pale.h; ours), default 1 */
     td_pale_params pale_p;
     int keep_debug;       /* keep mask and skeleton copies in the result */
+    int skel_bits;        /* keep the skeleton the lines were traced on,
+                             packed, less what lies beside another ink
+                             (td_scan_result.skel_bits; default 0) */
 } td_scan_params;
 
 typedef struct td_scan_result {
@@ -111,6 +114,12 @@ typedef struct td_scan_result {
     td_grid_u8 *mask;      /* ink mask (keep_debug only) */
     td_grid_u8 *skeleton;  /* after thinning (keep_debug only) */
     td_grid_u8 *despurred; /* after spur removal: always kept */
+    uint8_t *skel_bits;    /* p.skel_bits: the same, one bit a pixel (rows
+                              of (w + 7) / 8 bytes), without the pixels
+                              within TD_FLANK_NEAR px of another ink's
+                              strokes (a road's flanks read as contour
+                              ink): the labeller's step edges
+                              (td_label_params.skeleton) */
     uint8_t *other;        /* the other inks' strokes the joiner keeps
                               off (td_binarise_other_ink: packed, one bit
                               a pixel; keep_debug only, NULL when none) */

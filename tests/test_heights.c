@@ -406,19 +406,20 @@ static void test_probes_wall(void)
     td_lines_free(ls);
 }
 
-/* The skeleton of a w x h sheet with a row of ink at each y of ys[] from
- * x0 to x1 (the caller frees it). */
-static td_grid_u8 *skeleton_rows(int w, int h, const int *ys, int n, int x0,
-                                 int x1)
+/* The skeleton of a w x h sheet, packed (td_scan_result.skel_bits), with
+ * a row of ink at each y of ys[] from x0 to x1 (the caller frees it). */
+static uint8_t *skeleton_rows(int w, int h, const int *ys, int n, int x0,
+                              int x1)
 {
-    td_grid_u8 *g = td_grid_u8_new(w, h, NULL);
+    size_t row = ((size_t)w + 7) / 8;
+    uint8_t *b = calloc(row * (size_t)h + 1, 1);
     int k, x;
-    if (!g)
+    if (!b)
         return NULL;
     for (k = 0; k < n; k++)
         for (x = x0; x <= x1; x++)
-            g->data[(size_t)ys[k] * g->stride + (size_t)x] = 1;
-    return g;
+            b[(size_t)ys[k] * row + (size_t)x / 8] |= (uint8_t)(1u << (x & 7));
+    return b;
 }
 
 /* The same two lines with a contour between them that the scanner left
@@ -428,8 +429,8 @@ static void test_probes_step(void)
 {
     td_lines *ls = td_lines_new(NULL);
     static const int own[2] = {40, 50}, all[3] = {40, 45, 50};
-    td_grid_u8 *g0 = skeleton_rows(200, 100, own, 2, 50, 150),
-               *g1 = skeleton_rows(200, 100, all, 3, 50, 150);
+    uint8_t *g0 = skeleton_rows(200, 100, own, 2, 50, 150),
+            *g1 = skeleton_rows(200, 100, all, 3, 50, 150);
     td_faces *f;
     td_face_edge *e = NULL;
     size_t n = 0;
@@ -454,8 +455,8 @@ static void test_probes_step(void)
              td_faces_untraced_between(f, 60, 40.5, 80, 40.5, 1.5) == 0);
     free(e);
     td_faces_free(f);
-    td_grid_u8_free(g0);
-    td_grid_u8_free(g1);
+    free(g0);
+    free(g1);
     td_lines_free(ls);
 }
 
@@ -471,7 +472,7 @@ static void test_step_untraced_contour(void)
     static const double want[2][4] = {{100, 110, 120, 130},
                                       {100, 110, 130, 140}};
     td_label_point kp[2] = {{100, 20.5, 100, -1}, {100, 40.5, 110, -1}};
-    td_grid_u8 *g = skeleton_rows(200, 120, ys, 5, 0, 199);
+    uint8_t *g = skeleton_rows(200, 120, ys, 5, 0, 199);
     int pass;
     for (pass = 0; pass < 2; pass++) {
         td_lines *ls = td_lines_new(NULL);
@@ -499,7 +500,7 @@ static void test_step_untraced_contour(void)
         td_label_report_free(&rep);
         td_lines_free(ls);
     }
-    td_grid_u8_free(g);
+    free(g);
 }
 
 /* A sheet drawn from tests/data/dems/<dem> at scale x its size, lines

@@ -117,9 +117,9 @@ typedef struct td_run_result {
                               NULL once interpolated */
     td_lines *walls;       /* the scan's blobs (td_scan_result.walls);
                               NULL once labelled */
-    td_grid_u8 *skel;      /* the scan's skeleton (td_scan_result.despurred)
-                              for the labeller's step edges; freed after
-                              labelling */
+    uint8_t *skel;         /* steps: the scan's skeleton
+                              (td_scan_result.skel_bits) for the
+                              labeller; freed after labelling */
     td_grid_f32 *dem;
     size_t undetermined; /* cells of dem left nodata */
     size_t traced, dropped, ncross;

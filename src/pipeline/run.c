@@ -39,6 +39,7 @@ static int do_scan(const char *path, const td_run_params *p, td_run_result *r,
     r->w = im->w;
     r->h = im->h;
     sp.join.record = p->read_labels; /* where the labels are */
+    sp.skel_bits = p->steps;
     if ((rc = td_scan(im, &sp, &res, cx)) == 0 && p->read_labels) {
         double t1 = td_now();
         td_ocr_params op = td_ocr_defaults();
@@ -59,10 +60,8 @@ static int do_scan(const char *path, const td_run_params *p, td_run_result *r,
         res.lines = NULL;
         r->walls = res.walls;
         res.walls = NULL;
-        if (p->steps) {
-            r->skel = res.despurred;
-            res.despurred = NULL;
-        }
+        r->skel = res.skel_bits;
+        res.skel_bits = NULL;
         r->traced = r->lines->n;
         r->pal = res.palette;
     }
@@ -158,7 +157,7 @@ static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
         }
     td_lines_free(r->walls);
     r->walls = NULL;
-    td_grid_u8_free(r->skel);
+    free(r->skel);
     r->skel = NULL;
     r->secs[1] = td_now() - t0;
     if (r->lines->n == 0)
@@ -205,7 +204,7 @@ void td_run_result_free(td_run_result *r)
     td_grid_f32_free(r->dem);
     td_lines_free(r->lines);
     td_lines_free(r->walls);
-    td_grid_u8_free(r->skel);
+    free(r->skel);
     td_label_report_free(&r->rep);
     td_label_report_free(&r->checks);
     td_image_free(r->scan);

@@ -12,13 +12,14 @@
  * ("Where the DEMs stand") and benchmarks.md.
  *
  *   bench_dem [--only NAME] [--dir TMPDIR] [--streams] [--stream-gap PX]
- *             [--keep]
+ *             [--keep] [--steps]
  *
  * --streams: the colour sheets' water from the terrain (tdgen --streams);
  * --stream-gap: the scan's joins across the water (0: off); --keep: each
  * sheet (bench_dem_NAME_K.png) stays in the folder, with its true DEM
  * beside it (bench_dem_NAME_K_truth.tif: `topodig run` the sheet and
- * `topodig compare --diff` against it shows where a DEM goes wrong). */
+ * `topodig compare --diff` against it shows where a DEM goes wrong);
+ * --steps: `run --steps` (the labeller's step edges). */
 #include "tests/util/bench.h"
 #include "tests/util/hsheet.h"
 
@@ -135,14 +136,14 @@ static double traced_rmse(const td_lines *ls, const td_grid_f32 *dem,
 }
 
 static const char usage[] = "usage: bench_dem [--only NAME] [--dir TMPDIR] "
-                            "[--streams] [--stream-gap PX] [--keep]\n";
+                            "[--streams] [--stream-gap PX] [--keep] [--steps]\n";
 
 int main(int argc, char **argv)
 {
     const char *only = NULL, *dir = "build-bench/data";
     static const int kinds[4] = {1, 2, 3, 4};
     size_t s;
-    int a, k, streams = 0, keep = 0;
+    int a, k, streams = 0, keep = 0, steps = 0;
     double gap = -1;
     for (a = 1; a < argc; a++) {
         if (!strcmp(argv[a], "--only") && a + 1 < argc)
@@ -153,6 +154,8 @@ int main(int argc, char **argv)
             streams = 1;
         else if (!strcmp(argv[a], "--keep"))
             keep = 1;
+        else if (!strcmp(argv[a], "--steps"))
+            steps = 1;
         else if (!strcmp(argv[a], "--stream-gap") && a + 1 < argc)
             gap = atof(argv[++a]);
         else if (!strcmp(argv[a], "--topodig") && a + 1 < argc)
@@ -195,6 +198,7 @@ int main(int argc, char **argv)
             gp.streams = streams && gp.colour;
             if (gap >= 0)
                 p.scan.join.cross_gap = gap;
+            p.steps = steps;
             snprintf(path, sizeof path, "%s/bench_dem_%s_%d.png", dir, rs->name,
                      kinds[k]);
             if (td_gen_sheet(&gp, &im, &tl, &tdem, &cx) != 0 ||

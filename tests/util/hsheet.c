@@ -289,6 +289,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
         if (hs->no_stream_joins)
             sp.join.cross_gap = 0;
         sp.join.record = hs->read_labels;
+        sp.skel_bits = hs->steps;
         if ((rc = td_scan(im, &sp, &res, cx)) != 0)
             goto done;
         if (hs->read_labels) {
@@ -343,7 +344,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
        by the solve (td_label_auto with the interval given, as run does) */
     lp.index_off = hs->index_every == 0 && !hs->no_interval;
     lp.walls = res.walls;
-    lp.skeleton = hs->steps ? res.despurred : NULL;
+    lp.skeleton = res.skel_bits;
     lp.nknown = (size_t)td_hsheet_pick_known(
         tl, hs->interval, hs->nknown > 8 ? 8 : hs->nknown, kp);
     lp.known = kp;
