@@ -6,6 +6,8 @@
  * cell whose nearest crossing lies inside it. */
 #include "scanner/faces.h"
 
+#include "scanner/flank.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +15,9 @@
 #define CELL 8 /* the finest cell; coarser when the sheet is large and empty */
 #define MAX_CELLS 4000000
 #define SIMPLIFY 0.6 /* px: traced staircases simplified before indexing */
+#define SKEL_AXIS_R 3 /* px: the skeleton's course where a probe meets it */
+#define SKEL_ALONG                                                             \
+    0.71 /* ... within 45 degrees of the probe: run along, not crossed */
 #define SKEL_MIN_PX 8 /* skeleton pieces of fewer pixels are specks */
 #define SKEL_CLEAR                                                             \
     1.6 /* px: a probe's own line's and the line it meets's                    \
@@ -649,9 +654,13 @@ static int skel_crossed(const td_faces *f, double x, double y, const double *d,
     tmx = d[0] != 0 ? t0 + ((cx + (sx > 0)) - px) / d[0] : INFINITY;
     tmy = d[1] != 0 ? t0 + ((cy + (sy > 0)) - py) / d[1] : INFINITY;
     while (t < t1) {
+        double ux = 0, uy = 0;
         if (cx >= 0 && cy >= 0 && cx < f->w && cy < f->h &&
-            (f->skel[(size_t)cy * row + (size_t)cx / 8] >> (cx & 7) & 1))
-            return 1;
+            (f->skel[(size_t)cy * row + (size_t)cx / 8] >> (cx & 7) & 1) &&
+            (td_flank_axis(f->skel, f->w, f->h, cx + 0.5, cy + 0.5, SKEL_AXIS_R,
+                           1, &ux, &uy) < 3 ||
+             fabs(ux * d[0] + uy * d[1]) < SKEL_ALONG))
+            return 1; /* crossed, not run along (a road's flank) */
         if (tmx < tmy) {
             t = tmx;
             cx += sx;

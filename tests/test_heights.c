@@ -424,7 +424,8 @@ static uint8_t *skeleton_rows(int w, int h, const int *ys, int n, int x0,
 
 /* The same two lines with a contour between them that the scanner left
  * untraced (its skeleton pixels at y 45, no line): the probes across it
- * say step, not one face.  The lines' own skeleton pixels do not. */
+ * say step, not one face.  The lines' own skeleton pixels do not, nor
+ * skeleton that runs along the probes or a speck. */
 static void test_probes_step(void)
 {
     td_lines *ls = td_lines_new(NULL);
@@ -453,6 +454,24 @@ static void test_probes_step(void)
               n ? e[0].w : 0);
     TT_CHECK(td_faces_untraced_between(f, 60, 40.5, 60, 50.5, 1.5) == 1 &&
              td_faces_untraced_between(f, 60, 40.5, 80, 40.5, 1.5) == 0);
+    free(e), e = NULL;
+    td_faces_free(f);
+    /* lines 30 px apart with skeleton running down between them along the
+       probes (a road's flank, x 100, y 44-66): no step; and a speck of 5
+       px across them is none either */
+    ls->v[1].n = 0;
+    for (k = 0; k <= 100; k++)
+        td_line_push(&ls->v[1], 50.5 + k, 70.5, NULL);
+    memset(g1, 0, 25 * 100 + 1);
+    for (y = 44; y <= 66; y++)
+        g1[(size_t)y * 25 + 100 / 8] |= (uint8_t)(1u << (100 & 7));
+    for (k = 120; k < 125; k++)
+        g1[(size_t)55 * 25 + (size_t)k / 8] |= (uint8_t)(1u << (k & 7));
+    f = td_faces_new(ls, 200, 100, NULL, NULL);
+    TT_CHECK(f && td_faces_set_skeleton(f, g1, NULL) == 0 &&
+             td_faces_edges(f, &e, &n, NULL) == 0);
+    TT_CHECKF(n == 1 && e[0].step == 0, "%zu edges, first step %u", n,
+              n ? e[0].step : 0);
     free(e);
     td_faces_free(f);
     free(g0);
