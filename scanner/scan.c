@@ -10,6 +10,7 @@
 #include "scanner/ticks.h"
 #include "scanner/widecut.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -61,8 +62,58 @@ static size_t packed_bytes(int w, int h)
 /* The skeleton g packed one bit a pixel, less the pixels within
  * TD_FLANK_NEAR px of other's strokes (may be NULL); NULL when out of
  * memory. */
+/* The pixels the lines of ls run through (their vertices and the
+ * segments between them), set in the packed w x h bits b. */
+static void draw_lines(const td_lines *ls, int w, int h, uint8_t *b)
+{
+    size_t row = ((size_t)w + 7) / 8, i, k;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        for (k = 0; k < l->n + (l->closed && l->n > 2); k++) {
+            const double *a = l->xy + 2 * (k ? k - 1 : 0),
+                         *c = l->xy + 2 * (k % l->n);
+            int j,
+                m = (int)ceil(2 * fmax(fabs(c[0] - a[0]), fabs(c[1] - a[1])));
+            for (j = 0; j <= m; j++) {
+                double t = m ? (double)j / m : 0;
+                int x = (int)floor(a[0] + (c[0] - a[0]) * t),
+                    y = (int)floor(a[1] + (c[1] - a[1]) * t);
+                if (x >= 0 && y >= 0 && x < w && y < h)
+                    b[(size_t)y * row + (size_t)x / 8] |=
+                        (uint8_t)(1u << (x & 7));
+            }
+        }
+    }
+}
+
+/* Before (when = 0) and after (1) a step that cuts lines: the pixels
+ * of the stretches it cut out go into lost (both packed w x h; tmp the
+ * lines as they were). */
+static void lost_track(const td_lines *ls, int when, int w, int h, uint8_t *tmp,
+                       uint8_t *lost)
+{
+    size_t n = packed_bytes(w, h), i;
+    if (!when) {
+        memset(tmp, 0, n);
+        draw_lines(ls, w, h, tmp);
+        return;
+    }
+    {
+        uint8_t *now = tmp + n; /* (tmp holds two maps) */
+        memset(now, 0, n);
+        draw_lines(ls, w, h, now);
+        for (i = 0; i < n; i++)
+            lost[i] |= (uint8_t)(tmp[i] & ~now[i]);
+    }
+}
+
+/* The skeleton g packed one bit a pixel for the labeller's step edges,
+ * less the pixels within TD_FLANK_NEAR px of other's strokes (may be
+ * NULL) and those within a pixel of lost (lost_track: the stretches cut
+ * out along other inks, flank.c and foreign.c: a road's flanks, a ring's
+ * stretch under a road); NULL when out of memory. */
 static uint8_t *skeleton_bits(const td_grid_u8 *g, const uint8_t *other,
-                              int w, int h, td_ctx *cx)
+                              const uint8_t *lost, int w, int h, td_ctx *cx)
 {
     size_t row = ((size_t)w + 7) / 8;
     uint8_t *b = td_calloc(packed_bytes(w, h) + 1, 1, cx);
@@ -71,10 +122,21 @@ static uint8_t *skeleton_bits(const td_grid_u8 *g, const uint8_t *other,
         return NULL;
 #pragma omp parallel for private(x) schedule(static)
     for (y = 0; y < h; y++)
-        for (x = 0; x < w; x++)
-            if (g->data[(size_t)y * g->stride + (size_t)x] &&
-                !(other && td_flank_near(other, w, h, x + 0.5, y + 0.5)))
+        for (x = 0; x < w; x++) {
+            int cut = 0, dx, dy;
+            if (!g->data[(size_t)y * g->stride + (size_t)x] ||
+                (other && td_flank_near(other, w, h, x + 0.5, y + 0.5)))
+                continue;
+            for (dy = -1; dy <= 1 && !cut; dy++)
+                for (dx = -1; dx <= 1 && !cut; dx++) {
+                    int u = x + dx, v = y + dy;
+                    cut =
+                        u >= 0 && v >= 0 && u < w && v < h &&
+                        (lost[(size_t)v * row + (size_t)u / 8] >> (u & 7) & 1);
+                }
+            if (!cut)
                 b[(size_t)y * row + (size_t)x / 8] |= (uint8_t)(1u << (x & 7));
+        }
     return b;
 }
 
@@ -82,6 +144,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             td_ctx *cx)
 {
     td_grid_u8 *g = NULL;
+    uint8_t *lost = NULL, *lost_tmp = NULL; /* p->skel_bits: lost_track */
     td_image *clean = NULL; /* the scan defringed (colour) */
     const td_image *src = im;
     uint8_t *bits = NULL, *seams = NULL, *other = NULL, *water = NULL;
@@ -162,6 +225,12 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     t0 = td_now();
     if ((rc = td_trace(g, &p->trace, &res->lines, &res->trace, cx)) != 0)
         goto fail;
+    if (p->skel_bits && /* what the cuts along other inks take */
+        (!(lost = td_calloc(packed_bytes(im->w, im->h), 1, cx)) ||
+         !(lost_tmp = td_malloc(2 * packed_bytes(im->w, im->h), cx)))) {
+        rc = TD_ENOMEM;
+        goto fail;
+    }
     if (pale) { /* traced apart, added to the ink's lines */
         long np = td_pale_trace(pale, im->w, im->h, &p->pale_p, &p->spur,
                                 &p->trace, res->lines, cx);
@@ -189,7 +258,12 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         goto fail;
     jp.water = water;
     if (p->flank_cut && other) {
-        long nf = td_flank_cut(res->lines, other, im->w, im->h, cx);
+        long nf;
+        if (lost)
+            lost_track(res->lines, 0, im->w, im->h, lost_tmp, lost);
+        nf = td_flank_cut(res->lines, other, im->w, im->h, cx);
+        if (lost)
+            lost_track(res->lines, 1, im->w, im->h, lost_tmp, lost);
         if (nf < 0) {
             rc = (int)nf;
             goto fail;
@@ -201,7 +275,12 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     clean = vsrc = NULL;
     rc = p->do_join ? td_join(&res->lines, &jp, &res->join, cx) : 0;
     if (rc == 0 && p->foreign_cut) {
-        long nf = td_foreign_cut(res->lines, im, &res->palette, other, cx);
+        long nf;
+        if (lost)
+            lost_track(res->lines, 0, im->w, im->h, lost_tmp, lost);
+        nf = td_foreign_cut(res->lines, im, &res->palette, other, cx);
+        if (lost)
+            lost_track(res->lines, 1, im->w, im->h, lost_tmp, lost);
         if (nf < 0)
             rc = (int)nf;
         else
@@ -210,8 +289,10 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     free(water);
     water = NULL;
     if (rc == 0 && p->skel_bits &&
-        !(res->skel_bits = skeleton_bits(g, other, im->w, im->h, cx)))
+        !(res->skel_bits = skeleton_bits(g, other, lost, im->w, im->h, cx)))
         rc = TD_ENOMEM;
+    free(lost), free(lost_tmp);
+    lost = lost_tmp = NULL;
     if (p->keep_debug)
         res->other = other;
     else
@@ -279,6 +360,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
     free(seams);
     return 0;
 fail:
+    free(lost), free(lost_tmp);
     free(pale);
     td_image_free(clean);
     td_image_free(vsrc);

@@ -118,8 +118,10 @@ typedef struct td_scan_result {
                               of (w + 7) / 8 bytes), without the pixels
                               within TD_FLANK_NEAR px of another ink's
                               strokes (a road's flanks read as contour
-                              ink): the labeller's step edges
-                              (td_label_params.skeleton) */
+                              ink) and within a pixel of the stretches
+                              the cuts along other inks took out of the
+                              lines (flank.h, foreign.h): the labeller's
+                              step edges (td_label_params.skeleton) */
     uint8_t *other;        /* the other inks' strokes the joiner keeps
                               off (td_binarise_other_ink: packed, one bit
                               a pixel; keep_debug only, NULL when none) */
