@@ -332,21 +332,29 @@ static void test_many_rings(void)
     td_lines_free(ls);
 }
 
-/* Two parallel lines 10 px apart: the probes say side 1 of the upper
- * (its right, below it on the screen) and side 0 of the lower face each
- * other, about one probe per 4 px from each. */
-static void test_probes_parallel(void)
+/* Two parallel lines 101 px long, 10 px apart (y 40.5 and 50.5) on a
+ * 200 x 100 sheet. */
+static td_lines *two_lines(void)
 {
     td_lines *ls = td_lines_new(NULL);
-    td_faces *f;
-    td_face_edge *e = NULL;
-    size_t n = 0;
     int k, y;
     for (y = 0; y < 2; y++) {
         td_line *l = td_lines_add(ls, NULL);
         for (k = 0; k <= 100; k++)
             td_line_push(l, 50.5 + k, 40.5 + 10 * y, NULL);
     }
+    return ls;
+}
+
+/* Two parallel lines 10 px apart: the probes say side 1 of the upper
+ * (its right, below it on the screen) and side 0 of the lower face each
+ * other, about one probe per 4 px from each. */
+static void test_probes_parallel(void)
+{
+    td_lines *ls = two_lines();
+    td_faces *f;
+    td_face_edge *e = NULL;
+    size_t n = 0;
     f = td_faces_new(ls, 200, 100, NULL, NULL);
     TT_CHECK(f && td_faces_edges(f, &e, &n, NULL) == 0);
     TT_CHECKF(n == 1 && e[0].a == 1 && e[0].b == 2 && e[0].w >= 45 &&
@@ -375,17 +383,11 @@ static void test_probes_parallel(void)
  * lines share no face; half a wall lets half the probes through. */
 static void test_probes_wall(void)
 {
-    td_lines *ls = td_lines_new(NULL), *walls = td_lines_new(NULL);
+    td_lines *ls = two_lines(), *walls = td_lines_new(NULL);
     td_line *wl = td_lines_add(walls, NULL);
     td_faces *f;
     td_face_edge *e = NULL;
     size_t n = 0;
-    int k, y;
-    for (y = 0; y < 2; y++) {
-        td_line *l = td_lines_add(ls, NULL);
-        for (k = 0; k <= 100; k++)
-            td_line_push(l, 50.5 + k, 40.5 + 10 * y, NULL);
-    }
     td_line_push(wl, 40, 45, NULL);
     td_line_push(wl, 160, 45.5, NULL);
     f = td_faces_new_walls(ls, walls, 200, 100, NULL, NULL);
@@ -428,7 +430,7 @@ static uint8_t *skeleton_rows(int w, int h, const int *ys, int n, int x0,
  * skeleton that runs along the probes or a speck. */
 static void test_probes_step(void)
 {
-    td_lines *ls = td_lines_new(NULL);
+    td_lines *ls = two_lines();
     static const int own[2] = {40, 50}, all[3] = {40, 45, 50};
     uint8_t *g0 = skeleton_rows(200, 100, own, 2, 50, 150),
             *g1 = skeleton_rows(200, 100, all, 3, 50, 150);
@@ -436,11 +438,6 @@ static void test_probes_step(void)
     td_face_edge *e = NULL;
     size_t n = 0;
     int k, y;
-    for (y = 0; y < 2; y++) {
-        td_line *l = td_lines_add(ls, NULL);
-        for (k = 0; k <= 100; k++)
-            td_line_push(l, 50.5 + k, 40.5 + 10 * y, NULL);
-    }
     f = td_faces_new(ls, 200, 100, NULL, NULL);
     TT_CHECK(f && g0 && g1 && td_faces_set_skeleton(f, g0, NULL) == 0 &&
              td_faces_edges(f, &e, &n, NULL) == 0);
