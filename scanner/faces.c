@@ -7,6 +7,8 @@
 #include "scanner/faces.h"
 
 #include "scanner/flank.h"
+#include "scanner/width.h"
+#include "src/io/io.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -535,107 +537,38 @@ typedef struct hit {
     uint32_t step; /* untraced ink crossed (td_face_edge.step) */
 } hit;
 
-/* Out of f->skel, the pieces (8-connected) of fewer than SKEL_MIN_PX
- * pixels: specks of ink, tick stubs, a line's leftover corner, not a
- * contour left untraced.  Returns 0 or TD_ENOMEM. */
-static int drop_specks(td_faces *f, td_ctx *cx)
-{
-    size_t row = ((size_t)f->w + 7) / 8, nb = row * (size_t)f->h, i, cap = 64;
-    uint8_t *seen = td_calloc(nb + 1, 1, cx);
-    size_t *st = td_malloc(cap * sizeof *st, cx), *piece = NULL;
-    if (!seen || !st || !(piece = td_malloc(SKEL_MIN_PX * sizeof *piece, cx))) {
-        free(seen), free(st);
-        return TD_ENOMEM;
-    }
-    for (i = 0; i < nb; i++) {
-        int bit;
-        if (!(f->skel[i] & ~seen[i]))
-            continue;
-        for (bit = 0; bit < 8; bit++) {
-            size_t n = 0, np = 0, sp = 0, p0 = (i % row) * 8 + (size_t)bit,
-                   y0 = i / row;
-            if (!(f->skel[i] >> bit & 1) || (seen[i] >> bit & 1) ||
-                p0 >= (size_t)f->w)
-                continue;
-            seen[i] |= (uint8_t)(1u << bit);
-            st[sp++] = y0 * (size_t)f->w + p0;
-            while (sp) { /* the piece, counted up to SKEL_MIN_PX */
-                size_t q = st[--sp], qx = q % (size_t)f->w, qy = q / (size_t)f->w;
-                int dx, dy;
-                if (np < SKEL_MIN_PX)
-                    piece[np++] = q;
-                n++;
-                for (dy = -1; dy <= 1; dy++)
-                    for (dx = -1; dx <= 1; dx++) {
-                        long ux = (long)qx + dx, uy = (long)qy + dy;
-                        size_t b;
-                        if (ux < 0 || uy < 0 || ux >= f->w || uy >= f->h)
-                            continue;
-                        b = (size_t)uy * row + (size_t)ux / 8;
-                        if (!(f->skel[b] >> (ux & 7) & 1) ||
-                            (seen[b] >> (ux & 7) & 1))
-                            continue;
-                        seen[b] |= (uint8_t)(1u << (ux & 7));
-                        if (sp == cap) {
-                            size_t *t = realloc(st, 2 * cap * sizeof *t);
-                            if (!t) {
-                                free(seen), free(st), free(piece);
-                                return td_seterr(cx, TD_ENOMEM,
-                                                 "faces: out of memory");
-                            }
-                            st = t, cap *= 2;
-                        }
-                        st[sp++] = (size_t)uy * (size_t)f->w + (size_t)ux;
-                    }
-            }
-            if (n < SKEL_MIN_PX)
-                for (sp = 0; sp < np; sp++) {
-                    size_t q = piece[sp], qx = q % (size_t)f->w;
-                    f->skel[(q / (size_t)f->w) * row + qx / 8] &=
-                        (uint8_t) ~(1u << (qx & 7));
-                }
-        }
-    }
-    free(seen), free(st), free(piece);
-    return 0;
-}
-
 /* Contract in faces.h. */
 int td_faces_set_skeleton(td_faces *f, const uint8_t *bits, td_ctx *cx)
 {
-    size_t i, k, row = ((size_t)f->w + 7) / 8;
+    size_t row = ((size_t)f->w + 7) / 8;
+    td_grid_u8 *g;
+    uint8_t *own;
+    int x, y, rc;
     free(f->skel);
     f->skel = NULL;
     if (!bits)
         return 0;
-    if (!(f->skel = td_malloc(row * (size_t)f->h + 1, cx)))
+    if (!(own = td_malloc(row * (size_t)f->h + 1, cx)))
         return TD_ENOMEM;
-    memcpy(f->skel, bits, row * (size_t)f->h);
+    memcpy(own, bits, row * (size_t)f->h);
     /* the used lines' own pixels, and their neighbours, out */
-    for (i = 0; i < f->ls->n; i++) {
-        const td_line *l = &f->ls->v[i];
-        if (!f->used[i])
-            continue;
-        for (k = 0; k < l->n + (l->closed != 0); k++) {
-            const double *a = l->xy + 2 * (k ? k - 1 : 0),
-                         *b = l->xy + 2 * (k % l->n);
-            double len = hypot(b[0] - a[0], b[1] - a[1]);
-            int j, m = (int)ceil(2 * len) + 1;
-            for (j = 0; j <= m; j++) {
-                double px = a[0] + (b[0] - a[0]) * j / m,
-                       py = a[1] + (b[1] - a[1]) * j / m;
-                int cx0 = (int)floor(px), cy0 = (int)floor(py), dx, dy;
-                for (dy = -1; dy <= 1; dy++)
-                    for (dx = -1; dx <= 1; dx++) {
-                        int u = cx0 + dx, v = cy0 + dy;
-                        if (u >= 0 && v >= 0 && u < f->w && v < f->h)
-                            f->skel[(size_t)v * row + u / 8] &=
-                                (uint8_t) ~(1u << (u & 7));
-                    }
-            }
-        }
+    td_packed_lines(own, f->w, f->h, f->ls, f->used, 1, 0);
+    /* then the specks (pieces under SKEL_MIN_PX), on a byte a pixel */
+    if (!(g = td_grid_u8_new(f->w, f->h, cx))) {
+        free(own);
+        return TD_ENOMEM;
     }
-    return drop_specks(f, cx);
+#pragma omp parallel for private(x) schedule(static)
+    for (y = 0; y < f->h; y++)
+        for (x = 0; x < f->w; x++)
+            g->data[(size_t)y * g->stride + (size_t)x] =
+                (uint8_t)td_packed_at(own, f->w, f->h, x, y);
+    free(own);
+    if ((rc = td_cv_remove_specks(g, SKEL_MIN_PX, NULL, cx)) == 0 &&
+        !(f->skel = td_width_pack(g, cx)))
+        rc = TD_ENOMEM;
+    td_grid_u8_free(g);
+    return rc;
 }
 
 /* Whether the probe from (x,y) along unit d crosses a skeleton pixel
@@ -645,7 +578,6 @@ int td_faces_set_skeleton(td_faces *f, const uint8_t *bits, td_ctx *cx)
 static int skel_crossed(const td_faces *f, double x, double y, const double *d,
                         double t0, double t1)
 {
-    size_t row = ((size_t)f->w + 7) / 8;
     double px = x + d[0] * t0, py = y + d[1] * t0, tmx, tmy, tdx, tdy, t = t0;
     int cx = (int)floor(px), cy = (int)floor(py);
     int sx = d[0] > 0 ? 1 : -1, sy = d[1] > 0 ? 1 : -1;
@@ -656,7 +588,7 @@ static int skel_crossed(const td_faces *f, double x, double y, const double *d,
     while (t < t1) {
         double ux = 0, uy = 0;
         if (cx >= 0 && cy >= 0 && cx < f->w && cy < f->h &&
-            (f->skel[(size_t)cy * row + (size_t)cx / 8] >> (cx & 7) & 1) &&
+            td_packed_at(f->skel, f->w, f->h, cx, cy) &&
             (td_flank_axis(f->skel, f->w, f->h, cx + 0.5, cy + 0.5, SKEL_AXIS_R,
                            1, &ux, &uy) < 3 ||
              fabs(ux * d[0] + uy * d[1]) < SKEL_ALONG))

@@ -62,30 +62,6 @@ static size_t packed_bytes(int w, int h)
 /* The skeleton g packed one bit a pixel, less the pixels within
  * TD_FLANK_NEAR px of other's strokes (may be NULL); NULL when out of
  * memory. */
-/* The pixels the lines of ls run through (their vertices and the
- * segments between them), set in the packed w x h bits b. */
-static void draw_lines(const td_lines *ls, int w, int h, uint8_t *b)
-{
-    size_t row = ((size_t)w + 7) / 8, i, k;
-    for (i = 0; i < ls->n; i++) {
-        const td_line *l = &ls->v[i];
-        for (k = 0; k < l->n + (l->closed && l->n > 2); k++) {
-            const double *a = l->xy + 2 * (k ? k - 1 : 0),
-                         *c = l->xy + 2 * (k % l->n);
-            int j,
-                m = (int)ceil(2 * fmax(fabs(c[0] - a[0]), fabs(c[1] - a[1])));
-            for (j = 0; j <= m; j++) {
-                double t = m ? (double)j / m : 0;
-                int x = (int)floor(a[0] + (c[0] - a[0]) * t),
-                    y = (int)floor(a[1] + (c[1] - a[1]) * t);
-                if (x >= 0 && y >= 0 && x < w && y < h)
-                    b[(size_t)y * row + (size_t)x / 8] |=
-                        (uint8_t)(1u << (x & 7));
-            }
-        }
-    }
-}
-
 /* Before (when = 0) and after (1) a step that cuts lines: the pixels
  * of the stretches it cut out go into lost (both packed w x h; tmp the
  * lines as they were). */
@@ -95,13 +71,13 @@ static void lost_track(const td_lines *ls, int when, int w, int h, uint8_t *tmp,
     size_t n = packed_bytes(w, h), i;
     if (!when) {
         memset(tmp, 0, n);
-        draw_lines(ls, w, h, tmp);
+        td_packed_lines(tmp, w, h, ls, NULL, 0, 1);
         return;
     }
     {
         uint8_t *now = tmp + n; /* (tmp holds two maps) */
         memset(now, 0, n);
-        draw_lines(ls, w, h, now);
+        td_packed_lines(now, w, h, ls, NULL, 0, 1);
         for (i = 0; i < n; i++)
             lost[i] |= (uint8_t)(tmp[i] & ~now[i]);
     }
@@ -128,12 +104,8 @@ static uint8_t *skeleton_bits(const td_grid_u8 *g, const uint8_t *other,
                 (other && td_flank_near(other, w, h, x + 0.5, y + 0.5)))
                 continue;
             for (dy = -1; dy <= 1 && !cut; dy++)
-                for (dx = -1; dx <= 1 && !cut; dx++) {
-                    int u = x + dx, v = y + dy;
-                    cut =
-                        u >= 0 && v >= 0 && u < w && v < h &&
-                        (lost[(size_t)v * row + (size_t)u / 8] >> (u & 7) & 1);
-                }
+                for (dx = -1; dx <= 1 && !cut; dx++)
+                    cut = td_packed_at(lost, w, h, x + dx, y + dy);
             if (!cut)
                 b[(size_t)y * row + (size_t)x / 8] |= (uint8_t)(1u << (x & 7));
         }

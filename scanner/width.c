@@ -307,3 +307,34 @@ int td_lines_inked(const td_lines *ls)
             n++, dark += ls->v[i].ink > 0;
     return n > 0 && dark >= 0.9 * (double)n;
 }
+
+/* Contract in width.h. */
+void td_packed_lines(uint8_t *bits, int w, int h, const td_lines *ls,
+                     const unsigned char *only, int grow, int set)
+{
+    size_t row = ((size_t)w + 7) / 8, i, k;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        if ((only && !only[i]) || l->n == 0)
+            continue;
+        for (k = 0; k < l->n + (l->closed && l->n > 2); k++) {
+            const double *a = l->xy + 2 * (k ? k - 1 : 0),
+                         *b = l->xy + 2 * (k % l->n);
+            int j,
+                m = (int)ceil(2 * fmax(fabs(b[0] - a[0]), fabs(b[1] - a[1])));
+            for (j = 0; j <= m; j++) {
+                double t = m ? (double)j / m : 0;
+                int cx = (int)floor(a[0] + (b[0] - a[0]) * t),
+                    cy = (int)floor(a[1] + (b[1] - a[1]) * t), u, v;
+                for (v = cy - grow; v <= cy + grow; v++)
+                    for (u = cx - grow; u <= cx + grow; u++) {
+                        uint8_t *p, bit = (uint8_t)(1u << (u & 7));
+                        if (u < 0 || v < 0 || u >= w || v >= h)
+                            continue;
+                        p = bits + (size_t)v * row + (size_t)u / 8;
+                        *p = set ? (uint8_t)(*p | bit) : (uint8_t)(*p & ~bit);
+                    }
+            }
+        }
+    }
+}

@@ -37,6 +37,13 @@ static inline int td_packed_at(const uint8_t *bits, int w, int h, int x, int y)
                (x & 7) & 1;
 }
 
+/* Set (set != 0) or clear the bits of the packed w x h map along every
+ * line of ls (only[i] != 0 when only is given): each segment, the
+ * closing one of a closed line too, sampled every 1/2 px, each pixel met
+ * with its neighbours within grow px (a square). */
+void td_packed_lines(uint8_t *bits, int w, int h, const td_lines *ls,
+                     const unsigned char *only, int grow, int set);
+
 /* The bit of the pixel holding point (x, y) (pixel c spans [c, c + 1));
  * 0 off the sheet. */
 static inline int td_packed_at_pt(const uint8_t *bits, int w, int h, double x,
