@@ -1232,6 +1232,7 @@ static int fold_strength(hs *s, td_ctx *cx)
     }
     free(v);
     R = D / pen;
+    s->rep->spacing = D;
     s->fold_kg = fmin(1.0, fmax(0.0, (FOLD_R1 - R) / (FOLD_R1 - FOLD_R0)));
     s->fold_k = 0.0;
     return 0;

@@ -165,6 +165,9 @@ typedef struct td_label_report {
     double interval;        /* the interval used (inferred from the labels
                                when the parameters gave none) */
     double cost;            /* the solution's total cost (faces) */
+    double spacing;         /* px between neighbouring contours (faces):
+                               the probes' median length, weighted by
+                               their count; 0 when no probe met a line */
     double oracle_cost[2][TD_OT_N]; /* p.oracle_h: the whole model's cost
                                        (every line, unary term and edge,
                                        the priors in) of the answer [0]

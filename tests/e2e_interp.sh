@@ -135,7 +135,8 @@ if command -v ogrinfo >/dev/null; then
 fi
 # Elkhorn (SRTM), scanned, labels only: where contours crowd lines break,
 # and the interpolation saw the next contour through each break (2.39 m);
-# the lines of one height joined across them (--bridge, default 48 px):
+# the lines of one height joined across them (--bridge; default 5 contour
+# spacings, here the most, 160 px; at 48 px the same):
 # 2.26 m, the DEM from the true lines 1.93 m.
 "$BUILD/tdgen" --dem-in tests/data/dems/elkhorn_srtm3.tif --scale 6 \
     --width 1.8 --index-width 3.2 --labels 3 --label-bend 40 \
@@ -148,6 +149,20 @@ check "run: breaks between lines of one height bridged (summary line)" \
 r0=$(rmse_vs "$T/el0.tif" "$T/el_dem.tif"); r=$(rmse_vs "$T/el.tif" "$T/el_dem.tif")
 check "run, Elkhorn: breaks bridged RMSE $r m < 2.32 m and < --bridge 0 ($r0 m)" \
   "lt '$r' 2.32 && lt '$r' '$r0'"
+# Orkhon (contours 16 px apart), a new map printed and scanned: run's
+# reach is five spacings (82 px), where 48 px left the longer breaks open
+# (4.51 m against 4.28 m)
+"$BUILD/tdgen" --dem-in tests/data/dems/orkhon_92m.tif --scale 10 \
+    --width 1.8 --index-width 3.2 --print --unfaded --blur 0.8 --noise 8 \
+    --specks 300 --breaks 40 --break-len 3,10 --labels 3 --label-bend 40 \
+    --label-font dejavu -o "$T/on.png" --dem "$T/on_dem.tif" -q
+"$TD" run "$T/on.png" -o "$T/on.tif" 2>"$T/err"
+check "run, Orkhon new print: reach of 5 contour spacings in the summary" \
+  "[ \$? = 0 ] && grep -Eq 'bridged \\(up to (8[0-9]|9[0-9]) px; contours 1[5-9]\\.[0-9] px apart\\)' '$T/err'"
+"$TD" run "$T/on.png" -o "$T/on48.tif" --bridge 48 -q
+r48=$(rmse_vs "$T/on48.tif" "$T/on_dem.tif"); r=$(rmse_vs "$T/on.tif" "$T/on_dem.tif")
+check "run, Orkhon new print: RMSE $r m < --bridge 48 ($r48 m) - 0.1" \
+  "lt '$r' \$(awk 'BEGIN { print $r48 - 0.1 }')"
 # the three-step path: interp bridges the same breaks (--bridge, default 48)
 "$TD" scan "$T/el.png" -o "$T/el_lines.geojson" -q
 "$TD" label "$T/el_lines.geojson" -o "$T/el_lab.geojson" --sheet "$T/el.png" -q

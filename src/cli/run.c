@@ -123,11 +123,15 @@ static void summary(const td_run_result *s, const td_run_params *p,
         fprintf(stderr, "run: %zu stretch%s cut where contours crowd put "
                 "back (both sides one height)\n", s->walls_back,
                 s->walls_back == 1 ? "" : "es");
-    if (s->breaks_closed)
+    if (s->breaks_closed) {
         fprintf(stderr,
                 "run: %zu break%s between the ends of lines of one "
-                "height bridged\n",
-                s->breaks_closed, s->breaks_closed == 1 ? "" : "s");
+                "height bridged (up to %.0f px",
+                s->breaks_closed, s->breaks_closed == 1 ? "" : "s", s->bridge);
+        if (s->rep.spacing > 0)
+            fprintf(stderr, "; contours %.1f px apart", s->rep.spacing);
+        fprintf(stderr, ")\n");
+    }
     if (s->ncross)
         fprintf(stderr, "run: warning: %zu pairs of lines cross (contours "
                 "do not): a trace jumped between contours there\n",

@@ -78,7 +78,8 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
          .meta = "T", .help = "otsu | sauvola | N (default otsu)"},
         {"bridge", 0, TD_OPT_DOUBLE, &r->p.bridge, 0, 1e6, .meta = "PX",
          .help = "join lines of one height across breaks\nbetween their "
-         "ends up to PX long (ours;\n0: off)"},
+         "ends up to PX long (ours;\n0: off; default 5 times the spacing "
+         "of\nthe contours, 48 to 160)", .no_default = 1},
         {"save-lines", 0, TD_OPT_OUTPUT, &r->save_lines, .meta = "F", .help =
          "also write the labelled lines the DEM was\ninterpolated from "
          "(.geojson, .gpkg, .shp or\n.dxf by extension, with height,\n"

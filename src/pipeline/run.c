@@ -9,6 +9,13 @@
 #include <string.h>
 
 /* See pipeline.h. */
+double td_bridge_reach(double spacing)
+{
+    double r = BRIDGE_SPACINGS * spacing;
+    return r < BRIDGE_MIN ? BRIDGE_MIN : r > BRIDGE_MAX ? BRIDGE_MAX : r;
+}
+
+/* See pipeline.h. */
 td_run_params td_run_defaults(void)
 {
     td_run_params p;
@@ -17,7 +24,7 @@ td_run_params td_run_defaults(void)
     p.read_labels = 1;
     p.read_streams = 1;
     p.walls_back = 1;
-    p.bridge = 48;
+    p.bridge = -1;
     p.label = td_label_defaults();
     p.interp = td_interp_defaults();
     return p;
@@ -142,8 +149,9 @@ static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
     }
     /* lines cut where two contours ran as one */
     r->traced = r->lines->n - r->walls_back;
-    if (!tree && p->bridge > 0 &&
-        (rc = td_label_close_breaks(r->lines, r->w, r->h, p->bridge, r->reads,
+    r->bridge = p->bridge >= 0 ? p->bridge : td_bridge_reach(r->rep.spacing);
+    if (!tree && r->bridge > 0 &&
+        (rc = td_label_close_breaks(r->lines, r->w, r->h, r->bridge, r->reads,
                                     r->nreads, &r->breaks_closed, cx)) != 0)
         return rc;
     if (p->on_labelled && (rc = p->on_labelled(r, p->user)) != 0)
