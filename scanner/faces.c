@@ -786,3 +786,49 @@ int td_faces_untraced_between(const td_faces *f, double x0, double y0,
     d[0] /= L, d[1] /= L;
     return skel_crossed(f, x0, y0, d, clear, L - clear);
 }
+
+static int cmp_len(const void *pa, const void *pb)
+{
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
+}
+
+/* Contract in faces.h. */
+int td_faces_spacing(const td_face_edge *e, size_t n, double *spacing,
+                     td_ctx *cx)
+{
+    double *v = td_malloc((2 * n + 2) * sizeof *v, cx), tw = 0, acc = 0;
+    size_t i;
+    *spacing = 0;
+    if (!v)
+        return TD_ENOMEM;
+    for (i = 0; i < n; i++) { /* (length, weight) pairs, by length */
+        v[2 * i] = hypot(e[i].hx - e[i].x, e[i].hy - e[i].y);
+        v[2 * i + 1] = e[i].w;
+        tw += e[i].w;
+    }
+    qsort(v, n, 2 * sizeof *v, cmp_len);
+    for (i = 0; i < n && acc < tw / 2; i++)
+        acc += v[2 * i + 1], *spacing = v[2 * i];
+    free(v);
+    return 0;
+}
+
+/* Contract in faces.h. */
+int td_lines_spacing(const td_lines *ls, int w, int h, double *spacing,
+                     td_ctx *cx)
+{
+    td_faces_params fp = td_faces_defaults();
+    td_faces *f;
+    td_face_edge *e = NULL;
+    size_t n = 0;
+    int rc;
+    *spacing = 0;
+    if (!(f = td_faces_new(ls, w, h, &fp, cx)))
+        return cx->code ? cx->code : TD_ENOMEM;
+    if ((rc = td_faces_edges(f, &e, &n, cx)) == 0)
+        rc = td_faces_spacing(e, n, spacing, cx);
+    free(e);
+    td_faces_free(f);
+    return rc;
+}

@@ -107,6 +107,17 @@ long td_faces_chunk_at(const td_faces *f, size_t i, size_t k);
 int td_faces_edges(const td_faces *f, td_face_edge **out, size_t *n,
                    td_ctx *cx);
 
+/* The spacing of the contours: the median length of the probes of the n
+ * face edges e (each probe counted by its edge's weight w), into
+ * *spacing (0 when there is none).  Returns 0 or TD_ENOMEM. */
+int td_faces_spacing(const td_face_edge *e, size_t n, double *spacing,
+                     td_ctx *cx);
+
+/* The same for the lines ls on a w x h sheet (their faces with the
+ * default parameters, built and freed).  Returns 0 or an error code. */
+int td_lines_spacing(const td_lines *ls, int w, int h, double *spacing,
+                     td_ctx *cx);
+
 /* The first line met from (x,y) in direction (dx,dy) (any length), not
  * counting line `skip` within `skip_t` px of the start: returns the side
  * node met (2 * chunk + side facing the start) and its distance in *t, or

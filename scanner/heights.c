@@ -1209,21 +1209,12 @@ static int cmp_dbl(const void *pa, const void *pb)
  * the regions beyond the true folds. */
 static int fold_strength(hs *s, td_ctx *cx)
 {
-    size_t i, n = 0, m = s->nfe > s->N ? s->nfe : s->N;
-    double *v = td_malloc((2 * m + 2) * sizeof *v, cx), tw = 0, acc = 0, D = 0,
-           pen = 2.0, R;
-    if (!v)
+    size_t i, n = 0;
+    double *v, D = 0, pen = 2.0, R;
+    if (td_faces_spacing(s->fe, s->nfe, &D, cx) != 0 ||
+        !(v = td_malloc((s->N + 1) * sizeof *v, cx)))
         return TD_ENOMEM;
-    for (i = 0; i < s->nfe; i++) {
-        const td_face_edge *f = &s->fe[i];
-        v[2 * n] = hypot(f->hx - f->x, f->hy - f->y);
-        v[2 * n++ + 1] = f->w;
-        tw += f->w;
-    }
-    qsort(v, n, 2 * sizeof *v, cmp_dbl);
-    for (i = 0; i < n && acc < tw / 2; i++)
-        acc += v[2 * i + 1], D = v[2 * i];
-    for (i = 0, n = 0; i < s->N; i++)
+    for (i = 0; i < s->N; i++)
         if (s->ls->v[i].width > 0)
             v[n++] = s->ls->v[i].width;
     if (n) {

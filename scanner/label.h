@@ -220,6 +220,18 @@ int td_label_close_breaks(td_lines *ls, int w, int h, double reach,
                           td_ocr_read *reads, size_t nreads, size_t *closed,
                           td_ctx *cx);
 
+/* The reach run and interp bridge breaks with by default (ours):
+ * TD_BRIDGE_SPACINGS contour spacings (td_label_report.spacing,
+ * td_lines_spacing), at least TD_BRIDGE_MIN px and at most
+ * TD_BRIDGE_MAX.  Past about five spacings a bridge joins pieces of one
+ * height across the bends of other contours (the crowded Front Range
+ * sheet, 8-9 px apart: 48 px best); where contours lie far apart the
+ * breaks are longer (docs/interp.md, "Breaks bridged"). */
+#define TD_BRIDGE_SPACINGS 5.0
+#define TD_BRIDGE_MIN 48.0
+#define TD_BRIDGE_MAX 160.0
+double td_label_bridge_reach(double spacing);
+
 /* Append one warning (printf format, no newline, no prefix) to rep:
  * counted in rep->warnings; the text is best effort (kept when memory
  * runs out). */

@@ -356,3 +356,12 @@ done:
     free(e), free(b), free(own), free(map), free(gone);
     return rc;
 }
+
+/* Contract in label.h. */
+double td_label_bridge_reach(double spacing)
+{
+    double r = TD_BRIDGE_SPACINGS * spacing;
+    return r < TD_BRIDGE_MIN   ? TD_BRIDGE_MIN
+           : r > TD_BRIDGE_MAX ? TD_BRIDGE_MAX
+                               : r;
+}

@@ -163,7 +163,19 @@ check "run, Orkhon new print: reach of 5 contour spacings in the summary" \
 r48=$(rmse_vs "$T/on48.tif" "$T/on_dem.tif"); r=$(rmse_vs "$T/on.tif" "$T/on_dem.tif")
 check "run, Orkhon new print: RMSE $r m < --bridge 48 ($r48 m) - 0.1" \
   "lt '$r' \$(awk 'BEGIN { print $r48 - 0.1 }')"
-# the three-step path: interp bridges the same breaks (--bridge, default 48)
+# the same through scan, label, interp: interp measures the spacing on
+# the labelled lines (4.55 m at 48 px, 4.30 m at 83)
+"$TD" scan "$T/on.png" -o "$T/on_lines.geojson" -q
+"$TD" label "$T/on_lines.geojson" -o "$T/on_lab.geojson" --sheet "$T/on.png" -q
+"$TD" interp "$T/on_lab.geojson" -o "$T/oni.tif" --like "$T/on.png" 2>"$T/err"
+check "interp, Orkhon new print: reach of 5 contour spacings in the summary" \
+  "[ \$? = 0 ] && grep -Eq 'bridged \\(up to (8[0-9]|9[0-9]) px; contours 1[5-9]\\.[0-9] px apart\\)' '$T/err'"
+"$TD" interp "$T/on_lab.geojson" -o "$T/oni48.tif" --like "$T/on.png" --bridge 48 -q
+r48=$(rmse_vs "$T/oni48.tif" "$T/on_dem.tif"); r=$(rmse_vs "$T/oni.tif" "$T/on_dem.tif")
+check "interp, Orkhon new print: RMSE $r m < --bridge 48 ($r48 m) - 0.1" \
+  "lt '$r' \$(awk 'BEGIN { print $r48 - 0.1 }')"
+# the three-step path: interp bridges the same breaks (--bridge; its
+# default, five spacings of the labelled lines, is 160 px here)
 "$TD" scan "$T/el.png" -o "$T/el_lines.geojson" -q
 "$TD" label "$T/el_lines.geojson" -o "$T/el_lab.geojson" --sheet "$T/el.png" -q
 "$TD" interp "$T/el_lab.geojson" -o "$T/eli0.tif" --like "$T/el.png" --bridge 0 -q

@@ -346,6 +346,32 @@ static td_lines *two_lines(void)
     return ls;
 }
 
+/* Five parallel lines d px apart: the contours' spacing is d, and the
+ * reach run and interp bridge breaks with five times that (at least 48
+ * px, at most 160). */
+static void test_lines_spacing(void)
+{
+    static const double gaps[3] = {8, 16, 40};
+    int g, k, y;
+    for (g = 0; g < 3; g++) {
+        td_lines *ls = td_lines_new(NULL);
+        double sp = -1, want = 5 * gaps[g];
+        for (y = 0; y < 5; y++) {
+            td_line *l = td_lines_add(ls, NULL);
+            for (k = 0; k <= 150; k++)
+                td_line_push(l, 20.5 + k, 10.5 + gaps[g] * y, NULL);
+        }
+        TT_CHECK(td_lines_spacing(ls, 200, 200, &sp, NULL) == 0);
+        TT_CHECKF(fabs(sp - gaps[g]) < 0.6, "%g px apart: spacing %g",
+                  gaps[g], sp);
+        want = want < 48 ? 48 : want > 160 ? 160 : want;
+        TT_CHECKF(fabs(td_label_bridge_reach(sp) - want) < 3.5,
+                  "%g px apart: reach %g, want %g", gaps[g],
+                  td_label_bridge_reach(sp), want);
+        td_lines_free(ls);
+    }
+}
+
 /* Two parallel lines 10 px apart: the probes say side 1 of the upper
  * (its right, below it on the screen) and side 0 of the lower face each
  * other, about one probe per 4 px from each. */
@@ -1702,6 +1728,7 @@ int main(void)
     TT_RUN(test_probes_parallel);
     TT_RUN(test_probes_wall);
     TT_RUN(test_probes_step);
+    TT_RUN(test_lines_spacing);
     TT_RUN(test_step_untraced_contour);
     TT_RUN(test_real_orkhon);
     TT_RUN(test_oracle_price);

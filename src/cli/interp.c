@@ -5,6 +5,7 @@
 #include "src/core/core.h"
 #include "interp/homotopy.h"
 #include "interp/interp.h"
+#include "scanner/faces.h"
 #include "scanner/label.h"
 
 #include <stdio.h>
@@ -100,7 +101,8 @@ static int parse_args(int argc, char **argv, ip_opts *o)
          .help = "how far beyond the edges --beside lines count"},
         {"bridge", 0, TD_OPT_DOUBLE, &o->bridge, 0, 1e6, .meta = "PX",
          .help = "join lines of one height across breaks\nbetween their "
-         "ends up to PX long, as run\ndoes (ours; 0: off)"}};
+         "ends up to PX long, as run\ndoes (ours; 0: off; default 5 times "
+         "the\nspacing of the contours, 48 to 160)", .no_default = 1}};
     size_t n = 4 + td_cli_interp_opts(opts + 4, &o->p);
     const td_cmd c = {
         "interp", "LABELLED.geojson -o DEM.tif --like SCAN\n"
@@ -203,6 +205,24 @@ static int read_beside(const ip_opts *o, const td_georef *geo,
     return rc;
 }
 
+/* Whether a line of ls ends inside the w x h sheet (more than 2 px from
+ * its border): only then can a break be bridged, and the contours'
+ * spacing (for the reach) is worth measuring. */
+static int inner_ends(const td_lines *ls, int w, int h)
+{
+    size_t i;
+    int k;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        for (k = 0; !l->closed && l->n && k < 2; k++) {
+            const double *p = l->xy + (k ? 2 * (l->n - 1) : 0);
+            if (p[0] > 2 && p[1] > 2 && p[0] < w - 3 && p[1] < h - 3)
+                return 1;
+        }
+    }
+    return 0;
+}
+
 int td_cmd_interp(int argc, char **argv)
 {
     ip_opts o;
@@ -212,13 +232,13 @@ int td_cmd_interp(int argc, char **argv)
     td_lines *ls = NULL, *nb = NULL;
     td_grid_f32 *dem = NULL;
     td_homotopy_stats hs;
-    double t0 = td_now();
+    double t0 = td_now(), spacing = 0;
     size_t nbr = 0;
     int rc, w, h, ch;
     memset(&o, 0, sizeof o);
     o.p = td_interp_defaults();
     o.margin = 256;
-    o.bridge = 48;
+    o.bridge = -1; /* five contour spacings */
     memset(&hs, 0, sizeof hs);
     o.p.hstats = &hs;
     if ((rc = parse_args(argc, argv, &o)) != 0)
@@ -233,6 +253,11 @@ int td_cmd_interp(int argc, char **argv)
     if ((rc = read_beside(&o, &geo, &nb, &cx)) != 0)
         goto fail;
     drop_unlabelled(ls, o.quiet);
+    if (o.bridge < 0 && inner_ends(ls, w, h)) {
+        if ((rc = td_lines_spacing(ls, w, h, &spacing, &cx)) != 0)
+            goto fail;
+        o.bridge = td_label_bridge_reach(spacing);
+    }
     if (o.bridge > 0 && (rc = td_label_close_breaks(ls, w, h, o.bridge, NULL,
                                                     0, &nbr, &cx)) != 0)
         goto fail;
@@ -247,9 +272,15 @@ int td_cmd_interp(int argc, char **argv)
     td_cli_progress_done(&pr);
     if (!o.quiet) {
         summary(dem, &o.p, td_now() - t0);
-        if (nbr)
-            fprintf(stderr, "interp: %zu break%s between the ends of lines "
-                    "of one height bridged\n", nbr, nbr == 1 ? "" : "s");
+        if (nbr) {
+            fprintf(stderr,
+                    "interp: %zu break%s between the ends of lines "
+                    "of one height bridged (up to %.0f px",
+                    nbr, nbr == 1 ? "" : "s", o.bridge);
+            if (spacing > 0)
+                fprintf(stderr, "; contours %.1f px apart", spacing);
+            fprintf(stderr, ")\n");
+        }
     }
 fail:
     td_cli_progress_done(&pr);

@@ -101,8 +101,8 @@ typedef struct td_run_params {
     double bridge;         /* then lines of one height are joined across
                               the breaks between their ends up to this
                               many px long (td_label_close_breaks; ours;
-                              0: off; default -1: td_bridge_reach of the
-                              labeller's contour spacing) */
+                              0: off; default -1: td_label_bridge_reach of
+                              the labeller's contour spacing) */
     int keep_scan;         /* keep the image until on_labelled (debug) */
     int (*on_labelled)(const struct td_run_result *r, void *user);
     int (*on_refused)(const struct td_run_result *r, void *user);
@@ -110,17 +110,6 @@ typedef struct td_run_params {
 } td_run_params;
 
 td_run_params td_run_defaults(void);
-
-/* How far run bridges the breaks between lines of one height by default
- * (ours): BRIDGE_SPACINGS contour spacings (td_label_report.spacing),
- * at least BRIDGE_MIN px and at most BRIDGE_MAX.  Where contours crowd,
- * a longer bridge joins pieces of one height across the bends of other
- * contours; where they lie far apart, breaks are longer and safe to
- * bridge (docs/interp.md, "Breaks bridged"). */
-#define BRIDGE_SPACINGS 5.0
-#define BRIDGE_MIN 48.0
-#define BRIDGE_MAX 160.0
-double td_bridge_reach(double spacing);
 
 typedef struct td_run_result {
     td_georef geo;         /* the scan's, scaled to the DEM's cells */

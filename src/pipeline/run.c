@@ -9,13 +9,6 @@
 #include <string.h>
 
 /* See pipeline.h. */
-double td_bridge_reach(double spacing)
-{
-    double r = BRIDGE_SPACINGS * spacing;
-    return r < BRIDGE_MIN ? BRIDGE_MIN : r > BRIDGE_MAX ? BRIDGE_MAX : r;
-}
-
-/* See pipeline.h. */
 td_run_params td_run_defaults(void)
 {
     td_run_params p;
@@ -149,7 +142,8 @@ static int do_label(const td_run_params *p, td_run_result *r, td_ctx *cx)
     }
     /* lines cut where two contours ran as one */
     r->traced = r->lines->n - r->walls_back;
-    r->bridge = p->bridge >= 0 ? p->bridge : td_bridge_reach(r->rep.spacing);
+    r->bridge =
+        p->bridge >= 0 ? p->bridge : td_label_bridge_reach(r->rep.spacing);
     if (!tree && r->bridge > 0 &&
         (rc = td_label_close_breaks(r->lines, r->w, r->h, r->bridge, r->reads,
                                     r->nreads, &r->breaks_closed, cx)) != 0)
