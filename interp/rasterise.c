@@ -177,12 +177,6 @@ int td_rasterise_lines(const td_lines *ls, double step, td_grid_f32 *g,
     return 0;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 double td_interp_interval(const td_lines *ls)
 {
     double *z, best = 0;
@@ -192,7 +186,7 @@ double td_interp_interval(const td_lines *ls)
     for (i = 0; i < ls->n; i++)
         if (ls->v[i].has_height && isfinite(ls->v[i].height))
             z[n++] = ls->v[i].height;
-    qsort(z, n, sizeof *z, cmp_double);
+    qsort(z, n, sizeof *z, td_cmp_double);
     for (i = 1; i < n; i++) {
         double d = z[i] - z[i - 1];
         if (d > 1e-6 * fmax(1.0, fabs(z[i])) && (best == 0 || d < best))

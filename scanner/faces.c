@@ -787,12 +787,6 @@ int td_faces_untraced_between(const td_faces *f, double x0, double y0,
     return skel_crossed(f, x0, y0, d, clear, L - clear);
 }
 
-static int cmp_len(const void *pa, const void *pb)
-{
-    double a = *(const double *)pa, b = *(const double *)pb;
-    return (a > b) - (a < b);
-}
-
 /* Contract in faces.h. */
 int td_faces_spacing(const td_face_edge *e, size_t n, double *spacing,
                      td_ctx *cx)
@@ -807,7 +801,7 @@ int td_faces_spacing(const td_face_edge *e, size_t n, double *spacing,
         v[2 * i + 1] = e[i].w;
         tw += e[i].w;
     }
-    qsort(v, n, 2 * sizeof *v, cmp_len);
+    qsort(v, n, 2 * sizeof *v, td_cmp_double); /* by length */
     for (i = 0; i < n && acc < tw / 2; i++)
         acc += v[2 * i + 1], *spacing = v[2 * i];
     free(v);

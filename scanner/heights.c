@@ -1192,12 +1192,6 @@ static double fold_cost(const hs *s, double w)
     return WFOLD + k * fmax(0.0, FOLD_S * (log(w > 1e-3 ? w : 1e-3) - FOLD_C));
 }
 
-static int cmp_dbl(const void *pa, const void *pb)
-{
-    double a = *(const double *)pa, b = *(const double *)pb;
-    return (a > b) - (a < b);
-}
-
 /* How strongly the face edges' folds are priced (s->fold_k, 0..1): by the
  * sheet's contour spacing (the probes' length, its median weighted by
  * their count) over its pen (the lines' median width; 2 px when no line
@@ -1218,7 +1212,7 @@ static int fold_strength(hs *s, td_ctx *cx)
         if (s->ls->v[i].width > 0)
             v[n++] = s->ls->v[i].width;
     if (n) {
-        qsort(v, n, sizeof *v, cmp_dbl);
+        qsort(v, n, sizeof *v, td_cmp_double);
         pen = v[n / 2];
     }
     free(v);

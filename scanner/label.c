@@ -341,12 +341,6 @@ static size_t path_lines(solver *s, size_t j, long *out)
     return m;
 }
 
-static int cmp_dbl(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* Median outward gap of the path lines other than `best` and best's
  * parent and children: what one interval's gap looks like here. */
 static double usual_gap(solver *s, const long *ln, size_t m, long best,
@@ -363,7 +357,7 @@ static double usual_gap(solver *s, const long *ln, size_t m, long best,
             g[k++] = outward_gap(s, (long)i, &nb);
     if (k == 0)
         return 0.0;
-    qsort(g, k, sizeof *g, cmp_dbl);
+    qsort(g, k, sizeof *g, td_cmp_double);
     return g[k / 2];
 }
 

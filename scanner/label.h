@@ -220,6 +220,10 @@ int td_label_close_breaks(td_lines *ls, int w, int h, double reach,
                           td_ocr_read *reads, size_t nreads, size_t *closed,
                           td_ctx *cx);
 
+/* Whether a line of ls (open) ends more than 2 px inside the w x h
+ * sheet: only then has td_label_close_breaks a break to bridge. */
+int td_label_inner_ends(const td_lines *ls, int w, int h);
+
 /* The reach run and interp bridge breaks with by default (ours):
  * TD_BRIDGE_SPACINGS contour spacings (td_label_report.spacing,
  * td_lines_spacing), at least TD_BRIDGE_MIN px and at most

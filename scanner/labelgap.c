@@ -245,6 +245,13 @@ static int brk_cross(const brk_end *e, const brk *p, const brk *q)
            u > 1e-9 && u < 1 - 1e-9;
 }
 
+/* Whether (x, y) lies within 2 px of the w x h sheet's border: a line
+ * ending there leaves the sheet, no break to bridge. */
+static int on_border(double x, double y, int w, int h)
+{
+    return x < 2 || y < 2 || x > w - 3 || y > h - 3;
+}
+
 /* Find the breaks: mutual nearest ends, bridges crossing no line and no
  * shorter bridge.  *out (free()), *nout. */
 static int find_breaks(const td_lines *ls, int w, int h, double reach,
@@ -276,13 +283,12 @@ static int find_breaks(const td_lines *ls, int w, int h, double reach,
         e[i].line = le[i].line, e[i].last = le[i].last;
     }
     for (i = 0; i < n; i++) /* an end on the border leaves the sheet */
-        e[i].best = e[i].x < 2 || e[i].y < 2 || e[i].x > w - 3 || e[i].y > h - 3
-                        ? -1
-                        : brk_best(ls, e, n, i, reach);
+        e[i].best =
+            on_border(e[i].x, e[i].y, w, h) ? -1 : brk_best(ls, e, n, i, reach);
     for (i = 0; i < n; i++) {
         long j = e[i].best;
         if (j > (long)i && e[j].best == (long)i &&
-            !(e[j].x < 2 || e[j].y < 2 || e[j].x > w - 3 || e[j].y > h - 3)) {
+            !on_border(e[j].x, e[j].y, w, h)) {
             b[nb].a = i, b[nb].b = (size_t)j;
             b[nb++].d = hypot(e[j].x - e[i].x, e[j].y - e[i].y);
         }
@@ -355,6 +361,22 @@ int td_label_close_breaks(td_lines *ls, int w, int h, double reach,
 done:
     free(e), free(b), free(own), free(map), free(gone);
     return rc;
+}
+
+/* Contract in label.h. */
+int td_label_inner_ends(const td_lines *ls, int w, int h)
+{
+    size_t i;
+    int k;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        for (k = 0; !l->closed && l->n && k < 2; k++) {
+            const double *p = l->xy + (k ? 2 * (l->n - 1) : 0);
+            if (!on_border(p[0], p[1], w, h))
+                return 1;
+        }
+    }
+    return 0;
 }
 
 /* Contract in label.h. */

@@ -362,12 +362,23 @@ static void test_lines_spacing(void)
                 td_line_push(l, 20.5 + k, 10.5 + gaps[g] * y, NULL);
         }
         TT_CHECK(td_lines_spacing(ls, 200, 200, &sp, NULL) == 0);
+        TT_CHECK(td_label_inner_ends(ls, 200, 200) == 1);
         TT_CHECKF(fabs(sp - gaps[g]) < 0.6, "%g px apart: spacing %g",
                   gaps[g], sp);
         want = want < 48 ? 48 : want > 160 ? 160 : want;
         TT_CHECKF(fabs(td_label_bridge_reach(sp) - want) < 3.5,
                   "%g px apart: reach %g, want %g", gaps[g],
                   td_label_bridge_reach(sp), want);
+        td_lines_free(ls);
+    }
+    { /* a line across the sheet, border to border: no break to bridge
+         (interp then measures no spacing); cut short, one */
+        td_lines *ls = td_lines_new(NULL);
+        td_line *l = td_lines_add(ls, NULL);
+        for (k = 0; k < 200; k++)
+            td_line_push(l, 0.5 + k, 50.5, NULL);
+        TT_CHECK(td_label_inner_ends(ls, 200, 100) == 0);
+        TT_CHECK(td_label_inner_ends(ls, 260, 100) == 1);
         td_lines_free(ls);
     }
 }

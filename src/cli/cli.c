@@ -114,6 +114,20 @@ int td_cli_parse_double(const char *s, double lo, double hi, double *out)
 }
 
 /* Contract in cli.h. */
+void td_cli_bridged_summary(const char *cmd, size_t n, double reach,
+                            double spacing)
+{
+    if (!n)
+        return;
+    fprintf(stderr,
+            "%s: %zu break%s between the ends of lines of one height "
+            "bridged (up to %.0f px",
+            cmd, n, n == 1 ? "" : "s", reach);
+    if (spacing > 0)
+        fprintf(stderr, "; contours %.1f px apart", spacing);
+    fprintf(stderr, ")\n");
+}
+
 void td_cli_heights_summary(const char *cmd, const td_label_report *rep)
 {
     const size_t *b = rep->by_source;

@@ -45,6 +45,12 @@ struct td_label_report;
 void td_cli_heights_summary(const char *cmd,
                             const struct td_label_report *rep);
 
+/* One line "CMD: N breaks between the ends of lines of one height
+ * bridged (up to R px; contours S px apart)" (the spacing when known;
+ * nothing when n is 0). */
+void td_cli_bridged_summary(const char *cmd, size_t n, double reach,
+                            double spacing);
+
 /* Subcommands (src/cli/<name>.c, listed in src/cli/main.c): each returns
  * the process exit code. */
 int td_cmd_scan(int argc, char **argv);

@@ -205,24 +205,6 @@ static int read_beside(const ip_opts *o, const td_georef *geo,
     return rc;
 }
 
-/* Whether a line of ls ends inside the w x h sheet (more than 2 px from
- * its border): only then can a break be bridged, and the contours'
- * spacing (for the reach) is worth measuring. */
-static int inner_ends(const td_lines *ls, int w, int h)
-{
-    size_t i;
-    int k;
-    for (i = 0; i < ls->n; i++) {
-        const td_line *l = &ls->v[i];
-        for (k = 0; !l->closed && l->n && k < 2; k++) {
-            const double *p = l->xy + (k ? 2 * (l->n - 1) : 0);
-            if (p[0] > 2 && p[1] > 2 && p[0] < w - 3 && p[1] < h - 3)
-                return 1;
-        }
-    }
-    return 0;
-}
-
 int td_cmd_interp(int argc, char **argv)
 {
     ip_opts o;
@@ -253,7 +235,7 @@ int td_cmd_interp(int argc, char **argv)
     if ((rc = read_beside(&o, &geo, &nb, &cx)) != 0)
         goto fail;
     drop_unlabelled(ls, o.quiet);
-    if (o.bridge < 0 && inner_ends(ls, w, h)) {
+    if (o.bridge < 0 && td_label_inner_ends(ls, w, h)) {
         if ((rc = td_lines_spacing(ls, w, h, &spacing, &cx)) != 0)
             goto fail;
         o.bridge = td_label_bridge_reach(spacing);
@@ -272,15 +254,7 @@ int td_cmd_interp(int argc, char **argv)
     td_cli_progress_done(&pr);
     if (!o.quiet) {
         summary(dem, &o.p, td_now() - t0);
-        if (nbr) {
-            fprintf(stderr,
-                    "interp: %zu break%s between the ends of lines "
-                    "of one height bridged (up to %.0f px",
-                    nbr, nbr == 1 ? "" : "s", o.bridge);
-            if (spacing > 0)
-                fprintf(stderr, "; contours %.1f px apart", spacing);
-            fprintf(stderr, ")\n");
-        }
+        td_cli_bridged_summary("interp", nbr, o.bridge, spacing);
     }
 fail:
     td_cli_progress_done(&pr);

@@ -123,15 +123,8 @@ static void summary(const td_run_result *s, const td_run_params *p,
         fprintf(stderr, "run: %zu stretch%s cut where contours crowd put "
                 "back (both sides one height)\n", s->walls_back,
                 s->walls_back == 1 ? "" : "es");
-    if (s->breaks_closed) {
-        fprintf(stderr,
-                "run: %zu break%s between the ends of lines of one "
-                "height bridged (up to %.0f px",
-                s->breaks_closed, s->breaks_closed == 1 ? "" : "s", s->bridge);
-        if (s->rep.spacing > 0)
-            fprintf(stderr, "; contours %.1f px apart", s->rep.spacing);
-        fprintf(stderr, ")\n");
-    }
+    td_cli_bridged_summary("run", s->breaks_closed, s->bridge,
+                           s->rep.spacing);
     if (s->ncross)
         fprintf(stderr, "run: warning: %zu pairs of lines cross (contours "
                 "do not): a trace jumped between contours there\n",

@@ -114,6 +114,12 @@ void td_trim_memory(void)
 #endif
 }
 
+int td_cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
 void *td_malloc(size_t n, td_ctx *cx)
 {
     void *p = malloc(n ? n : 1);

@@ -92,6 +92,9 @@ int td_mul3(size_t a, size_t b, size_t c, size_t *out);
  * `what` names the thing in the message ("image 'a.tif'"). */
 int td_check_dims(long w, long h, const char *what, td_ctx *cx);
 
+/* qsort's comparison of two doubles, ascending. */
+int td_cmp_double(const void *a, const void *b);
+
 /* Allocation wrappers that set TD_ENOMEM in cx on failure. */
 void *td_malloc(size_t n, td_ctx *cx);
 void *td_calloc(size_t n, size_t size, td_ctx *cx);

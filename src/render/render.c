@@ -46,12 +46,6 @@ static void horn(const td_grid_f32 *g, int x, int y, double cellsize,
           (8 * cellsize);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* See render.h: the z factor that draws the 90th percentile of the
  * nonzero slopes at 45 degrees, from about 65536 cells on a regular
  * lattice; 1 when nothing slopes. */
@@ -74,7 +68,7 @@ double td_render_auto_zfactor(const td_grid_f32 *dem, double cellsize)
                 v[n++] = hypot(dx, dy);
         }
     if (n > 0) {
-        qsort(v, n, sizeof *v, cmp_double);
+        qsort(v, n, sizeof *v, td_cmp_double);
         z = 1.0 / v[(size_t)(0.9 * (double)(n - 1))];
     }
     free(v);
