@@ -2734,6 +2734,47 @@ static void count(hs *s)
     }
 }
 
+/* Known points and labels read that all give one level (two known
+ * points on the 200 m contour, labels that all say 200) fix the levels
+ * but not which way the ground slopes from them: where the defaults then
+ * decide most lines' direction, say so, and what would help (ours). */
+static void one_level_note(hs *s)
+{
+    const td_label_params *p = s->p;
+    td_label_report *r = s->rep;
+    double lv = 0;
+    size_t c, i, n = 0, nk = 0, nl = 0;
+    for (c = 0; c < s->C; c++)
+        if (s->nknown[c]) {
+            if (n++ && s->lknown[c] != lv)
+                return;
+            lv = s->lknown[c], nk++;
+        }
+    for (i = 0; i < p->nlabels; i++) {
+        const td_ocr_read *q = &p->labels[i];
+        double f = (q->value - p->base) / p->interval;
+        if (q->spot && !q->why)
+            return; /* a spot height sets a direction of its own */
+        if (!q->used)
+            continue;
+        if (n++ && fabs(f - lv) > 1e-6)
+            return;
+        lv = f, nl++;
+    }
+    if (n < 2 || 2 * r->by_source[TD_HS_ASSUMED] <= r->labelled)
+        return;
+    td_label_warn(r,
+                  "every height given or read is %g (%zu known point%s, "
+                  "%zu label%s): that sets the levels, not which way the "
+                  "ground slopes from them; %zu of the %zu lines took "
+                  "their direction from the defaults (height_source "
+                  "\"assumed\") and whole regions may be upside down: add "
+                  "a known point at another height",
+                  p->base + lv * p->interval, nk, nk == 1 ? "" : "s", nl,
+                  nl == 1 ? "" : "s", r->by_source[TD_HS_ASSUMED],
+                  r->labelled);
+}
+
 static int is_nice(double v)
 {
     static const double nice[4] = {1.0, 2.0, 2.5, 5.0};
@@ -3134,6 +3175,7 @@ static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
         !(rep->assumed_ids = td_calloc(ls->n + 1, sizeof(long), cx)))
         goto fail;
     count(&s);
+    one_level_note(&s);
     rep->interval = p->interval;
     rc = 0;
 fail:

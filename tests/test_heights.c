@@ -1734,6 +1734,42 @@ static void test_contradiction(void)
     td_lines_free(ls);
 }
 
+/* Two hills of three rings each, known points on both outer rings at
+ * one height: the levels are fixed, the directions are the summit
+ * prior's (every inner ring "assumed"), and the report says so; a third
+ * point at another height on an inner ring, and it says nothing. */
+static void test_one_level_note(void)
+{
+    td_label_point kp[3] = {
+        {250, 150, 100, -1}, {550, 150, 100, -1}, {220, 150, 110, -1}};
+    int pass;
+    for (pass = 0; pass < 2; pass++) {
+        td_lines *ls = td_lines_new(NULL);
+        td_label_params p = params(700, 300, 10);
+        td_label_report rep;
+        const char *hit;
+        td_ctx cx;
+        td_ctx_init(&cx);
+        circle(ls, 150, 150, 100, 0);
+        circle(ls, 150, 150, 70, 1);
+        circle(ls, 150, 150, 40, 0);
+        circle(ls, 450, 150, 100, 0);
+        circle(ls, 450, 150, 70, 1);
+        circle(ls, 450, 150, 40, 0);
+        p.known = kp;
+        p.nknown = pass ? 3 : 2;
+        TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == 0);
+        hit = rep.text ? strstr(rep.text, "every height given or read is "
+                                          "100 (2 known points, 0 labels)")
+                       : NULL;
+        TT_CHECKF(pass ? !hit : hit != NULL, "pass %d: %s", pass,
+                  rep.text ? rep.text : "(no warning)");
+        TT_CHECK(ls->v[2].has_height && ls->v[2].height == 120);
+        td_label_report_free(&rep);
+        td_lines_free(ls);
+    }
+}
+
 int main(void)
 {
     TT_RUN(test_probes_parallel);
@@ -1776,6 +1812,7 @@ int main(void)
     TT_RUN(test_ticked_pit);
     TT_RUN(test_ticked_pits_real);
     TT_RUN(test_contradiction);
+    TT_RUN(test_one_level_note);
     TT_RUN(test_many_rings);
     TT_RUN(test_rings_rise);
     TT_RUN(test_hill_rises_on);
