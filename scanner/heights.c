@@ -2743,13 +2743,13 @@ static void one_level_note(hs *s)
     const td_label_params *p = s->p;
     td_label_report *r = s->rep;
     double lv = 0;
-    size_t c, i, n = 0, nk = 0, nl = 0;
-    for (c = 0; c < s->C; c++)
-        if (s->nknown[c]) {
-            if (n++ && s->lknown[c] != lv)
-                return;
-            lv = s->lknown[c], nk++;
-        }
+    size_t i, n = 0, nk = p->nknown, nl = 0;
+    for (i = 0; i < p->nknown; i++) {
+        double f = (p->known[i].height - p->base) / p->interval;
+        if (n++ && fabs(f - lv) > 1e-6)
+            return;
+        lv = f;
+    }
     for (i = 0; i < p->nlabels; i++) {
         const td_ocr_read *q = &p->labels[i];
         double f = (q->value - p->base) / p->interval;
