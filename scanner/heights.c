@@ -2668,8 +2668,18 @@ static double fold_share(const hs *s, const long *nb)
  * (ties: the lowest) and priced under the whole model (full_cost); the
  * cheapest is kept.  g[] gets each node's margin: the least, over the
  * ties on its path from the root, of the runner-up's extra cost
- * (INFINITY: no tie above it).  Into nb the bands. */
+ * (INFINITY: no tie above it; 0 below a tie left untried when the
+ * work, subtree states and terms priced, passed TIE_WORK).  Into nb the
+ * bands. */
 #define TIE_MAX 8
+#define TIE_WORK 2e8
+#define TIE_MIN                                                                \
+    10.0 /* break_ties: a tie decided by less stays undecided.  Over every     \
+            bench_heights row, of the tied length decided by a margin under    \
+            1 none was right (50,818 px), 1-3: 41 %, 3-10: 3 %, 10-30: 89 %,   \
+            30 and more: 93 %.  (A face edge broken costs 4 at least,          \
+            face_cost; margins under that are the size of the tie-breakers,    \
+            WFOLD, FOLD_TIE, STEP_LEVEL.) */
 static int decode_ties(hs *s, long *nb, double *g, td_ctx *cx)
 {
     size_t V = s->V, K2 = 2 * s->K, n, j, y;
@@ -2677,7 +2687,7 @@ static int decode_ties(hs *s, long *nb, double *g, td_ctx *cx)
              *tin = td_malloc((V + 1) * sizeof *tin, cx),
              *tout = td_malloc((V + 1) * sizeof *tout, cx),
              *st = td_malloc((V + 1) * sizeof *st, cx);
-    double *v = td_malloc((K2 + 1) * sizeof *v, cx);
+    double *v = td_malloc((K2 + 1) * sizeof *v, cx), work = 0;
     int rc = TD_ENOMEM;
     if (!eul || !tin || !tout || !st || !v || preorder(s, eul, tin, tout, cx))
         goto done;
@@ -2700,7 +2710,12 @@ static int decode_ties(hs *s, long *nb, double *g, td_ctx *cx)
         for (y = 0; y < K2 && nc < TIE_MAX; y++)
             if (isfinite(v[y]) && v[y] <= best + GAP_EPS)
                 cand[nc++] = (uint32_t)y;
-        if (nc < 2 || !s->comp_abs[s->comp[c]]) {
+        if (nc >= 2 && s->comp_abs[s->comp[c]])
+            work += (double)nc * ((double)(tout[c] - tin[c]) * (double)K2 +
+                                  (double)(s->C + s->nce + s->nun));
+        if (nc < 2 || !s->comp_abs[s->comp[c]] || work > TIE_WORK) {
+            if (nc >= 2 && s->comp_abs[s->comp[c]])
+                g[c] = 0.0; /* out of time: left undecided */
             st[c] = (uint32_t)best_state(s, c, st);
             nb[c] = (long)(st[c] >> 1);
             continue;
@@ -2733,8 +2748,8 @@ done:
 
 /* The lines the priors pass leaves tied, in components with absolute
  * evidence, take decode_ties' answer, improved by the local search over
- * the whole model (improve()), where decode_ties' margin exceeds GAP_EPS
- * (assumed, that margin their gap).  On the Orkhon 50 m new print
+ * the whole model (improve()), where decode_ties' margin is TIE_MIN or
+ * more (assumed, that margin their gap).  On the Orkhon 50 m new print
  * decode_ties alone left a band of nine lines at the top mirrored about
  * the line below it (-50 to -550 m; the whole model preferred neither of
  * the two ways tried there); improve() turned it (accuracy 0.940 ->
@@ -2781,7 +2796,7 @@ static int break_ties(hs *s, double *H, int stale, td_ctx *cx)
     s->nun = nun0;
     for (c = 0; rc == 0 && c < s->C; c++) {
         double m = fmin(g[2 * c], g[2 * c + 1]);
-        if (!tied(s, c) || !(m > GAP_EPS) || !isfinite(m))
+        if (!tied(s, c) || !(m >= TIE_MIN) || !isfinite(m))
             continue;
         s->band_prior[c] =
             nb[2 * c] > nb[2 * c + 1] ? nb[2 * c] : nb[2 * c + 1];
