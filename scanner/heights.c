@@ -1635,6 +1635,8 @@ static int piece(const td_line *l, size_t k0, size_t k1, td_line *out,
 
 /* Give every line its height; lines whose chunks disagree are cut where
  * the height changes (the pieces after the first get new ids). */
+static const char short_why[] = "shorter than 12 px: not labelled";
+
 static int set_lines(hs *s, td_ctx *cx)
 {
     td_lines *ls = s->ls;
@@ -1658,7 +1660,7 @@ static int set_lines(hs *s, td_ctx *cx)
         if (!td_faces_used(s->fx, i)) {
             l->has_height = 0;
             l->hsource = TD_HS_NONE;
-            l->why = "shorter than 12 px: not labelled";
+            l->why = short_why;
             nv[n++] = *l;
             continue;
         }
@@ -2896,6 +2898,7 @@ static void count(hs *s)
         const td_line *l = &s->ls->v[i];
         if (!l->has_height) {
             r->undetermined_ids[r->undetermined++] = l->id;
+            r->short_lines += l->why == short_why;
             continue;
         }
         r->labelled++;

@@ -148,6 +148,8 @@ typedef struct td_label_report {
     size_t index_mismatches; /* td_label_check_index: lines whose width
                                 disagrees with their height */
     long *undetermined_ids; /* ids of the lines left without a height */
+    size_t short_lines;     /* of those, lines too short to take part
+                               (faces: under 12 px of arc, specks) */
     size_t assumed;         /* labelled lines whose up/down (d) is only the
                                default: not between two known points, not
                                a --depressions ring */

@@ -66,6 +66,36 @@ static void test_rings_rise(void)
     td_lines_free(ls);
 }
 
+/* A speck (a 5-px line) beside the rings takes no part: no height, and
+ * the report counts it apart from the lines left undecided (the summary
+ * says "N without (M of them under 12 px long)"). */
+static void test_speck_counted(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_label_params p = params(300, 300, 10);
+    td_label_report rep;
+    td_label_point kp = {250, 150, 100, -1};
+    td_line *sp;
+    td_ctx cx;
+    td_ctx_init(&cx);
+    circle(ls, 150, 150, 100, 0);
+    circle(ls, 150, 150, 70, 1);
+    sp = td_lines_add(ls, NULL);
+    td_line_push(sp, 20, 20, NULL);
+    td_line_push(sp, 25, 20, NULL);
+    p.known = &kp;
+    p.nknown = 1;
+    TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == 0);
+    TT_CHECK(ls->v[0].has_height && ls->v[0].height == 100);
+    TT_CHECKF(ls->v[1].has_height && ls->v[1].height == 110, "%g",
+              ls->v[1].height);
+    TT_CHECK(!ls->v[2].has_height);
+    TT_CHECKF(rep.undetermined == 1 && rep.short_lines == 1,
+              "%zu undetermined, %zu short", rep.undetermined, rep.short_lines);
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+}
+
 /* A sheet of the generator's terrain (its default parameters), size x
  * size px. */
 static void gen_sheet(td_hsheet *hs, int terrain, int size)
@@ -1826,6 +1856,7 @@ int main(void)
     TT_RUN(test_cone_index_counted);
     TT_RUN(test_short_piece_in_doubt);
     TT_RUN(test_tied_region_decided);
+    TT_RUN(test_speck_counted);
     TT_RUN(test_one_label_value_refused);
     TT_RUN(test_label_pulls_near);
     TT_RUN(test_river_bank_pair);

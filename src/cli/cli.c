@@ -136,10 +136,12 @@ void td_cli_heights_summary(const char *cmd, const td_label_report *rep)
         rep->conflicts == 0)
         return;
     fprintf(stderr, "%s: heights: %zu known, %zu from labels, %zu solved, "
-            "%zu assumed, %zu without; %zu face conflicts, %zu lines cut, "
-            "%zu known points overridden\n", cmd, b[TD_HS_KNOWN],
-            b[TD_HS_LABEL], b[TD_HS_SOLVED], b[TD_HS_ASSUMED],
-            rep->undetermined, rep->conflicts, rep->split, rep->known_broken);
+            "%zu assumed, %zu without", cmd, b[TD_HS_KNOWN], b[TD_HS_LABEL],
+            b[TD_HS_SOLVED], b[TD_HS_ASSUMED], rep->undetermined);
+    if (rep->short_lines)
+        fprintf(stderr, " (%zu of them under 12 px long)", rep->short_lines);
+    fprintf(stderr, "; %zu face conflicts, %zu lines cut, %zu known points "
+            "overridden\n", rep->conflicts, rep->split, rep->known_broken);
     if (rep->vees)
         fprintf(stderr, "%s: streams: %zu crossings read as Vs pointing "
                 "uphill\n", cmd, rep->vees);
