@@ -30,7 +30,9 @@
  * face edges left out are checked afterwards: those the solution breaks are
  * leaks or merged lines (reported).  Solved twice: without the priors
  * (summit) a line whose height is still decided is "solved", one decided
- * only with them "assumed", one decided by neither has no height. */
+ * only with them "assumed", one decided by neither has no height, unless
+ * the whole model (every face edge) prefers one of its tied heights by
+ * TIE_MIN or more (break_ties: "assumed"). */
 #include "scanner/heights_int.h"
 
 #include "scanner/endpair.h"
@@ -2748,6 +2750,15 @@ done:
     return rc;
 }
 
+/* Chunk c is tied: two heights cost the same in the priors pass, in a
+ * component with absolute evidence, and the evidence alone does not
+ * decide it. */
+static int tied(const hs *s, size_t c)
+{
+    return !(s->gap_prior[c] > GAP_EPS) && s->comp_abs[s->comp[2 * c]] &&
+           !decided(s, c);
+}
+
 /* The lines the priors pass leaves tied, in components with absolute
  * evidence, take decode_ties' answer, improved by the local search over
  * the whole model (improve()), where decode_ties' margin is TIE_MIN or
@@ -2757,12 +2768,6 @@ done:
  * the two ways tried there); improve() turned it (accuracy 0.940 ->
  * 0.971).  stale: the DP's tables are not the priors pass's
  * (heed_dropped's pass was refused). */
-static int tied(const hs *s, size_t c)
-{
-    return !(s->gap_prior[c] > GAP_EPS) && s->comp_abs[s->comp[2 * c]] &&
-           !decided(s, c);
-}
-
 static int break_ties(hs *s, double *H, int stale, td_ctx *cx)
 {
     size_t c, n = 0, nun0 = s->nun;
