@@ -2700,6 +2700,7 @@ static int decode_ties(hs *s, long *nb, double *g, td_ctx *cx)
         uint32_t c = eul[n], u = s->par[c], cand[TIE_MAX];
         double best = INFINITY, f1 = INFINITY, f2 = INFINITY;
         size_t nc = 0, by = 0;
+        int tie;
         g[c] = u == UINT32_MAX ? INFINITY : g[u];
         if (u != UINT32_MAX && s->pkind[c] == E_LINE) {
             st[c] = (uint32_t)best_state(s, c, st);
@@ -2714,11 +2715,12 @@ static int decode_ties(hs *s, long *nb, double *g, td_ctx *cx)
         for (y = 0; y < K2 && nc < TIE_MAX; y++)
             if (isfinite(v[y]) && v[y] <= best + GAP_EPS)
                 cand[nc++] = (uint32_t)y;
-        if (nc >= 2 && s->comp_abs[s->comp[c]])
+        tie = nc >= 2 && s->comp_abs[s->comp[c]];
+        if (tie)
             work += (double)nc * ((double)(tout[c] - tin[c]) * (double)K2 +
                                   (double)(s->C + s->nce + s->nun));
-        if (nc < 2 || !s->comp_abs[s->comp[c]] || work > TIE_WORK) {
-            if (nc >= 2 && s->comp_abs[s->comp[c]])
+        if (!tie || work > TIE_WORK) {
+            if (tie)
                 g[c] = 0.0; /* out of time: left undecided */
             st[c] = (uint32_t)best_state(s, c, st);
             nb[c] = (long)(st[c] >> 1);
