@@ -3,6 +3,7 @@
 #include "scanner/scan.h"
 
 #include "scanner/blobring.h"
+#include "scanner/bordercut.h"
 #include "scanner/detint.h"
 #include "scanner/flank.h"
 #include "scanner/foreign.h"
@@ -31,6 +32,7 @@ td_scan_params td_scan_defaults(void)
     p.join_other = 1;
     p.flank_cut = 1;
     p.foreign_cut = 1;
+    p.border_cut = 1;
     p.straight = td_straight_defaults();
     p.defringe = 0;
     p.fringe = td_defringe_defaults();
@@ -213,6 +215,14 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             goto fail;
         }
         res->pale = (size_t)np;
+    }
+    if (p->border_cut) {
+        long nb = td_border_cut(res->lines, im->w, im->h, cx);
+        if (nb < 0) {
+            rc = (int)nb;
+            goto fail;
+        }
+        res->border_cuts = (size_t)nb;
     }
     res->seconds[3] = td_now() - t0;
     t0 = td_now();

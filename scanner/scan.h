@@ -4,6 +4,7 @@
  *         -> td_despur -> td_trace (CCW 3x3, 5x5 bridge)
  *         -> td_pale_trace (colour: faded contours clear of the ink,
  *            traced on their own and added)
+ *         -> td_border_cut (lines cut where they turn back at the border)
  *         -> td_flank_cut (colour: stretches along other inks cut out)
  *         -> td_join -> lines
  *         -> td_foreign_cut (colour: short lines in another ink dropped)
@@ -99,6 +100,10 @@ typedef struct td_scan_params {
                              short lines whose core colour is no mixture
                              of the contour ink (text, road dashes;
                              foreign.h; ours), default 1 */
+    int border_cut;       /* lines cut where they turn back at the sheet's
+                             border (two contours leaving the sheet
+                             merged into one V; bordercut.h; ours),
+                             default 1 */
     int pale;             /* colour scans read through the palette: faded
                              contours found apart from the ink and traced
                              on their own (pale.h; ours), default 1 */
@@ -141,6 +146,8 @@ typedef struct td_scan_result {
                               labeller's faces (td_label_params.walls) */
     size_t straight_lines; /* grid lines erased from the mask */
     size_t flank_cuts;     /* stretches cut along other inks (flank.h) */
+    size_t border_cuts;    /* lines cut where they turned back at the
+                              border (bordercut.h) */
     size_t foreign;        /* short lines dropped as another ink's
                               (foreign.h) */
     size_t pale;           /* faded lines traced apart (pale.h) */

@@ -489,11 +489,71 @@ static void test_pinched_finger(void)
     td_image_free(im);
 }
 
-/* Sheet name of td_real_sheets with td_hsheet_defects' kind, scanned
- * without faded lines apart (k 0) and with (k 1): scores into sc[k], the
- * faded lines added into *added; 0 or nonzero when it could not run. */
-static int pale_scores(const char *name, int kind, td_scanscore *sc,
-                       size_t *added)
+/* Two contours leaving the sheet side by side (bordercut.h): their inks
+ * merge in the last pixels before the left border, the skeleton is a V
+ * with its tip on the border, and without the cut the tracer runs out
+ * along one contour and back along the other (one line, two heights). */
+static void test_border_v(void)
+{
+    static const double A[] = {0.5, 40, 30, 34, 199.5, 20},
+                        B[] = {0.5, 41.6, 30, 50, 199.5, 80};
+    int cut, x, y;
+    for (cut = 0; cut < 2; cut++) {
+        td_image *im = td_image_new(200, 100, 1, NULL);
+        td_scan_params sp = td_scan_defaults();
+        td_scan_result res;
+        td_lines *truth = td_lines_new(NULL);
+        td_line *a = td_lines_add(truth, NULL), *b;
+        td_scanscore sc;
+        size_t k;
+        for (k = 0; k < 3; k++)
+            TT_CHECK(td_line_push(a, A[2 * k], A[2 * k + 1], NULL) == 0);
+        a->has_height = 1, a->height = 100;
+        b = td_lines_add(truth, NULL);
+        for (k = 0; k < 3; k++)
+            TT_CHECK(td_line_push(b, B[2 * k], B[2 * k + 1], NULL) == 0);
+        b->has_height = 1, b->height = 110;
+        for (y = 0; y < im->h; y++)
+            for (x = 0; x < im->w; x++) {
+                double d = fmin(poly_dist(A, 3, x + 0.5, y + 0.5),
+                                poly_dist(B, 3, x + 0.5, y + 0.5));
+                im->data[(size_t)y * im->stride + x] = d <= 1.3 ? 10 : 250;
+            }
+        sp.border_cut = cut;
+        TT_CHECK(td_scan(im, &sp, &res, NULL) == 0);
+        TT_CHECK(td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0, &sc,
+                               NULL) == 0);
+        if (cut) {
+            TT_CHECKF(sc.recall >= 0.97 && sc.n_jump == 0 && sc.own >= 0.99,
+                      "recall %.3f own %.3f jumps %ld", sc.recall, sc.own,
+                      sc.n_jump);
+            TT_CHECKF(res.border_cuts == 1, "%zu cuts", res.border_cuts);
+        } else { /* the case it is for: one line on both contours */
+            TT_CHECKF(sc.n_jump == 1, "without the cut: %ld jumps", sc.n_jump);
+        }
+        td_scan_result_free(&res);
+        td_lines_free(truth);
+        td_image_free(im);
+    }
+}
+
+static void set_pale(td_scan_params *sp, int on)
+{
+    sp->pale = on;
+}
+
+static void set_border_cut(td_scan_params *sp, int on)
+{
+    sp->border_cut = on;
+}
+
+/* Sheet name of td_real_sheets with td_hsheet_defects' kind, scanned with
+ * one step off (k 0, set(sp, 0)) and on (k 1): scores into sc[k], what
+ * the step did (res[1]: faded lines added, lines cut at the border) into
+ * *added; 0 or nonzero when it could not run. */
+static int toggle_scores(const char *name, int kind,
+                         void (*set)(td_scan_params *, int), td_scanscore *sc,
+                         size_t *added)
 {
     const td_real_sheet *rs = NULL;
     td_gen_params gp;
@@ -515,12 +575,12 @@ static int pale_scores(const char *name, int kind, td_scanscore *sc,
         for (k = 0, rc = 0; k < 2 && rc == 0; k++) {
             td_scan_params sp = td_scan_defaults();
             td_scan_result res;
-            sp.pale = k;
+            set(&sp, k);
             if ((rc = td_scan(im, &sp, &res, &cx)) == 0)
                 rc = td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0,
                                    &sc[k], NULL);
-            if (k)
-                *added = res.pale;
+            if (k && rc == 0)
+                *added = set == set_pale ? res.pale : res.border_cuts;
             td_scan_result_free(&res);
         }
     td_image_free(im);
@@ -554,7 +614,7 @@ static void test_pale_lines(void)
 {
     td_scanscore sc[2];
     size_t added = 0;
-    TT_CHECK(pale_scores("frontrange20", 3, sc, &added) == 0);
+    TT_CHECK(toggle_scores("frontrange20", 3, set_pale, sc, &added) == 0);
     pale_print("crowded printed", sc, added);
     TT_CHECK(added >= 50);
     TT_CHECK(sc[1].recall >= sc[0].recall + 0.012);
@@ -562,12 +622,35 @@ static void test_pale_lines(void)
     TT_CHECK(sc[1].own >= sc[0].own - 0.002);
     TT_CHECK((double)sc[1].n_jump / (double)sc[1].n_traced <=
              (double)sc[0].n_jump / (double)sc[0].n_traced + 0.003);
-    TT_CHECK(pale_scores("orkhon50", 3, sc, &added) == 0);
+    TT_CHECK(toggle_scores("orkhon50", 3, set_pale, sc, &added) == 0);
     pale_print("Orkhon 50 printed", sc, added);
     TT_CHECK(sc[1].precision >= sc[0].precision - 0.004);
     TT_CHECK(sc[1].recall >= sc[0].recall - 0.001);
-    TT_CHECK(pale_scores("orkhon", 4, sc, &added) == 0);
+    TT_CHECK(toggle_scores("orkhon", 4, set_pale, sc, &added) == 0);
     pale_print("Orkhon new print", sc, added);
+    TT_CHECK(sc[1].precision >= sc[0].precision - 0.001);
+}
+
+/* Lines that turn back at the border (scanner/bordercut.c) on the scanned
+ * crowded Front Range 25 sheet: steep slopes cut by the sheet's border,
+ * where pairs of contours merge before it.  Without the cut some traced
+ * lines run out along one contour and back along the next (3 of 1,486
+ * when measured, one of them an index contour that took its two labels
+ * onto the next contour); with it none, and nothing else lost. */
+static void test_border_turns_real(void)
+{
+    td_scanscore sc[2];
+    size_t cuts = 0;
+    TT_CHECK(toggle_scores("frontrange25", 1, set_border_cut, sc, &cuts) == 0);
+    fprintf(stderr,
+            "  crowded 25 scanned: %zu cuts, jumps %ld -> %ld of %ld -> %ld "
+            "lines, own %.4f -> %.4f, recall %.4f -> %.4f\n",
+            cuts, sc[0].n_jump, sc[1].n_jump, sc[0].n_traced, sc[1].n_traced,
+            sc[0].own, sc[1].own, sc[0].recall, sc[1].recall);
+    TT_CHECKF(sc[0].n_jump >= 2, "without the cut: %ld jumps", sc[0].n_jump);
+    TT_CHECKF(sc[1].n_jump == 0, "%ld jumps", sc[1].n_jump);
+    TT_CHECK(sc[1].own >= sc[0].own + 0.001);
+    TT_CHECK(sc[1].recall >= sc[0].recall - 0.001);
     TT_CHECK(sc[1].precision >= sc[0].precision - 0.001);
 }
 
@@ -600,7 +683,9 @@ int main(void)
     TT_RUN(test_crowded_blobs_cut);
     TT_RUN(test_crisp_ink);
     TT_RUN(test_pinched_finger);
+    TT_RUN(test_border_v);
     TT_RUN(test_pale_lines);
+    TT_RUN(test_border_turns_real);
     TT_RUN(test_blank);
     return tt_summary();
 }

@@ -129,6 +129,10 @@ static int parse_args(int argc, char **argv, scan_opts *o)
         {"no-foreign-cut", 0, TD_OPT_OFF, &p->foreign_cut, .help = "colour "
          "scans: keep short lines whose colour is\nno shade of the contour "
          "ink (by default\ndropped: text, road dashes; ours)"},
+        {"no-border-cut", 0, TD_OPT_OFF, &p->border_cut, .help = "keep "
+         "lines whole where they turn back at\nthe sheet's border (by "
+         "default cut there:\ntwo contours leaving the sheet side by "
+         "side,\ntraced as one V; ours)"},
         {"min-length", 0, TD_OPT_DOUBLE, &p->join.min_length, 0, 10000,
          .meta = "PX", .help = "remove open fragments (label digits, text)\n"
          "shorter than PX or fitting in a PX box,\nunless both ends continue "
@@ -220,6 +224,11 @@ static void summary(const td_scan_result *r, double secs)
                 "scan: %zu straight piece%s lined up along a road "
                 "removed (the road cut at every contour it crosses)\n",
                 r->join.road_pieces, r->join.road_pieces == 1 ? "" : "s");
+    if (r->border_cuts > 0)
+        fprintf(stderr, "scan: %zu line%s cut where %s turned back at the "
+                "sheet's border (two contours leaving it, traced as one)\n",
+                r->border_cuts, r->border_cuts == 1 ? "" : "s",
+                r->border_cuts == 1 ? "it" : "they");
     if (r->flank_cuts > 0)
         fprintf(stderr, "scan: %zu stretch%s along roads or other inks cut "
                 "out (their flanks look like contour ink)\n", r->flank_cuts,
