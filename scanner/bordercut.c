@@ -66,7 +66,7 @@ static size_t turns(const td_line *l, int w, int h, size_t *cut)
 {
     size_t n = l->n, k, m = 0, s0 = 0;
     int closed = l->closed && n >= 3;
-    if (n < 3)
+    if (n < 3 || (closed && td_line_length(l) < TD_BORDER_RING))
         return 0;
     if (closed) { /* start the walk off the border */
         while (s0 < n && border_dist(l, s0, w, h, NULL) <= TD_BORDER_NEAR)

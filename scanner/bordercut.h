@@ -20,7 +20,8 @@
  * nearest the border, when the line TD_BORDER_ARM px of arc before and
  * after it lies within TD_BORDER_TURN degrees of one direction (a V, not
  * a contour grazing the border on its way); both pieces run on to the
- * border there. */
+ * border there.  A closed line shorter than TD_BORDER_RING px is a small
+ * ring beside the border (a summit's), left whole. */
 #ifndef TD_BORDERCUT_H
 #define TD_BORDERCUT_H
 
@@ -35,6 +36,9 @@ extern "C" {
                                tracer's ends run on to it: trace.h) */
 #define TD_BORDER_ARM 8.0   /* px of arc: the V's arms */
 #define TD_BORDER_TURN 60.0 /* degrees between them at most */
+#define TD_BORDER_RING                                                         \
+    32.0 /* px: a closed line shorter than this is a small ring, not a V       \
+            (its arms would meet round it) */
 
 /* Cut the lines of ls (a w x h sheet) where they turn back at its
  * border between their ends; a closed line opens there.  The lines
