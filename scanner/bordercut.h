@@ -41,9 +41,11 @@ extern "C" {
             (its arms would meet round it) */
 
 /* Cut the lines of ls (a w x h sheet) where they turn back at its
- * border between their ends; a closed line opens there.  The lines
- * are renumbered (id = index).  Returns the number of cuts, or a negative
- * error code (TD_ENOMEM) with the error in cx. */
+ * border between their ends; a closed line opens there.  A cut line's
+ * first piece takes its place, the others go at the end, and when any
+ * line was cut the lines are renumbered (id = index).  Returns the number
+ * of cuts, or a negative error code (TD_ENOMEM) with the error in cx (the
+ * lines then valid, some cut). */
 long td_border_cut(td_lines *ls, int w, int h, td_ctx *cx);
 
 #ifdef __cplusplus
