@@ -1401,6 +1401,29 @@ static void test_river_bank_pair(void)
     td_label_report_free(&hs.rep);
 }
 
+/* Front Range at interval 25 (scale 8) scanned, no hint: at the west
+ * border an index contour (2875, its two labels read for sure) and the
+ * thin contour beside it run into the border 2-3 px apart, and the tracer
+ * turned at the border from one onto the other: one line, two heights;
+ * the piece between the labels came out 2825 and the region beyond 50-125
+ * m low (accuracy 0.978).  The scanner now cuts lines where they turn
+ * back at the border (scanner/bordercut.c): 0.988. */
+static void test_border_turn_heights(void)
+{
+    td_hsheet hs;
+    td_ctx cx;
+    int rc;
+    td_ctx_init(&cx);
+    rc = labels_only(&hs, "frontrange_srtm3.tif", 8, 25, 1, &cx);
+    TT_CHECKF(rc == 0 && hs.interval == 25 && hs.score.accuracy >= 0.985 &&
+                  hs.score.n_wrong_sure == 0,
+              "Front Range 25 scanned, labels only: rc %d (%s), interval %g, "
+              "accuracy %.3f, %ld wrong and sure",
+              rc, rc ? td_errmsg(&cx) : "", hs.interval, hs.score.accuracy,
+              hs.score.n_wrong_sure);
+    td_label_report_free(&hs.rep);
+}
+
 /* Straight labels printed on curves: the generator's hills, scanned and
  * in colour, with no hint.  A label on a small ring (radius 48 px) sits on
  * the chord of the ring's label gap, 6-8 px from the ring at its middle,
@@ -1856,6 +1879,7 @@ int main(void)
     TT_RUN(test_cone_index_counted);
     TT_RUN(test_short_piece_in_doubt);
     TT_RUN(test_tied_region_decided);
+    TT_RUN(test_border_turn_heights);
     TT_RUN(test_speck_counted);
     TT_RUN(test_one_label_value_refused);
     TT_RUN(test_label_pulls_near);
