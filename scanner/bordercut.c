@@ -131,16 +131,10 @@ static int add_piece(td_lines *out, const td_line *l, size_t a, size_t b,
     size_t n = l->n, k, m = l->closed && a == b ? n + 1 : (b + n - a) % n + 1;
     double p[2];
     td_line *c;
-    long id;
     if (m < 2)
         return 0;
-    if (!(c = td_lines_add(out, cx)))
+    if (!(c = td_lines_add_piece(out, l, cx)))
         return TD_ENOMEM;
-    id = c->id;
-    *c = *l;
-    c->id = id;
-    c->xy = NULL, c->n = c->cap = 0;
-    c->closed = 0;
     c->junc =
         (unsigned char)((ca ? 0u : l->junc & 1u) | (cb ? 0u : l->junc & 2u));
     onto_border(l, a, w, h, p);

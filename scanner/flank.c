@@ -225,14 +225,8 @@ static int add_pieces(td_lines *out, const td_line *l, const double *pts,
         while (j + 1 < n && !cut[AT(j + 1)])
             j++;
         if (j > i) {
-            long id;
-            if (!(c = td_lines_add(out, cx)))
+            if (!(c = td_lines_add_piece(out, l, cx)))
                 return TD_ENOMEM;
-            id = c->id;
-            *c = *l;
-            c->id = id;
-            c->xy = NULL, c->n = c->cap = 0;
-            c->closed = 0;
             c->junc =
                 (unsigned char)(l->closed ? 0u
                                           : ((i == 0 ? l->junc & 1u : 0u) |

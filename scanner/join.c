@@ -2443,16 +2443,10 @@ static int cut_at(const td_join_params *p, const td_line *l,
         for (e = s; e < n && !f[(start + e) % n]; e++)
             ;
         if (e - s >= 2) {
-            td_line *c = td_lines_add(out, cx);
+            td_line *c = td_lines_add_piece(out, l, cx);
             if (!c)
                 return TD_ENOMEM;
-            {
-                td_line keep = *c;
-                *c = *l;
-                c->xy = keep.xy, c->n = keep.n, c->cap = keep.cap;
-            }
             c->id = first ? l->id : (*next_id)++;
-            c->closed = 0;
             c->junc = (unsigned char)((s > 0 || l->closed ? 0 : l->junc & 1) |
                                       (e < n || l->closed ? 0 : l->junc & 2));
             first = 0;

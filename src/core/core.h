@@ -280,6 +280,12 @@ size_t td_line_ends_at(const td_line_end *e, size_t n, double x, double y);
  * included; td_lines_add's own id is overwritten).  0 or TD_ENOMEM. */
 int td_lines_append_copy(td_lines *ls, const td_line *l, td_ctx *cx);
 
+/* Append a piece of l to be: an empty open line with l's other
+ * properties and td_lines_add's own id (l must not lie in ls->v, which
+ * may move); returns it or NULL (TD_ENOMEM).  Valid until the next
+ * td_lines_add. */
+td_line *td_lines_add_piece(td_lines *ls, const td_line *l, td_ctx *cx);
+
 /* A new set with copies of every line of ls (free with td_lines_free);
  * NULL with the error in cx. */
 td_lines *td_lines_copy(const td_lines *ls, td_ctx *cx);

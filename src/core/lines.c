@@ -140,6 +140,21 @@ double td_line_length(const td_line *l)
     return len;
 }
 
+/* See core.h. */
+td_line *td_lines_add_piece(td_lines *ls, const td_line *l, td_ctx *cx)
+{
+    td_line *c = td_lines_add(ls, cx);
+    long id;
+    if (!c)
+        return NULL;
+    id = c->id;
+    *c = *l;
+    c->id = id;
+    c->xy = NULL, c->n = c->cap = 0;
+    c->closed = 0;
+    return c;
+}
+
 /* See lines.h. */
 int td_lines_append_copy(td_lines *ls, const td_line *l, td_ctx *cx)
 {
