@@ -5,7 +5,6 @@
 
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 
 /* Distance of point k of l from the middle of the nearest border pixels
  * (0 on them), and in *side which border: 0 left, 1 top, 2 right, 3
@@ -60,8 +59,9 @@ static int turns_back(const td_line *l, size_t m)
 
 /* The points where l turns back at the border (at most one per run of
  * points within TD_BORDER_NEAR px of it, none holding an open line's
- * end), in their order along the line, into cut[] (room for l->n).
- * Returns their number. */
+ * end), in their order along the line (round a closed line from its
+ * first point off the border), into cut[] (room for l->n).  Returns
+ * their number. */
 static size_t turns(const td_line *l, int w, int h, size_t *cut)
 {
     size_t n = l->n, k, m = 0, s0 = 0;
@@ -96,13 +96,6 @@ static size_t turns(const td_line *l, int w, int h, size_t *cut)
         if (turns_back(l, best))
             cut[m++] = best;
     }
-    if (closed && m > 1) /* in the order of the points */
-        for (k = 1; k < m; k++) {
-            size_t t = cut[k], j = k;
-            while (j > 0 && cut[j - 1] > t)
-                cut[j] = cut[j - 1], j--;
-            cut[j] = t;
-        }
     return m;
 }
 
