@@ -28,6 +28,7 @@ td_scan_params td_scan_defaults(void)
     p.blob_rings = 1;
     p.ticks = 2;
     p.wide_cut = 3.0;
+    p.wide_rib = 2.2;
     p.wide_own = -1.0;
     p.join_other = 1;
     p.flank_cut = 1;
@@ -287,6 +288,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         goto fail;
     if (p->measure_width && p->wide_cut > 0) {
         double pen = td_pen_width(res->lines, cx), own = p->wide_own;
+        td_wide_params wp;
         long nc;
         if (pen > 0 && halftone >= 0)
             res->edge = 0.5 * halftone * pen;
@@ -304,9 +306,12 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             rc = TD_ENOMEM;
             goto fail;
         }
+        wp.maxw = p->wide_cut * pen;
+        wp.addw = own * pen;
+        wp.ribs = seams ? bits : NULL; /* the ink the seams split */
+        wp.ribw = p->wide_rib * pen;
         nc = pen > 0   ? td_wide_cut_walls(seams ? seams : bits, im->w, im->h,
-                                         res->lines, p->wide_cut * pen,
-                                         own * pen, res->walls, cx)
+                                         res->lines, &wp, res->walls, cx)
              : pen < 0 ? TD_ENOMEM
                        : 0;
         if (nc < 0 ||

@@ -16,6 +16,7 @@
 #define WC_MIN 4   /* a wide stretch is at least this many vertices */
 #define WC_CELL 8  /* px: cells of the near-stretch vertex list */
 #define WC_RING 8  /* rings shorter than this many maxw stay whole */
+#define WC_RIB_MARGIN 3 /* vertices cut either side of a rib contact */
 
 typedef struct wstretch {
     size_t line, k, e; /* vertices [k, e) of line */
@@ -44,14 +45,41 @@ static int wide_at(const uint8_t *bits, int w, int h, const td_line *l,
     return td_width_across(bits, w, h, x, y, nx, ny) > maxw;
 }
 
+/* Of the vertices of l flagged wider than maxw (f[k] == 1), only those
+ * within WC_RIB_MARGIN vertices of one where the line's own rib (the ink
+ * with the seams taken out) is wider than ribw stay flagged: where the
+ * seams split a blob into one rib a contour, a line follows its rib and
+ * can only step onto the next one where two ribs touch. */
+static void keep_contacts(const uint8_t *ribs, int w, int h, const td_line *l,
+                          double ribw, unsigned char *f)
+{
+    size_t n = l->n, k;
+    long m, ln = (long)n;
+    for (k = 0; k < n; k++)
+        if (f[k] == 1 && wide_at(ribs, w, h, l, k, ribw))
+            f[k] = 3;
+    for (k = 0; k < n; k++) /* the margin either side (round a ring) */
+        if (f[k] == 3)
+            for (m = -WC_RIB_MARGIN; m <= WC_RIB_MARGIN; m++) {
+                long j = (long)k + m;
+                if (l->closed)
+                    j = (j + ln) % ln;
+                if (j >= 0 && j < ln && f[j] == 1)
+                    f[j] = 4;
+            }
+    for (k = 0; k < n; k++)
+        f[k] = f[k] == 1 ? 0 : f[k] >= 3 ? 1 : f[k];
+}
+
 /* The wide vertices of every line (flags from off[i] on: 1 wider than
  * maxw, 2 only wider than the line's own width + addw), stretches shorter
  * than WC_MIN cleared; on threads. */
 static void flag_lines(const uint8_t *bits, int w, int h, const td_lines *ls,
-                       const size_t *off, double maxw, double addw,
+                       const size_t *off, const td_wide_params *wp,
                        unsigned char *wide)
 {
     long n = (long)ls->n, i;
+    double maxw = wp->maxw, addw = wp->addw;
 #pragma omp parallel for schedule(dynamic, 16)
     for (i = 0; i < n; i++) {
         const td_line *l = &ls->v[i];
@@ -71,6 +99,8 @@ static void flag_lines(const uint8_t *bits, int w, int h, const td_lines *ls,
             if (f[k] && e - k < WC_MIN)
                 memset(f + k, 0, e - k);
         }
+        if (wp->ribs && wp->ribw > 0)
+            keep_contacts(wp->ribs, w, h, l, wp->ribw, f);
     }
 }
 
@@ -179,7 +209,8 @@ static int cut_line(const td_line *l, const unsigned char *f, int w, int h,
 long td_wide_cut(const uint8_t *bits, int w, int h, td_lines *ls, double maxw,
                  td_ctx *cx)
 {
-    return td_wide_cut_walls(bits, w, h, ls, maxw, 0.0, NULL, cx);
+    td_wide_params wp = {maxw, 0.0, NULL, 0.0};
+    return td_wide_cut_walls(bits, w, h, ls, &wp, NULL, cx);
 }
 
 /* Whether stretch s holds WC_MIN vertices in a row wider than maxw. */
@@ -211,8 +242,9 @@ static int add_wall(const td_line *l, const wstretch *s, td_lines *walls,
 }
 
 long td_wide_cut_walls(const uint8_t *bits, int w, int h, td_lines *ls,
-                       double maxw, double addw, td_lines *walls, td_ctx *cx)
+                       const td_wide_params *wp, td_lines *walls, td_ctx *cx)
 {
+    double maxw = wp->maxw;
     size_t *off = td_malloc((ls->n + 1) * sizeof *off, cx), i, k, e, tot = 0;
     size_t ns = 0, scap = 0, nv = 0, vcap = 0;
     unsigned char *wide = NULL, *cm = NULL, *cut = NULL;
@@ -231,7 +263,7 @@ long td_wide_cut_walls(const uint8_t *bits, int w, int h, td_lines *ls,
     }
     if (!(wide = td_calloc(tot + 1, 1, cx)))
         goto nomem;
-    flag_lines(bits, w, h, ls, off, maxw, addw, wide);
+    flag_lines(bits, w, h, ls, off, wp, wide);
     for (i = 0; i < ls->n; i++) /* the stretches */
         for (k = 0; k < ls->v[i].n; k = e) {
             for (e = k; e < ls->v[i].n && wide[off[i] + e]; e++)

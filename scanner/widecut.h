@@ -16,6 +16,17 @@
  * is a closed line shorter than 8 maxw (a small ring is one contour; drawn
  * as a solid dot its ink is wide all round).
  *
+ * Where the seams did split the blob, most of it need not go: a line
+ * follows its own rib and can only step onto the next where two ribs
+ * touch.  With the ribs given (td_wide_params.ribs, ribw > 0), only the
+ * vertices of a wide stretch within WC_RIB_MARGIN (3) of one where the
+ * line's rib is wider than ribw are cut out (docs/scanner.md, "Blobs
+ * split by their seams": recall on the crowded sheets +0.02-0.04).
+ *
+ *     ==========            ====  ====   (the rest of the stretch
+ *     =====X====    ->      ====  ====    kept: the lines end only at
+ *     ==========            ====  ====    the contact X)
+ *
  * Two contours whose inks overlap for a stretch (an index contour and a
  * thin one on a crisp sheet: no seam between them, one band of ink 1.6
  * times the index width) are narrower than maxw; with addw > 0 a stretch
@@ -46,12 +57,25 @@ extern "C" {
 long td_wide_cut(const uint8_t *bits, int w, int h, td_lines *ls, double maxw,
                  td_ctx *cx);
 
-/* The same, with the merges over the line's own width + addw px (0:
- * off); walls (may be NULL) gets every stretch cut out, with the vertex
- * before and after it (where the pieces end): the blobs, for the
- * labeller's faces (faces.h: no face runs through them). */
+/* What td_wide_cut_walls cuts. */
+typedef struct td_wide_params {
+    double maxw;         /* px: ink wider than this is a blob */
+    double addw;         /* px: and wider than the line's own width + this
+                            with another line ending there (0: off) */
+    const uint8_t *ribs; /* the ink with the seams taken out (same layout
+                            as bits; may be NULL) */
+    double ribw;         /* px: with ribs, a blob's stretch is cut only
+                            within a few vertices of where the line's rib
+                            is wider than this (two ribs touching) */
+} td_wide_params;
+
+/* The same, with wp: the merges over the line's own width + addw px,
+ * and the rib contacts (the blob whole when ribs is NULL or ribw is 0);
+ * walls (may be NULL) gets every stretch cut out, with the vertex before
+ * and after it (where the pieces end): the blobs, for the labeller's
+ * faces (faces.h: no face runs through them). */
 long td_wide_cut_walls(const uint8_t *bits, int w, int h, td_lines *ls,
-                       double maxw, double addw, td_lines *walls, td_ctx *cx);
+                       const td_wide_params *wp, td_lines *walls, td_ctx *cx);
 
 /* After labelling: each wall of td_wide_cut_walls whose two sides (the
  * lines of ls ending at its first and at its last vertex) got one height

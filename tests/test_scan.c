@@ -547,6 +547,12 @@ static void set_border_cut(td_scan_params *sp, int on)
     sp->border_cut = on;
 }
 
+static void set_wide_rib(td_scan_params *sp, int on)
+{
+    if (!on)
+        sp->wide_rib = 0; /* the whole blob's stretch cut */
+}
+
 /* Sheet name of td_real_sheets with td_hsheet_defects' kind, scanned with
  * one step off (k 0, set(sp, 0)) and on (k 1): scores into sc[k], what
  * the step did (res[1]: faded lines added, lines cut at the border) into
@@ -580,7 +586,9 @@ static int toggle_scores(const char *name, int kind,
                 rc = td_match_scan(truth, res.lines, im->w, im->h, 2.0, 20.0,
                                    &sc[k], NULL);
             if (k && rc == 0)
-                *added = set == set_pale ? res.pale : res.border_cuts;
+                *added = set == set_pale         ? res.pale
+                         : set == set_border_cut ? res.border_cuts
+                                                 : res.wide_cuts;
             td_scan_result_free(&res);
         }
     td_image_free(im);
@@ -654,6 +662,29 @@ static void test_border_turns_real(void)
     TT_CHECK(sc[1].precision >= sc[0].precision - 0.001);
 }
 
+/* Blobs split by their seams (scanner/widecut.c, ribs): on the scanned
+ * crowded Front Range 20 sheet (contours 2-4 px apart on the canyon
+ * walls) the lines cut out of each blob whole lose the contours inside
+ * (recall 0.931 when measured); cut only where two ribs touch they keep
+ * them (0.970), still on their own contours (own 1.000 both, 0 -> 1
+ * line running onto another for more than 20 px). */
+static void test_wide_rib_real(void)
+{
+    td_scanscore sc[2];
+    size_t cuts = 0;
+    TT_CHECK(toggle_scores("frontrange20", 1, set_wide_rib, sc, &cuts) == 0);
+    fprintf(stderr,
+            "  crowded 20 scanned: recall %.4f -> %.4f, own %.4f -> %.4f, "
+            "jumps %ld -> %ld of %ld -> %ld lines, precision %.4f -> %.4f\n",
+            sc[0].recall, sc[1].recall, sc[0].own, sc[1].own, sc[0].n_jump,
+            sc[1].n_jump, sc[0].n_traced, sc[1].n_traced, sc[0].precision,
+            sc[1].precision);
+    TT_CHECK(sc[1].recall >= sc[0].recall + 0.03);
+    TT_CHECK(sc[1].own >= 0.998);
+    TT_CHECKF(sc[1].n_jump <= 3, "%ld jumps", sc[1].n_jump);
+    TT_CHECK(sc[1].precision >= sc[0].precision - 0.001);
+}
+
 static void test_blank(void)
 {
     td_image *im = td_image_new(300, 200, 1, NULL);
@@ -686,6 +717,7 @@ int main(void)
     TT_RUN(test_border_v);
     TT_RUN(test_pale_lines);
     TT_RUN(test_border_turns_real);
+    TT_RUN(test_wide_rib_real);
     TT_RUN(test_blank);
     return tt_summary();
 }

@@ -517,6 +517,64 @@ static void test_wide_cut(void)
     td_grid_u8_free(g);
 }
 
+/* Four contours 2 px wide, 4 px apart, whose seams (x 30-89) make one
+ * blob 14 px across; the first two ribs touch at x 60-61.  With the ribs
+ * given, only the two touching lines are cut, each within a few vertices
+ * of the contact; the other two run through whole.  Without, all four
+ * lose the blob (x 30-89). */
+static void test_wide_rib(void)
+{
+    int pass;
+    for (pass = 0; pass < 2; pass++) {
+        td_grid_u8 *rg = td_grid_u8_new(120, 80, NULL);
+        td_grid_u8 *sg = td_grid_u8_new(120, 80, NULL);
+        td_lines *ls = td_lines_new(NULL);
+        td_wide_params wp = {3 * 2.0, 0.0, NULL, 0.0};
+        uint8_t *ribs, *seams;
+        size_t i, whole = 0, near = 0;
+        int x, y, k;
+        long nc;
+        for (y = 0; y < 80; y++)
+            for (x = 0; x < 120; x++) {
+                int rib =
+                    y >= 30 && y < 46 && (y - 30) % 4 < 2 && x >= 2 && x < 118;
+                int touch = y >= 32 && y < 34 && (x == 60 || x == 61);
+                TD_AT(rg, x, y) = rib || touch;
+                TD_AT(sg, x, y) =
+                    rib || touch || (y >= 30 && y < 44 && x >= 30 && x < 90);
+            }
+        ribs = td_width_pack(rg, NULL);
+        seams = td_width_pack(sg, NULL);
+        for (k = 0; k < 4; k++) {
+            td_line *l = td_lines_add(ls, NULL);
+            for (x = 2; x < 118; x++)
+                td_line_push(l, x, 30.5 + 4 * k, NULL);
+        }
+        if (pass == 1)
+            wp.ribs = ribs, wp.ribw = 2.2 * 2.0;
+        nc = td_wide_cut_walls(seams, 120, 80, ls, &wp, NULL, NULL);
+        for (i = 0; i < ls->n; i++) {
+            const td_line *q = &ls->v[i];
+            double x0 = q->xy[0], x1 = q->xy[2 * (q->n - 1)];
+            whole += q->n == 116;
+            /* a piece ending (or starting) within 8 px of the contact */
+            near += (x1 < 60 && x1 >= 52) || (x0 > 61 && x0 <= 69);
+        }
+        if (pass == 1)
+            TT_CHECKF(nc == 2 && whole == 2 && near == 4 && ls->n == 6,
+                      "ribs: %ld cut, %zu whole, %zu ends at the contact, "
+                      "%zu lines",
+                      nc, whole, near, ls->n);
+        else
+            TT_CHECKF(nc == 4 && whole == 0 && ls->n == 8,
+                      "blob whole: %ld cut, %zu whole, %zu lines", nc, whole,
+                      ls->n);
+        free(ribs), free(seams);
+        td_lines_free(ls);
+        td_grid_u8_free(rg), td_grid_u8_free(sg);
+    }
+}
+
 /* An index contour (3 px) and a thin one (2 px) whose inks overlap for 40
  * px: one band 5 px wide, narrower than 3 pens (6 px), so the blob cut
  * leaves it.  The thin contour was traced in two pieces ending inside the
@@ -536,6 +594,7 @@ static void test_wide_own(void)
         size_t i, whole = 0;
         int x, y;
         long nc;
+        td_wide_params wp = {0};
         for (y = 0; y < 60; y++)
             for (x = 0; x < 120; x++)
                 TD_AT(g, x, y) = (y >= 28 && y <= 30) ||
@@ -563,8 +622,9 @@ static void test_wide_own(void)
                 td_line_push(l, x, 33.5, NULL);
             l->width = 2;
         }
-        nc = td_wide_cut_walls(bits, 120, 60, ls, 3 * 2.0, pass == 0 ? 0 : 1.5,
-                               walls, NULL);
+        wp.maxw = 3 * 2.0;
+        wp.addw = pass == 0 ? 0 : 1.5;
+        nc = td_wide_cut_walls(bits, 120, 60, ls, &wp, walls, NULL);
         for (i = 0; i < ls->n; i++)
             whole += ls->v[i].xy[1] == 29 && ls->v[i].n == 116;
         if (pass == 1)
@@ -682,6 +742,7 @@ int main(void)
     TT_RUN(test_self_touching_ring);
     TT_RUN(test_hairpin_at_junction);
     TT_RUN(test_wide_cut);
+    TT_RUN(test_wide_rib);
     TT_RUN(test_wide_own);
     TT_RUN(test_walls_restore);
     return tt_summary();
