@@ -276,11 +276,6 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         rc = TD_ENOMEM;
     free(lost), free(lost_tmp);
     lost = lost_tmp = NULL;
-    if (p->keep_debug)
-        res->other = other;
-    else
-        free(other);
-    other = NULL;
     if (rc != 0)
         goto fail;
     if (p->measure_width &&
@@ -310,6 +305,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         wp.addw = own * pen;
         wp.ribs = seams ? bits : NULL; /* the ink the seams split */
         wp.ribw = p->wide_rib * pen;
+        wp.other = other;
         nc = pen > 0   ? td_wide_cut_walls(seams ? seams : bits, im->w, im->h,
                                          res->lines, &wp, res->walls, cx)
              : pen < 0 ? TD_ENOMEM
@@ -322,6 +318,11 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         }
         res->wide_cuts = (size_t)nc;
     }
+    if (p->keep_debug)
+        res->other = other;
+    else
+        free(other);
+    other = NULL;
     if (p->measure_width && p->blob_rings) {
         long nr = td_blob_rings(bits, im->w, im->h, res->lines, cx);
         if (nr < 0) {

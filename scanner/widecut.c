@@ -45,18 +45,33 @@ static int wide_at(const uint8_t *bits, int w, int h, const td_line *l,
     return td_width_across(bits, w, h, x, y, nx, ny) > maxw;
 }
 
+/* Whether a pixel of bits lies in the (2r + 1)^2 square round (x, y). */
+static int ink_near(const uint8_t *bits, int w, int h, double x, double y,
+                    int r)
+{
+    int cx = (int)floor(x), cy = (int)floor(y), dx, dy;
+    for (dy = -r; dy <= r; dy++)
+        for (dx = -r; dx <= r; dx++)
+            if (td_packed_at(bits, w, h, cx + dx, cy + dy))
+                return 1;
+    return 0;
+}
+
 /* Of the vertices of l flagged wider than maxw (f[k] == 1), only those
  * within WC_RIB_MARGIN vertices of one where the line's own rib (the ink
  * with the seams taken out) is wider than ribw stay flagged: where the
  * seams split a blob into one rib a contour, a line follows its rib and
  * can only step onto the next one where two ribs touch. */
 static void keep_contacts(const uint8_t *ribs, int w, int h, const td_line *l,
-                          double ribw, unsigned char *f)
+                          const td_wide_params *wp, unsigned char *f)
 {
     size_t n = l->n, k;
     long m, ln = (long)n;
+    int r = (int)ceil(0.5 * wp->maxw);
     for (k = 0; k < n; k++)
-        if (f[k] == 1 && wide_at(ribs, w, h, l, k, ribw))
+        if (f[k] == 1 && (wide_at(ribs, w, h, l, k, wp->ribw) ||
+                          (wp->other && ink_near(wp->other, w, h, l->xy[2 * k],
+                                                 l->xy[2 * k + 1], r))))
             f[k] = 3;
     for (k = 0; k < n; k++) /* the margin either side (round a ring) */
         if (f[k] == 3)
@@ -100,7 +115,7 @@ static void flag_lines(const uint8_t *bits, int w, int h, const td_lines *ls,
                 memset(f + k, 0, e - k);
         }
         if (wp->ribs && wp->ribw > 0)
-            keep_contacts(wp->ribs, w, h, l, wp->ribw, f);
+            keep_contacts(wp->ribs, w, h, l, wp, f);
     }
 }
 
@@ -209,7 +224,7 @@ static int cut_line(const td_line *l, const unsigned char *f, int w, int h,
 long td_wide_cut(const uint8_t *bits, int w, int h, td_lines *ls, double maxw,
                  td_ctx *cx)
 {
-    td_wide_params wp = {maxw, 0.0, NULL, 0.0};
+    td_wide_params wp = {maxw, 0.0, NULL, 0.0, NULL};
     return td_wide_cut_walls(bits, w, h, ls, &wp, NULL, cx);
 }
 

@@ -21,7 +21,9 @@
  * touch.  With the ribs given (td_wide_params.ribs, ribw > 0), only the
  * vertices of a wide stretch within WC_RIB_MARGIN (3) of one where the
  * line's rib is wider than ribw are cut out (docs/scanner.md, "Blobs
- * split by their seams": recall on the crowded sheets +0.02-0.04).
+ * split by their seams": recall on the crowded sheets +0.02-0.04);
+ * but not within maxw / 2 of another ink (td_wide_params.other): a road
+ * across crowded contours hides where they touch.
  *
  *     ==========            ====  ====   (the rest of the stretch
  *     =====X====    ->      ====  ====    kept: the lines end only at
@@ -67,6 +69,9 @@ typedef struct td_wide_params {
     double ribw;         /* px: with ribs, a blob's stretch is cut only
                             within a few vertices of where the line's rib
                             is wider than this (two ribs touching) */
+    const uint8_t *other; /* with ribs, the other inks (a road, lettering;
+                             same layout; may be NULL): near them the
+                             blob's stretch is cut whole */
 } td_wide_params;
 
 /* The same, with wp: the merges over the line's own width + addw px,

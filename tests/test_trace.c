@@ -529,7 +529,7 @@ static void test_wide_rib(void)
         td_grid_u8 *rg = td_grid_u8_new(120, 80, NULL);
         td_grid_u8 *sg = td_grid_u8_new(120, 80, NULL);
         td_lines *ls = td_lines_new(NULL);
-        td_wide_params wp = {3 * 2.0, 0.0, NULL, 0.0};
+        td_wide_params wp = {3 * 2.0, 0.0, NULL, 0.0, NULL};
         uint8_t *ribs, *seams;
         size_t i, whole = 0, near = 0;
         int x, y, k;
