@@ -83,10 +83,11 @@ typedef struct td_scan_params {
                              line width) with another line inside
                              (widecut.h; ours; needs measure_width),
                              default 3; 0: off */
-    double wide_rib;      /* and where the seams split that blob into one
-                             rib a contour, only within a few vertices of
-                             where the line's rib is wider than this many
-                             pens (two ribs touching: widecut.h; ours),
+    double wide_rib;      /* and on sheets where contours crowd, where
+                             the seams split that blob into one rib a
+                             contour, only within a few vertices of where
+                             the line's rib is wider than this many pens
+                             (two ribs touching: widecut.h; ours),
                              default 2.2; 0: the whole blob's stretch */
     double wide_own;      /* and where it is wider than the line's own
                              width + this many pens with another line

@@ -17,6 +17,10 @@
 #define WC_CELL 8  /* px: cells of the near-stretch vertex list */
 #define WC_RING 8  /* rings shorter than this many maxw stay whole */
 #define WC_RIB_MARGIN 3 /* vertices cut either side of a rib contact */
+#define WC_RIB_DENSE                                                           \
+    60 /* the ribs are heeded on sheets with this many                         \
+          blobs (stretches wider than maxw) a megapixel:                       \
+          where contours crowd */
 
 typedef struct wstretch {
     size_t line, k, e; /* vertices [k, e) of line */
@@ -114,9 +118,19 @@ static void flag_lines(const uint8_t *bits, int w, int h, const td_lines *ls,
             if (f[k] && e - k < WC_MIN)
                 memset(f + k, 0, e - k);
         }
-        if (wp->ribs && wp->ribw > 0)
-            keep_contacts(wp->ribs, w, h, l, wp, f);
     }
+}
+
+/* The stretches of flag 1 (wider than maxw) over every line. */
+static size_t count_blobs(const td_lines *ls, const size_t *off,
+                          const unsigned char *wide)
+{
+    size_t i, k, nb = 0;
+    for (i = 0; i < ls->n; i++)
+        for (k = 0; k < ls->v[i].n; k++)
+            nb +=
+                wide[off[i] + k] == 1 && (k == 0 || wide[off[i] + k - 1] != 1);
+    return nb;
 }
 
 static int cmp_wvert(const void *a, const void *b)
@@ -279,6 +293,11 @@ long td_wide_cut_walls(const uint8_t *bits, int w, int h, td_lines *ls,
     if (!(wide = td_calloc(tot + 1, 1, cx)))
         goto nomem;
     flag_lines(bits, w, h, ls, off, wp, wide);
+    if (wp->ribs && wp->ribw > 0 &&
+        (double)count_blobs(ls, off, wide) * 1e6 >=
+            WC_RIB_DENSE * (double)w * (double)h)
+        for (i = 0; i < ls->n; i++)
+            keep_contacts(wp->ribs, w, h, &ls->v[i], wp, wide + off[i]);
     for (i = 0; i < ls->n; i++) /* the stretches */
         for (k = 0; k < ls->v[i].n; k = e) {
             for (e = k; e < ls->v[i].n && wide[off[i] + e]; e++)

@@ -18,12 +18,14 @@
  *
  * Where the seams did split the blob, most of it need not go: a line
  * follows its own rib and can only step onto the next where two ribs
- * touch.  With the ribs given (td_wide_params.ribs, ribw > 0), only the
+ * touch.  With the ribs given (td_wide_params.ribs, ribw > 0), on a
+ * sheet where contours crowd (at least WC_RIB_DENSE, 60, wide stretches
+ * a megapixel; elsewhere the few blobs are pinches, cut whole), only the
  * vertices of a wide stretch within WC_RIB_MARGIN (3) of one where the
- * line's rib is wider than ribw are cut out (docs/scanner.md, "Blobs
- * split by their seams": recall on the crowded sheets +0.02-0.04);
- * but not within maxw / 2 of another ink (td_wide_params.other): a road
- * across crowded contours hides where they touch.
+ * line's rib is wider than ribw are cut out, and those within maxw / 2
+ * of another ink (td_wide_params.other: a road across crowded contours
+ * hides where they touch) (docs/scanner.md, "Blobs split by their
+ * seams": recall on the crowded sheets +0.03-0.04).
  *
  *     ==========            ====  ====   (the rest of the stretch
  *     =====X====    ->      ====  ====    kept: the lines end only at

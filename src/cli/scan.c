@@ -147,9 +147,9 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          "another\nline inside (contours crowding into one\nblob; ours; 0: "
          "off)"},
         {"wide-rib", 0, TD_OPT_DOUBLE, &p->wide_rib, 0, 100, .meta = "PENS",
-         .help = "where the seams split such a blob into\none rib a contour, "
-         "end them only where\ntheir rib is wider than PENS line widths\n"
-         "(two ribs touching; ours; 0: the whole\nblob)"},
+         .help = "where contours crowd and the seams split\nsuch a blob into "
+         "one rib a contour, end\nthem only where their rib is wider than\n"
+         "PENS line widths (two ribs touching; ours;\n0: the whole blob)"},
         {"wide-own", 0, TD_OPT_FUNC, &p->wide_own, .fn = wide_own,
          .meta = "PENS", .help = "and where it is wider than the line's own\n"
          "width + PENS line widths with another line\nending there (two "
