@@ -642,9 +642,11 @@ static void test_pale_lines(void)
 /* Lines that turn back at the border (scanner/bordercut.c) on the scanned
  * crowded Front Range 25 sheet: steep slopes cut by the sheet's border,
  * where pairs of contours merge before it.  Without the cut some traced
- * lines run out along one contour and back along the next (3 of 1,486
+ * lines run out along one contour and back along the next (7 of 1,015
  * when measured, one of them an index contour that took its two labels
- * onto the next contour); with it none, and nothing else lost. */
+ * onto the next contour; 3 before the wide cut heeded the ribs, which
+ * keeps more of the blobs at the border); with it one (a hairpin inside
+ * the sheet, at 1461,428), and nothing else lost. */
 static void test_border_turns_real(void)
 {
     td_scanscore sc[2];
@@ -655,8 +657,9 @@ static void test_border_turns_real(void)
             "lines, own %.4f -> %.4f, recall %.4f -> %.4f\n",
             cuts, sc[0].n_jump, sc[1].n_jump, sc[0].n_traced, sc[1].n_traced,
             sc[0].own, sc[1].own, sc[0].recall, sc[1].recall);
-    TT_CHECKF(sc[0].n_jump >= 2, "without the cut: %ld jumps", sc[0].n_jump);
-    TT_CHECKF(sc[1].n_jump == 0, "%ld jumps", sc[1].n_jump);
+    TT_CHECKF(sc[0].n_jump >= sc[1].n_jump + 3, "without the cut: %ld jumps",
+              sc[0].n_jump);
+    TT_CHECKF(sc[1].n_jump <= 1, "%ld jumps", sc[1].n_jump);
     TT_CHECK(sc[1].own >= sc[0].own + 0.001);
     TT_CHECK(sc[1].recall >= sc[0].recall - 0.001);
     TT_CHECK(sc[1].precision >= sc[0].precision - 0.001);
