@@ -306,6 +306,7 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         wp.ribs = seams ? bits : NULL; /* the ink the seams split */
         wp.ribw = p->wide_rib * pen;
         wp.other = other;
+        wp.hairpins = p->hairpin_cut;
         nc = pen > 0   ? td_wide_cut_walls(seams ? seams : bits, im->w, im->h,
                                          res->lines, &wp, res->walls, cx)
              : pen < 0 ? TD_ENOMEM

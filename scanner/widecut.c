@@ -17,10 +17,14 @@
 #define WC_CELL 8  /* px: cells of the near-stretch vertex list */
 #define WC_RING 8  /* rings shorter than this many maxw stay whole */
 #define WC_RIB_MARGIN 3 /* vertices cut either side of a rib contact */
-#define WC_RIB_DENSE                                                           \
-    60 /* the ribs are heeded on sheets with this many                         \
-          blobs (stretches wider than maxw) a megapixel:                       \
-          where contours crowd */
+/* The ribs are heeded, and hairpins cut when asked, on sheets with at least
+ * WC_RIB_DENSE blobs (stretches wider than maxw) a megapixel: where
+ * contours crowd. */
+#define WC_RIB_DENSE 60
+#define WC_HP 6          /* the flag of a hairpin's vertex */
+#define WC_HP_CHORD 8    /* vertices: the chords of a hairpin's turn */
+#define WC_HP_COS (-0.7) /* cos of the least turn that is a hairpin (134 deg)  \
+                          */
 
 typedef struct wstretch {
     size_t line, k, e; /* vertices [k, e) of line */
@@ -88,6 +92,37 @@ static void keep_contacts(const uint8_t *ribs, int w, int h, const td_line *l,
             }
     for (k = 0; k < n; k++)
         f[k] = f[k] == 1 ? 0 : f[k] >= 3 ? 1 : f[k];
+}
+
+/* The vertices of open line l where it turns back (the chords of
+ * WC_HP_CHORD vertices before and after meet at more than
+ * acos(WC_HP_COS)) flagged WC_HP in f: where contours crowd, an open line
+ * that turns back is mostly two contours whose inks met at a V's tip.
+ * Rings are left alone: the tips of a narrow ring turn as sharply. */
+static void flag_hairpins(const td_line *l, unsigned char *f)
+{
+    size_t n = l->n, k, c = WC_HP_CHORD;
+    if (l->closed || n < 2 * c + 1)
+        return;
+    for (k = c; k + c < n; k++) {
+        double ax = l->xy[2 * k] - l->xy[2 * (k - c)];
+        double ay = l->xy[2 * k + 1] - l->xy[2 * (k - c) + 1];
+        double bx = l->xy[2 * (k + c)] - l->xy[2 * k];
+        double by = l->xy[2 * (k + c) + 1] - l->xy[2 * k + 1];
+        double na = hypot(ax, ay), nb = hypot(bx, by);
+        if (na > 0 && nb > 0 && ax * bx + ay * by < WC_HP_COS * na * nb)
+            f[k] = WC_HP;
+    }
+}
+
+/* Whether stretch s holds a hairpin's vertex. */
+static int has_hairpin(const unsigned char *f, const wstretch *s)
+{
+    size_t k;
+    for (k = s->k; k < s->e; k++)
+        if (f[k] == WC_HP)
+            return 1;
+    return 0;
 }
 
 /* The wide vertices of every line (flags from off[i] on: 1 wider than
@@ -238,7 +273,7 @@ static int cut_line(const td_line *l, const unsigned char *f, int w, int h,
 long td_wide_cut(const uint8_t *bits, int w, int h, td_lines *ls, double maxw,
                  td_ctx *cx)
 {
-    td_wide_params wp = {maxw, 0.0, NULL, 0.0, NULL};
+    td_wide_params wp = {maxw, 0.0, NULL, 0.0, NULL, 0};
     return td_wide_cut_walls(bits, w, h, ls, &wp, NULL, cx);
 }
 
@@ -296,8 +331,11 @@ long td_wide_cut_walls(const uint8_t *bits, int w, int h, td_lines *ls,
     if (wp->ribs && wp->ribw > 0 &&
         (double)count_blobs(ls, off, wide) * 1e6 >=
             WC_RIB_DENSE * (double)w * (double)h)
-        for (i = 0; i < ls->n; i++)
+        for (i = 0; i < ls->n; i++) {
             keep_contacts(wp->ribs, w, h, &ls->v[i], wp, wide + off[i]);
+            if (wp->hairpins)
+                flag_hairpins(&ls->v[i], wide + off[i]);
+        }
     for (i = 0; i < ls->n; i++) /* the stretches */
         for (k = 0; k < ls->v[i].n; k = e) {
             for (e = k; e < ls->v[i].n && wide[off[i] + e]; e++)
@@ -336,7 +374,8 @@ long td_wide_cut_walls(const uint8_t *bits, int w, int h, td_lines *ls,
     qsort(v, nv, sizeof *v, cmp_wvert);
     for (i = 0; i < ns; i++) { /* a stretch in its own ink is no merge */
         const wstretch *s = &st[i];
-        if (other_near(&ls->v[s->line], s, r, cw, ch, v, nv,
+        if (has_hairpin(wide + off[s->line], s) ||
+            other_near(&ls->v[s->line], s, r, cw, ch, v, nv,
                        !over_maxw(wide + off[s->line], s))) {
             cut[s->line] = 1;
             if (walls && add_wall(&ls->v[s->line], s, walls, cx) != 0)

@@ -74,6 +74,11 @@ typedef struct td_wide_params {
     const uint8_t *other; /* with ribs, the other inks (a road, lettering;
                              same layout; may be NULL): near them the
                              blob's stretch is cut whole */
+    int hairpins;         /* with ribs, where contours crowd, also cut open
+                             lines where they turn back (more than 134
+                             degrees between chords of 8 vertices): two
+                             contours whose inks met at a V's tip, mostly
+                             (ours; off by default: docs/scanner.md) */
 } td_wide_params;
 
 /* The same, with wp: the merges over the line's own width + addw px,

@@ -521,7 +521,9 @@ static void test_wide_cut(void)
  * blob 14 px across; the first two ribs touch at x 60-61.  With the ribs
  * given, only the two touching lines are cut, each within a few vertices
  * of the contact; the other two run through whole.  Without, all four
- * lose the blob (x 30-89). */
+ * lose the blob (x 30-89).  A fifth line turns back at x 60 (a hairpin,
+ * arms 4 px apart): with the ribs (a sheet where contours crowd) it is
+ * cut at its tip, without it stays whole. */
 static void test_wide_rib(void)
 {
     int pass;
@@ -529,9 +531,9 @@ static void test_wide_rib(void)
         td_grid_u8 *rg = td_grid_u8_new(120, 80, NULL);
         td_grid_u8 *sg = td_grid_u8_new(120, 80, NULL);
         td_lines *ls = td_lines_new(NULL);
-        td_wide_params wp = {3 * 2.0, 0.0, NULL, 0.0, NULL};
+        td_wide_params wp = {3 * 2.0, 0.0, NULL, 0.0, NULL, 0};
         uint8_t *ribs, *seams;
-        size_t i, whole = 0, near = 0;
+        size_t i, whole = 0, near = 0, hp = 0, tips = 0;
         int x, y, k;
         long nc;
         for (y = 0; y < 80; y++)
@@ -550,23 +552,38 @@ static void test_wide_rib(void)
             for (x = 2; x < 118; x++)
                 td_line_push(l, x, 30.5 + 4 * k, NULL);
         }
+        {
+            td_line *l = td_lines_add(ls, NULL); /* the hairpin */
+            for (x = 10; x <= 60; x++)
+                td_line_push(l, x, 60, NULL);
+            for (y = 61; y < 64; y++)
+                td_line_push(l, 60, y, NULL);
+            for (x = 60; x >= 10; x--)
+                td_line_push(l, x, 64, NULL);
+        }
         if (pass == 1)
-            wp.ribs = ribs, wp.ribw = 2.2 * 2.0;
+            wp.ribs = ribs, wp.ribw = 2.2 * 2.0, wp.hairpins = 1;
         nc = td_wide_cut_walls(seams, 120, 80, ls, &wp, NULL, NULL);
         for (i = 0; i < ls->n; i++) {
             const td_line *q = &ls->v[i];
             double x0 = q->xy[0], x1 = q->xy[2 * (q->n - 1)];
+            if (q->xy[1] >= 60) { /* the hairpin or its pieces */
+                hp++;
+                tips += fabs(x0 - 60) <= 4 || fabs(x1 - 60) <= 4;
+                continue;
+            }
             whole += q->n == 116;
             /* a piece ending (or starting) within 8 px of the contact */
             near += (x1 < 60 && x1 >= 52) || (x0 > 61 && x0 <= 69);
         }
         if (pass == 1)
-            TT_CHECKF(nc == 2 && whole == 2 && near == 4 && ls->n == 6,
+            TT_CHECKF(nc == 3 && whole == 2 && near == 4 && hp == 2 &&
+                          tips == 2,
                       "ribs: %ld cut, %zu whole, %zu ends at the contact, "
-                      "%zu lines",
-                      nc, whole, near, ls->n);
+                      "hairpin in %zu, %zu ending at its tip",
+                      nc, whole, near, hp, tips);
         else
-            TT_CHECKF(nc == 4 && whole == 0 && ls->n == 8,
+            TT_CHECKF(nc == 4 && whole == 0 && hp == 1 && ls->n == 9,
                       "blob whole: %ld cut, %zu whole, %zu lines", nc, whole,
                       ls->n);
         free(ribs), free(seams);
