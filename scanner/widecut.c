@@ -23,8 +23,7 @@
 #define WC_RIB_DENSE 60
 #define WC_HP 6          /* the flag of a hairpin's vertex */
 #define WC_HP_CHORD 8    /* vertices: the chords of a hairpin's turn */
-#define WC_HP_COS (-0.7) /* cos of the least turn that is a hairpin (134 deg)  \
-                          */
+#define WC_HP_COS (-0.7) /* cos of a hairpin's least turn (134 deg) */
 
 typedef struct wstretch {
     size_t line, k, e; /* vertices [k, e) of line */
