@@ -607,15 +607,17 @@ static int toggle_scores(const char *name, int kind,
  * were erased); nor on the new print of Orkhon, whose grid is too faint
  * for the grid finder and came out in straight pieces (precision 0.996 ->
  * 0.994 before such pieces were dropped). */
-/* The scores without and with the faded lines, on stderr. */
-static void pale_print(const char *what, const td_scanscore *sc, size_t added)
+/* The scores without and with a step (toggle_scores), on stderr, with
+ * what the step did (n, named by did). */
+static void toggle_print(const char *what, const td_scanscore *sc, size_t n,
+                         const char *did)
 {
     fprintf(stderr,
-            "  %s: recall %.3f -> %.3f, precision %.3f -> %.3f, own %.3f -> "
-            "%.3f, jumps %ld -> %ld of %ld -> %ld lines (%zu faded added)\n",
+            "  %s: recall %.4f -> %.4f, precision %.4f -> %.4f, own %.4f -> "
+            "%.4f, jumps %ld -> %ld of %ld -> %ld lines (%zu %s)\n",
             what, sc[0].recall, sc[1].recall, sc[0].precision, sc[1].precision,
             sc[0].own, sc[1].own, sc[0].n_jump, sc[1].n_jump, sc[0].n_traced,
-            sc[1].n_traced, added);
+            sc[1].n_traced, n, did);
 }
 
 static void test_pale_lines(void)
@@ -623,7 +625,7 @@ static void test_pale_lines(void)
     td_scanscore sc[2];
     size_t added = 0;
     TT_CHECK(toggle_scores("frontrange20", 3, set_pale, sc, &added) == 0);
-    pale_print("crowded printed", sc, added);
+    toggle_print("crowded printed", sc, added, "faded added");
     TT_CHECK(added >= 50);
     TT_CHECK(sc[1].recall >= sc[0].recall + 0.012);
     TT_CHECK(sc[1].precision >= 0.995);
@@ -631,11 +633,11 @@ static void test_pale_lines(void)
     TT_CHECK((double)sc[1].n_jump / (double)sc[1].n_traced <=
              (double)sc[0].n_jump / (double)sc[0].n_traced + 0.003);
     TT_CHECK(toggle_scores("orkhon50", 3, set_pale, sc, &added) == 0);
-    pale_print("Orkhon 50 printed", sc, added);
+    toggle_print("Orkhon 50 printed", sc, added, "faded added");
     TT_CHECK(sc[1].precision >= sc[0].precision - 0.004);
     TT_CHECK(sc[1].recall >= sc[0].recall - 0.001);
     TT_CHECK(toggle_scores("orkhon", 4, set_pale, sc, &added) == 0);
-    pale_print("Orkhon new print", sc, added);
+    toggle_print("Orkhon new print", sc, added, "faded added");
     TT_CHECK(sc[1].precision >= sc[0].precision - 0.001);
 }
 
@@ -652,11 +654,7 @@ static void test_border_turns_real(void)
     td_scanscore sc[2];
     size_t cuts = 0;
     TT_CHECK(toggle_scores("frontrange25", 1, set_border_cut, sc, &cuts) == 0);
-    fprintf(stderr,
-            "  crowded 25 scanned: %zu cuts, jumps %ld -> %ld of %ld -> %ld "
-            "lines, own %.4f -> %.4f, recall %.4f -> %.4f\n",
-            cuts, sc[0].n_jump, sc[1].n_jump, sc[0].n_traced, sc[1].n_traced,
-            sc[0].own, sc[1].own, sc[0].recall, sc[1].recall);
+    toggle_print("crowded 25 scanned", sc, cuts, "cut at the border");
     TT_CHECKF(sc[0].n_jump >= sc[1].n_jump + 3, "without the cut: %ld jumps",
               sc[0].n_jump);
     TT_CHECKF(sc[1].n_jump <= 1, "%ld jumps", sc[1].n_jump);
@@ -678,12 +676,7 @@ static void test_wide_rib_real(void)
     td_scanscore sc[2];
     size_t cuts = 0;
     TT_CHECK(toggle_scores("frontrange20", 1, set_wide_rib, sc, &cuts) == 0);
-    fprintf(stderr,
-            "  crowded 20 scanned: recall %.4f -> %.4f, own %.4f -> %.4f, "
-            "jumps %ld -> %ld of %ld -> %ld lines, precision %.4f -> %.4f\n",
-            sc[0].recall, sc[1].recall, sc[0].own, sc[1].own, sc[0].n_jump,
-            sc[1].n_jump, sc[0].n_traced, sc[1].n_traced, sc[0].precision,
-            sc[1].precision);
+    toggle_print("crowded 20 scanned", sc, cuts, "lines cut in blobs");
     TT_CHECK(sc[1].recall >= sc[0].recall + 0.03);
     TT_CHECK(sc[1].own >= 0.998);
     TT_CHECKF(sc[1].n_jump <= 3, "%ld jumps", sc[1].n_jump);
