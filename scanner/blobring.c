@@ -80,21 +80,3 @@ long td_blob_rings(const uint8_t *bits, int w, int h, td_lines *ls,
     }
     return done;
 }
-
-/* Contract in blobring.h. */
-size_t td_speck_rings_drop(td_lines *ls)
-{
-    size_t i = ls->n, dropped = 0;
-    while (i-- > 0) {
-        const td_line *l = &ls->v[i];
-        double b[4];
-        if (!l->closed || l->n < 1)
-            continue;
-        td_line_box(l, b);
-        if (b[2] == b[0] && b[3] == b[1]) {
-            td_lines_remove(ls, i);
-            dropped++;
-        }
-    }
-    return dropped;
-}

@@ -25,13 +25,6 @@ extern "C" {
 long td_blob_rings(const uint8_t *bits, int w, int h, td_lines *ls,
                    td_ctx *cx);
 
-/* Drop from ls every closed line of zero length (all its vertices on one
- * point) that td_blob_rings left: a speck of ink too small to be a ring
- * the sheet's pen filled in (docs/scanner.md, "Tiny rings").  Written out
- * it would be a line of one point, which no GIS takes as a valid line.
- * Returns the number dropped. */
-size_t td_speck_rings_drop(td_lines *ls);
-
 #ifdef __cplusplus
 }
 #endif

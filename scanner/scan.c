@@ -331,7 +331,6 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             goto fail;
         }
         res->blob_rings = (size_t)nr;
-        res->speck_rings = td_speck_rings_drop(res->lines);
     }
     if (p->measure_width && p->ticks > 0) {
         long nd = td_ticks_mark(res->lines, bits, im->w, im->h, p->ticks,

@@ -143,7 +143,6 @@ typedef struct td_scan_result {
     td_trace_stats trace;
     td_join_stats join;
     size_t blob_rings;     /* tiny rings redrawn from their dots */
-    size_t speck_rings;    /* rings of one point dropped (specks) */
     size_t depressions;    /* rings read as depressions from their ticks */
     double edge;           /* the width of the ink's edges in px
                               (binarise.h's half-tone share x the pen / 2),

@@ -212,10 +212,6 @@ static void summary(const td_scan_result *r, double secs)
     else if (r->wide_cuts > 0)
         fprintf(stderr, "scan: %zu line%s ended where contours crowd into one "
                 "blob of ink\n", r->wide_cuts, r->wide_cuts == 1 ? "" : "s");
-    if (r->speck_rings > 0)
-        fprintf(stderr, "scan: %zu speck%s of ink that thinned to one point "
-                "dropped (too small to be a ring; a line of one point is no "
-                "line)\n", r->speck_rings, r->speck_rings == 1 ? "" : "s");
     if (r->join.gaps_open > 0)
         fprintf(stderr, "scan: %zu line end%s left open where a neighbour's "
                 "end was as near (joined, the line would step onto the next "
