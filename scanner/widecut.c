@@ -1,7 +1,8 @@
 /* Lines cut where their ink is too wide to tell contours apart
  * (widecut.h).  Three passes: every vertex's ink width against maxw and
- * against the line's own width + addw (on threads, line by line), the
- * other lines near each wide stretch (a sorted list of the vertices that
+ * against the line's own width + addw (on threads, line by line; where
+ * contours crowd, narrowed to the rib contacts and, when asked, the
+ * hairpins), the other lines near each wide stretch (a sorted list of the vertices that
  * fall in cells near a stretch), and the lines rebuilt without their wide
  * stretches.  Then, after labelling, the walls whose two sides agree. */
 #include "scanner/widecut.h"
