@@ -80,3 +80,34 @@ long td_blob_rings(const uint8_t *bits, int w, int h, td_lines *ls,
     }
     return done;
 }
+
+/* all n points of l on one spot */
+static int one_spot(const td_line *l)
+{
+    size_t k;
+    for (k = 1; k < l->n; k++)
+        if (l->xy[2 * k] != l->xy[0] || l->xy[2 * k + 1] != l->xy[1])
+            return 0;
+    return l->n > 0;
+}
+
+long td_point_rings(td_lines *ls, td_ctx *cx)
+{
+    static const double d[4][2] = {{1, 0}, {0, -1}, {-1, 0}, {0, 1}};
+    long done = 0;
+    size_t i, k;
+    for (i = 0; i < ls->n; i++) {
+        td_line *l = &ls->v[i];
+        double x, y;
+        if (!l->closed || !one_spot(l))
+            continue;
+        x = l->xy[0], y = l->xy[1];
+        l->n = 0;
+        for (k = 0; k < 4; k++)
+            if (td_line_push(l, x + TD_POINT_RING_R * d[k][0],
+                             y + TD_POINT_RING_R * d[k][1], cx) != 0)
+                return TD_ENOMEM;
+        done++;
+    }
+    return done;
+}

@@ -25,6 +25,16 @@ extern "C" {
 long td_blob_rings(const uint8_t *bits, int w, int h, td_lines *ls,
                    td_ctx *cx);
 
+/* For every closed line of ls whose points all lie on one spot (a ring
+ * that thinned to a single pixel and was not redrawn above): its points
+ * become a square ring of TD_POINT_RING_R px about that spot, inside the
+ * pixel.  A LineString of one point (or of one point twice) has no
+ * length and is invalid to GEOS, QGIS and RFC 7946; the ring is valid and
+ * rasterises to the same pixel.  Returns the number of rings so redrawn,
+ * or TD_ENOMEM. */
+#define TD_POINT_RING_R 0.25
+long td_point_rings(td_lines *ls, td_ctx *cx);
+
 #ifdef __cplusplus
 }
 #endif

@@ -332,6 +332,13 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         }
         res->blob_rings = (size_t)nr;
     }
+    {
+        long np = td_point_rings(res->lines, cx);
+        if (np < 0) {
+            rc = (int)np;
+            goto fail;
+        }
+    }
     if (p->measure_width && p->ticks > 0) {
         long nd = td_ticks_mark(res->lines, bits, im->w, im->h, p->ticks,
                                 cx);

@@ -7,8 +7,11 @@
 #include "tests/util/match.h"
 #include "samples/gen/gen.h"
 #include "scanner/scan.h"
+#include "src/io/io.h"
 
 #include <math.h>
+#include <ogr_api.h>
+#include <stdio.h>
 #include <string.h>
 
 /* Generate, scan, match; returns the report (and logs failures). */
@@ -195,6 +198,70 @@ static void test_blob_ring(void)
     }
     TT_CHECKF(found == 1 && res.blob_rings == 1, "%d rings near r 2.5, %zu "
               "redrawn", found, res.blob_rings);
+    td_scan_result_free(&res);
+    td_image_free(im);
+}
+
+/* scanner/blobring.c, td_point_rings: a summit ring smaller than its pen
+ * (a dot 4 px across, lines 2 px wide: too small to redraw as a circle)
+ * thins to one pixel.  It comes out as a closed ring of a fraction of a
+ * pixel about the dot, not a LineString of one point, which has no length
+ * and which GEOS (QGIS's validity check) rejects: every line written is
+ * valid there. */
+static void test_point_ring(void)
+{
+    td_image *im = td_image_new(200, 120, 1, NULL);
+    td_scan_params sp = td_scan_defaults();
+    td_scan_result res;
+    char path[512];
+    int x, y, found = 0, bad = 0, n = 0;
+    size_t i, k;
+    OGRDataSourceH ds;
+    for (y = 0; y < im->h; y++)
+        for (x = 0; x < im->w; x++) {
+            double d = hypot(x + 0.5 - 100, y + 0.5 - 80), v = 250;
+            int j;
+            if (d <= 2.0)
+                v = 10;
+            for (j = 0; j < 3; j++) /* long lines 2 px wide: the pen */
+                if (fabs(y + 0.5 - (20 + 40 * j) - 0.05 * (x - 100)) <= 1.0)
+                    v = 10;
+            im->data[(size_t)y * im->stride + x] = (uint8_t)v;
+        }
+    TT_CHECK(td_scan(im, &sp, &res, NULL) == 0);
+    for (i = 0; i < res.lines->n; i++) {
+        const td_line *l = &res.lines->v[i];
+        int near = l->n > 0;
+        for (k = 0; k < l->n; k++)
+            near &= hypot(l->xy[2 * k] - 100, l->xy[2 * k + 1] - 80) < 1.5;
+        if (!near)
+            continue;
+        found++;
+        TT_CHECKF(l->closed && td_line_length(l) > 0.5 && td_line_length(l) < 4,
+                  "the dot's ring: closed %d, %zu points, %.2f px long",
+                  l->closed, l->n, td_line_length(l));
+    }
+    TT_CHECKF(found == 1 && res.blob_rings == 0,
+              "%d lines at the dot, %zu redrawn as circles", found,
+              res.blob_rings);
+    snprintf(path, sizeof path, "%s/point_ring.geojson", tt_tmpdir());
+    TT_CHECK(td_geojson_write_lines(path, res.lines, NULL, NULL) == 0);
+    OGRRegisterAll();
+    TT_CHECK((ds = OGROpen(path, 0, NULL)) != NULL);
+    if (ds) {
+        OGRLayerH ly = OGR_DS_GetLayer(ds, 0);
+        OGRFeatureH f;
+        OGR_L_ResetReading(ly);
+        while ((f = OGR_L_GetNextFeature(ly)) != NULL) {
+            OGRGeometryH g = OGR_F_GetGeometryRef(f);
+            n++, bad += !g || !OGR_G_IsValid(g);
+            OGR_F_Destroy(f);
+        }
+        OGR_DS_Destroy(ds);
+    }
+    TT_CHECKF(n == (int)res.lines->n && bad == 0,
+              "%d of %d features read back invalid (%zu lines)", bad, n,
+              res.lines->n);
     td_scan_result_free(&res);
     td_image_free(im);
 }
@@ -711,6 +778,7 @@ int main(void)
     TT_RUN(test_plane);
     TT_RUN(test_brown);
     TT_RUN(test_blob_ring);
+    TT_RUN(test_point_ring);
     TT_RUN(test_depression_ticks);
     TT_RUN(test_ticks_real_dem);
     TT_RUN(test_ticks_on_print);
