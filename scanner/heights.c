@@ -137,6 +137,13 @@
 #define SAME_STRAIGHT                                                          \
     0.9 /* same_pieces: walls this straight (chord over                        \
            length) or more */
+#define VEE_CHORD                                                              \
+    8 /* same_pieces: vertices over which a piece's end direction is taken     \
+         (the scanner's hairpin chord, widecut.c) */
+#define VEE_COS                                                                \
+    0.7 /* ... two pieces leaving a wall this nearly the same way (turned      \
+           back by more than 134 degrees, as the scanner's hairpin cut) are    \
+           the arms of a V cut at its tip: vee_pair */
 #define SAME_KEY                                                               \
     145.0 /* same_pieces' edges in the forest's order: with a                  \
              face edge of 72 probes (WFACE each) */
@@ -213,6 +220,9 @@ typedef struct hs {
     uint32_t *same;      /* node pairs: two pieces of one cut line
                             (same_pieces), nsame pairs */
     size_t nsame;
+    uint64_t *vees; /* line pairs (lower << 32 | higher index) cut apart
+                       at a V's tip (same_pieces), sorted, nvee */
+    size_t nvee;
     uint32_t *gaps; /* node pairs: free ends that continue each other
                        across a gap (gap_pairs), ngaps pairs */
     size_t ngaps;
@@ -1182,6 +1192,34 @@ static long across(const hs *s, size_t l, int xs, long st, double *cost)
     return 2 * b + (1 - d);
 }
 
+/* ascending (qsort, bsearch) */
+static int cmp_u64(const void *pa, const void *pb)
+{
+    uint64_t a = *(const uint64_t *)pa, b = *(const uint64_t *)pb;
+    return (a > b) - (a < b);
+}
+
+/* the key of a pair of line indices, either order */
+static uint64_t line_pair(size_t a, size_t b)
+{
+    return a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+}
+
+/* Whether the lines of side nodes na and nb are the two arms of a V the
+ * scanner cut at its tip (same_pieces): the face between them is the V's
+ * inside, a fold when they are one contour (on the scanned crowded
+ * sheets mostly so): no fold prior there, and no count in fold_share,
+ * which is to measure the folds that leaks make. */
+static int vee_pair(const hs *s, uint32_t na, uint32_t nb)
+{
+    uint64_t k;
+    if (!s->nvee)
+        return 0;
+    k = line_pair(td_faces_chunk_line(s->fx, na / 2),
+                  td_faces_chunk_line(s->fx, nb / 2));
+    return bsearch(&k, s->vees, s->nvee, sizeof k, cmp_u64) != NULL;
+}
+
 /* What a fold across a face edge of w probes costs (the priors pass): a
  * face whose two lines step the same way from it is a ridge or valley
  * band.  On sheets of crowded contours (s->fold_k, fold_strength) such
@@ -1237,7 +1275,7 @@ static double fold_w(const hs *s, uint32_t c)
         return 0.0;
     if (nest_pair(s, c, s->par[c]))
         return W_NEST;
-    if (s->hole[c] || s->hole[s->par[c]])
+    if (s->hole[c] || s->hole[s->par[c]] || vee_pair(s, c, s->par[c]))
         return 0.0;
     return fold_cost(s, s->fe[s->pid[c]].w);
 }
@@ -1857,7 +1895,7 @@ static void free_all(hs *s)
     free(s->up_cost), free(s->up_prior), free(s->hole), free(s->ring);
     free(s->uf);
     free(s->rnear), free(s->contra), free(s->doubt), free(s->same),
-        free(s->gaps);
+        free(s->vees), free(s->gaps);
     free(s->comp);
     free(s->par), free(s->order), free(s->pkind), free(s->pid);
     free(s->adj_start), free(s->adj), free(s->intree), free(s->compdepth);
@@ -2110,6 +2148,32 @@ static long node_at(const hs *s, const td_line_end *ends, size_t n, double x,
     return -1;
 }
 
+/* The unit direction out of line l through its end (last: its last
+ * point), over at most VEE_CHORD vertices. */
+static void end_dir(const td_line *l, int last, double *u)
+{
+    size_t k = l->n - 1 < VEE_CHORD ? l->n - 1 : VEE_CHORD;
+    size_t e = last ? l->n - 1 : 0, i = last ? l->n - 1 - k : k;
+    double dx = l->xy[2 * e] - l->xy[2 * i],
+           dy = l->xy[2 * e + 1] - l->xy[2 * i + 1];
+    double d = hypot(dx, dy);
+    u[0] = d > 0 ? dx / d : 0.0, u[1] = d > 0 ? dy / d : 0.0;
+}
+
+/* Whether lines a and b, ending at the two ends of one wall, leave it the
+ * same way: the wall is the tip of a V (a hairpin cut, or a blob's stretch
+ * where a line turned back), not a stretch across a blob that the line
+ * ran on through. */
+static int turned_back(const td_line *a, int alast, const td_line *b, int blast)
+{
+    double ua[2], ub[2];
+    if (a->n < 2 || b->n < 2)
+        return 0;
+    end_dir(a, alast, ua);
+    end_dir(b, blast, ub);
+    return ua[0] * ub[0] + ua[1] * ub[1] > VEE_COS;
+}
+
 static int same_pieces(hs *s, td_ctx *cx)
 {
     const td_lines *w = s->p->walls;
@@ -2122,24 +2186,38 @@ static int same_pieces(hs *s, td_ctx *cx)
         free(v);
         return TD_ENOMEM;
     }
+    if (!(s->vees = td_malloc((w->n + 1) * sizeof *s->vees, cx))) {
+        free(v);
+        return TD_ENOMEM;
+    }
     for (i = 0; i < w->n; i++) {
         const td_line *l = &w->v[i];
         long a, b;
         int alast = 0, blast = 0;
+        size_t la, lb;
         if (l->n < 2 ||
-            hypot(l->xy[2 * l->n - 2] - l->xy[0],
-                  l->xy[2 * l->n - 1] - l->xy[1]) <
-                SAME_STRAIGHT * td_line_length(l) ||
             (a = node_at(s, v, n, l->xy[0], l->xy[1], &alast)) < 0 ||
             (b = node_at(s, v, n, l->xy[2 * l->n - 2], l->xy[2 * l->n - 1],
                          &blast)) < 0 ||
             a / 2 == b / 2)
+            continue;
+        la = td_faces_chunk_line(s->fx, (size_t)a / 2);
+        lb = td_faces_chunk_line(s->fx, (size_t)b / 2);
+        if (la != lb &&
+            turned_back(&s->ls->v[la], alast, &s->ls->v[lb], blast)) {
+            s->vees[s->nvee++] = line_pair(la, lb);
+            continue;
+        }
+        if (hypot(l->xy[2 * l->n - 2] - l->xy[0],
+                  l->xy[2 * l->n - 1] - l->xy[1]) <
+            SAME_STRAIGHT * td_line_length(l))
             continue;
         /* travelling on from a's end into b: the same sides when a ends
            there and b starts, else swapped */
         s->same[2 * s->nsame] = (uint32_t)a;
         s->same[2 * s->nsame++ + 1] = (uint32_t)b + (uint32_t)(alast == blast);
     }
+    qsort(s->vees, s->nvee, sizeof *s->vees, cmp_u64);
     free(v);
     return 0;
 }
@@ -2229,7 +2307,8 @@ static double edge_cost(const hs *s, const cedge *e, long ba, int da, long bb,
         return face_cost(s->fe[e->id].w);
     if (da == db && s->priors && nest_pair(s, e->a, e->b))
         return W_NEST;
-    if (da == db && s->priors && !s->hole[e->a] && !s->hole[e->b])
+    if (da == db && s->priors && !s->hole[e->a] && !s->hole[e->b] &&
+        !vee_pair(s, e->a, e->b))
         return fold_cost(s, s->fe[e->id].w);
     return 0.0;
 }
@@ -2652,7 +2731,7 @@ static double fold_share(const hs *s, const long *nb)
         const cedge *e = &s->ce[i];
         double w;
         if (e->kind != E_FACE || nb[e->a] != nb[e->b] || s->hole[e->a] ||
-            s->hole[e->b])
+            s->hole[e->b] || vee_pair(s, e->a, e->b))
             continue;
         w = s->fe[e->id].w;
         all += w;

@@ -29,6 +29,7 @@ td_scan_params td_scan_defaults(void)
     p.ticks = 2;
     p.wide_cut = 3.0;
     p.wide_rib = 2.2;
+    p.hairpin_cut = 1;
     p.wide_own = -1.0;
     p.join_other = 1;
     p.flank_cut = 1;

@@ -90,7 +90,7 @@ typedef struct td_scan_params {
                              (two ribs touching: widecut.h; ours),
                              default 2.2; 0: the whole blob's stretch */
     int hairpin_cut;      /* and there cut open lines where they turn back
-                             (widecut.h; ours), default 0 */
+                             (widecut.h; ours), default 1 */
     double wide_own;      /* and where it is wider than the line's own
                              width + this many pens with another line
                              ending there (two inks overlapping: widecut.h;

@@ -18,7 +18,8 @@
 #define WC_CELL 8  /* px: cells of the near-stretch vertex list */
 #define WC_RING 8  /* rings shorter than this many maxw stay whole */
 #define WC_RIB_MARGIN 3 /* vertices cut either side of a rib contact */
-/* The ribs are heeded, and hairpins cut when asked, on sheets with at least
+/* The ribs are heeded, and hairpins cut (when asked: td_scan asks by
+ * default), on sheets with at least
  * WC_RIB_DENSE blobs (stretches wider than maxw) a megapixel: where
  * contours crowd. */
 #define WC_RIB_DENSE 60

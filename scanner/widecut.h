@@ -77,8 +77,9 @@ typedef struct td_wide_params {
     int hairpins;         /* with ribs, where contours crowd, also cut open
                              lines where they turn back (more than 134
                              degrees between chords of 8 vertices): two
-                             contours whose inks met at a V's tip, mostly
-                             (ours; off by default: docs/scanner.md) */
+                             contours whose inks met at a V's tip, or one
+                             contour's V whose arms touch (ours; on in
+                             td_scan by default: docs/scanner.md) */
 } td_wide_params;
 
 /* The same, with wp: the merges over the line's own width + addw px,

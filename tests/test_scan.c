@@ -715,7 +715,9 @@ static void test_pale_lines(void)
  * when measured, one of them an index contour that took its two labels
  * onto the next contour; 3 before the wide cut heeded the ribs, which
  * keeps more of the blobs at the border); with it one (a hairpin inside
- * the sheet, at 1461,428), and nothing else lost. */
+ * the sheet, at 1461,428), and nothing else lost.  Since the hairpin cut
+ * is on by default (session 46) it takes some of them too (4 left without
+ * the border cut, own 0.9988 -> 0.9995 with it). */
 static void test_border_turns_real(void)
 {
     td_scanscore sc[2];
@@ -725,7 +727,7 @@ static void test_border_turns_real(void)
     TT_CHECKF(sc[0].n_jump >= sc[1].n_jump + 3, "without the cut: %ld jumps",
               sc[0].n_jump);
     TT_CHECKF(sc[1].n_jump <= 1, "%ld jumps", sc[1].n_jump);
-    TT_CHECK(sc[1].own >= sc[0].own + 0.001);
+    TT_CHECK(sc[1].own >= sc[0].own + 0.0005);
     TT_CHECK(sc[1].recall >= sc[0].recall - 0.001);
     TT_CHECK(sc[1].precision >= sc[0].precision - 0.001);
 }

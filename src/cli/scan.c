@@ -150,9 +150,10 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          .help = "where contours crowd and the seams split\nsuch a blob into "
          "one rib a contour, end\nthem only where their rib is wider than\n"
          "PENS line widths (two ribs touching; ours;\n0: the whole blob)"},
-        {"hairpin-cut", 0, TD_OPT_FLAG, &p->hairpin_cut, .help = "where "
-         "contours crowd, also cut lines\nwhere they turn back sharply (two "
-         "contours\nmet at a V's tip, mostly; ours)"},
+        {"no-hairpin-cut", 0, TD_OPT_OFF, &p->hairpin_cut, .help = "where "
+         "contours crowd, do not cut lines\nwhere they turn back sharply (at "
+         "a V's tip:\ntwo contours met there, or one contour's\narms touch; "
+         "ours)"},
         {"wide-own", 0, TD_OPT_FUNC, &p->wide_own, .fn = wide_own,
          .meta = "PENS", .help = "and where it is wider than the line's own\n"
          "width + PENS line widths with another line\nending there (two "
