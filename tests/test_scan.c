@@ -168,24 +168,30 @@ static void test_brown(void)
  * pen prints as a dot (beside long lines that set the pen width): the scan
  * gives it back as a closed line about 2.5 px from the dot's middle, not a
  * point. */
-static void test_blob_ring(void)
+/* A 200 x 120 sheet: a dot of ink of radius r px about (100, 80) and three
+ * long lines 2 px wide (they set the pen width). */
+static td_image *dot_sheet(double r)
 {
     td_image *im = td_image_new(200, 120, 1, NULL);
-    td_scan_params sp = td_scan_defaults();
-    td_scan_result res;
-    int x, y, found = 0;
-    size_t i, k;
-    for (y = 0; y < im->h; y++)
+    int x, y, j;
+    for (y = 0; im && y < im->h; y++)
         for (x = 0; x < im->w; x++) {
-            double d = hypot(x + 0.5 - 100, y + 0.5 - 80), v = 250;
-            int j;
-            if (d <= 3.5) /* the ring's outer edge: filled */
-                v = 10;
-            for (j = 0; j < 3; j++) /* long lines 2 px wide */
+            double v = hypot(x + 0.5 - 100, y + 0.5 - 80) <= r ? 10 : 250;
+            for (j = 0; j < 3; j++)
                 if (fabs(y + 0.5 - (20 + 40 * j) - 0.05 * (x - 100)) <= 1.0)
                     v = 10;
             im->data[(size_t)y * im->stride + x] = (uint8_t)v;
         }
+    return im;
+}
+
+static void test_blob_ring(void)
+{
+    td_image *im = dot_sheet(3.5); /* the ring's outer edge: filled */
+    td_scan_params sp = td_scan_defaults();
+    td_scan_result res;
+    int found = 0;
+    size_t i, k;
     TT_CHECK(td_scan(im, &sp, &res, NULL) == 0);
     for (i = 0; i < res.lines->n; i++) {
         const td_line *l = &res.lines->v[i];
@@ -210,24 +216,13 @@ static void test_blob_ring(void)
  * valid there. */
 static void test_point_ring(void)
 {
-    td_image *im = td_image_new(200, 120, 1, NULL);
+    td_image *im = dot_sheet(2.0);
     td_scan_params sp = td_scan_defaults();
     td_scan_result res;
     char path[512];
-    int x, y, found = 0, bad = 0, n = 0;
+    int found = 0, bad = 0, n = 0;
     size_t i, k;
     OGRDataSourceH ds;
-    for (y = 0; y < im->h; y++)
-        for (x = 0; x < im->w; x++) {
-            double d = hypot(x + 0.5 - 100, y + 0.5 - 80), v = 250;
-            int j;
-            if (d <= 2.0)
-                v = 10;
-            for (j = 0; j < 3; j++) /* long lines 2 px wide: the pen */
-                if (fabs(y + 0.5 - (20 + 40 * j) - 0.05 * (x - 100)) <= 1.0)
-                    v = 10;
-            im->data[(size_t)y * im->stride + x] = (uint8_t)v;
-        }
     TT_CHECK(td_scan(im, &sp, &res, NULL) == 0);
     for (i = 0; i < res.lines->n; i++) {
         const td_line *l = &res.lines->v[i];
