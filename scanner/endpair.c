@@ -17,21 +17,9 @@ typedef struct fend {
  * 0 when the line is too short to have one. */
 static int end_of(const td_line *l, int last, fend *e)
 {
-    size_t n = l->n, k, i;
-    double s = 0, px, py, d;
-    k = last ? n - 1 : 0;
+    size_t k = last ? l->n - 1 : 0;
     e->x = l->xy[2 * k], e->y = l->xy[2 * k + 1];
-    px = e->x, py = e->y;
-    for (i = 1; i < n && s < TD_ENDPAIR_TANGENT; i++) {
-        size_t j = last ? n - 1 - i : i;
-        s += hypot(l->xy[2 * j] - px, l->xy[2 * j + 1] - py);
-        px = l->xy[2 * j], py = l->xy[2 * j + 1];
-    }
-    d = hypot(e->x - px, e->y - py);
-    if (d < 1.0)
-        return 0;
-    e->tx = (e->x - px) / d, e->ty = (e->y - py) / d;
-    return 1;
+    return td_line_end_dir(l, last, TD_ENDPAIR_TANGENT, &e->tx, &e->ty);
 }
 
 /* Degrees between unit vector (tx, ty) and vector (gx, gy) of length g. */

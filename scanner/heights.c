@@ -137,13 +137,13 @@
 #define SAME_STRAIGHT                                                          \
     0.9 /* same_pieces: walls this straight (chord over                        \
            length) or more */
-#define VEE_CHORD                                                              \
-    8 /* same_pieces: vertices over which a piece's end direction is taken     \
-         (the scanner's hairpin chord, widecut.c) */
-#define VEE_COS                                                                \
+#define ARM_ARC                                                                \
+    8.0 /* same_pieces: px of a piece back from its end for its direction      \
+           (about the scanner's hairpin chord of 8 vertices, widecut.c) */
+#define ARM_COS                                                                \
     0.7 /* ... two pieces leaving a wall this nearly the same way (turned      \
            back by more than 134 degrees, as the scanner's hairpin cut) are    \
-           the arms of a V cut at its tip: vee_pair */
+           the arms of a V cut at its tip (hs.arms) */
 #define SAME_KEY                                                               \
     145.0 /* same_pieces' edges in the forest's order: with a                  \
              face edge of 72 probes (WFACE each) */
@@ -220,9 +220,13 @@ typedef struct hs {
     uint32_t *same;      /* node pairs: two pieces of one cut line
                             (same_pieces), nsame pairs */
     size_t nsame;
-    uint64_t *vees; /* line pairs (lower << 32 | higher index) cut apart
-                       at a V's tip (same_pieces), sorted, nvee */
-    size_t nvee;
+    unsigned char *arms; /* per face edge: between the two arms of a V the
+                            scanner cut at its tip (same_pieces; NULL:
+                            none): the V's inside, a fold when the arms
+                            are one contour (on the scanned crowded sheets
+                            mostly so), so no fold prior there and no
+                            count in fold_share, which is to measure the
+                            folds that leaks make */
     uint32_t *gaps; /* node pairs: free ends that continue each other
                        across a gap (gap_pairs), ngaps pairs */
     size_t ngaps;
@@ -1192,32 +1196,10 @@ static long across(const hs *s, size_t l, int xs, long st, double *cost)
     return 2 * b + (1 - d);
 }
 
-/* ascending (qsort, bsearch) */
-static int cmp_u64(const void *pa, const void *pb)
+/* Face edge i lies between the two arms of a V (hs.arms). */
+static int arms_edge(const hs *s, size_t i)
 {
-    uint64_t a = *(const uint64_t *)pa, b = *(const uint64_t *)pb;
-    return (a > b) - (a < b);
-}
-
-/* the key of a pair of line indices, either order */
-static uint64_t line_pair(size_t a, size_t b)
-{
-    return a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
-}
-
-/* Whether the lines of side nodes na and nb are the two arms of a V the
- * scanner cut at its tip (same_pieces): the face between them is the V's
- * inside, a fold when they are one contour (on the scanned crowded
- * sheets mostly so): no fold prior there, and no count in fold_share,
- * which is to measure the folds that leaks make. */
-static int vee_pair(const hs *s, uint32_t na, uint32_t nb)
-{
-    uint64_t k;
-    if (!s->nvee)
-        return 0;
-    k = line_pair(td_faces_chunk_line(s->fx, na / 2),
-                  td_faces_chunk_line(s->fx, nb / 2));
-    return bsearch(&k, s->vees, s->nvee, sizeof k, cmp_u64) != NULL;
+    return s->arms && s->arms[i];
 }
 
 /* What a fold across a face edge of w probes costs (the priors pass): a
@@ -1275,7 +1257,7 @@ static double fold_w(const hs *s, uint32_t c)
         return 0.0;
     if (nest_pair(s, c, s->par[c]))
         return W_NEST;
-    if (s->hole[c] || s->hole[s->par[c]] || vee_pair(s, c, s->par[c]))
+    if (s->hole[c] || s->hole[s->par[c]] || arms_edge(s, s->pid[c]))
         return 0.0;
     return fold_cost(s, s->fe[s->pid[c]].w);
 }
@@ -1895,7 +1877,7 @@ static void free_all(hs *s)
     free(s->up_cost), free(s->up_prior), free(s->hole), free(s->ring);
     free(s->uf);
     free(s->rnear), free(s->contra), free(s->doubt), free(s->same),
-        free(s->vees), free(s->gaps);
+        free(s->arms), free(s->gaps);
     free(s->comp);
     free(s->par), free(s->order), free(s->pkind), free(s->pid);
     free(s->adj_start), free(s->adj), free(s->intree), free(s->compdepth);
@@ -2148,18 +2130,6 @@ static long node_at(const hs *s, const td_line_end *ends, size_t n, double x,
     return -1;
 }
 
-/* The unit direction out of line l through its end (last: its last
- * point), over at most VEE_CHORD vertices. */
-static void end_dir(const td_line *l, int last, double *u)
-{
-    size_t k = l->n - 1 < VEE_CHORD ? l->n - 1 : VEE_CHORD;
-    size_t e = last ? l->n - 1 : 0, i = last ? l->n - 1 - k : k;
-    double dx = l->xy[2 * e] - l->xy[2 * i],
-           dy = l->xy[2 * e + 1] - l->xy[2 * i + 1];
-    double d = hypot(dx, dy);
-    u[0] = d > 0 ? dx / d : 0.0, u[1] = d > 0 ? dy / d : 0.0;
-}
-
 /* Whether lines a and b, ending at the two ends of one wall, leave it the
  * same way: the wall is the tip of a V (a hairpin cut, or a blob's stretch
  * where a line turned back), not a stretch across a blob that the line
@@ -2167,18 +2137,53 @@ static void end_dir(const td_line *l, int last, double *u)
 static int turned_back(const td_line *a, int alast, const td_line *b, int blast)
 {
     double ua[2], ub[2];
-    if (a->n < 2 || b->n < 2)
+    return td_line_end_dir(a, alast, ARM_ARC, &ua[0], &ua[1]) &&
+           td_line_end_dir(b, blast, ARM_ARC, &ub[0], &ub[1]) &&
+           ua[0] * ub[0] + ua[1] * ub[1] > ARM_COS;
+}
+
+static int cmp_u64(const void *pa, const void *pb)
+{
+    uint64_t a = *(const uint64_t *)pa, b = *(const uint64_t *)pb;
+    return (a > b) - (a < b);
+}
+
+/* the key of a pair of line indices, either order */
+static uint64_t line_pair(size_t a, size_t b)
+{
+    return a < b ? (uint64_t)a << 32 | b : (uint64_t)b << 32 | a;
+}
+
+/* hs.arms from the na line pairs in arm (freed here): the face edges
+ * between the two lines of a pair.  0 or TD_ENOMEM. */
+static int mark_arms(hs *s, size_t *arm, size_t na, td_ctx *cx)
+{
+    uint64_t *key = na ? td_malloc(na * sizeof *key, cx) : NULL;
+    size_t i;
+    if (na && (!key || !(s->arms = td_calloc(s->nfe + 1, 1, cx)))) {
+        free(arm), free(key);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < na; i++)
+        key[i] = line_pair(arm[2 * i], arm[2 * i + 1]);
+    free(arm);
+    if (!na)
         return 0;
-    end_dir(a, alast, ua);
-    end_dir(b, blast, ub);
-    return ua[0] * ub[0] + ua[1] * ub[1] > VEE_COS;
+    qsort(key, na, sizeof *key, cmp_u64);
+    for (i = 0; i < s->nfe; i++) {
+        uint64_t k = line_pair(td_faces_chunk_line(s->fx, s->fe[i].a / 2),
+                               td_faces_chunk_line(s->fx, s->fe[i].b / 2));
+        s->arms[i] = bsearch(&k, key, na, sizeof k, cmp_u64) != NULL;
+    }
+    free(key);
+    return 0;
 }
 
 static int same_pieces(hs *s, td_ctx *cx)
 {
     const td_lines *w = s->p->walls;
     td_line_end *v;
-    size_t i, n = 0;
+    size_t i, n = 0, *arm, na = 0;
     if (!w || !w->n)
         return 0;
     if (td_line_ends(s->ls, end_used, s->fx, &v, &n, cx) != 0 ||
@@ -2186,7 +2191,7 @@ static int same_pieces(hs *s, td_ctx *cx)
         free(v);
         return TD_ENOMEM;
     }
-    if (!(s->vees = td_malloc((w->n + 1) * sizeof *s->vees, cx))) {
+    if (!(arm = td_malloc((2 * w->n + 1) * sizeof *arm, cx))) {
         free(v);
         return TD_ENOMEM;
     }
@@ -2205,7 +2210,7 @@ static int same_pieces(hs *s, td_ctx *cx)
         lb = td_faces_chunk_line(s->fx, (size_t)b / 2);
         if (la != lb &&
             turned_back(&s->ls->v[la], alast, &s->ls->v[lb], blast)) {
-            s->vees[s->nvee++] = line_pair(la, lb);
+            arm[2 * na] = la, arm[2 * na++ + 1] = lb;
             continue;
         }
         if (hypot(l->xy[2 * l->n - 2] - l->xy[0],
@@ -2217,9 +2222,8 @@ static int same_pieces(hs *s, td_ctx *cx)
         s->same[2 * s->nsame] = (uint32_t)a;
         s->same[2 * s->nsame++ + 1] = (uint32_t)b + (uint32_t)(alast == blast);
     }
-    qsort(s->vees, s->nvee, sizeof *s->vees, cmp_u64);
     free(v);
-    return 0;
+    return mark_arms(s, arm, na, cx);
 }
 
 /* Free ends that continue each other across a gap (endpair.h; ours): the
@@ -2308,7 +2312,7 @@ static double edge_cost(const hs *s, const cedge *e, long ba, int da, long bb,
     if (da == db && s->priors && nest_pair(s, e->a, e->b))
         return W_NEST;
     if (da == db && s->priors && !s->hole[e->a] && !s->hole[e->b] &&
-        !vee_pair(s, e->a, e->b))
+        !arms_edge(s, e->id))
         return fold_cost(s, s->fe[e->id].w);
     return 0.0;
 }
@@ -2731,7 +2735,7 @@ static double fold_share(const hs *s, const long *nb)
         const cedge *e = &s->ce[i];
         double w;
         if (e->kind != E_FACE || nb[e->a] != nb[e->b] || s->hole[e->a] ||
-            s->hole[e->b] || vee_pair(s, e->a, e->b))
+            s->hole[e->b] || arms_edge(s, e->id))
             continue;
         w = s->fe[e->id].w;
         all += w;

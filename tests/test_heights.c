@@ -1039,7 +1039,7 @@ static int labels_only(td_hsheet *hs, const char *dem, double scale,
  * the strong fold prior came on for the whole sheet and turned the
  * unevidenced north-west corner upside down (lines there 3-11 intervals
  * off, the lines' height RMSE 3.6 -> 6.6 m).  The arms of a V are neither
- * folded nor counted now (heights.c, vee_pair): RMSE under 4.5 m.  And the
+ * folded nor counted now (heights.c, hs.arms): RMSE under 4.5 m.  And the
  * new print's mirrored north-east half (since session 38; labels only
  * 0.42 of the length right) comes out right with the hairpins cut: at
  * least 0.9. */

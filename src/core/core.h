@@ -251,6 +251,13 @@ void td_lines_remove(td_lines *ls, size_t i);
 /* Length of the polyline (closing segment included when closed). */
 double td_line_length(const td_line *l);
 
+/* The unit direction out of open line l through its end (last: its last
+ * point, else its first), over arc px of the line back from that end (or
+ * all of it), into *ux, *uy; 0 (and no direction) when that end lies
+ * less than 1 px from the point the arc reaches. */
+int td_line_end_dir(const td_line *l, int last, double arc, double *ux,
+                    double *uy);
+
 /* The bounding box of l's vertices: b = x0, y0, x1, y1 (x0 = +inf, x1 =
  * -inf when l has none).  Comparisons, not fmin/fmax (library calls here;
  * vertices are never NaN). */

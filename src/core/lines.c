@@ -121,6 +121,26 @@ void td_line_box(const td_line *l, double b[4])
 }
 
 /* See core.h. */
+int td_line_end_dir(const td_line *l, int last, double arc, double *ux,
+                    double *uy)
+{
+    size_t n = l->n, k = last ? n - 1 : 0, i;
+    double x, y, px, py, s = 0, d;
+    if (n == 0)
+        return 0;
+    x = px = l->xy[2 * k], y = py = l->xy[2 * k + 1];
+    for (i = 1; i < n && s < arc; i++) {
+        size_t j = last ? n - 1 - i : i;
+        s += hypot(l->xy[2 * j] - px, l->xy[2 * j + 1] - py);
+        px = l->xy[2 * j], py = l->xy[2 * j + 1];
+    }
+    d = hypot(x - px, y - py);
+    if (d < 1.0)
+        return 0;
+    *ux = (x - px) / d, *uy = (y - py) / d;
+    return 1;
+}
+
 double td_line_length(const td_line *l)
 {
     double len = 0.0;
