@@ -1732,6 +1732,8 @@ fail:
 
 #define MAX_TEXT_BOXES 65536
 #define TEXT_GAP 4.0 /* px between a digit ring and the next glyph */
+/* keep_pieces: junction pieces from this share of min_length (10 px) */
+#define KEEP_JUNC 0.4
 #define TEXT_NEAR 12.0 /* a straight piece this near a curled one is text */
 
 /* The gap between boxes a and b (0 when they overlap). */
@@ -1789,8 +1791,9 @@ static int keep_straight(const td_lines *ls, const td_join_params *p,
     return 0;
 }
 
-/* Candidate pieces at least min_length long (longer than a digit's
- * stroke) with both ends at skeleton junctions that join them,
+/* Candidate pieces at least piece_min long (min_length: longer than a
+ * digit's stroke; keep_pieces: KEEP_JUNC of it) with both ends at
+ * skeleton junctions that join them,
  * through other such pieces, to a line that is no candidate are pieces of
  * a contour network (a narrow finger of a contour pinched where its sides
  * touch: the pieces between the pinch and the junctions), not a label's
@@ -1802,7 +1805,7 @@ static int keep_straight(const td_lines *ls, const td_join_params *p,
  * tracer stops at each junction, more ink than one digit's strokes. */
 static int junction_attached(const td_lines *ls, const jend *e, size_t ne,
                              const uint8_t *cand, double min_length,
-                             uint8_t *cont, td_ctx *cx)
+                             double piece_min, uint8_t *cont, td_ctx *cx)
 {
     size_t *uf = td_malloc((ls->n + 1) * sizeof *uf, cx), i, j, n = 0;
     td_dkey *k = td_malloc((ne + 1) * sizeof *k, cx);
@@ -1835,7 +1838,7 @@ static int junction_attached(const td_lines *ls, const jend *e, size_t ne,
     for (i = 0; i < n; i++) {
         size_t li = e[k[i].i].line;
         if (cand[li] && ls->v[li].junc == 3 &&
-            td_line_length(&ls->v[li]) >= min_length && lng[zfind(uf, li)])
+            td_line_length(&ls->v[li]) >= piece_min && lng[zfind(uf, li)])
             cont[k[i].i] = 1;
     }
     free(uf), free(k), free(lng), free(net);
@@ -1912,6 +1915,19 @@ static int chain_continue(const td_lines *ls, const jend *e, size_t ne,
     return 0;
 }
 
+/* Whether half of l's points or more lie on another ink (within 1 px):
+ * a dash of a road the mask took, whose end meets a contour's where the
+ * road crosses it. */
+static int on_other(const td_join_params *p, const td_line *l)
+{
+    size_t k, on = 0;
+    if (!p->other)
+        return 0;
+    for (k = 0; k < l->n; k++)
+        on += (size_t)other_at(p, l->xy[2 * k], l->xy[2 * k + 1]);
+    return 2 * on >= l->n;
+}
+
 /* Short open lines (shorter than min_length, or fitting in a box of that
  * side: a bent digit such as 2 or 5) with both ends inside the sheet are
  * label or text fragments unless both ends continue longer lines (a stage-1
@@ -1920,7 +1936,8 @@ static int chain_continue(const td_lines *ls, const jend *e, size_t ne,
  * breaks is kept; so is a compact piece at least twice min_length long with
  * both ends at skeleton junctions (a small ring cut open where it touches a
  * line).  Small closed rings within TEXT_GAP px of a removed fragment are the
- * 0, 6, 8 and 9 of the same label and go too. */
+ * 0, 6, 8 and 9 of the same label and go too.  With p->keep_pieces, more
+ * stay (join.h). */
 static int remove_fragments(td_lines *ls, const td_join_params *p,
                             td_join_stats *st, td_ctx *cx)
 {
@@ -1950,6 +1967,8 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
            digit's outline */
         if (cand[i] && ls->v[i].junc == 3 && len >= 2 * p->min_length)
             cand[i] = 0;
+        if (p->keep_pieces && ls->v[i].pale) /* no glyph: clear of the ink */
+            cand[i] = 0;
     }
     if (p->straight_keep > 0 && (rc = keep_straight(ls, p, cand, cx)) != 0)
         goto fail;
@@ -1963,12 +1982,19 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
     if (p->chains &&
         (rc = chain_continue(ls, e, ne, eol, pairs, np, cand, cont, cx)) != 0)
         goto fail;
-    if ((rc = junction_attached(ls, e, ne, cand, p->min_length, cont, cx)) != 0)
+    if ((rc = junction_attached(ls, e, ne, cand, p->min_length,
+                                p->keep_pieces ? KEEP_JUNC * p->min_length
+                                               : p->min_length,
+                                cont, cx)) != 0)
         goto fail;
-    for (i = ls->n; i-- > 0;)
-        if (cand[i] && !(cont[eol[2 * i]] && cont[eol[2 * i + 1]]) &&
-            !(hooked(&ls->v[i], p->min_length) &&
-              (cont[eol[2 * i]] || cont[eol[2 * i + 1]]))) {
+    for (i = ls->n; i-- > 0;) {
+        int c0, c1; /* eol is -1 off the candidates */
+        if (!cand[i])
+            continue;
+        c0 = cont[eol[2 * i]], c1 = cont[eol[2 * i + 1]];
+        if (!(c0 && c1) &&
+            !(hooked(&ls->v[i], p->min_length) && (c0 || c1)) &&
+            !(p->keep_pieces && (c0 || c1) && !on_other(p, &ls->v[i]))) {
             if (nbox < MAX_TEXT_BOXES)
                 td_line_box(&ls->v[i], box[nbox++]);
             if (p->record && keep_text(st, &ls->v[i], cx) != 0)
@@ -1976,6 +2002,7 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
             td_lines_remove(ls, i);
             st->fragments++;
         }
+    }
     /* the rings of 0, 6, 8, 9 next to the other digits of a label whose
        gap was not joined (no join passed through them) */
     for (again = nbox > 0; again;) { /* a ring next to a removed ring too */

@@ -32,6 +32,15 @@ typedef struct td_join_params {
                    chain running from one longer line's end to another's
                    are a contour broken several times, and stay (default
                    1) */
+    int keep_pieces;   /* stage 0 (ours): more short pieces stay as contour:
+                          one end continuing a longer line (unless half the
+                          piece lies on another ink: a road's dash), pieces
+                          between two skeleton junctions of the contour
+                          network from 0.4 min_length, and every line
+                          traced from faded ridges (td_line.pale).  More
+                          of a faded sheet's lines; the heights may come
+                          out worse (docs/scanner.md, "Pieces the text
+                          filter takes"; default 0) */
     double long_gap;   /* stage 2: longest label gap joined, px (default
                           70: a 60-px label gap plus the skeleton's pull-back
                           at both ends; <= max_gap: off) */

@@ -329,6 +329,7 @@ long td_pale_trace(const uint8_t *bits, int w, int h, const td_pale_params *p,
             l->xy[2 * q] += x0, l->xy[2 * q + 1] += y0;
         if ((err = td_lines_append_copy(lines, l, cx)) == 0) {
             lines->v[lines->n - 1].id = (long)lines->n - 1;
+            lines->v[lines->n - 1].pale = 1;
             added++;
         }
     }

@@ -683,6 +683,71 @@ static void test_chain_not_at_junction(void)
     td_lines_free(ls);
 }
 
+/* A 14-px bump (too bent for straight_keep: a digit could curl so)
+ * from x0 along y. */
+static td_line *add_bump(td_lines *ls, double x0, double y)
+{
+    td_line *l = td_lines_add(ls, NULL);
+    double x;
+    for (x = x0; x <= x0 + 14; x += 0.5)
+        td_line_push(l, x, y - 3 * (1 - cos(M_PI * (x - x0) / 7)), NULL);
+    return l;
+}
+
+/* keep_pieces (ours, off by default): short pieces the text filter takes
+ * on faded sheets, 448 of whose 463 lie on contours on the printed
+ * Front Range 25 sheet (docs/scanner.md, "Pieces the text filter
+ * takes").  A bent 14-px piece 3 px beyond a long line's end, its other
+ * end free (the line faded there), goes by default and stays (joined on)
+ * with the option, unless half of it lies on another ink (a road's dash
+ * whose end meets a contour's).  A piece traced from faded ridges
+ * (td_line.pale) with nothing near stays.  (Pieces between two
+ * junctions: test_scan.c, test_short_pinch.) */
+static void test_keep_pieces(void)
+{
+    size_t stride = (W + 7) / 8;
+    static uint8_t bits[(W + 7) / 8 * H + 1];
+    int keep, road, x, y;
+    for (keep = 0; keep < 2; keep++)
+        for (road = 0; road < 2; road++) {
+            td_join_params p = td_join_defaults(W, H);
+            td_join_stats st;
+            td_lines *ls = td_lines_new(NULL);
+            int kept;
+            p.keep_pieces = keep;
+            add_hline(ls, 20, 100, 100);
+            add_bump(ls, 103, 100);
+            memset(bits, 0, sizeof bits);
+            for (y = 92; y <= 102; y++)
+                for (x = 101; x <= 119; x++)
+                    bits[(size_t)y * stride + (x >> 3)] |=
+                        (uint8_t)(1u << (x & 7));
+            p.other = road ? bits : NULL;
+            TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+            kept = ls->n == 1 && td_line_length(&ls->v[0]) > 95;
+            TT_CHECKF(kept == (keep && !road) && ls->n == 1,
+                      "keep %d road %d: %zu lines, first %g px, %zu "
+                      "fragments",
+                      keep, road, ls->n,
+                      ls->n ? td_line_length(&ls->v[0]) : 0.0, st.fragments);
+            td_join_stats_free(&st);
+            td_lines_free(ls);
+        }
+    for (keep = 0; keep < 2; keep++) { /* a faded ridge's piece */
+        td_join_params p = td_join_defaults(W, H);
+        td_join_stats st;
+        td_lines *ls = td_lines_new(NULL);
+        p.keep_pieces = keep;
+        add_hline(ls, 20, 100, 40);
+        add_bump(ls, 150, 140)->pale = 1;
+        TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+        TT_CHECKF(ls->n == (size_t)(1 + keep), "keep %d: pale piece, %zu lines",
+                  keep, ls->n);
+        td_join_stats_free(&st);
+        td_lines_free(ls);
+    }
+}
+
 /* Number of proper crossings between segment ab and the lines. */
 static int seg_crossings(const double *a, const double *b, const td_lines *ls)
 {
@@ -911,6 +976,7 @@ int main(void)
     TT_RUN(test_faded_pieces);
     TT_RUN(test_broken_chain);
     TT_RUN(test_chain_not_at_junction);
+    TT_RUN(test_keep_pieces);
     TT_RUN(test_joins_never_cross);
     TT_RUN(test_labels_off);
     TT_RUN(test_labelled_sheets);

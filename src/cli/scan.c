@@ -137,6 +137,12 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          .meta = "PX", .help = "remove open fragments (label digits, text)\n"
          "shorter than PX or fitting in a PX box,\nunless both ends continue "
          "lines (0: off)"},
+        {"keep-pieces", 0, TD_OPT_FLAG, &p->join.keep_pieces, .help =
+         "faded or crowded sheets (ours): keep more\nshort pieces the text "
+         "filter above would\ntake: one end continuing a longer line\n"
+         "(not on a road), between two junctions,\nor traced from faded "
+         "ridges (more of the\nsheet's lines; the heights may come out\n"
+         "worse: see docs/scanner.md)"},
         {"ticks", 0, TD_OPT_INT, &p->ticks, 0, 1000, .meta = "N", .help =
          "a ring with at least N ticks on its inside\n(printed maps' "
          "depression contours) is written\nwith depression: true, which "

@@ -226,6 +226,8 @@ typedef struct td_line {
                           downhill side; the generator knows, the scanner
                           reads the ticks): 1, else 0 */
     const char *why;   /* static text: why the height is null, or NULL */
+    unsigned char pale; /* traced from a faded contour's ridges apart from
+                           the ink (scanner/pale.h), not from the ink */
 } td_line;
 
 typedef struct td_lines {

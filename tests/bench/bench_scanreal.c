@@ -42,15 +42,15 @@ static void one_kind(const char *name, td_gen_params gp, int kind, int logit,
         td_ctx_clear(cx);
         return;
     }
-    for (v = 0; v < 8; v++) {
+    for (v = 0; v < 9; v++) {
         /* paper junctions, cut without seams, the default; colour:
            --ink brown, and the first brown selection (hue window);
            the default without the grid-line removal; the default
            pairing every junction zone's ends (no ambiguity rule);
-           colour: --detint */
-        static const char *const vname[8] = {
-            "paper",     "cut,noseam", "default",  "ink brown",
-            "brown-hue", "nogrid",     "junc any", "detint"};
+           colour: --detint; --keep-pieces */
+        static const char *const vname[9] = {
+            "paper",  "cut,noseam", "default", "ink brown", "brown-hue",
+            "nogrid", "junc any",   "detint",  "keep pcs"};
         int paper = v == 0;
         td_scan_params sp = td_scan_defaults();
         td_scan_result res;
@@ -60,6 +60,8 @@ static void one_kind(const char *name, td_gen_params gp, int kind, int logit,
             continue;
         if (v == 7)
             sp.detint = 1;
+        if (v == 8)
+            sp.join.keep_pieces = 1;
         if (v == 5)
             sp.straight.on = 0;
         if (v == 6)
