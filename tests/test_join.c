@@ -701,8 +701,9 @@ static td_line *add_bump(td_lines *ls, double x0, double y)
  * end free (the line faded there), goes by default and stays (joined on)
  * with the option, unless half of it lies on another ink (a road's dash
  * whose end meets a contour's).  A piece traced from faded ridges
- * (td_line.pale) with nothing near stays.  (Pieces between two
- * junctions: test_scan.c, test_short_pinch.) */
+ * (td_line.pale) with nothing near stays.  (A pinched finger:
+ * test_scan.c, test_short_pinch.  The third rule, junction pieces from
+ * 10 px, is measured on bench_scanreal's "keep pcs" rows.) */
 static void test_keep_pieces(void)
 {
     size_t stride = (W + 7) / 8;

@@ -566,7 +566,9 @@ static void test_pinched_finger(void)
  * junctions are 18 px, under min_length but over bridge_max.  By
  * default they go as a label's glyphs would (the finger's middle lost:
  * recall 0.889); with keep_pieces (ours, off by default; docs/scanner.md,
- * "Pieces the text filter takes") they stay and the finger is traced. */
+ * "Pieces the text filter takes") they stay and the finger is traced
+ * (each side has one end that continues the line; without that rule,
+ * the junction rule alone keeps them too). */
 static void test_short_pinch(void)
 {
     static const double P[] = {5,   90, 85,  90,  99,  86,  93,  79,  99,
