@@ -227,7 +227,9 @@ typedef struct td_line {
                           reads the ticks): 1, else 0 */
     const char *why;   /* static text: why the height is null, or NULL */
     unsigned char pale; /* traced from a faded contour's ridges apart from
-                           the ink (scanner/pale.h), not from the ink */
+                           the ink (scanner/pale.h), not from the ink; read
+                           by the joiner's text filter (keep_pieces) before
+                           any join, and kept by copies only */
 } td_line;
 
 typedef struct td_lines {
