@@ -45,6 +45,18 @@ static void add_ring(td_lines *ls, double cx, double cy, double r, int n)
     l->closed = 1;
 }
 
+/* A packed other-ink map (W x H, td_join_params.other) with nothing but
+ * the box x0..x1, y0..y1 set. */
+static void other_box(uint8_t *bits, int x0, int x1, int y0, int y1)
+{
+    size_t stride = (W + 7) / 8;
+    int x, y;
+    memset(bits, 0, stride * H);
+    for (y = y0; y <= y1; y++)
+        for (x = x0; x <= x1; x++)
+            bits[(size_t)y * stride + (x >> 3)] |= (uint8_t)(1u << (x & 7));
+}
+
 static size_t count_closed(const td_lines *ls)
 {
     size_t i, n = 0;
@@ -432,21 +444,18 @@ static void test_near_end_left_open(void)
  * the gap (a 4-px band across it) does not stop the join. */
 static void test_gap_under_other_ink(void)
 {
-    size_t stride = (W + 7) / 8;
     static uint8_t bits[(W + 7) / 8 * H + 1];
-    int k, x, y;
+    int k;
     for (k = 0; k < 3; k++) {
         td_join_params p = td_join_defaults(W, H);
         td_join_stats st;
         td_lines *ls = td_lines_new(NULL);
         add_hline(ls, 20, 130, 100);
         add_hline(ls, 160, 280, 100);
-        memset(bits, 0, sizeof bits);
-        for (y = 97; y <= 103; y++) /* k 1: a road along the gap; 2: across */
-            for (x = 125; x <= 165; x++)
-                if ((k == 1) || (k == 2 && x >= 143 && x <= 146))
-                    bits[(size_t)y * stride + (x >> 3)] |=
-                        (uint8_t)(1u << (x & 7));
+        if (k == 1) /* a road along the gap */
+            other_box(bits, 125, 165, 97, 103);
+        else /* across it */
+            other_box(bits, 143, 146, 97, 103);
         p.other = k ? bits : NULL;
         TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
         TT_CHECKF((k == 1) == (ls->n == 2),
@@ -706,9 +715,8 @@ static td_line *add_bump(td_lines *ls, double x0, double y)
  * 10 px, is measured on bench_scanreal's "keep pcs" rows.) */
 static void test_keep_pieces(void)
 {
-    size_t stride = (W + 7) / 8;
     static uint8_t bits[(W + 7) / 8 * H + 1];
-    int keep, road, x, y;
+    int keep, road;
     for (keep = 0; keep < 2; keep++)
         for (road = 0; road < 2; road++) {
             td_join_params p = td_join_defaults(W, H);
@@ -718,11 +726,7 @@ static void test_keep_pieces(void)
             p.keep_pieces = keep;
             add_hline(ls, 20, 100, 100);
             add_bump(ls, 103, 100);
-            memset(bits, 0, sizeof bits);
-            for (y = 92; y <= 102; y++)
-                for (x = 101; x <= 119; x++)
-                    bits[(size_t)y * stride + (x >> 3)] |=
-                        (uint8_t)(1u << (x & 7));
+            other_box(bits, 101, 119, 92, 102);
             p.other = road ? bits : NULL;
             TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
             kept = ls->n == 1 && td_line_length(&ls->v[0]) > 95;
