@@ -318,7 +318,8 @@ td_faces *td_faces_new_walls(const td_lines *ls, const td_lines *walls, int w,
 #pragma omp parallel for schedule(dynamic, 64)
     for (i = 0; i < ls->n; i++) {
         f->len[i] = td_line_length(&ls->v[i]);
-        f->used[i] = ls->v[i].n >= 2 && f->len[i] >= f->p.min_len;
+        f->used[i] =
+            ls->v[i].n >= 2 && f->len[i] >= f->p.min_len && !ls->v[i].piece;
     }
     if (make_chunks(f, cx) != 0 || simplify_all(f, cx) != 0 ||
         add_walls(f, walls, cx) != 0)

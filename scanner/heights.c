@@ -2989,6 +2989,7 @@ static void count(hs *s)
         if (!l->has_height) {
             r->undetermined_ids[r->undetermined++] = l->id;
             r->short_lines += l->why == short_why;
+            r->pieces_left += l->piece;
             continue;
         }
         r->labelled++;
@@ -3438,6 +3439,8 @@ static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
     if (!(rep->undetermined_ids = td_calloc(ls->n + 1, sizeof(long), cx)) ||
         !(rep->assumed_ids = td_calloc(ls->n + 1, sizeof(long), cx)))
         goto fail;
+    if ((rc = td_label_pieces(ls, cx)) != 0)
+        goto fail;
     count(&s);
     one_level_note(&s);
     rep->interval = p->interval;
@@ -3526,8 +3529,8 @@ static int label_walls(const td_lines *ls, const td_label_params *p,
 
 static int long_enough(size_t i, const void *u)
 {
-    return td_line_length(&((const td_lines *)u)->v[i]) >=
-           td_faces_defaults().min_len;
+    const td_line *l = &((const td_lines *)u)->v[i];
+    return !l->piece && td_line_length(l) >= td_faces_defaults().min_len;
 }
 
 /* Walls across the gaps between free ends that continue each other (ours;

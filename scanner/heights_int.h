@@ -27,4 +27,11 @@ int td_heights_infer(td_lines *ls, const td_label_params *p,
 int td_heights_solve_index(td_lines *ls, const td_label_params *p,
                            td_label_report *rep, td_ctx *cx);
 
+/* After the face solve (labelpiece.c, ours): every short piece the
+ * scanner set aside (td_line.piece), left out of the solve, takes the
+ * height of the labelled lines at its ends when they agree (their source,
+ * 0.9 of their confidence); else it keeps none and why says so.  Returns
+ * 0 or TD_ENOMEM. */
+int td_label_pieces(td_lines *ls, td_ctx *cx);
+
 #endif

@@ -1939,12 +1939,13 @@ static int on_other(const td_join_params *p, const td_line *l)
  * 0, 6, 8 and 9 of the same label and go too.  With p->keep_pieces, more
  * stay (join.h). */
 static int remove_fragments(td_lines *ls, const td_join_params *p,
-                            td_join_stats *st, td_ctx *cx)
+                            td_join_stats *st, td_lines *late, td_ctx *cx)
 {
     jend *e = NULL;
     long *eol = NULL;
     jpair *pairs = NULL;
-    uint8_t *cand = NULL, *cont = NULL;
+    uint8_t *cand = NULL, *cont = NULL, *pale = NULL, *kcont = NULL;
+    int joined = p->keep_pieces == TD_PIECES_JOINED;
     size_t ne = 0, np = 0, i, nbox = 0;
     double(*box)[4] = NULL;
     int rc, again;
@@ -1955,7 +1956,8 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
         goto fail;
     rc = TD_ENOMEM;
     if (!(cand = td_calloc(ls->n + 1, 1, cx)) ||
-        !(cont = td_calloc(ne + 1, 1, cx)))
+        !(cont = td_calloc(ne + 1, 1, cx)) ||
+        !(pale = td_calloc(ls->n + 1, 1, cx)))
         goto fail;
     for (i = 0; i < ls->n; i++) {
         double len = td_line_length(&ls->v[i]);
@@ -1967,8 +1969,10 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
            digit's outline */
         if (cand[i] && ls->v[i].junc == 3 && len >= 2 * p->min_length)
             cand[i] = 0;
-        if (p->keep_pieces && ls->v[i].pale) /* no glyph: clear of the ink */
-            cand[i] = 0;
+        if (p->keep_pieces && ls->v[i].pale) { /* no glyph: clear of the ink */
+            pale[i] = cand[i];
+            cand[i] &= !joined;
+        }
     }
     if (p->straight_keep > 0 && (rc = keep_straight(ls, p, cand, cx)) != 0)
         goto fail;
@@ -1982,19 +1986,46 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
     if (p->chains &&
         (rc = chain_continue(ls, e, ne, eol, pairs, np, cand, cont, cx)) != 0)
         goto fail;
-    if ((rc = junction_attached(ls, e, ne, cand, p->min_length,
-                                p->keep_pieces ? KEEP_JUNC * p->min_length
-                                               : p->min_length,
-                                cont, cx)) != 0)
+    if (p->keep_pieces == TD_PIECES_LATE) { /* what the pieces' rule
+                                               would keep, set aside */
+        rc = TD_ENOMEM;
+        if (!(kcont = td_malloc(ne + 1, cx)))
+            goto fail;
+        memcpy(kcont, cont, ne);
+        if ((rc = junction_attached(ls, e, ne, cand, p->min_length,
+                                    KEEP_JUNC * p->min_length, kcont, cx)) != 0)
+            goto fail;
+    }
+    if ((rc = junction_attached(
+             ls, e, ne, cand, p->min_length,
+             joined ? KEEP_JUNC * p->min_length : p->min_length, cont, cx)) !=
+        0)
         goto fail;
     for (i = ls->n; i-- > 0;) {
         int c0, c1; /* eol is -1 off the candidates */
         if (!cand[i])
             continue;
         c0 = cont[eol[2 * i]], c1 = cont[eol[2 * i + 1]];
-        if (!(c0 && c1) &&
-            !(hooked(&ls->v[i], p->min_length) && (c0 || c1)) &&
-            !(p->keep_pieces && (c0 || c1) && !on_other(p, &ls->v[i]))) {
+        if (!(c0 && c1) && !(hooked(&ls->v[i], p->min_length) && (c0 || c1)) &&
+            !(joined && (c0 || c1) && !on_other(p, &ls->v[i]))) {
+            if (kcont && late) {
+                int k0 = kcont[eol[2 * i]], k1 = kcont[eol[2 * i + 1]];
+                if (pale[i] || (k0 && k1) ||
+                    ((k0 || k1) && !on_other(p, &ls->v[i]))) {
+                    /* still a text candidate for the label reader and
+                       the small rings next to it (the default's lines) */
+                    if (nbox < MAX_TEXT_BOXES)
+                        td_line_box(&ls->v[i], box[nbox++]);
+                    if ((p->record && keep_text(st, &ls->v[i], cx) != 0) ||
+                        td_lines_append_copy(late, &ls->v[i], cx) != 0) {
+                        rc = TD_ENOMEM;
+                        goto fail;
+                    }
+                    td_lines_remove(ls, i);
+                    st->late_pieces++;
+                    continue;
+                }
+            }
             if (nbox < MAX_TEXT_BOXES)
                 td_line_box(&ls->v[i], box[nbox++]);
             if (p->record && keep_text(st, &ls->v[i], cx) != 0)
@@ -2043,6 +2074,8 @@ fail:
     free(pairs);
     free(cand);
     free(cont);
+    free(pale);
+    free(kcont);
     free(box);
     return rc;
 }
@@ -2369,6 +2402,8 @@ void td_join_stats_free(td_join_stats *st)
     st->segments = NULL;
     td_lines_free(st->text);
     st->text = NULL;
+    td_lines_free(st->late);
+    st->late = NULL;
     free(st->cross_at);
     st->cross_at = NULL;
     free(st->water_at);
@@ -2649,6 +2684,7 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
             td_ctx *cx)
 {
     td_join_stats local;
+    td_lines *late = NULL;
     double *jpts = NULL;
     size_t njpts = 0;
     int rc;
@@ -2657,7 +2693,12 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
     memset(st, 0, sizeof *st);
     if (p->bridge_max > 0)
         remove_bridges(*lsp, p, st);
-    if (p->min_length > 0 && (rc = remove_fragments(*lsp, p, st, cx)) != 0)
+    if (p->keep_pieces == TD_PIECES_LATE && !(late = td_lines_new(cx))) {
+        rc = TD_ENOMEM;
+        goto fail;
+    }
+    if (p->min_length > 0 &&
+        (rc = remove_fragments(*lsp, p, st, late, cx)) != 0)
         goto fail;
     if (p->water && p->cross_gap > 0 && p->water_turns &&
         (rc = cut_water_turns(lsp, p, st, cx)) != 0)
@@ -2675,8 +2716,16 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
         goto fail;
     if (st->water_turns > 0 && (rc = undo_water_cuts(*lsp, st, cx)) != 0)
         goto fail;
+    if (late) { /* the pieces set aside, for the caller */
+        size_t i;
+        for (i = 0; i < late->n; i++)
+            late->v[i].piece = 1;
+        st->late = late;
+        late = NULL;
+    }
     st->ends_open = count_open_ends(*lsp, p);
 fail:
+    td_lines_free(late);
     free(jpts);
     if (st == &local)
         td_join_stats_free(&local);

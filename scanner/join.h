@@ -12,6 +12,14 @@
 extern "C" {
 #endif
 
+/* td_join_params.keep_pieces: the short pieces the text filter takes */
+enum {
+    TD_PIECES_OFF,    /* removed (default) */
+    TD_PIECES_JOINED, /* kept and joined like any line */
+    TD_PIECES_LATE    /* set aside before the joins, put back unjoined after
+                         them: the joins are the default's */
+};
+
 typedef struct td_join_params {
     double max_gap;   /* stage 1: longest small gap joined, px (default 16) */
     double max_angle; /* largest angle, degrees, between each end's outward
@@ -32,7 +40,8 @@ typedef struct td_join_params {
                    chain running from one longer line's end to another's
                    are a contour broken several times, and stay (default
                    1) */
-    int keep_pieces;   /* stage 0 (ours): more short pieces stay as contour:
+    int keep_pieces;   /* stage 0 (ours; TD_PIECES_*): more short pieces
+                          stay as contour:
                           one end continuing a longer line (unless half the
                           piece lies on another ink: a road's dash), pieces
                           between two skeleton junctions of the contour
@@ -118,6 +127,8 @@ typedef struct td_join_stats {
     size_t closures;   /* lines closed by joining their own two ends */
     size_t ends_open;  /* open ends left (not on the border) */
     size_t fragments;  /* short open fragments removed (stage 0) */
+    size_t late_pieces; /* keep_pieces TD_PIECES_LATE: pieces set aside by
+                           stage 0 (in late) */
     size_t long_joins; /* of joins: made by stage 2 */
     size_t cross_joins; /* of joins: made by stage 3, across the water */
     double *cross_at;   /* x, y of each stage-3 join's middle (its bend
@@ -148,6 +159,10 @@ typedef struct td_join_stats {
     td_lines *text;     /* p->record only: the fragments (stage 0) and
                            glyph rings (stage 2) removed: where text is,
                            for reading the labels (scanner/ocr.h) */
+    td_lines *late;     /* keep_pieces TD_PIECES_LATE: the pieces stage 0
+                           set aside (late_pieces of them), not joined,
+                           marked td_line.piece, for the caller to put
+                           back after its own cuts (td_scan does) */
 } td_join_stats;
 
 td_join_params td_join_defaults(int w, int h);

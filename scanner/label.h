@@ -150,6 +150,9 @@ typedef struct td_label_report {
     long *undetermined_ids; /* ids of the lines left without a height */
     size_t short_lines;     /* of those, lines too short to take part
                                (faces: under 12 px of arc, specks) */
+    size_t pieces_left;     /* of those, the scanner's short pieces
+                               (td_line.piece) whose ends gave no one
+                               height (faces) */
     size_t assumed;         /* labelled lines whose up/down (d) is only the
                                default: not between two known points, not
                                a --depressions ring */

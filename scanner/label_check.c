@@ -87,7 +87,7 @@ static int weights(const td_lines *ls, int inked, double **v, double **len,
     for (i = 0; i < ls->n; i++) {
         double wt = td_line_weight(&ls->v[i], inked),
                L = td_line_length(&ls->v[i]);
-        if (wt > 0 && L >= MIN_CHECK_LEN)
+        if (wt > 0 && L >= MIN_CHECK_LEN && !ls->v[i].piece)
             t[k++] = (lw){log(wt), L};
     }
     qsort(t, k, sizeof *t, cmp_lw);
@@ -121,7 +121,8 @@ static size_t agree(const td_lines *ls, const td_label_params *p, double cut,
         double wt = td_line_weight(l, inked);
         int off;
         long k;
-        if (!l->has_height || !(wt > 0) || td_line_length(l) < MIN_CHECK_LEN)
+        if (!l->has_height || !(wt > 0) || l->piece ||
+            td_line_length(l) < MIN_CHECK_LEN)
             continue;
         k = level_of(p, l->height, &off);
         n += is_index(k, j, p->index_every) == (wt >= cut);
@@ -192,7 +193,8 @@ int td_label_use_ink(const td_lines *ls, int every, td_ctx *cx)
     }
     for (i = 0; i < ls->n; i++) {
         const td_line *l = &ls->v[i];
-        if (l->width > 0 && l->ink > 0 && td_line_length(l) >= MIN_CHECK_LEN)
+        if (l->width > 0 && l->ink > 0 && !l->piece &&
+            td_line_length(l) >= MIN_CHECK_LEN)
             a[n] = log(l->width), b[n++] = log(l->width * l->ink);
     }
     qsort(a, n, sizeof *a, cmp_d);
@@ -314,7 +316,7 @@ int td_label_index_count(const td_lines *ls, double cut, int inked, int h,
     for (i = 0; i < ls->n; i++) {
         const td_line *l = &ls->v[i];
         double wt = td_line_weight(l, inked);
-        int8_t cls = wt > 0 && td_line_length(l) >= MIN_CHECK_LEN
+        int8_t cls = wt > 0 && !l->piece && td_line_length(l) >= MIN_CHECK_LEN
                          ? (int8_t)(wt >= cut)
                          : (int8_t)-1;
         size_t m = l->n + (l->closed && l->n > 2 ? 1 : 0);

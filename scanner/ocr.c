@@ -462,7 +462,7 @@ static void near_ends(const td_lines *ls, const td_ocr_read *r, double along,
     int k;
     for (i = 0; ls && i < ls->n; i++) {
         const td_line *l = &ls->v[i];
-        if (l->closed || l->n < 2)
+        if (l->closed || l->n < 2 || l->piece) /* (not the scanner's pieces) */
             continue;
         for (k = 0; k < 2; k++) {
             double x, y, tx, ty, u, d;
@@ -509,7 +509,8 @@ static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
     r->line[0] = r->line[1] = -1;
     for (i = 0; ls && i < ls->n; i++) {
         double d;
-        if (compact_ring(&ls->v[i], 25.0) || glyph_piece(&ls->v[i], r))
+        if (compact_ring(&ls->v[i], 25.0) || glyph_piece(&ls->v[i], r) ||
+            ls->v[i].piece)
             continue;
         d = td_contain_dist(&ls->v[i], r->x, r->y);
         if (d < bd)
@@ -521,7 +522,7 @@ static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
     for (i = 0; ls && i < ls->n; i++) {
         double d;
         if (compact_ring(&ls->v[i], 25.0) || glyph_piece(&ls->v[i], r) ||
-            td_contain_dist(&ls->v[i], r->x, r->y) > 2 * bd)
+            ls->v[i].piece || td_contain_dist(&ls->v[i], r->x, r->y) > 2 * bd)
             continue;
         d = fmax(td_contain_dist(&ls->v[i], r->x - hx, r->y - hy),
                  td_contain_dist(&ls->v[i], r->x + hx, r->y + hy));
@@ -532,7 +533,7 @@ static void lines_of(const td_lines *ls, td_ocr_read *r, double along)
         return;
     for (i = 0; ls && i < ls->n; i++) {
         const td_line *l = &ls->v[i];
-        if (l->closed || l->n < 2)
+        if (l->closed || l->n < 2 || l->piece) /* (not the scanner's pieces) */
             continue;
         for (k = 0; k < 2; k++) {
             double x, y, tx, ty, tl, u, v;
@@ -1205,7 +1206,7 @@ static int pale_pieces(const td_image *im, const uint8_t *lut,
     for (i = 0; i < ls->n && !rc; i++) {
         const td_line *l = &ls->v[i];
         int e;
-        if (l->closed || l->n < 2)
+        if (l->closed || l->n < 2 || l->piece) /* (not the scanner's pieces) */
             continue;
         for (e = 0; e < 2 && !rc; e++) {
             size_t k = e ? l->n - 1 : 0;

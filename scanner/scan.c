@@ -116,6 +116,38 @@ static uint8_t *skeleton_bits(const td_grid_u8 *g, const uint8_t *other,
     return b;
 }
 
+/* The short pieces the joiner set aside (td_join_params.keep_pieces
+ * TD_PIECES_LATE) back among the lines after the cuts, so that none of
+ * the cuts sees them (the other lines come out as without them): those
+ * of another ink's colour dropped, their widths measured, new ids. */
+static int put_pieces(td_scan_result *res, const td_image *im,
+                      const uint8_t *bits, const uint8_t *other, int foreign,
+                      int widths, td_ctx *cx)
+{
+    td_lines *pc = res->join.late;
+    size_t i;
+    long id = 0;
+    int rc;
+    if (foreign) {
+        long nf = td_foreign_cut(pc, im, &res->palette, other, cx);
+        if (nf < 0)
+            return (int)nf;
+        res->foreign += (size_t)nf;
+    }
+    if (widths && (rc = td_line_widths_packed(bits, im->w, im->h, pc, cx)) != 0)
+        return rc;
+    for (i = 0; i < res->lines->n; i++)
+        id = res->lines->v[i].id >= id ? res->lines->v[i].id + 1 : id;
+    for (i = 0; i < pc->n; i++) {
+        pc->v[i].id = id++;
+        if ((rc = td_lines_append_copy(res->lines, &pc->v[i], cx)) != 0)
+            return rc;
+    }
+    td_lines_free(pc);
+    res->join.late = NULL;
+    return 0;
+}
+
 int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
             td_ctx *cx)
 {
@@ -320,6 +352,9 @@ int td_scan(const td_image *im, const td_scan_params *p, td_scan_result *res,
         }
         res->wide_cuts = (size_t)nc;
     }
+    if (res->join.late && (rc = put_pieces(res, im, bits, other, p->foreign_cut,
+                                           p->measure_width, cx)) != 0)
+        goto fail;
     if (p->keep_debug)
         res->other = other;
     else

@@ -35,6 +35,15 @@ check "GeoPackage and Shapefile in the pixel frame's engineering CRS, not WGS 84
 check "GeoPackage keeps the properties (height, height_source, closed, edge, width, depression)" \
     "ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^height: Real' && ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^height_source: String' && ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^closed: Integer(Boolean)' && ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^width: Real' && ogrinfo -ro -so -al '$T/lines.gpkg' | grep -q '^depression: Integer(Boolean)'"
 
+# a short piece the scanner set aside ("piece": true, scan --pieces late)
+# keeps its mark through a GeoPackage and back
+sed '0,/"closed":false,/s//"closed":false,"piece":true,/' "$T/lines.geojson" >"$T/pc.geojson"
+"$TD" label "$T/pc.geojson" -o "$T/pc.gpkg" --interval 20 $K3 -q 2>"$T/err" &&
+    "$TD" label "$T/pc.gpkg" -o "$T/pc2.geojson" --interval 20 $K3 -q 2>>"$T/err"
+rc=$?
+check "a piece's mark through .gpkg and back (piece: Integer(Boolean), one line)" \
+    "[ $rc = 0 ] && [ \$(grep -c '\"piece\":true' '$T/pc.geojson') = 1 ] && ogrinfo -ro -so -al '$T/pc.gpkg' | grep -q '^piece: Integer(Boolean)' && [ \$(grep -o '\"piece\":true' '$T/pc2.geojson' | wc -l) = 1 ]"
+
 # label from each format, interp from each: the same DEM
 "$TD" label "$T/lines.geojson" -o "$T/lab.geojson" --interval 20 $K3 -q
 "$TD" interp "$T/lab.geojson" -o "$T/ref.tif" --like samples/hills.png -q

@@ -49,6 +49,7 @@ static td_lines *truth_lines(void)
         td_line *l = &ls->v[i];
         l->bridged = (int)(i % 3 == 1);
         l->depression = l->closed && i % 2 == 0; /* the property round trip */
+        l->piece = !l->closed && i % 3 == 0;
         l->parent = i % 4 == 2 ? (long)i - 1 : -1;
         if (i % 5 == 3)
             l->has_height = 0;
@@ -67,7 +68,7 @@ static void compare_lines(const td_lines *a, const td_lines *b, double tol)
         const td_line *x = &a->v[i], *y = &b->v[i];
         int same = x->id == y->id && x->closed == y->closed &&
                    x->edge == y->edge && x->bridged == y->bridged &&
-                   x->depression == y->depression &&
+                   x->depression == y->depression && x->piece == y->piece &&
                    x->parent == y->parent && x->has_height == y->has_height &&
                    (!x->has_height || x->height == y->height) && x->n == y->n &&
                    fabs(x->width - y->width) <= 0.005;

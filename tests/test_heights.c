@@ -96,6 +96,72 @@ static void test_speck_counted(void)
     td_lines_free(ls);
 }
 
+static td_line *hseg(td_lines *ls, double x0, double x1, double y)
+{
+    td_line *l = td_lines_add(ls, NULL);
+    double x;
+    for (x = x0; x <= x1 + 1e-9; x += 1)
+        td_line_push(l, x, y, NULL);
+    return l;
+}
+
+/* The pieces the scanner set aside (td_line.piece, join.h
+ * TD_PIECES_LATE) take no part in the solve and take the height of the
+ * line whose end they continue (labelpiece.c): three contours across the
+ * sheet, the middle one broken at x 140-170 with a 14-px piece in the
+ * break (its ends 6 and 10 px from the halves', in line: 110), the lower
+ * one broken at x 200-230 with a piece in line (120) and one 4 px beside
+ * it (a neighbouring contour's piece in a crowded band: no height), and
+ * a piece midway between two contours (no line end near: no height). */
+static void test_piece_heights(void)
+{
+    td_lines *ls = td_lines_new(NULL);
+    td_label_params p = params(300, 200, 10);
+    td_label_report rep;
+    td_label_point kp[5] = {{10, 50, 100, -1},
+                            {10, 100, 110, -1},
+                            {290, 100, 110, -1},
+                            {10, 150, 120, -1},
+                            {290, 150, 120, -1}};
+    td_ctx cx;
+    td_ctx_init(&cx);
+    hseg(ls, 0, 299, 50)->edge = 1;
+    hseg(ls, 0, 140, 100)->edge = 1;
+    hseg(ls, 170, 299, 100)->edge = 1;
+    hseg(ls, 0, 200, 150)->edge = 1;
+    hseg(ls, 230, 299, 150)->edge = 1;
+    hseg(ls, 146, 160, 100)->piece = 1;
+    hseg(ls, 206, 220, 150)->piece = 1;
+    hseg(ls, 206, 220, 146)->piece = 1;
+    hseg(ls, 60, 74, 75)->piece = 1;
+    p.known = kp;
+    p.nknown = 5;
+    TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == 0);
+    TT_CHECKF(ls->n == 9, "%zu lines", ls->n);
+    TT_CHECKF(ls->v[0].height == 100 && ls->v[1].height == 110 &&
+                  ls->v[2].height == 110 && ls->v[3].height == 120 &&
+                  ls->v[4].height == 120,
+              "contours %g %g %g %g %g", ls->v[0].height, ls->v[1].height,
+              ls->v[2].height, ls->v[3].height, ls->v[4].height);
+    TT_CHECKF(ls->v[5].has_height && ls->v[5].height == 110 &&
+                  ls->v[5].hsource == TD_HS_KNOWN &&
+                  ls->v[5].confidence < ls->v[1].confidence,
+              "piece in the break: %d %g source %d", ls->v[5].has_height,
+              ls->v[5].height, ls->v[5].hsource);
+    TT_CHECKF(ls->v[6].has_height && ls->v[6].height == 120,
+              "piece in the second break: %d %g", ls->v[6].has_height,
+              ls->v[6].height);
+    TT_CHECKF(!ls->v[7].has_height && ls->v[7].why,
+              "piece beside the break: %d %g", ls->v[7].has_height,
+              ls->v[7].height);
+    TT_CHECKF(!ls->v[8].has_height && ls->v[8].why,
+              "piece between contours: %d %g", ls->v[8].has_height,
+              ls->v[8].height);
+    TT_CHECKF(rep.pieces_left == 2, "%zu pieces left", rep.pieces_left);
+    td_label_report_free(&rep);
+    td_lines_free(ls);
+}
+
 /* A sheet of the generator's terrain (its default parameters), size x
  * size px. */
 static void gen_sheet(td_hsheet *hs, int terrain, int size)
@@ -1915,6 +1981,7 @@ int main(void)
     TT_RUN(test_vee_arms);
     TT_RUN(test_border_turn_heights);
     TT_RUN(test_speck_counted);
+    TT_RUN(test_piece_heights);
     TT_RUN(test_one_label_value_refused);
     TT_RUN(test_label_pulls_near);
     TT_RUN(test_river_bank_pair);

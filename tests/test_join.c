@@ -738,7 +738,7 @@ static void test_keep_pieces(void)
             td_join_stats_free(&st);
             td_lines_free(ls);
         }
-    for (keep = 0; keep < 2; keep++) { /* a faded ridge's piece */
+    for (keep = 0; keep < 3; keep++) { /* a faded ridge's piece */
         td_join_params p = td_join_defaults(W, H);
         td_join_stats st;
         td_lines *ls = td_lines_new(NULL);
@@ -746,8 +746,42 @@ static void test_keep_pieces(void)
         add_hline(ls, 20, 100, 40);
         add_bump(ls, 150, 140)->pale = 1;
         TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
-        TT_CHECKF(ls->n == (size_t)(1 + keep), "keep %d: pale piece, %zu lines",
-                  keep, ls->n);
+        TT_CHECKF(ls->n == (size_t)(1 + (keep == TD_PIECES_JOINED)) &&
+                      (keep != TD_PIECES_LATE ||
+                       (st.late && st.late->n == 1 && st.late->v[0].piece)),
+                  "keep %d: pale piece, %zu lines", keep, ls->n);
+        td_join_stats_free(&st);
+        td_lines_free(ls);
+    }
+}
+
+/* TD_PIECES_LATE (ours): the pieces keep_pieces keeps are set aside
+ * before the joins, unjoined and marked td_line.piece, in st.late for the
+ * caller (td_scan puts them back after its cuts): the bent 14-px piece
+ * beyond the long line's end of test_keep_pieces is set aside (the long
+ * line as without it: 80 px), and goes on a road's ink as there. */
+static void test_late_pieces(void)
+{
+    static uint8_t bits[(W + 7) / 8 * H + 1];
+    int road;
+    for (road = 0; road < 2; road++) {
+        td_join_params p = td_join_defaults(W, H);
+        td_join_stats st;
+        td_lines *ls = td_lines_new(NULL);
+        p.keep_pieces = TD_PIECES_LATE;
+        add_hline(ls, 20, 100, 100);
+        add_bump(ls, 103, 100);
+        other_box(bits, 101, 119, 92, 102);
+        p.other = road ? bits : NULL;
+        TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+        TT_CHECKF(ls->n == 1 && fabs(td_line_length(&ls->v[0]) - 80) < 1 &&
+                      !ls->v[0].piece &&
+                      (road ? !st.late || st.late->n == 0
+                            : st.late && st.late->n == 1 &&
+                                  st.late->v[0].piece &&
+                                  td_line_length(&st.late->v[0]) > 14),
+                  "road %d: %zu lines, first %g px, %zu set aside", road, ls->n,
+                  ls->n ? td_line_length(&ls->v[0]) : 0.0, st.late_pieces);
         td_join_stats_free(&st);
         td_lines_free(ls);
     }
@@ -982,6 +1016,7 @@ int main(void)
     TT_RUN(test_broken_chain);
     TT_RUN(test_chain_not_at_junction);
     TT_RUN(test_keep_pieces);
+    TT_RUN(test_late_pieces);
     TT_RUN(test_joins_never_cross);
     TT_RUN(test_labels_off);
     TT_RUN(test_labelled_sheets);

@@ -575,10 +575,15 @@ static void test_short_pinch(void)
                                72,  94, 65,  100, 58,  106, 65,  101, 72,
                                107, 79, 101, 86,  115, 90,  195, 90};
     size_t n = sizeof P / sizeof P[0] / 2;
-    td_scanscore off = finger_scan(P, n, 0), on = finger_scan(P, n, 1);
-    TT_CHECKF(off.recall < 0.95, "by default: recall %.3f", off.recall);
+    td_scanscore off = finger_scan(P, n, TD_PIECES_OFF),
+                 on = finger_scan(P, n, TD_PIECES_JOINED),
+                 late = finger_scan(P, n, TD_PIECES_LATE);
+    TT_CHECKF(off.recall < 0.95, "removed: recall %.3f", off.recall);
     TT_CHECKF(on.recall >= 0.97 && on.precision >= 0.99,
               "kept: recall %.3f precision %.3f", on.recall, on.precision);
+    TT_CHECKF(late.recall >= 0.97 && late.precision >= 0.99,
+              "kept apart: recall %.3f precision %.3f", late.recall,
+              late.precision);
 }
 
 /* Two contours leaving the sheet side by side (bordercut.h): their inks

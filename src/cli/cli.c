@@ -138,8 +138,15 @@ void td_cli_heights_summary(const char *cmd, const td_label_report *rep)
     fprintf(stderr, "%s: heights: %zu known, %zu from labels, %zu solved, "
             "%zu assumed, %zu without", cmd, b[TD_HS_KNOWN], b[TD_HS_LABEL],
             b[TD_HS_SOLVED], b[TD_HS_ASSUMED], rep->undetermined);
-    if (rep->short_lines)
+    if (rep->short_lines && rep->pieces_left)
+        fprintf(stderr, " (%zu of them under 12 px long, %zu short pieces "
+                "whose ends tell no one height)", rep->short_lines,
+                rep->pieces_left);
+    else if (rep->short_lines)
         fprintf(stderr, " (%zu of them under 12 px long)", rep->short_lines);
+    else if (rep->pieces_left)
+        fprintf(stderr, " (%zu of them short pieces whose ends tell no one "
+                "height)", rep->pieces_left);
     fprintf(stderr, "; %zu face conflicts, %zu lines cut, %zu known points "
             "overridden\n", rep->conflicts, rep->split, rep->known_broken);
     if (rep->vees)

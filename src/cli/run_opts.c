@@ -74,6 +74,10 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
         {"defringe", 0, TD_OPT_FLAG, &r->p.scan.defringe, .help =
          "colour scans: colour fringes out before the\ninks are found "
          "(ours; see topodig scan --help)"},
+        {"pieces", 0, TD_OPT_CHOICE, &r->p.scan.join.keep_pieces,
+         .choices = "off|joined|late", .meta = "MODE", .help = "the short "
+         "pieces of contour the text\nfilter takes (ours; see topodig scan "
+         "--help)"},
         {"threshold", 0, TD_OPT_FUNC, &r->p.scan.bin, .fn = threshold,
          .meta = "T", .help = "otsu | sauvola | N (default otsu)"},
         {"bridge", 0, TD_OPT_DOUBLE, &r->p.bridge, 0, 1e6, .meta = "PX",

@@ -137,12 +137,17 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          .meta = "PX", .help = "remove open fragments (label digits, text)\n"
          "shorter than PX or fitting in a PX box,\nunless both ends continue "
          "lines (0: off)"},
-        {"keep-pieces", 0, TD_OPT_FLAG, &p->join.keep_pieces, .help =
-         "faded or crowded sheets (ours): keep more\nshort pieces the text "
-         "filter above would\ntake: one end continuing a longer line\n"
-         "(not on a road), between two junctions,\nor traced from faded "
-         "ridges (more of the\nsheet's lines; the heights may come out\n"
-         "worse: see docs/scanner.md)"},
+        {"pieces", 0, TD_OPT_CHOICE, &p->join.keep_pieces,
+         .choices = "off|joined|late", .meta = "MODE", .help = "faded or "
+         "crowded sheets (ours): the short\npieces the text filter above "
+         "would take\nthat continue a longer line (not on a\nroad), lie "
+         "between two junctions or were\ntraced from faded ridges: late: "
+         "kept as\nlines of their own after the joins (\"piece\":\ntrue; "
+         "label gives them the height of the\nlines at their ends) | joined: "
+         "kept and\njoined like any line (the heights may come\nout "
+         "worse) | off: removed (docs/scanner.md)"},
+        {"keep-pieces", 0, TD_OPT_FLAG, &p->join.keep_pieces,
+         .n = TD_PIECES_JOINED, .help = "the same as --pieces joined"},
         {"ticks", 0, TD_OPT_INT, &p->ticks, 0, 1000, .meta = "N", .help =
          "a ring with at least N ticks on its inside\n(printed maps' "
          "depression contours) is written\nwith depression: true, which "
@@ -224,6 +229,13 @@ static void summary(const td_scan_result *r, double secs)
                 "end was as near (joined, the line would step onto the next "
                 "contour)\n", r->join.gaps_open,
                 r->join.gaps_open == 1 ? "" : "s");
+    if (r->join.late_pieces > 0)
+        fprintf(stderr, "scan: %zu short piece%s of contour kept as line%s of "
+                "%s own, not joined (\"piece\": true; --pieces off: "
+                "removed)\n", r->join.late_pieces,
+                r->join.late_pieces == 1 ? "" : "s",
+                r->join.late_pieces == 1 ? "" : "s",
+                r->join.late_pieces == 1 ? "its" : "their");
     if (r->pale > 0)
         fprintf(stderr, "scan: %zu faded piece%s of contour traced apart from "
                 "the ink (--no-pale: without)\n", r->pale,

@@ -230,6 +230,11 @@ typedef struct td_line {
                            the ink (scanner/pale.h), not from the ink; read
                            by the joiner's text filter (keep_pieces) before
                            any join, and kept by copies only */
+    unsigned char piece; /* a short piece the joiner's text filter set aside
+                            and put back unjoined (td_join_params.keep_pieces
+                            TD_PIECES_LATE): the faces labeller leaves it
+                            out of the solve and gives it the height of the
+                            lines at its ends (td_label_pieces) */
 } td_line;
 
 typedef struct td_lines {
@@ -248,7 +253,8 @@ td_line *td_lines_add(td_lines *ls, td_ctx *cx);
 int td_line_push(td_line *l, double x, double y, td_ctx *cx);
 /* Reverse a line's point order in place. */
 void td_line_reverse(td_line *l);
-/* Append src's points to dst, reversed when rev.  0 or TD_ENOMEM. */
+/* Append src's points to dst, reversed when rev (dst stays a piece only
+ * when src is one too).  0 or TD_ENOMEM. */
 int td_line_append(td_line *dst, const td_line *src, int rev, td_ctx *cx);
 /* Remove line i (order of the others kept; ids unchanged). */
 void td_lines_remove(td_lines *ls, size_t i);

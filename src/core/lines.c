@@ -371,6 +371,8 @@ int td_line_append(td_line *dst, const td_line *src, int rev, td_ctx *cx)
             o[2 * i + 1] = src->xy[2 * (src->n - 1 - i) + 1];
         }
     dst->n = need;
+    dst->piece = dst->piece && src->piece; /* a piece joined on a line: a
+                                              line */
     return 0;
 }
 

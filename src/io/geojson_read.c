@@ -41,7 +41,7 @@ typedef struct fprops {
     int has_id, has_height, closed, edge, bridged; /* closed -1: unknown */
     long id, parent;
     double height, width, ink, confidence;
-    int depression;
+    int depression, piece;
     int hsource; /* td_hsource of "height_source" */
 } fprops;
 
@@ -416,7 +416,7 @@ static int read_prop(jp *p, const jkey *k, fprops *P, size_t fi)
     if (!is(k, "id") && !is(k, "height") && !is(k, "closed") &&
         !is(k, "edge") && !is(k, "parent") && !is(k, "bridged") &&
         !is(k, "width") && !is(k, "ink") && !is(k, "confidence") &&
-        !is(k, "depression"))
+        !is(k, "depression") && !is(k, "piece"))
         return jskip(p, 1);
     if ((rc = jscalar(p, &kind, &v)) != 0)
         return rc;
@@ -457,6 +457,8 @@ static int read_prop(jp *p, const jkey *k, fprops *P, size_t fi)
             P->edge = v != 0;
         else if (is(k, "depression"))
             P->depression = kind != V_NULL && v != 0;
+        else if (is(k, "piece"))
+            P->piece = kind != V_NULL && v != 0;
         else
             P->bridged = v != 0;
     }
@@ -591,6 +593,7 @@ static int emit(rd *R, size_t a, size_t b, const fprops *P, long id,
     l->edge = P->edge;
     l->bridged = P->bridged;
     l->depression = P->depression && l->closed;
+    l->piece = (unsigned char)(P->piece && !l->closed);
     l->has_height = P->has_height;
     l->height = P->has_height ? P->height : 0.0;
     l->parent = P->parent;
@@ -632,7 +635,7 @@ static int emit_feature(jp *p, rd *R, const jkey *t, const fprops *P,
 /* One feature object (cursor at '{'). */
 static int feature(jp *p, rd *R, size_t fi)
 {
-    fprops P = {0, 0, -1, 0, 0, 0, -1, 0.0, 0.0, 0.0, 0.0, 0, 0};
+    fprops P = {0, 0, -1, 0, 0, 0, -1, 0.0, 0.0, 0.0, 0.0, 0, 0, 0};
     jkey k, t = {"", 0}, ft = {"Feature", 7};
     int first = 1, r;
     R->n = R->np = 0;

@@ -125,11 +125,12 @@ static void put_properties(jbuf *j, const td_line *l)
     snprintf(s, sizeof s,
              "{\"type\":\"Feature\",\"properties\":{\"id\":%ld,"
              "\"height\":%s,\"closed\":%s,\"edge\":%s,\"parent\":%s,"
-             "\"bridged\":%d%s%s%s%s},\"geometry\":{\"type\":"
+             "\"bridged\":%d%s%s%s%s%s},\"geometry\":{\"type\":"
              "\"LineString\",\"coordinates\":[",
-             l->id, h, l->closed ? "true" : "false",
-             l->edge ? "true" : "false", par, l->bridged, wd, hs, why,
-             l->depression ? ",\"depression\":true" : "");
+             l->id, h, l->closed ? "true" : "false", l->edge ? "true" : "false",
+             par, l->bridged, wd, hs, why,
+             l->depression ? ",\"depression\":true" : "",
+             l->piece ? ",\"piece\":true" : "");
     jputs(j, s);
 }
 

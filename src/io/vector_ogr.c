@@ -110,6 +110,7 @@ static const field fields[] = {
     {"width", OFTReal, OFSTNone},
     {"depression", OFTInteger, OFSTBoolean},
     {"ink", OFTReal, OFSTNone},
+    {"piece", OFTInteger, OFSTBoolean},
 };
 enum { NFIELDS = sizeof fields / sizeof fields[0] };
 
@@ -167,6 +168,8 @@ static void set_fields(OGRFeatureH f, OGRFeatureDefnH d, const td_line *l)
         OGR_F_SetFieldInteger(f, k[10], !!l->depression);
     if (k[11] >= 0 && l->ink > 0 && isfinite(l->ink))
         OGR_F_SetFieldDouble(f, k[11], l->ink);
+    if (k[12] >= 0)
+        OGR_F_SetFieldInteger(f, k[12], !!l->piece);
 }
 
 /* l's geometry in map coordinates (closed lines repeat their first point;
@@ -603,6 +606,8 @@ static int add_part(td_lines *ls, OGRGeometryH part, OGRFeatureH f,
     }
     if ((k = field_index(d, "depression")) >= 0)
         l->depression = l->closed && OGR_F_GetFieldAsInteger(f, k) != 0;
+    if ((k = field_index(d, "piece")) >= 0)
+        l->piece = !l->closed && OGR_F_GetFieldAsInteger(f, k) != 0;
     return 0;
 }
 
