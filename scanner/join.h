@@ -47,9 +47,10 @@ typedef struct td_join_params {
                           between two skeleton junctions of the contour
                           network from 0.4 min_length, and every line
                           traced from faded ridges (td_line.pale).  More
-                          of a faded sheet's lines; the heights may come
-                          out worse (docs/scanner.md, "Pieces the text
-                          filter takes"; default 0) */
+                          of a faded sheet's lines (docs/scanner.md,
+                          "Pieces the text filter takes"; default
+                          TD_PIECES_OFF; with TD_PIECES_LATE the caller
+                          puts them back: td_scan does) */
     double long_gap;   /* stage 2: longest label gap joined, px (default
                           70: a 60-px label gap plus the skeleton's pull-back
                           at both ends; <= max_gap: off) */

@@ -261,6 +261,7 @@ static int find_breaks(const td_lines *ls, int w, int h, double reach,
     brk_end *e = NULL;
     brk *b = NULL;
     td_seggrid *g = NULL;
+    td_lines walls = {NULL, 0, 0}; /* what a bridge may not cross */
     size_t n, i, nb = 0, k;
     int rc = td_line_ends(ls, brk_keep, ls, &le, &n, cx);
     *ends = NULL, *out = NULL, *nout = 0;
@@ -268,7 +269,17 @@ static int find_breaks(const td_lines *ls, int w, int h, double reach,
         return rc;
     e = td_calloc(n + 1, sizeof *e, cx);
     b = td_calloc(n / 2 + 1, sizeof *b, cx);
-    if (!e || !b || !(g = td_seggrid_new(ls, cx))) {
+    walls.v = td_malloc((ls->n + 1) * sizeof *walls.v, cx);
+    if (!e || !b || !walls.v) {
+        rc = TD_ENOMEM;
+        goto done;
+    }
+    for (i = 0; i < ls->n; i++) /* not the scanner's pieces left without a
+                                   height (the lines as without them) */
+        if (!ls->v[i].piece || ls->v[i].has_height)
+            walls.v[walls.n++] = ls->v[i];
+    walls.cap = walls.n;
+    if (!(g = td_seggrid_new(&walls, cx))) {
         rc = cx && cx->code ? cx->code : TD_ENOMEM;
         goto done;
     }
@@ -308,6 +319,7 @@ static int find_breaks(const td_lines *ls, int w, int h, double reach,
     e = NULL, b = NULL;
 done:
     td_seggrid_free(g);
+    free(walls.v);
     free(le), free(e), free(b);
     return rc;
 }

@@ -63,7 +63,15 @@ static int cell_of(const pgrid *g, double x, double y, int *cx_, int *cy_)
     return 0;
 }
 
-/* The vertices of the labelled lines that are no pieces, by cell. */
+/* A line whose height the evidence decided (known, a label, solved), not
+ * a default: an assumed line can be off by many levels, and the pieces
+ * would carry it on (measured: docs/label.md, "The scanner's pieces"). */
+static int partner_ok(const td_line *l)
+{
+    return l->has_height && l->hsource != TD_HS_ASSUMED;
+}
+
+/* The vertices of the lines that may give a piece its height, by cell. */
 static int pgrid_build(pgrid *g, const td_lines *ls, td_ctx *cx)
 {
     double xmax = 1, ymax = 1;
@@ -79,7 +87,7 @@ static int pgrid_build(pgrid *g, const td_lines *ls, td_ctx *cx)
         return TD_ENOMEM;
     for (i = 0; i < ls->n; i++) {
         const td_line *l = &ls->v[i];
-        if (l->piece || !l->has_height)
+        if (l->piece || !partner_ok(l))
             continue;
         for (k = 0; k < l->n; k++) {
             int a, b;
@@ -94,7 +102,7 @@ static int pgrid_build(pgrid *g, const td_lines *ls, td_ctx *cx)
         return TD_ENOMEM;
     for (i = 0; i < ls->n; i++) {
         const td_line *l = &ls->v[i];
-        if (l->piece || !l->has_height)
+        if (l->piece || !partner_ok(l))
             continue;
         for (k = 0; k < l->n; k++) {
             int a, b;

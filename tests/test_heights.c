@@ -111,8 +111,10 @@ static td_line *hseg(td_lines *ls, double x0, double x1, double y)
  * sheet, the middle one broken at x 140-170 with a 14-px piece in the
  * break (its ends 6 and 10 px from the halves', in line: 110), the lower
  * one broken at x 200-230 with a piece in line (120) and one 4 px beside
- * it (a neighbouring contour's piece in a crowded band: no height), and
- * a piece midway between two contours (no line end near: no height). */
+ * it (a neighbouring contour's piece in a crowded band: no height), a
+ * piece midway between two contours (no line end near: no height), and a
+ * piece in the break of a fourth contour no known point reaches (its
+ * height assumed, a default: none for the piece). */
 static void test_piece_heights(void)
 {
     td_lines *ls = td_lines_new(NULL);
@@ -134,10 +136,13 @@ static void test_piece_heights(void)
     hseg(ls, 206, 220, 150)->piece = 1;
     hseg(ls, 206, 220, 146)->piece = 1;
     hseg(ls, 60, 74, 75)->piece = 1;
+    hseg(ls, 0, 100, 185)->edge = 1; /* no known point: assumed */
+    hseg(ls, 130, 299, 185)->edge = 1;
+    hseg(ls, 106, 120, 185)->piece = 1;
     p.known = kp;
     p.nknown = 5;
     TT_CHECK(td_label_auto(ls, &p, &rep, &cx) == 0);
-    TT_CHECKF(ls->n == 9, "%zu lines", ls->n);
+    TT_CHECKF(ls->n == 12, "%zu lines", ls->n);
     TT_CHECKF(ls->v[0].height == 100 && ls->v[1].height == 110 &&
                   ls->v[2].height == 110 && ls->v[3].height == 120 &&
                   ls->v[4].height == 120,
@@ -157,7 +162,13 @@ static void test_piece_heights(void)
     TT_CHECKF(!ls->v[8].has_height && ls->v[8].why,
               "piece between contours: %d %g", ls->v[8].has_height,
               ls->v[8].height);
-    TT_CHECKF(rep.pieces_left == 2, "%zu pieces left", rep.pieces_left);
+    TT_CHECKF(ls->v[9].has_height && ls->v[9].hsource == TD_HS_ASSUMED &&
+                  !ls->v[11].has_height,
+              "piece in an assumed line's break: %d %g (the line %d, "
+              "source %d)",
+              ls->v[11].has_height, ls->v[11].height, ls->v[9].has_height,
+              ls->v[9].hsource);
+    TT_CHECKF(rep.pieces_left == 3, "%zu pieces left", rep.pieces_left);
     td_label_report_free(&rep);
     td_lines_free(ls);
 }

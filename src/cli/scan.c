@@ -143,9 +143,10 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          "would take\nthat continue a longer line (not on a\nroad), lie "
          "between two junctions or were\ntraced from faded ridges: late: "
          "kept as\nlines of their own after the joins (\"piece\":\ntrue; "
-         "label gives them the height of the\nlines at their ends) | joined: "
-         "kept and\njoined like any line (the heights may come\nout "
-         "worse) | off: removed (docs/scanner.md)"},
+         "label gives one the height of the\nline whose end it continues, "
+         "when the\nevidence decided that line's) | joined:\nkept and "
+         "joined like any line (the\nheights may come out worse) | off: "
+         "removed\n(docs/scanner.md)"},
         {"keep-pieces", 0, TD_OPT_FLAG, &p->join.keep_pieces,
          .n = TD_PIECES_JOINED, .help = "the same as --pieces joined"},
         {"ticks", 0, TD_OPT_INT, &p->ticks, 0, 1000, .meta = "N", .help =
