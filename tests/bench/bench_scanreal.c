@@ -42,15 +42,15 @@ static void one_kind(const char *name, td_gen_params gp, int kind, int logit,
         td_ctx_clear(cx);
         return;
     }
-    for (v = 0; v < 9; v++) {
+    for (v = 0; v < 10; v++) {
         /* paper junctions, cut without seams, the default; colour:
            --ink brown, and the first brown selection (hue window);
            the default without the grid-line removal; the default
            pairing every junction zone's ends (no ambiguity rule);
-           colour: --detint; --keep-pieces */
-        static const char *const vname[9] = {
+           colour: --detint; --keep-pieces; --pieces late */
+        static const char *const vname[10] = {
             "paper",  "cut,noseam", "default", "ink brown", "brown-hue",
-            "nogrid", "junc any",   "detint",  "keep pcs"};
+            "nogrid", "junc any",   "detint",  "keep pcs",  "pcs late"};
         int paper = v == 0;
         td_scan_params sp = td_scan_defaults();
         td_scan_result res;
@@ -61,7 +61,9 @@ static void one_kind(const char *name, td_gen_params gp, int kind, int logit,
         if (v == 7)
             sp.detint = 1;
         if (v == 8)
-            sp.join.keep_pieces = 1;
+            sp.join.keep_pieces = TD_PIECES_JOINED;
+        if (v == 9)
+            sp.join.keep_pieces = TD_PIECES_LATE;
         if (v == 5)
             sp.straight.on = 0;
         if (v == 6)
