@@ -55,12 +55,11 @@ static void pgrid_free(pgrid *g)
     free(g->idx);
 }
 
-static int cell_of(const pgrid *g, double x, double y, int *cx_, int *cy_)
+static void cell_of(const pgrid *g, double x, double y, int *cx_, int *cy_)
 {
     int a = (int)floor(x / CELL), b = (int)floor(y / CELL);
     *cx_ = a < 0 ? 0 : a >= g->gw ? g->gw - 1 : a;
     *cy_ = b < 0 ? 0 : b >= g->gh ? g->gh - 1 : b;
-    return 0;
 }
 
 /* A line whose height the evidence decided (known, a label, solved), not
@@ -68,14 +67,35 @@ static int cell_of(const pgrid *g, double x, double y, int *cx_, int *cy_)
  * would carry it on (measured: docs/label.md, "The scanner's pieces"). */
 static int partner_ok(const td_line *l)
 {
-    return l->has_height && l->hsource != TD_HS_ASSUMED;
+    return !l->piece && !l->closed && l->n >= 2 && l->has_height &&
+           l->hsource != TD_HS_ASSUMED;
 }
 
-/* The vertices of the lines that may give a piece its height, by cell. */
+/* Counts (fill 0) or files (fill 1) the ends of the lines that may give
+ * a piece its height by cell. */
+static void bin_ends(pgrid *g, const td_lines *ls, int fill)
+{
+    size_t i;
+    int e;
+    for (i = 0; i < ls->n; i++)
+        for (e = 0; e < 2 && partner_ok(&ls->v[i]); e++) {
+            const td_line *l = &ls->v[i];
+            size_t k = e ? l->n - 1 : 0, c;
+            int a, b;
+            cell_of(g, l->xy[2 * k], l->xy[2 * k + 1], &a, &b);
+            c = (size_t)b * (size_t)g->gw + (size_t)a;
+            if (fill)
+                g->idx[g->start[c + 1]++] = (uint64_t)i << 32 | k;
+            else
+                g->start[c + 2]++;
+        }
+}
+
+/* The grid of those ends over the lines' extent. */
 static int pgrid_build(pgrid *g, const td_lines *ls, td_ctx *cx)
 {
     double xmax = 1, ymax = 1;
-    size_t i, k, n = 0, nc;
+    size_t i, k, nc;
     for (i = 0; i < ls->n; i++)
         for (k = 0; k < ls->v[i].n; k++) {
             xmax = fmax(xmax, ls->v[i].xy[2 * k]);
@@ -85,32 +105,12 @@ static int pgrid_build(pgrid *g, const td_lines *ls, td_ctx *cx)
     nc = (size_t)g->gw * (size_t)g->gh;
     if (!(g->start = td_calloc(nc + 2, sizeof *g->start, cx)))
         return TD_ENOMEM;
-    for (i = 0; i < ls->n; i++) {
-        const td_line *l = &ls->v[i];
-        if (l->piece || !partner_ok(l))
-            continue;
-        for (k = 0; k < l->n; k++) {
-            int a, b;
-            cell_of(g, l->xy[2 * k], l->xy[2 * k + 1], &a, &b);
-            g->start[(size_t)b * g->gw + a + 2]++;
-            n++;
-        }
-    }
+    bin_ends(g, ls, 0);
     for (i = 2; i < nc + 2; i++)
         g->start[i] += g->start[i - 1];
-    if (!(g->idx = td_malloc((n + 1) * sizeof *g->idx, cx)))
+    if (!(g->idx = td_malloc((g->start[nc + 1] + 1) * sizeof *g->idx, cx)))
         return TD_ENOMEM;
-    for (i = 0; i < ls->n; i++) {
-        const td_line *l = &ls->v[i];
-        if (l->piece || !partner_ok(l))
-            continue;
-        for (k = 0; k < l->n; k++) {
-            int a, b;
-            cell_of(g, l->xy[2 * k], l->xy[2 * k + 1], &a, &b);
-            g->idx[g->start[(size_t)b * g->gw + a + 1]++] =
-                (uint64_t)i << 32 | k;
-        }
-    }
+    bin_ends(g, ls, 1);
     return 0;
 }
 
@@ -146,8 +146,7 @@ static long partner(const pgrid *g, const td_lines *ls, const td_line *p, int e)
                 const td_line *l = &ls->v[li];
                 double dx = l->xy[2 * vi] - x, dy = l->xy[2 * vi + 1] - y;
                 double d = hypot(dx, dy), ltx, lty;
-                if (l->closed || (vi != 0 && vi != l->n - 1) || !(d < bd) ||
-                    d <= 0)
+                if (!(d < bd) || d <= 0) /* (open lines' ends only) */
                     continue;
                 end_tangent(l, vi != 0, &ltx, &lty);
                 if ((ptx * dx + pty * dy) / d >= ALIGN &&
