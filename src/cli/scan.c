@@ -180,7 +180,8 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          "through them"},
         {"debug-dir", 0, TD_OPT_STRING, &o->debug_dir, .meta = "DIR", .help =
          "write mask.png, skeleton.png, despurred.png,\noverlay.png "
-         "(label-gap joins in magenta),\njoin.txt; colour scans: palette.png "
+         "(label-gap joins in magenta, the\npieces kept apart in black), "
+         "join.txt;\ncolour scans: palette.png "
          "(the inks\nfound, the one taken framed), ink-K.png, inks.txt,\n"
          "other.png (the other inks' strokes)"},
         {NULL}};

@@ -22,10 +22,10 @@ static int write_join_report(const char *path, const td_join_stats *j,
             "closures %zu\n"
             "fragments_removed %zu\nglyph_rings_removed %zu\nends_open %zu\n"
             "merges %zu\nmerges_left_open %zu\nwater_turns_cut %zu\n"
-            "gap_ends_left_open %zu\n",
+            "gap_ends_left_open %zu\npieces_kept_apart %zu\n",
             j->joins, j->long_joins, j->cross_joins, j->closures, j->fragments, j->glyphs,
             j->ends_open, j->merges, j->merges_open, j->water_turns,
-            j->gaps_open);
+            j->gaps_open, j->late_pieces);
     bad = ferror(f);
     if (fclose(f) != 0 || bad)
         return td_seterr(cx, TD_EIO, "%s: cannot write", path);
@@ -162,6 +162,13 @@ int td_pipeline_scan_debug(const char *dir, const td_image *im,
         size_t i;
         for (i = 0; i < r->join.segments->n; i++)
             td_draw_line(ov, &r->join.segments->v[i], magenta);
+    }
+    { /* the pieces kept apart (--pieces late), black */
+        static const uint8_t black[3] = {0, 0, 0};
+        size_t i;
+        for (i = 0; i < r->lines->n; i++)
+            if (r->lines->v[i].piece)
+                td_draw_line(ov, &r->lines->v[i], black);
     }
     rc = td_png_write(DPATH("overlay.png"), ov, cx);
     if (rc == 0)
