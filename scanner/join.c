@@ -2008,30 +2008,26 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
         c0 = cont[eol[2 * i]], c1 = cont[eol[2 * i + 1]];
         if (!(c0 && c1) && !(hooked(&ls->v[i], p->min_length) && (c0 || c1)) &&
             !(joined && (c0 || c1) && !on_other(p, &ls->v[i]))) {
-            if (kcont && late) {
-                int k0 = kcont[eol[2 * i]], k1 = kcont[eol[2 * i + 1]];
-                if (pale[i] || (k0 && k1) ||
-                    ((k0 || k1) && !on_other(p, &ls->v[i]))) {
-                    /* still a text candidate for the label reader and
-                       the small rings next to it (the default's lines) */
-                    if (nbox < MAX_TEXT_BOXES)
-                        td_line_box(&ls->v[i], box[nbox++]);
-                    if ((p->record && keep_text(st, &ls->v[i], cx) != 0) ||
-                        td_lines_append_copy(late, &ls->v[i], cx) != 0) {
-                        rc = TD_ENOMEM;
-                        goto fail;
-                    }
-                    td_lines_remove(ls, i);
-                    st->late_pieces++;
-                    continue;
-                }
-            }
+            int k0 = kcont ? kcont[eol[2 * i]] : 0,
+                k1 = kcont ? kcont[eol[2 * i + 1]] : 0;
+            /* what the pieces' rule keeps goes aside, still a text
+               candidate for the label reader and for the small rings next
+               to it (so the other lines come out as the default's) */
+            int aside = late && kcont &&
+                        (pale[i] || (k0 && k1) ||
+                         ((k0 || k1) && !on_other(p, &ls->v[i])));
             if (nbox < MAX_TEXT_BOXES)
                 td_line_box(&ls->v[i], box[nbox++]);
-            if (p->record && keep_text(st, &ls->v[i], cx) != 0)
+            if ((p->record && keep_text(st, &ls->v[i], cx) != 0) ||
+                (aside && td_lines_append_copy(late, &ls->v[i], cx) != 0)) {
+                rc = TD_ENOMEM;
                 goto fail;
+            }
             td_lines_remove(ls, i);
-            st->fragments++;
+            if (aside)
+                st->late_pieces++;
+            else
+                st->fragments++;
         }
     }
     /* the rings of 0, 6, 8, 9 next to the other digits of a label whose

@@ -707,22 +707,24 @@ static td_line *add_bump(td_lines *ls, double x0, double y)
  * on faded sheets, 448 of whose 463 lie on contours on the printed
  * Front Range 25 sheet (docs/scanner.md, "Pieces the text filter
  * takes").  A bent 14-px piece 3 px beyond a long line's end, its other
- * end free (the line faded there), goes by default and stays (joined on)
- * with the option, unless half of it lies on another ink (a road's dash
- * whose end meets a contour's).  A piece traced from faded ridges
- * (td_line.pale) with nothing near stays.  (A pinched finger:
+ * end free (the line faded there), goes by default and stays with
+ * TD_PIECES_JOINED (joined on) or TD_PIECES_LATE (set aside in st.late,
+ * unjoined and marked td_line.piece, the long line as without it, for
+ * td_scan to put back after its cuts), unless half of it lies on another
+ * ink (a road's dash whose end meets a contour's).  A piece traced from
+ * faded ridges (td_line.pale) with nothing near stays.  (A pinched finger:
  * test_scan.c, test_short_pinch.  The third rule, junction pieces from
  * 10 px, is measured on bench_scanreal's "keep pcs" rows.) */
 static void test_keep_pieces(void)
 {
     static uint8_t bits[(W + 7) / 8 * H + 1];
     int keep, road;
-    for (keep = 0; keep < 2; keep++)
+    for (keep = 0; keep < 3; keep++)
         for (road = 0; road < 2; road++) {
             td_join_params p = td_join_defaults(W, H);
             td_join_stats st;
             td_lines *ls = td_lines_new(NULL);
-            int kept;
+            int kept, aside;
             p.keep_pieces = keep;
             add_hline(ls, 20, 100, 100);
             add_bump(ls, 103, 100);
@@ -730,11 +732,16 @@ static void test_keep_pieces(void)
             p.other = road ? bits : NULL;
             TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
             kept = ls->n == 1 && td_line_length(&ls->v[0]) > 95;
-            TT_CHECKF(kept == (keep && !road) && ls->n == 1,
+            aside = st.late && st.late->n == 1 && st.late->v[0].piece &&
+                    td_line_length(&st.late->v[0]) > 14;
+            TT_CHECKF(kept == (keep == TD_PIECES_JOINED && !road) &&
+                          ls->n == 1 && !ls->v[0].piece &&
+                          aside == (keep == TD_PIECES_LATE && !road),
                       "keep %d road %d: %zu lines, first %g px, %zu "
-                      "fragments",
+                      "fragments, %zu set aside",
                       keep, road, ls->n,
-                      ls->n ? td_line_length(&ls->v[0]) : 0.0, st.fragments);
+                      ls->n ? td_line_length(&ls->v[0]) : 0.0, st.fragments,
+                      st.late_pieces);
             td_join_stats_free(&st);
             td_lines_free(ls);
         }
@@ -750,38 +757,6 @@ static void test_keep_pieces(void)
                       (keep != TD_PIECES_LATE ||
                        (st.late && st.late->n == 1 && st.late->v[0].piece)),
                   "keep %d: pale piece, %zu lines", keep, ls->n);
-        td_join_stats_free(&st);
-        td_lines_free(ls);
-    }
-}
-
-/* TD_PIECES_LATE (ours): the pieces keep_pieces keeps are set aside
- * before the joins, unjoined and marked td_line.piece, in st.late for the
- * caller (td_scan puts them back after its cuts): the bent 14-px piece
- * beyond the long line's end of test_keep_pieces is set aside (the long
- * line as without it: 80 px), and goes on a road's ink as there. */
-static void test_late_pieces(void)
-{
-    static uint8_t bits[(W + 7) / 8 * H + 1];
-    int road;
-    for (road = 0; road < 2; road++) {
-        td_join_params p = td_join_defaults(W, H);
-        td_join_stats st;
-        td_lines *ls = td_lines_new(NULL);
-        p.keep_pieces = TD_PIECES_LATE;
-        add_hline(ls, 20, 100, 100);
-        add_bump(ls, 103, 100);
-        other_box(bits, 101, 119, 92, 102);
-        p.other = road ? bits : NULL;
-        TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
-        TT_CHECKF(ls->n == 1 && fabs(td_line_length(&ls->v[0]) - 80) < 1 &&
-                      !ls->v[0].piece &&
-                      (road ? !st.late || st.late->n == 0
-                            : st.late && st.late->n == 1 &&
-                                  st.late->v[0].piece &&
-                                  td_line_length(&st.late->v[0]) > 14),
-                  "road %d: %zu lines, first %g px, %zu set aside", road, ls->n,
-                  ls->n ? td_line_length(&ls->v[0]) : 0.0, st.late_pieces);
         td_join_stats_free(&st);
         td_lines_free(ls);
     }
@@ -1016,7 +991,6 @@ int main(void)
     TT_RUN(test_broken_chain);
     TT_RUN(test_chain_not_at_junction);
     TT_RUN(test_keep_pieces);
-    TT_RUN(test_late_pieces);
     TT_RUN(test_joins_never_cross);
     TT_RUN(test_labels_off);
     TT_RUN(test_labelled_sheets);
