@@ -1454,8 +1454,10 @@ static int third_end_near(const jend *e, const td_dkey *ix, size_t ne,
  * gap"): where contours crowd their breaks come side by side, and where
  * one turns sharply its ink breaks at the turn, its own continuation
  * fails the angle test and the end straight ahead is another contour's.
- * Water-turn cut ends and chords over the water are left to stage 3 by
- * both rules. */
+ * Water-turn cut ends are left to stage 3 by both rules; chords over the
+ * water are not (docs/scanner.md "Chords over the water": where a stream
+ * hides the Vs of crowded contours the straightest chord is a neighbour's
+ * as often as its own). */
 static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
                             const jend *e, size_t ne, jpair *pairs, size_t *npp,
                             unsigned char *amb, td_ctx *cx)
@@ -1485,12 +1487,9 @@ static int gap_alternatives(const td_join_params *p, const td_join_stats *st,
         double gx = eb->x - ea->x, gy = eb->y - ea->y, d = hypot(gx, gy);
         int side;
         if (pairs[i].cost < 0 || ea->line == eb->line ||
-            water_cut_end(st, ea) || water_cut_end(st, eb) ||
-            (p->water && chord_wet(p, ea->x, ea->y, eb->x, eb->y)))
-            continue; /* a closure, a line cut where it turned back at the
-                         water (its arms' ends are the cap's, askew), or a
-                         contour across a stream (its V: ends askew, its
-                         neighbours' near) */
+            water_cut_end(st, ea) || water_cut_end(st, eb))
+            continue; /* a closure, or a line cut where it turned back at
+                         the water (its arms' ends are the cap's, askew) */
         if (p->gap_near > 0 && d >= GAP_NEAR_MIN &&
             (third_end_near(e, ix, ne, pairs, first, next, ea, eb,
                             p->gap_near * d) ||

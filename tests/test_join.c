@@ -437,6 +437,39 @@ static void test_near_end_left_open(void)
     }
 }
 
+/* The same case with a stream (water bits, td_join_params.water) across
+ * the gap between the break and the third line's start: a contour's V at
+ * a stream has its ends askew and its neighbours' near, yet the chord over
+ * the water is no surer than one on dry paper, so the near-end rule holds
+ * there too (the break stays open rather than run onto the other line;
+ * docs/scanner.md, "Chords over the water"). */
+static void test_near_end_over_water(void)
+{
+    static uint8_t water[(W + 7) / 8 * H + 1];
+    td_join_params p = td_join_defaults(W, H);
+    td_join_stats st;
+    td_lines *ls = td_lines_new(NULL);
+    double c[2 * 40];
+    size_t i, k, onto = 0;
+    for (k = 0; k < 40; k++) {
+        c[2 * k] = 103 + 0.6 * (double)k;
+        c[2 * k + 1] = 104 + 0.8 * (double)k;
+    }
+    add_hline(ls, 20, 100, 100);
+    add_hline(ls, 112, 260, 100);
+    add_line(ls, c, 40, 0);
+    other_box(water, 104, 108, 80, 120); /* a stream across the gap */
+    p.water = water;
+    TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+    for (i = 0; i < ls->n; i++)
+        onto += ls->v[i].n >= 2 && ls->v[i].xy[0] == 20 &&
+                ls->v[i].xy[2 * ls->v[i].n - 2] == 260;
+    TT_CHECKF(onto == 0 && ls->n == 3,
+              "%zu lines, A run onto B across the water: %zu", ls->n, onto);
+    td_join_stats_free(&st);
+    td_lines_free(ls);
+}
+
 /* A 30-px gap between two pieces of one line is a label gap on paper
  * (joined); the same gap under a road (another ink, td_join_params.other,
  * along the gap) is a contour hidden under it, and stays open: its ends
@@ -983,6 +1016,7 @@ int main(void)
     TT_RUN(test_gaps_side_by_side);
     TT_RUN(test_sidestep_left_open);
     TT_RUN(test_near_end_left_open);
+    TT_RUN(test_near_end_over_water);
     TT_RUN(test_gap_under_other_ink);
     TT_RUN(test_short_piece_kept);
     TT_RUN(test_hook_kept);
