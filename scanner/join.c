@@ -271,6 +271,29 @@ static double arc_cost(const jend *a, const jend *b, double gx, double gy,
 static double cross_cost(const td_join_params *p, const jend *a, const jend *b,
                          double gx, double gy, double d);
 
+/* ---- stage 4 (ours, td_join_params.alone_gaps): short gaps alone ----- */
+#define ALONE_MIN                                                              \
+    3.5                  /* px: a gap from this long (shorter ones stage 1     \
+                            refused for crossing) ... */
+#define ALONE_MAX 8.0    /* ... to this long */
+#define ALONE_ANGLE 60.0 /* degrees: each end's course off the gap */
+#define ALONE_TURN 90.0  /* degrees: the two ends' courses off head on */
+#define ALONE_CLEAR 2.0  /* gaps: no other open end this near either end */
+
+/* A contour whose faded ink broke where it bends, its ends a few px apart
+ * and askew (stage 1's angle and side limits refuse them), nothing else
+ * near: the cost of joining ends a and b, the gap (-1: not such a pair). */
+static double alone_cost(const jend *a, const jend *b, double gx, double gy,
+                         double d)
+{
+    if (d < ALONE_MIN || d > ALONE_MAX ||
+        angle_to(a->tx, a->ty, gx, gy) > ALONE_ANGLE ||
+        angle_to(b->tx, b->ty, -gx, -gy) > ALONE_ANGLE ||
+        angle_to(a->tx, a->ty, -b->tx, -b->ty) > ALONE_TURN)
+        return -1.0;
+    return d;
+}
+
 static double pair_cost(const td_lines *ls, const jend *a, const jend *b,
                         const td_join_params *p, int stage, int *arc)
 {
@@ -282,6 +305,8 @@ static double pair_cost(const td_lines *ls, const jend *a, const jend *b,
         return -1.0;
     if (stage == 3)
         return a->line == b->line ? -1.0 : cross_cost(p, a, b, gx, gy, d);
+    if (stage == 4)
+        return alone_cost(a, b, gx, gy, d);
     if (a->junc && b->junc) { /* across a junction: go on straight */
         double turn = angle_to(a->tx, a->ty, -b->tx, -b->ty);
         /* a small ring cut open where it touches a line: its two ends
@@ -1615,6 +1640,13 @@ static int accept_pairs(const td_lines *ls, const td_join_params *p, int stage,
                                 cx)) != 0)
                 break;
             st->long_joins++;
+        } else if (stage == 4) {
+            pts[0] = a->x, pts[1] = a->y, pts[2] = b->x, pts[3] = b->y, n = 2;
+            if (path_crosses(&g, ls, a, b, pts, n, *acc, *nacc))
+                continue;
+            if ((rc = keep_path(a, b, pts, n, acc, nacc, &cap, paths, cx)) != 0)
+                break;
+            st->alone_joins++;
         } else if (stage == 3) {
             n = cross_path(p, a, b, pts);
             if (path_crosses(&g, ls, a, b, pts, n, *acc, *nacc))
@@ -1674,9 +1706,49 @@ static int record(td_join_stats *st, const td_lines *paths, td_ctx *cx)
     return 0;
 }
 
-/* One joining pass (stage 1 or 2) over *lsp. */
+/* Stage 4: whether a point of iso (niso (x, y) pairs sorted by x) other
+ * than a's and b's own lies within r px of end a. */
+static int iso_near(const double *iso, size_t niso, const jend *a,
+                    const jend *b, double r)
+{
+    size_t lo = 0, hi = niso, k;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (iso[2 * mid] < a->x - r)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    for (k = lo; k < niso && iso[2 * k] <= a->x + r; k++) {
+        double qx = iso[2 * k], qy = iso[2 * k + 1];
+        if ((qx == a->x && qy == a->y) || (qx == b->x && qy == b->y))
+            continue;
+        if (hypot(qx - a->x, qy - a->y) <= r)
+            return 1;
+    }
+    return 0;
+}
+
+/* Stage 4: the pairs with no other open end (of those before stage 1,
+ * iso) within ALONE_CLEAR gaps of either end; *npp updated. */
+static void alone_only(const jend *e, jpair *pairs, size_t *npp,
+                       const double *iso, size_t niso)
+{
+    size_t i, m = 0;
+    for (i = 0; i < *npp; i++) {
+        const jend *a = &e[pairs[i].a], *b = &e[pairs[i].b];
+        double r = ALONE_CLEAR * hypot(b->x - a->x, b->y - a->y);
+        if (!iso_near(iso, niso, a, b, r) && !iso_near(iso, niso, b, a, r))
+            pairs[m++] = pairs[i];
+    }
+    *npp = m;
+}
+
+/* One joining pass (stage 1-4) over *lsp; iso, niso: stage 4's open
+ * ends before stage 1 (alone_only). */
 static int join_pass(td_lines **lsp, const td_join_params *p, int stage,
-                     td_join_stats *st, td_ctx *cx)
+                     const double *iso, size_t niso, td_join_stats *st,
+                     td_ctx *cx)
 {
     td_lines *ls = *lsp, *out = NULL, *paths = NULL;
     jend *e = NULL;
@@ -1693,6 +1765,7 @@ static int join_pass(td_lines **lsp, const td_join_params *p, int stage,
         (rc = find_pairs(ls, e, ne, p, stage, &pairs, &np, cx)) != 0 ||
         (stage == 1 &&
          (rc = junction_zones(e, ne, p, pairs, &np, st, cx)) != 0) ||
+        (stage == 4 && (alone_only(e, pairs, &np, iso, niso), 0)) ||
         (rc = accept_pairs(ls, p, stage, e, ne, pairs, np, &acc, &nacc, paths,
                            st, cx)) != 0)
         goto fail;
@@ -2675,13 +2748,45 @@ static int undo_water_cuts(td_lines *ls, td_join_stats *st, td_ctx *cx)
     return 0;
 }
 
+static int cmp_x(const void *pa, const void *pb)
+{
+    const double *a = pa, *b = pb;
+    return (a[0] > b[0]) - (a[0] < b[0]);
+}
+
+/* The open ends of ls inside the sheet, (x, y) pairs sorted by x. */
+static int open_ends(const td_lines *ls, const td_join_params *p, double **out,
+                     size_t *nout, td_ctx *cx)
+{
+    double *v = td_malloc((4 * ls->n + 1) * sizeof *v, cx);
+    size_t i, n = 0;
+    int k;
+    if (!v)
+        return TD_ENOMEM;
+    for (i = 0; i < ls->n; i++) {
+        const td_line *l = &ls->v[i];
+        if (l->closed || l->n == 0)
+            continue;
+        for (k = 0; k < 2; k++) {
+            size_t q = k ? l->n - 1 : 0;
+            if (on_border(p, l->xy[2 * q], l->xy[2 * q + 1]))
+                continue;
+            v[2 * n] = l->xy[2 * q], v[2 * n + 1] = l->xy[2 * q + 1], n++;
+        }
+    }
+    qsort(v, n, 2 * sizeof *v, cmp_x);
+    *out = v;
+    *nout = n;
+    return 0;
+}
+
 int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
             td_ctx *cx)
 {
     td_join_stats local;
     td_lines *late = NULL;
-    double *jpts = NULL;
-    size_t njpts = 0;
+    double *jpts = NULL, *iso = NULL;
+    size_t njpts = 0, niso = 0;
     int rc;
     if (!st)
         st = &local;
@@ -2700,14 +2805,19 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
         goto fail;
     if (p->chain_max > 0 && (rc = remove_road_chains(*lsp, p, st, cx)) != 0)
         goto fail;
+    if (p->alone_gaps && (rc = open_ends(*lsp, p, &iso, &niso, cx)) != 0)
+        goto fail;
     if ((rc = junc_points(*lsp, &jpts, &njpts, cx)) != 0 ||
-        (rc = join_pass(lsp, p, 1, st, cx)) != 0)
+        (rc = join_pass(lsp, p, 1, NULL, 0, st, cx)) != 0)
         goto fail;
     junc_restore(*lsp, jpts, njpts);
-    if (p->long_gap > p->max_gap && (rc = join_pass(lsp, p, 2, st, cx)) != 0)
+    if (p->long_gap > p->max_gap &&
+        (rc = join_pass(lsp, p, 2, NULL, 0, st, cx)) != 0)
         goto fail;
     if (p->water && p->cross_gap > 0 &&
-        (rc = join_pass(lsp, p, 3, st, cx)) != 0)
+        (rc = join_pass(lsp, p, 3, NULL, 0, st, cx)) != 0)
+        goto fail;
+    if (p->alone_gaps && (rc = join_pass(lsp, p, 4, iso, niso, st, cx)) != 0)
         goto fail;
     if (st->water_turns > 0 && (rc = undo_water_cuts(*lsp, st, cx)) != 0)
         goto fail;
@@ -2722,6 +2832,7 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
 fail:
     td_lines_free(late);
     free(jpts);
+    free(iso);
     if (st == &local)
         td_join_stats_free(&local);
     return rc;

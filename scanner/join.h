@@ -36,6 +36,14 @@ typedef struct td_join_params {
                              curled piece (a digit) within 12 px, is a
                              piece of a faded or broken contour and stays
                              (default 0.8; 0: off, every short piece goes) */
+    int alone_gaps;       /* stage 4 (ours): after the others, gaps of 3.5-8 px
+                             whose ends each head into them (within 60 degrees,
+                             the two within 90 of head on), with no other open
+                             end within twice the gap before stage 1 and no line
+                             across, are joined: a contour's faded ink broken
+                             where it bends.  Right joins, but the heights move
+                             either way (docs/scanner.md, "Short gaps alone";
+                             default 0) */
     int chains; /* stage 0 (ours): short pieces that pair end to end into a
                    chain running from one longer line's end to another's
                    are a contour broken several times, and stay (default
@@ -132,6 +140,7 @@ typedef struct td_join_stats {
                            stage 0 (in late) */
     size_t long_joins; /* of joins: made by stage 2 */
     size_t cross_joins; /* of joins: made by stage 3, across the water */
+    size_t alone_joins; /* of joins: made by stage 4, short gaps alone */
     double *cross_at;   /* x, y of each stage-3 join's middle (its bend
                            P, or its chord's middle): cross_joins pairs;
                            free with td_join_stats_free */

@@ -470,6 +470,50 @@ static void test_near_end_over_water(void)
     td_lines_free(ls);
 }
 
+/* --alone-gaps (td_join_params.alone_gaps): a line whose ink broke where
+ * it bends 85 degrees, its ends 5 px apart, the gap 50 degrees off the
+ * first piece's course and 35 off the second's (stage 1's 40-degree limit
+ * refuses the pair), nothing else near: joined into one line with the
+ * option, two lines without; with a third line's end 8 px from the break
+ * (within twice the gap) it stays open even with the option. */
+static void test_alone_gap(void)
+{
+    int k;
+    for (k = 0; k < 3; k++) {
+        td_join_params p = td_join_defaults(W, H);
+        td_join_stats st;
+        td_lines *ls = td_lines_new(NULL);
+        double c[2 * 60];
+        size_t j, whole = 0;
+        for (j = 0; j < 60; j++) { /* 5 px from (100, 100) at 50 degrees,
+                                      on at 85 */
+            c[2 * j] = 100 + 5 * cos(50 * M_PI / 180) +
+                       (double)j * cos(85 * M_PI / 180);
+            c[2 * j + 1] = 100 + 5 * sin(50 * M_PI / 180) +
+                           (double)j * sin(85 * M_PI / 180);
+        }
+        add_hline(ls, 20, 100, 100);
+        add_line(ls, c, 60, 0);
+        if (k == 2) /* a third line starting 8 px above the break */
+            add_hline(ls, 102, 160, 92);
+        p.alone_gaps = k > 0;
+        TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+        for (j = 0; j < ls->n; j++)
+            whole += ls->v[j].n >= 2 && ls->v[j].xy[0] == 20 &&
+                     fabs(ls->v[j].xy[2 * ls->v[j].n - 2] - c[118]) < 1e-9;
+        if (k == 1)
+            TT_CHECKF(whole == 1 && st.alone_joins == 1,
+                      "option on: %zu lines, whole %zu, %zu alone joins", ls->n,
+                      whole, st.alone_joins);
+        else
+            TT_CHECKF(whole == 0 && st.alone_joins == 0,
+                      "case %d: %zu lines, whole %zu, %zu alone joins", k,
+                      ls->n, whole, st.alone_joins);
+        td_join_stats_free(&st);
+        td_lines_free(ls);
+    }
+}
+
 /* A 30-px gap between two pieces of one line is a label gap on paper
  * (joined); the same gap under a road (another ink, td_join_params.other,
  * along the gap) is a contour hidden under it, and stays open: its ends
@@ -1017,6 +1061,7 @@ int main(void)
     TT_RUN(test_sidestep_left_open);
     TT_RUN(test_near_end_left_open);
     TT_RUN(test_near_end_over_water);
+    TT_RUN(test_alone_gap);
     TT_RUN(test_gap_under_other_ink);
     TT_RUN(test_short_piece_kept);
     TT_RUN(test_hook_kept);

@@ -13,7 +13,7 @@ typedef struct td_cli_run {
     td_run_params p;
 } td_cli_run;
 
-enum { TD_CLI_RUN_OPTS = 20 + TD_CLI_INTERP_OPTS };
+enum { TD_CLI_RUN_OPTS = 21 + TD_CLI_INTERP_OPTS };
 
 /* r's defaults (td_run_defaults). */
 void td_cli_run_init(td_cli_run *r);

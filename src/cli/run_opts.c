@@ -78,6 +78,9 @@ size_t td_cli_run_opts(td_opt *v, td_cli_run *r)
          .choices = "off|joined|late", .meta = "MODE", .help = "the short "
          "pieces of contour the text\nfilter takes (ours; see topodig scan "
          "--help)"},
+        {"alone-gaps", 0, TD_OPT_FLAG, &r->p.scan.join.alone_gaps, .help =
+         "crowded printed sheets: short gaps with no\nother line end near "
+         "joined (ours; see\ntopodig scan --help)"},
         {"threshold", 0, TD_OPT_FUNC, &r->p.scan.bin, .fn = threshold,
          .meta = "T", .help = "otsu | sauvola | N (default otsu)"},
         {"bridge", 0, TD_OPT_DOUBLE, &r->p.bridge, 0, 1e6, .meta = "PX",

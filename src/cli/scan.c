@@ -120,6 +120,11 @@ static int parse_args(int argc, char **argv, scan_opts *o)
          "contour the\nstream's ink hides at its V (0: off)"},
         {"no-curves", 0, TD_OPT_OFF, &p->join.curves, .help = "label-gap "
          "stage: straight rule and chords only"},
+        {"alone-gaps", 0, TD_OPT_FLAG, &p->join.alone_gaps, .help = "crowded "
+         "printed sheets (ours): after the\nother stages join gaps of 3.5-8 "
+         "px whose\nends head into them with no other open end\nnear (a "
+         "faded contour broken where it\nbends; the DEMs of the crowded "
+         "prints\nbetter, of some others worse:\ndocs/scanner.md)"},
         {"no-grid", 0, TD_OPT_OFF, &p->straight.on, .help = "keep long "
          "straight lines (by default the map\ngrid's lines across the sheet "
          "are erased\nfrom the ink, ours: docs/scanner.md)"},
@@ -261,6 +266,10 @@ static void summary(const td_scan_result *r, double secs)
         fprintf(stderr, "scan: %zu stretch%s along roads or other inks cut "
                 "out (their flanks look like contour ink)\n", r->flank_cuts,
                 r->flank_cuts == 1 ? "" : "es");
+    if (r->join.alone_joins > 0)
+        fprintf(stderr, "scan: %zu short gap%s with no other line end near "
+                "joined (--alone-gaps)\n", r->join.alone_joins,
+                r->join.alone_joins == 1 ? "" : "s");
     if (r->join.cross_joins > 0)
         fprintf(stderr, "scan: %zu gap%s where streams hide a contour "
                 "joined across the water\n", r->join.cross_joins,
