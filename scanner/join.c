@@ -2748,12 +2748,6 @@ static int undo_water_cuts(td_lines *ls, td_join_stats *st, td_ctx *cx)
     return 0;
 }
 
-static int cmp_x(const void *pa, const void *pb)
-{
-    const double *a = pa, *b = pb;
-    return (a[0] > b[0]) - (a[0] < b[0]);
-}
-
 /* The open ends of ls inside the sheet, (x, y) pairs sorted by x. */
 static int open_ends(const td_lines *ls, const td_join_params *p, double **out,
                      size_t *nout, td_ctx *cx)
@@ -2774,7 +2768,7 @@ static int open_ends(const td_lines *ls, const td_join_params *p, double **out,
             v[2 * n] = l->xy[2 * q], v[2 * n + 1] = l->xy[2 * q + 1], n++;
         }
     }
-    qsort(v, n, 2 * sizeof *v, cmp_x);
+    qsort(v, n, 2 * sizeof *v, cmp_xy);
     *out = v;
     *nout = n;
     return 0;
