@@ -6,7 +6,9 @@
  * junctions, ours without the seam split, and the
  * default (ours with it); then the same on the generator's 800 px cone,
  * whose rings both roads of the printed kinds cross.  Numbers for
- * docs/scanner.md and docs/binarise.md.  --levels: instead, the colour
+ * docs/scanner.md and docs/binarise.md (the options measured: --ink brown,
+ * the hue window, --no-grid, every junction paired, --detint, the pieces
+ * kept joined or late, --alone-gaps).  --levels: instead, the colour
  * kinds with their levels mapped as other scanners give them (eight
  * gdal_translate -scale ranges and two colour balances), the defaults'
  * recall and precision on each (the palette's sensitivity,
@@ -42,15 +44,16 @@ static void one_kind(const char *name, td_gen_params gp, int kind, int logit,
         td_ctx_clear(cx);
         return;
     }
-    for (v = 0; v < 10; v++) {
+    for (v = 0; v < 11; v++) {
         /* paper junctions, cut without seams, the default; colour:
            --ink brown, and the first brown selection (hue window);
            the default without the grid-line removal; the default
            pairing every junction zone's ends (no ambiguity rule);
-           colour: --detint; --keep-pieces; --pieces late */
-        static const char *const vname[10] = {
-            "paper",  "cut,noseam", "default", "ink brown", "brown-hue",
-            "nogrid", "junc any",   "detint",  "keep pcs",  "pcs late"};
+           colour: --detint; --keep-pieces; --pieces late; --alone-gaps */
+        static const char *const vname[11] = {
+            "paper",     "cut,noseam", "default",   "ink brown",
+            "brown-hue", "nogrid",     "junc any",  "detint",
+            "keep pcs",  "pcs late",   "alone gaps"};
         int paper = v == 0;
         td_scan_params sp = td_scan_defaults();
         td_scan_result res;
@@ -64,6 +67,8 @@ static void one_kind(const char *name, td_gen_params gp, int kind, int logit,
             sp.join.keep_pieces = TD_PIECES_JOINED;
         if (v == 9)
             sp.join.keep_pieces = TD_PIECES_LATE;
+        if (v == 10)
+            sp.join.alone_gaps = 1;
         if (v == 5)
             sp.straight.on = 0;
         if (v == 6)
