@@ -2405,22 +2405,28 @@ done:
     return rc;
 }
 
-/* The junction end points of ls, sorted (x, y pairs), for junc_restore. */
-static int junc_points(const td_lines *ls, double **out, size_t *n,
-                       td_ctx *cx)
+/* The end points of ls's open lines, sorted (x, y pairs): with p, those
+ * inside the sheet (stage 4's open ends); without, those at skeleton
+ * junctions (for junc_restore). */
+static int end_points(const td_lines *ls, const td_join_params *p, double **out,
+                      size_t *n, td_ctx *cx)
 {
     size_t i, m = 0;
     double *v = td_malloc((4 * ls->n + 2) * sizeof *v, cx);
+    int k;
     if (!v)
         return TD_ENOMEM;
     for (i = 0; i < ls->n; i++) {
         const td_line *l = &ls->v[i];
         if (l->closed || l->n == 0)
             continue;
-        if (l->junc & 1)
-            v[2 * m] = l->xy[0], v[2 * m++ + 1] = l->xy[1];
-        if (l->junc & 2)
-            v[2 * m] = l->xy[2 * l->n - 2], v[2 * m++ + 1] = l->xy[2 * l->n - 1];
+        for (k = 0; k < 2; k++) {
+            size_t q = k ? l->n - 1 : 0;
+            if (p ? on_border(p, l->xy[2 * q], l->xy[2 * q + 1])
+                  : !(l->junc & (1u << k)))
+                continue;
+            v[2 * m] = l->xy[2 * q], v[2 * m + 1] = l->xy[2 * q + 1], m++;
+        }
     }
     qsort(v, m, 2 * sizeof *v, cmp_xy);
     *out = v;
@@ -2748,32 +2754,6 @@ static int undo_water_cuts(td_lines *ls, td_join_stats *st, td_ctx *cx)
     return 0;
 }
 
-/* The open ends of ls inside the sheet, (x, y) pairs sorted by x. */
-static int open_ends(const td_lines *ls, const td_join_params *p, double **out,
-                     size_t *nout, td_ctx *cx)
-{
-    double *v = td_malloc((4 * ls->n + 1) * sizeof *v, cx);
-    size_t i, n = 0;
-    int k;
-    if (!v)
-        return TD_ENOMEM;
-    for (i = 0; i < ls->n; i++) {
-        const td_line *l = &ls->v[i];
-        if (l->closed || l->n == 0)
-            continue;
-        for (k = 0; k < 2; k++) {
-            size_t q = k ? l->n - 1 : 0;
-            if (on_border(p, l->xy[2 * q], l->xy[2 * q + 1]))
-                continue;
-            v[2 * n] = l->xy[2 * q], v[2 * n + 1] = l->xy[2 * q + 1], n++;
-        }
-    }
-    qsort(v, n, 2 * sizeof *v, cmp_xy);
-    *out = v;
-    *nout = n;
-    return 0;
-}
-
 int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
             td_ctx *cx)
 {
@@ -2799,9 +2779,9 @@ int td_join(td_lines **lsp, const td_join_params *p, td_join_stats *st,
         goto fail;
     if (p->chain_max > 0 && (rc = remove_road_chains(*lsp, p, st, cx)) != 0)
         goto fail;
-    if (p->alone_gaps && (rc = open_ends(*lsp, p, &iso, &niso, cx)) != 0)
+    if (p->alone_gaps && (rc = end_points(*lsp, p, &iso, &niso, cx)) != 0)
         goto fail;
-    if ((rc = junc_points(*lsp, &jpts, &njpts, cx)) != 0 ||
+    if ((rc = end_points(*lsp, NULL, &jpts, &njpts, cx)) != 0 ||
         (rc = join_pass(lsp, p, 1, NULL, 0, st, cx)) != 0)
         goto fail;
     junc_restore(*lsp, jpts, njpts);

@@ -392,6 +392,22 @@ static void test_sidestep_left_open(void)
     }
 }
 
+/* Line A (20..100 along y 100), line B starting 12 px straight ahead
+ * (112..260), and A's own continuation from (103, 104) down at 53 degrees:
+ * the case of the near-end rule. */
+static void near_end_lines(td_lines *ls)
+{
+    double c[2 * 40];
+    size_t k;
+    for (k = 0; k < 40; k++) {
+        c[2 * k] = 103 + 0.6 * (double)k;
+        c[2 * k + 1] = 104 + 0.8 * (double)k;
+    }
+    add_hline(ls, 20, 100, 100);
+    add_hline(ls, 112, 260, 100);
+    add_line(ls, c, 40, 0);
+}
+
 /* A contour turning sharply where its ink broke (docs/scanner.md "A third
  * line's end near the gap"): contour A runs along row 100 to x 100 and
  * goes on down and to the right from (103, 104), 53 degrees off its
@@ -408,15 +424,8 @@ static void test_near_end_left_open(void)
         td_join_params p = td_join_defaults(W, H);
         td_join_stats st;
         td_lines *ls = td_lines_new(NULL);
-        double c[2 * 40];
-        size_t i, k, onto = 0;
-        for (k = 0; k < 40; k++) { /* (103, 104) down at 53 degrees */
-            c[2 * k] = 103 + 0.6 * (double)k;
-            c[2 * k + 1] = 104 + 0.8 * (double)k;
-        }
-        add_hline(ls, 20, 100, 100);
-        add_hline(ls, 112, 260, 100);
-        add_line(ls, c, 40, 0);
+        size_t i, onto = 0;
+        near_end_lines(ls);
         if (!on)
             p.gap_near = 0;
         TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
@@ -449,15 +458,8 @@ static void test_near_end_over_water(void)
     td_join_params p = td_join_defaults(W, H);
     td_join_stats st;
     td_lines *ls = td_lines_new(NULL);
-    double c[2 * 40];
-    size_t i, k, onto = 0;
-    for (k = 0; k < 40; k++) {
-        c[2 * k] = 103 + 0.6 * (double)k;
-        c[2 * k + 1] = 104 + 0.8 * (double)k;
-    }
-    add_hline(ls, 20, 100, 100);
-    add_hline(ls, 112, 260, 100);
-    add_line(ls, c, 40, 0);
+    size_t i, onto = 0;
+    near_end_lines(ls);
     other_box(water, 104, 108, 80, 120); /* a stream across the gap */
     p.water = water;
     TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
