@@ -64,7 +64,13 @@
 #define DP_FACE_MIN 6.0
 #define WCONT 24.0 /* a chunk continues its line: same state */
 #define CHUNK 48.0 /* px of arc per chunk */
-#define W_INDEX 3.0
+#define W_INDEX                                                                \
+    8.0 /* a line's width against its height, at 80 px of line or more         \
+           (docs/label.md, "Index widths weighted 8") */
+#define W_INDEX_TRIAL                                                          \
+    3.0 /* ... in the interval's and the index spacing's trials: at 8 the      \
+           printed Front Range 25 sheet's 6 labels fit intervals 25 and 2.5    \
+           alike (its faded and crowded lines' widths err both ways) */
 #define W_SUMMIT 0.5
 #define W_RING 0.25
 #define W_NEST                                                                 \
@@ -915,7 +921,8 @@ static int setup_index(hs *s, td_ctx *cx)
         m = line_chunks(s, i, &c0);
         for (k = 0; k < m; k++) {
             s->idx[c0 + k] = wt >= cut ? 1 : -1;
-            s->ilen[c0 + k] = W_INDEX * fmin(1.0, len / 80.0) / m;
+            s->ilen[c0 + k] = (s->cost_only ? W_INDEX_TRIAL : W_INDEX) *
+                              fmin(1.0, len / 80.0) / m;
         }
     }
     return 0;

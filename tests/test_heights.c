@@ -1302,6 +1302,39 @@ static void test_tied_region_decided(void)
     td_label_report_free(&hs.rep);
 }
 
+/* The index widths weighted 8 (heights.c W_INDEX; 3 until 2026-12-07,
+ * session 50).  On the printed Front Range 25 sheet (3 known + widths) a
+ * spur's stack of six lines came out one interval low, its index line on
+ * 2350: the width's 3 (at most, per line) was less than the fold the
+ * shift saved; 0.882 of the length right at 3, 0.906 at 8.  On Elkhorn's
+ * colour scan (3 known + widths) a region went the same way: 0.916 ->
+ * 0.982.  Neither with a line wrong and sure. */
+static void test_index_widths_weighed(void)
+{
+    static const struct {
+        const char *dem;
+        double scale, interval;
+        int kind;
+        double least;
+    } v[2] = {{"frontrange_srtm3.tif", 8, 25, 3, 0.9},
+              {"elkhorn_srtm3.tif", 6, 10, 2, 0.97}};
+    size_t i;
+    for (i = 0; i < 2; i++) {
+        td_hsheet hs;
+        td_ctx cx;
+        td_ctx_init(&cx);
+        TT_CHECKF(known_widths(&hs, v[i].dem, v[i].scale, v[i].interval,
+                               v[i].kind, &cx) == 0,
+                  "%s", td_errmsg(&cx));
+        TT_CHECKF(hs.score.accuracy >= v[i].least && hs.score.n_wrong_sure == 0,
+                  "%s x%g %s, 3 known + widths: accuracy %.3f (at least "
+                  "%.3f), %ld wrong and sure",
+                  v[i].dem, v[i].scale, v[i].kind == 3 ? "printed" : "colour",
+                  hs.score.accuracy, v[i].least, hs.score.n_wrong_sure);
+        td_label_report_free(&hs.rep);
+    }
+}
+
 /* Front Range at interval 25 (scale 8) printed new, no hint: its labels
  * sit among crowded contours and two of three were read.  The third,
  * 2625 printed upside down in pale ink near 144,119, read "4297" in its
@@ -1989,6 +2022,7 @@ int main(void)
     TT_RUN(test_cone_index_counted);
     TT_RUN(test_short_piece_in_doubt);
     TT_RUN(test_tied_region_decided);
+    TT_RUN(test_index_widths_weighed);
     TT_RUN(test_vee_arms);
     TT_RUN(test_border_turn_heights);
     TT_RUN(test_speck_counted);
