@@ -1304,11 +1304,12 @@ static void test_tied_region_decided(void)
 
 /* The index widths weighted 8 (heights.c W_INDEX; 3 until 2026-12-07,
  * session 50).  On the printed Front Range 25 sheet (3 known + widths) a
- * spur's stack of six lines came out one interval low, its index line on
- * 2350: the width's 3 (at most, per line) was less than the fold the
- * shift saved; 0.882 of the length right at 3, 0.906 at 8.  On Elkhorn's
- * colour scan (3 known + widths) a region went the same way: 0.916 ->
- * 0.982.  Neither with a line wrong and sure. */
+ * region north-east of the centre came out one interval low, its index
+ * line (3.5 px among lines of 2.5) on 2350: the width's 3 (at most, per
+ * line) was less than the folds the shift saved; 0.882 of the length
+ * right at 3, 0.906 at 8.  On Elkhorn's colour scan (3 known + widths) a
+ * region went the same way: 0.916 -> 0.982.  Neither with a line wrong
+ * and sure. */
 static void test_index_widths_weighed(void)
 {
     static const struct {
