@@ -70,6 +70,7 @@ td_join_params td_join_defaults(int w, int h)
     p.tangent = 8.0;
     p.min_length = 25.0;
     p.straight_keep = 0.8;
+    p.curl_keep = 1.0;
     p.chains = 1;
     p.bridge_max = 12.0;
     p.chain_max = 80.0;
@@ -1928,6 +1929,63 @@ static int hooked(const td_line *l, double min_length)
     return !l->junc && td_line_length(l) >= min_length;
 }
 
+#define CURL_APART                                                             \
+    4.0 /* px between a curled piece's ends: nearer, a ring                    \
+           cut open where it touches (a digit's 0, 6, 9) */
+#define CURL_NEAR                                                              \
+    8.0 /* px: a curled piece this near another candidate                      \
+           or a small ring is a glyph of a label */
+
+/* Whether l is curled (td_join_params.curl_keep): open, curl_keep *
+ * min_length long or longer, its ends CURL_APART px apart or more (it is
+ * a compact piece: a candidate). */
+static int curled(const td_line *l, const td_join_params *p)
+{
+    return p->curl_keep > 0 && !l->closed && l->n >= 2 &&
+           td_line_length(l) >= p->curl_keep * p->min_length &&
+           hypot(l->xy[0] - l->xy[2 * l->n - 2],
+                 l->xy[1] - l->xy[2 * l->n - 1]) >= CURL_APART;
+}
+
+/* The curled candidates with no other candidate or small ring within
+ * CURL_NEAR px (a label's digits stand side by side) into curl[]: a
+ * stretch of contour curled round a small summit or pit, or between two
+ * faded breaks it pairs across with nothing (ours; docs/scanner.md,
+ * "Curled pieces"). */
+static int keep_curled(const td_lines *ls, const td_join_params *p,
+                       const uint8_t *cand, uint8_t *curl, td_ctx *cx)
+{
+    size_t i, j, m = 0;
+    double(*cb)[4];
+    long *who;
+    if (p->curl_keep <= 0)
+        return 0;
+    if (!(cb = td_malloc((ls->n + 1) * sizeof *cb, cx)))
+        return TD_ENOMEM;
+    if (!(who = td_malloc((ls->n + 1) * sizeof *who, cx))) {
+        free(cb);
+        return TD_ENOMEM;
+    }
+    for (i = 0; i < ls->n; i++)
+        if (cand[i] || small_ring(&ls->v[i], p->min_length)) {
+            td_line_box(&ls->v[i], cb[m]);
+            who[m++] = (long)i;
+        }
+    for (i = 0; i < ls->n; i++) {
+        double b[4];
+        if (!cand[i] || !curled(&ls->v[i], p))
+            continue;
+        td_line_box(&ls->v[i], b);
+        for (j = 0; j < m; j++)
+            if (who[j] != (long)i && box_gap(b, cb[j]) <= CURL_NEAR)
+                break;
+        curl[i] = j == m;
+    }
+    free(cb);
+    free(who);
+    return 0;
+}
+
 /* Ours: a short piece whose end pairs with an end of another short piece
  * continues a longer line when that piece's other end does, through any
  * number of short pieces: a contour broken several times in a row (a faded
@@ -2016,7 +2074,8 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
     jend *e = NULL;
     long *eol = NULL;
     jpair *pairs = NULL;
-    uint8_t *cand = NULL, *cont = NULL, *pale = NULL, *kcont = NULL;
+    uint8_t *cand = NULL, *cont = NULL, *pale = NULL, *kcont = NULL,
+            *curl = NULL;
     int joined = p->keep_pieces == TD_PIECES_JOINED;
     size_t ne = 0, np = 0, i, nbox = 0;
     double(*box)[4] = NULL;
@@ -2029,7 +2088,8 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
     rc = TD_ENOMEM;
     if (!(cand = td_calloc(ls->n + 1, 1, cx)) ||
         !(cont = td_calloc(ne + 1, 1, cx)) ||
-        !(pale = td_calloc(ls->n + 1, 1, cx)))
+        !(pale = td_calloc(ls->n + 1, 1, cx)) ||
+        !(curl = td_calloc(ls->n + 1, 1, cx)))
         goto fail;
     for (i = 0; i < ls->n; i++) {
         double len = td_line_length(&ls->v[i]);
@@ -2047,6 +2107,8 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
         }
     }
     if (p->straight_keep > 0 && (rc = keep_straight(ls, p, cand, cx)) != 0)
+        goto fail;
+    if ((rc = keep_curled(ls, p, cand, curl, cx)) != 0)
         goto fail;
     for (i = 0; i < np; i++) {
         size_t a = pairs[i].a, b = pairs[i].b;
@@ -2078,6 +2140,10 @@ static int remove_fragments(td_lines *ls, const td_join_params *p,
         if (!cand[i])
             continue;
         c0 = cont[eol[2 * i]], c1 = cont[eol[2 * i + 1]];
+        if (curl[i] && !on_other(p, &ls->v[i])) {
+            st->curls++;
+            continue;
+        }
         if (!(c0 && c1) && !(hooked(&ls->v[i], p->min_length) && (c0 || c1)) &&
             !(joined && (c0 || c1) && !on_other(p, &ls->v[i]))) {
             int k0 = kcont ? kcont[eol[2 * i]] : 0,
@@ -2143,6 +2209,7 @@ fail:
     free(cand);
     free(cont);
     free(pale);
+    free(curl);
     free(kcont);
     free(box);
     return rc;

@@ -36,6 +36,16 @@ typedef struct td_join_params {
                              curled piece (a digit) within 12 px, is a
                              piece of a faded or broken contour and stays
                              (default 0.8; 0: off, every short piece goes) */
+    double curl_keep;     /* stage 0 (ours): a compact piece (fitting in a
+                             min_length box) at least this many min_length
+                             long, its two ends 4 px apart or more, with no
+                             other candidate piece or small ring within 8 px
+                             (a label's glyphs stand side by side) and not
+                             on another ink, is a stretch of contour curled
+                             round a small summit or pit, or between two
+                             faded breaks it pairs across with nothing: it
+                             stays (docs/scanner.md, "Curled pieces";
+                             default 1; 0: off) */
     int alone_gaps;       /* stage 4 (ours): after the others, gaps of 3.5-8 px
                              whose ends each head into them (within 60 degrees,
                              the two within 90 of head on), with no other open
@@ -155,6 +165,8 @@ typedef struct td_join_stats {
                            either */
     double *gaps_at;    /* x, y of each of those ends, sorted; free with
                            td_join_stats_free */
+    size_t curls;       /* compact pieces kept as curled contour
+                           (td_join_params.curl_keep) */
     size_t bridges;    /* short pieces between two junctions removed */
     size_t road_pieces; /* straight pieces in chains removed (chain_max) */
     size_t glyphs;     /* small closed rings (digits such as 0, 6, 8, 9)

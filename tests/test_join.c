@@ -597,6 +597,54 @@ static void test_hook_kept(void)
     td_lines_free(ls);
 }
 
+/* A stretch of contour curled round a small summit, open at both ends
+ * where the faded ink broke (a U 16 px across and 22 high, 53 px long: a
+ * compact piece, as a label's digits are) with no line near its ends:
+ * kept as contour (td_join_params.curl_keep), not taken as text.  A
+ * label "20" beside it, its "2" as long (32 px, 7 x 14) and curled, still
+ * goes: a glyph has its label's other glyphs beside it.  With the rule
+ * off the U goes too. */
+static void test_curl_kept(void)
+{
+    int off;
+    for (off = 0; off < 2; off++) {
+        td_join_params p = td_join_defaults(W, H);
+        td_join_stats st;
+        td_lines *ls = td_lines_new(NULL);
+        td_line *l = td_lines_add(ls, NULL);
+        const double two[] = {217, 93,  223, 93,  223, 100,
+                              217, 100, 217, 107, 223, 107};
+        int k;
+        double len;
+        for (k = 0; k <= 14; k++) /* down the left arm */
+            td_line_push(l, 100, 86 + k, NULL);
+        for (k = 1; k < 12; k++) /* round the bottom */
+            td_line_push(l, 108 - 8 * cos(M_PI * k / 12),
+                         100 + 8 * sin(M_PI * k / 12), NULL);
+        for (k = 0; k <= 14; k++) /* up the right arm */
+            td_line_push(l, 116, 100 - k, NULL);
+        len = td_line_length(l);
+        add_line(ls, two, 6, 0);
+        add_ring(ls, 232, 100, 5, 12); /* the label's "0" */
+        add_hline(ls, 20, 280, 160);
+        if (off)
+            p.curl_keep = 0;
+        TT_CHECK(td_join(&ls, &p, &st, NULL) == 0);
+        TT_CHECKF(len > 2 * p.min_length, "the U is %g px", len);
+        if (!off)
+            TT_CHECKF(ls->n == 2 && st.curls == 1 && st.fragments == 1 &&
+                          st.glyphs == 1,
+                      "%zu lines, %zu curls kept, %zu fragments, %zu glyphs",
+                      ls->n, st.curls, st.fragments, st.glyphs);
+        else
+            TT_CHECKF(ls->n == 1 && st.curls == 0 && st.fragments == 2,
+                      "off: %zu lines, %zu curls kept, %zu fragments", ls->n,
+                      st.curls, st.fragments);
+        td_join_stats_free(&st);
+        td_lines_free(ls);
+    }
+}
+
 /* A straight road the mask took with the contours, cut at every contour
  * it crosses: four 36-px pieces lined up at x = 150, each gap holding a
  * contour.  The pieces go (each would be a "contour" stepping from one
@@ -1067,6 +1115,7 @@ int main(void)
     TT_RUN(test_gap_under_other_ink);
     TT_RUN(test_short_piece_kept);
     TT_RUN(test_hook_kept);
+    TT_RUN(test_curl_kept);
     TT_RUN(test_road_chain);
     TT_RUN(test_faded_pieces);
     TT_RUN(test_broken_chain);

@@ -24,10 +24,10 @@ static int write_join_report(const char *path, const td_join_stats *j,
             "fragments_removed %zu\nglyph_rings_removed %zu\nends_open %zu\n"
             "merges %zu\nmerges_left_open %zu\nwater_turns_cut %zu\n"
             "gap_ends_left_open %zu\npieces_kept_apart %zu\n"
-            "alone_gap_joins %zu\n",
+            "alone_gap_joins %zu\ncurled_pieces_kept %zu\n",
             j->joins, j->long_joins, j->cross_joins, j->closures, j->fragments,
             j->glyphs, j->ends_open, j->merges, j->merges_open, j->water_turns,
-            j->gaps_open, j->late_pieces, j->alone_joins);
+            j->gaps_open, j->late_pieces, j->alone_joins, j->curls);
     bad = ferror(f);
     if (fclose(f) != 0 || bad)
         return td_seterr(cx, TD_EIO, "%s: cannot write", path);
