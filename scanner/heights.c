@@ -2536,6 +2536,94 @@ static double full_cost(hs *s, const long *nb)
     return t;
 }
 
+/* The middle vertex of chunk c, its line's id into *id. */
+static void chunk_mid(const hs *s, size_t c, long *id, double *x, double *y)
+{
+    size_t l = td_faces_chunk_line(s->fx, c),
+           k0 = td_faces_chunk_first(s->fx, c),
+           k1 = c + 1 < s->C && td_faces_chunk_line(s->fx, c + 1) == l
+                    ? td_faces_chunk_first(s->fx, c + 1)
+                    : s->ls->v[l].n - 1,
+           k = (k0 + k1) / 2;
+    const td_line *ln = &s->ls->v[l];
+    *id = ln->id;
+    *x = ln->xy[2 * k], *y = ln->xy[2 * k + 1];
+}
+
+/* The edge's part of the model under the bands b (as oracle_costs). */
+static int edge_term(const hs *s, const cedge *e, const long *b)
+{
+    return IS_CONT(e->kind)                          ? TD_OT_CONT
+           : e->kind == E_STEP || b[e->a] != b[e->b] ? TD_OT_FACE
+           : nest_pair(s, e->a, e->b)                ? TD_OT_NEST
+                                                     : TD_OT_FOLD;
+}
+
+/* Appends a tie to rep->oracle_ties (p->oracle_ties). */
+static int add_tie(hs *s, int term, double va, double vt, size_t ca, size_t cb,
+                   size_t *cap, td_ctx *cx)
+{
+    td_label_report *r = s->rep;
+    td_oracle_tie *t;
+    if (r->noracle_ties == *cap) {
+        size_t nc = *cap ? 2 * *cap : 64;
+        td_oracle_tie *v = realloc(r->oracle_ties, nc * sizeof *v);
+        if (!v)
+            return td_seterr(cx, TD_ENOMEM, "out of memory");
+        r->oracle_ties = v, *cap = nc;
+    }
+    t = &r->oracle_ties[r->noracle_ties++];
+    t->term = term, t->answer = va, t->truth = vt;
+    chunk_mid(s, ca, &t->id[0], &t->x[0], &t->y[0]);
+    chunk_mid(s, cb, &t->id[1], &t->x[1], &t->y[1]);
+    return 0;
+}
+
+/* Benchmarks (p->oracle_ties): every edge and every line's own term that
+ * the answer nb and the truth no pay differently, into rep->oracle_ties:
+ * where the model prefers which (bench_heights --oracle-ties). */
+static int oracle_ties(hs *s, const long *nb, const long *no, td_ctx *cx)
+{
+    size_t i, c, cap = 0;
+    int q, rc;
+    free(s->rep->oracle_ties);
+    s->rep->oracle_ties = NULL, s->rep->noracle_ties = 0;
+    for (i = 0; i < s->nce; i++) {
+        const cedge *e = &s->ce[i];
+        double va, vt;
+        if (e->kind == E_LINE)
+            continue;
+        va = edge_cost(s, e, nb[e->a], nb[e->a ^ 1] > nb[e->a], nb[e->b],
+                       nb[e->b ^ 1] > nb[e->b]);
+        vt = edge_cost(s, e, no[e->a], no[e->a ^ 1] > no[e->a], no[e->b],
+                       no[e->b ^ 1] > no[e->b]);
+        if (fabs(va - vt) > 1e-9 &&
+            (rc = add_tie(s, edge_term(s, e, va > vt ? nb : no), va, vt,
+                          e->a / 2, e->b / 2, &cap, cx)) != 0)
+            return rc;
+    }
+    for (i = 0; i < s->nun; i++) {
+        size_t v = (size_t)s->un[4 * i];
+        double va = unary_at(s->un + 4 * i, nb[v] + s->kofs),
+               vt = unary_at(s->un + 4 * i, no[v] + s->kofs);
+        if (fabs(va - vt) > 1e-9 &&
+            (rc = add_tie(s, TD_OT_UNARY, va, vt, v / 2, v / 2, &cap, cx)) != 0)
+            return rc;
+    }
+    for (c = 0; c < s->C; c++) {
+        double ta[TD_OT_N] = {0}, tt[TD_OT_N] = {0};
+        if (labs(nb[2 * c] - nb[2 * c + 1]) == 1)
+            line_parts(s, c, nb[2 * c], nb[2 * c + 1], ta);
+        if (labs(no[2 * c] - no[2 * c + 1]) == 1)
+            line_parts(s, c, no[2 * c], no[2 * c + 1], tt);
+        for (q = 1; q < TD_OT_N; q++)
+            if (fabs(ta[q] - tt[q]) > 1e-9 &&
+                (rc = add_tie(s, q, ta[q], tt[q], c, c, &cap, cx)) != 0)
+                return rc;
+    }
+    return 0;
+}
+
 /* Benchmarks: the whole model's cost of the answer nb and of the true
  * heights (p->oracle_h, p->oracle_up; chunks of lines without one keep
  * their answer) and its parts (td_oracle_term, priced here term by term;
@@ -2546,7 +2634,7 @@ static int oracle_costs(hs *s, const long *nb, td_ctx *cx)
 {
     long *no = td_malloc((s->V + 1) * sizeof *no, cx);
     size_t c, i;
-    int pass, k, pri = s->priors;
+    int pass, pri = s->priors, rc;
     if (!no)
         return TD_ENOMEM;
     memcpy(no, nb, s->V * sizeof *no);
@@ -2581,17 +2669,14 @@ static int oracle_costs(hs *s, const long *nb, td_ctx *cx)
                 continue;
             v = edge_cost(s, e, b[e->a], b[e->a ^ 1] > b[e->a], b[e->b],
                           b[e->b ^ 1] > b[e->b]);
-            k = IS_CONT(e->kind)                          ? TD_OT_CONT
-                : e->kind == E_STEP || b[e->a] != b[e->b] ? TD_OT_FACE
-                : nest_pair(s, e->a, e->b)                ? TD_OT_NEST
-                                                          : TD_OT_FOLD;
-            t[k] += v;
+            t[edge_term(s, e, b)] += v;
         }
         t[TD_OT_TOTAL] = full_cost(s, b); /* the parts add up to it */
     }
+    rc = s->p->oracle_ties ? oracle_ties(s, nb, no, cx) : 0;
     s->priors = pri;
     free(no);
-    return 0;
+    return rc;
 }
 
 /* The forest in the order of the candidates' keys, its domain and tables. */

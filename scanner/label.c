@@ -64,6 +64,7 @@ void td_label_report_free(td_label_report *rep)
     free(rep->undetermined_ids);
     free(rep->assumed_ids);
     free(rep->text);
+    free(rep->oracle_ties);
     memset(rep, 0, sizeof *rep);
 }
 

@@ -115,6 +115,9 @@ typedef struct td_label_params {
     const signed char *oracle_up; /* ... 1 when its side 0 (left of its
                                      direction, y down) is the higher:
                                      rep.oracle_cost prices the truth */
+    int oracle_ties;       /* benchmarks (faces, with oracle_h): also list
+                              the ties the answer and the truth pay
+                              differently (rep.oracle_ties) */
     int search;            /* faces: 0 the forest's best (default); N > 0
                               also N forests in other orders and a local
                               search over every face edge, the cheapest
@@ -142,6 +145,18 @@ enum td_oracle_term {
     TD_OT_UNARY,
     TD_OT_N
 };
+
+/* One tie the answer and the true heights pay differently (benchmarks,
+ * td_label_params.oracle_ties): its part of the model (td_oracle_term,
+ * as the one that pays more classes it), what each pays, and the lines
+ * at its two ends (their ids, and the middle vertex of the chunk there;
+ * a line's own terms: both ends the same). */
+typedef struct td_oracle_tie {
+    int term;
+    double answer, truth;
+    long id[2];
+    double x[2], y[2];
+} td_oracle_tie;
 
 typedef struct td_label_report {
     size_t labelled, undetermined, warnings;
@@ -179,6 +194,9 @@ typedef struct td_label_report {
                                        and of the true heights [1] (lines
                                        without one as answered): the total
                                        and its parts (td_oracle_term) */
+    td_oracle_tie *oracle_ties;     /* p.oracle_ties: noracle_ties of them,
+                                       in the model's order */
+    size_t noracle_ties;
 } td_label_report;
 
 /* Defaults: base 0, interval 0 (must be set), w = h = 0 (must be set),

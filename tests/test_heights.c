@@ -1795,7 +1795,8 @@ static void test_ocr_threads(void)
  * of the length right), the true heights, each line's up side read off
  * the true surface, cost what the answer costs (measured 43 and 42: one
  * fold); the up sides swapped, 96587 (the lines' own costs, every face
- * edge broken). */
+ * edge broken).  The ties the two pay differently (bench_heights
+ * --oracle-ties) add up to the difference. */
 static void test_oracle_price(void)
 {
     td_hsheet hs;
@@ -1809,6 +1810,7 @@ static void test_oracle_price(void)
     hs.nknown = 3;
     hs.index_every = 5;
     hs.oracle = 1;
+    hs.oracle_ties = 1;
     TT_CHECKF(td_hsheet_run(&hs, NULL, &cx) == 0, "%s", td_errmsg(&cx));
     TT_CHECKF(hs.score.accuracy > 0.99 && hs.rep.oracle_cost[1][0] > 0 &&
                   fabs(hs.rep.oracle_cost[0][0] - hs.rep.oracle_cost[1][0]) <=
@@ -1826,6 +1828,17 @@ static void test_oracle_price(void)
                       1e-6 * hs.rep.oracle_cost[k][TD_OT_TOTAL],
                   "%s: parts %.6f, whole %.6f", k ? "truth" : "answer", sum,
                   hs.rep.oracle_cost[k][TD_OT_TOTAL]);
+    }
+    {
+        double d = 0, want = hs.rep.oracle_cost[1][TD_OT_TOTAL] -
+                             hs.rep.oracle_cost[0][TD_OT_TOTAL];
+        size_t i;
+        for (i = 0; i < hs.rep.noracle_ties; i++)
+            d += hs.rep.oracle_ties[i].truth - hs.rep.oracle_ties[i].answer;
+        TT_CHECKF(hs.rep.noracle_ties > 0 &&
+                      fabs(d - want) <= 1e-6 * hs.rep.oracle_cost[0][0],
+                  "%zu ties add up to %.6f, the totals differ by %.6f",
+                  hs.rep.noracle_ties, d, want);
     }
     td_label_report_free(&hs.rep);
     td_grid_f32_free(src);

@@ -12,7 +12,7 @@
  *   bench_heights [--dems DIR] [--only NAME] [--tree] [--search N] [--log]
  *                 [--all-hints] [--png DIR] [--streams] [--no-vees]
  *                 [--no-stream-joins] [--gap-pairs PX] [--oracle]
- *                 [--oracle-box X0,Y0,X1,Y1] [--steps]
+ *                 [--oracle-box X0,Y0,X1,Y1] [--oracle-ties N] [--steps]
  *                 [--detint] [--spots N]
  *
  * --detint: the scanner divides the colour sheets' tints out (scan
@@ -32,7 +32,12 @@
  * pays more than the answer, the model's weights are worth a look);
  * --oracle-box X0,Y0,X1,Y1: the same with the true heights only on the
  * lines wholly inside the box (scan pixels), the answer's elsewhere: one
- * region's price; --steps: the labeller's step edges (the scan's
+ * region's price; --oracle-ties N (with --oracle or --oracle-box): the
+ * N ties the answer and the truth pay most differently (a face edge, a
+ * fold, a continuity tie, a line's own term: td_oracle_tie), each with
+ * the two lines at its ends (ids, positions), those that favour the
+ * answer marked "<": where the model prefers a wrong region, what holds
+ * it there; --steps: the labeller's step edges (the scan's
  * skeleton, td_label_params.skeleton; off by default). */
 #include "tests/util/bench.h"
 #include "tests/util/hsheet.h"
@@ -68,7 +73,8 @@ static const char usage[] =
     "usage: bench_heights [--dems DIR] [--only NAME] [--tree] [--search N]\n"
     "                     [--log] [--all-hints] [--png DIR] [--streams]\n"
     "                     [--no-vees] [--no-stream-joins] [--gap-pairs PX]\n"
-    "                     [--oracle] [--oracle-box X0,Y0,X1,Y1] [--steps]\n"
+    "                     [--oracle] [--oracle-box X0,Y0,X1,Y1]\n"
+    "                     [--oracle-ties N] [--steps]\n"
     "                     [--detint] [--hachures]\n"
     "                     [--paper-junctions] [--spots N]\n";
 
@@ -77,13 +83,47 @@ static const char *const scan_name[6] = {"truth",  "clean",   "scanned",
 static const char *const hint_name[4] = {"3 known", "3 known+index",
                                          "labels only", "3 known+lab"};
 
+static int tie_order(const void *pa, const void *pb)
+{
+    const td_oracle_tie *a = pa, *b = pb;
+    double da = fabs(a->truth - a->answer), db = fabs(b->truth - b->answer);
+    return da > db ? -1 : da < db;
+}
+
+/* The n ties the answer and the truth pay most differently, those with
+ * an end in the box (x1 <= x0: all); "<" where the answer pays less. */
+static void print_ties(td_label_report *r, const double *box, int n)
+{
+    static const char *const part[TD_OT_N] = {"",     "face",  "fold",  "nest",
+                                              "cont", "index", "label", "known",
+                                              "dir",  "unary"};
+    size_t i;
+    int shown = 0;
+    qsort(r->oracle_ties, r->noracle_ties, sizeof *r->oracle_ties, tie_order);
+    for (i = 0; i < r->noracle_ties && shown < n; i++) {
+        const td_oracle_tie *t = &r->oracle_ties[i];
+        int k, in = !(box[2] > box[0]);
+        for (k = 0; k < 2; k++)
+            in |= t->x[k] >= box[0] && t->x[k] < box[2] && t->y[k] >= box[1] &&
+                  t->y[k] < box[3];
+        if (!in)
+            continue;
+        printf("%-11s     %c %-5s answer %6.1f truth %6.1f  line %ld at "
+               "%.0f,%.0f  line %ld at %.0f,%.0f\n",
+               "", t->answer < t->truth ? '<' : '>', part[t->term], t->answer,
+               t->truth, t->id[0], t->x[0], t->y[0], t->id[1], t->x[1],
+               t->y[1]);
+        shown++;
+    }
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = "tests/data/dems", *only = NULL, *png = NULL;
     int tree = 0, logit = 0, paperj = 0, all = 0, search = 0, hach = 0, a;
     int streams = 0, novees = 0, nojoins = 0, detint = 0;
     double gap_pairs = 0;
-    int oracle = 0, spots = 0, steps = 0;
+    int oracle = 0, spots = 0, steps = 0, nties = 0;
     double obox[4] = {0, 0, 0, 0};
     size_t c;
     for (a = 1; a < argc; a++) {
@@ -99,7 +139,10 @@ int main(int argc, char **argv)
             streams = 1;
         else if (!strcmp(argv[a], "--oracle"))
             oracle = 1;
-        else if (!strcmp(argv[a], "--steps"))
+        else if (!strcmp(argv[a], "--oracle-ties") && a + 1 < argc) {
+            if ((nties = atoi(argv[++a])) <= 0)
+                return td_bench_usage("bench_heights", argv[a], usage);
+        } else if (!strcmp(argv[a], "--steps"))
             steps = 1;
         else if (!strcmp(argv[a], "--oracle-box") && a + 1 < argc) {
             if (sscanf(argv[++a], "%lf,%lf,%lf,%lf", &obox[0], &obox[1],
@@ -195,6 +238,7 @@ int main(int argc, char **argv)
                 hs.detint = detint;
                 hs.gap_pairs = gap_pairs;
                 hs.oracle = oracle;
+                hs.oracle_ties = oracle && nties > 0;
                 hs.steps = steps;
                 memcpy(hs.oracle_box, obox, sizeof obox);
                 if (png) {
@@ -250,6 +294,8 @@ int main(int argc, char **argv)
                                hs.rep.oracle_cost[1][t]);
                     printf("\n");
                 }
+                if (hs.oracle_ties)
+                    print_ties(&hs.rep, obox, nties);
                 if (logit && hs.rep.text)
                     printf("%s\n", hs.rep.text);
                 fflush(stdout);

@@ -361,6 +361,7 @@ int td_hsheet_run(td_hsheet *hs, FILE *log, td_ctx *cx)
                 if (!line_in_box(&ls->v[i], hs->oracle_box))
                     oh[i] = NAN;
         lp.oracle_h = oh, lp.oracle_up = oup;
+        lp.oracle_ties = hs->oracle_ties;
     }
     t0 = td_now();
     rc = td_label_auto(ls, &lp, &hs->rep, cx);

@@ -25,6 +25,7 @@ typedef struct td_hsheet {
                                    scans; < 0: off) */
     int oracle;                 /* price the true heights under the whole
                                    model too (rep.oracle_cost; faces) */
+    int oracle_ties;            /* with oracle: rep.oracle_ties too */
     double oracle_box[4];       /* x0, y0, x1, y1: only the lines wholly
                                    inside take their true heights there,
                                    the others keep the answer (one region's
