@@ -169,6 +169,12 @@
             heights break 2-16 % of these ties on the crowded                  \
             Front Range sheet (7 of 59 clean, 22 of 141 new                    \
             print); at 100 they overruled the faces there */
+#define GAP_SPACING                                                            \
+    2.0 /* ... nor pairs farther apart than this many contour spacings (the    \
+           probes' median length): on the printed Front Range 25 sheet         \
+           (contours ~9 px apart) pairs 16-24 px apart join two contours in    \
+           15 of 29, under 12 px in 61 of 375 (docs/label.md, "Free ends       \
+           that continue each other") */
 #define GAP_CLEAR                                                              \
     1.5 /* px: a pair's chord that crosses skeleton ink no line was traced     \
            on this far from both ends is not used: its ends stop in a          \
@@ -2239,15 +2245,20 @@ static int same_pieces(hs *s, td_ctx *cx)
  * at the ends, sides matched as in same_pieces.  Truth lines cut where a
  * road and the streams run over them (Orkhon, new print): 532 pairs, 528
  * on one contour; the share of the length right went from 0.62 to 0.94
- * (the pieces beyond the road had hung on the rest by a leak). */
+ * (the pieces beyond the road had hung on the rest by a leak).  Where
+ * contours crowd, a pair farther apart than GAP_SPACING contour spacings
+ * is as often two contours as one: not tied. */
 static int gap_pairs(hs *s, td_ctx *cx)
 {
     td_end_pair *v;
     size_t i, n;
     double px = s->p->gap_pairs < 0 ? (s->p->colour ? TD_GAP_PAIRS_COLOUR : 0)
-                                    : s->p->gap_pairs;
+                                    : s->p->gap_pairs,
+           D = 0; /* the contour spacing */
     if (!(px > 0))
         return 0;
+    if (td_faces_spacing(s->fe, s->nfe, &D, cx) != 0)
+        return TD_ENOMEM;
     if (td_end_pairs(s->ls, end_used, s->fx, s->p->w, s->p->h, px, &v, &n,
                      cx) != 0)
         return TD_ENOMEM;
@@ -2259,7 +2270,8 @@ static int gap_pairs(hs *s, td_ctx *cx)
         const td_line *la = &s->ls->v[v[i].a], *lb = &s->ls->v[v[i].b];
         long a = td_faces_chunk_at(s->fx, v[i].a, v[i].alast ? la->n - 1 : 0),
              b = td_faces_chunk_at(s->fx, v[i].b, v[i].blast ? lb->n - 1 : 0);
-        if (a < 0 || b < 0 || a == b || v[i].cost > GAP_COST)
+        if (a < 0 || b < 0 || a == b || v[i].cost > GAP_COST ||
+            (D > 0 && v[i].d > GAP_SPACING * D))
             continue;
         { /* the chord between the ends crosses no other line */
             const td_end_pair *q = &v[i];
