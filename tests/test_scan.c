@@ -650,10 +650,16 @@ static void set_wide_rib(td_scan_params *sp, int on)
         sp->wide_rib = 0; /* the whole blob's stretch cut */
 }
 
+static void set_curl(td_scan_params *sp, int on)
+{
+    if (!on)
+        sp->join.curl_keep = 0;
+}
+
 /* Sheet name of td_real_sheets with td_hsheet_defects' kind, scanned with
  * one step off (k 0, set(sp, 0)) and on (k 1): scores into sc[k], what
- * the step did (res[1]: faded lines added, lines cut at the border) into
- * *added; 0 or nonzero when it could not run. */
+ * the step did (res[1]: faded lines added, lines cut at the border,
+ * curled pieces kept) into *added; 0 or nonzero when it could not run. */
 static int toggle_scores(const char *name, int kind,
                          void (*set)(td_scan_params *, int), td_scanscore *sc,
                          size_t *added)
@@ -685,6 +691,7 @@ static int toggle_scores(const char *name, int kind,
             if (k && rc == 0)
                 *added = set == set_pale         ? res.pale
                          : set == set_border_cut ? res.border_cuts
+                         : set == set_curl       ? res.join.curls
                                                  : res.wide_cuts;
             td_scan_result_free(&res);
         }
@@ -831,54 +838,18 @@ static void test_pieces_apart_real(void)
  * text (precision and the own share the same).  Off, they go again. */
 static void test_curls_real(void)
 {
-    const td_real_sheet *rs = NULL;
-    td_gen_params gp;
-    td_grid_f32 *src;
-    td_image *im = NULL;
-    td_lines *truth = NULL;
-    td_scan_result res[2];
     td_scanscore sc[2];
-    size_t i;
-    int k, ok = 1;
-    td_ctx cx;
-    td_ctx_init(&cx);
-    memset(res, 0, sizeof res);
-    for (i = 0; i < TD_REAL_SHEETS; i++)
-        if (!strcmp(td_real_sheets[i].name, "elkhorn20"))
-            rs = &td_real_sheets[i];
-    TT_CHECK(rs && (src = td_hsheet_dem_sheet(rs->dem, rs->scale, &gp, &cx)));
-    if (!rs || !src)
-        return;
-    gp.interval = rs->interval;
-    td_hsheet_defects(&gp, 3);
-    TT_CHECK(td_gen_sheet(&gp, &im, &truth, NULL, &cx) == 0);
-    for (k = 0; k < 2 && im; k++) {
-        td_scan_params sp = td_scan_defaults();
-        if (!k)
-            sp.join.curl_keep = 0;
-        ok &= td_scan(im, &sp, &res[k], &cx) == 0 &&
-              td_match_scan(truth, res[k].lines, im->w, im->h, 2.0, 20.0,
-                            &sc[k], NULL) == 0;
-    }
-    TT_CHECK(im && ok);
-    if (im && ok) {
-        fprintf(stderr,
-                "  Elkhorn 20 printed: recall %.4f -> %.4f, precision %.4f "
-                "-> %.4f, own %.4f -> %.4f, %zu -> %zu lines, %zu curls\n",
-                sc[0].recall, sc[1].recall, sc[0].precision, sc[1].precision,
-                sc[0].own, sc[1].own, res[0].lines->n, res[1].lines->n,
-                res[1].join.curls);
-        TT_CHECK(res[0].join.curls == 0 && res[1].join.curls >= 4);
-        TT_CHECK(sc[1].recall >= sc[0].recall + 0.002);
-        TT_CHECK(sc[1].precision >= sc[0].precision - 0.0005);
-        TT_CHECK(sc[1].own >= sc[0].own - 0.0005);
-    }
-    for (k = 0; k < 2; k++)
-        if (res[k].lines)
-            td_scan_result_free(&res[k]);
-    td_image_free(im);
-    td_lines_free(truth);
-    td_grid_f32_free(src);
+    size_t curls = 0;
+    TT_CHECK(toggle_scores("elkhorn20", 3, set_curl, sc, &curls) == 0);
+    fprintf(stderr,
+            "  Elkhorn 20 printed: recall %.4f -> %.4f, precision %.4f -> "
+            "%.4f, own %.4f -> %.4f, %zu curls\n",
+            sc[0].recall, sc[1].recall, sc[0].precision, sc[1].precision,
+            sc[0].own, sc[1].own, curls);
+    TT_CHECK(curls >= 4);
+    TT_CHECK(sc[1].recall >= sc[0].recall + 0.002);
+    TT_CHECK(sc[1].precision >= sc[0].precision - 0.0005);
+    TT_CHECK(sc[1].own >= sc[0].own - 0.0005);
 }
 
 /* Lines that turn back at the border (scanner/bordercut.c) on the scanned
