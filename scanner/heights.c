@@ -287,6 +287,8 @@ typedef struct hs {
     int priors;              /* this pass uses the priors */
     double fold_k;           /* the fold prior's strength now, and ... */
     double fold_kg;          /* ... the sheet's (fold_strength) */
+    double spacing;          /* the contour spacing (sheet_spacing), or
+                                a negative value until measured */
     long need_lo, need_hi;   /* levels the domain must hold (need_lo >
                                 need_hi: none) */
     int cost_only;           /* only the total cost (the interval's trials) */
@@ -1227,6 +1229,17 @@ static double fold_cost(const hs *s, double w)
     return WFOLD + k * fmax(0.0, FOLD_S * (log(w > 1e-3 ? w : 1e-3) - FOLD_C));
 }
 
+/* The sheet's contour spacing (td_faces_spacing over the face edges)
+ * into *D, measured once a solve (the free-end pairs and the fold prior
+ * both ask). */
+static int sheet_spacing(hs *s, double *D, td_ctx *cx)
+{
+    if (s->spacing < 0 && td_faces_spacing(s->fe, s->nfe, &s->spacing, cx) != 0)
+        return TD_ENOMEM;
+    *D = s->spacing;
+    return 0;
+}
+
 /* How strongly the face edges' folds are priced (s->fold_k, 0..1): by the
  * sheet's contour spacing (the probes' length, its median weighted by
  * their count) over its pen (the lines' median width; 2 px when no line
@@ -1240,7 +1253,7 @@ static int fold_strength(hs *s, td_ctx *cx)
 {
     size_t i, n = 0;
     double *v, D = 0, pen = 2.0, R;
-    if (td_faces_spacing(s->fe, s->nfe, &D, cx) != 0 ||
+    if (sheet_spacing(s, &D, cx) != 0 ||
         !(v = td_malloc((s->N + 1) * sizeof *v, cx)))
         return TD_ENOMEM;
     for (i = 0; i < s->N; i++)
@@ -2257,7 +2270,7 @@ static int gap_pairs(hs *s, td_ctx *cx)
            D = 0; /* the contour spacing */
     if (!(px > 0))
         return 0;
-    if (td_faces_spacing(s->fe, s->nfe, &D, cx) != 0)
+    if (sheet_spacing(s, &D, cx) != 0)
         return TD_ENOMEM;
     if (td_end_pairs(s->ls, end_used, s->fx, s->p->w, s->p->h, px, &v, &n,
                      cx) != 0)
@@ -3517,7 +3530,7 @@ static int solve_on(td_lines *ls, const td_label_params *p, td_faces *fx,
     unsigned char *touched = NULL;
     int rc;
     memset(&s, 0, sizeof s);
-    s.need_lo = 1, s.need_hi = 0;
+    s.need_lo = 1, s.need_hi = 0, s.spacing = -1;
     s.ls = ls, s.p = p, s.rep = rep, s.N = ls->n, s.cost_only = cost_only;
     s.fx = fx, s.fe = fe, s.nfe = nfe[0];
     s.st = fe + nfe[0], s.nst = nfe[1];
